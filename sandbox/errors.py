@@ -1,0 +1,49 @@
+"""Error hierarchy: every message names the problem, the bad value (!r) and the fix."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class SandboxError(Exception):
+    """Base class of every error the sandbox reports to a user (CLI exit code 2)."""
+
+    exit_code = 2
+
+
+class UnknownScene(SandboxError):
+    """A scene name that is neither registered nor an existing MJCF file."""
+
+
+class UnknownParameter(SandboxError):
+    """A parameter name the scene does not declare."""
+
+
+class BadParameter(SandboxError):
+    """A parameter value that is not a number or lies outside its range."""
+
+
+class BadOption(SandboxError):
+    """A simulation option (duration, timestep, integrator, rate, output) that cannot be used."""
+
+
+class BadModel(SandboxError):
+    """An MJCF file that cannot be read or compiled."""
+
+
+class Diverged(SandboxError):
+    """The simulation blew up (NaN/Inf or MuJoCo's BADQACC warning): exit code 3."""
+
+    exit_code = 3
+
+    def __init__(self, time: float, detail: str) -> None:
+        self.time = time
+        super().__init__(
+            f"simulation diverged at t = {time:.6g} s ({detail}); "
+            "try a smaller --timestep or another --integrator (rk4 or implicitfast)"
+        )
+
+
+def choices(names: Iterable[str]) -> str:
+    """Format valid names for an error message: 'a, b, c'."""
+    return ", ".join(sorted(names))

@@ -1,0 +1,261 @@
+"""Simulation: MjData stepping in C, parameter changes, divergence guard, readouts."""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from sandbox.errors import Diverged
+from sandbox.physics import readouts as generic
+from sandbox.physics.model import (
+    Source,
+    build,
+    check_integrator,
+    check_timestep,
+    integrator_name,
+    resolve,
+)
+from sandbox.physics.snapshot import Snapshot
+
+_BAD_WARNINGS = (
+    (mujoco.mjtWarning.mjWARN_BADQACC, "bad acceleration (BADQACC)"),
+    (mujoco.mjtWarning.mjWARN_BADQVEL, "bad velocity (BADQVEL)"),
+    (mujoco.mjtWarning.mjWARN_BADQPOS, "bad position (BADQPOS)"),
+)
+
+
+@dataclass(frozen=True)
+class ReadoutInfo:
+    """Name, unit and one-line doc of a readout column."""
+
+    name: str
+    unit: str
+    doc: str
+
+
+class Simulation:
+    """One MuJoCo simulation of a scene or MJCF file.
+
+    Args:
+        target: Scene name, MJCF path, or an already resolved :class:`Source`.
+        values: Parameter values overriding the scene's defaults (validated).
+        integrator: Integrator name overriding the scene's or file's own.
+        timestep: Timestep [s] overriding the scene's or file's own.
+
+    ``lock`` serialises access when a web session steps while a GUI callback queues.
+    """
+
+    def __init__(
+        self,
+        target: str | Path | Source,
+        *,
+        values: Mapping[str, object] | None = None,
+        integrator: str | None = None,
+        timestep: float | None = None,
+    ) -> None:
+        self.source = target if isinstance(target, Source) else resolve(target)
+        self.scene = self.source.scene
+        self.values: dict[str, float] = self.scene.defaults() if self.scene else {}
+        for name, value in (values or {}).items():
+            self.values[name] = self._check(name, value)
+        self._integrator = None if integrator is None else check_integrator(integrator)
+        self._timestep = None if timestep is None else check_timestep(timestep)
+        self.lock = threading.RLock()
+        self.model = self._compile()
+        self.data = mujoco.MjData(self.model)
+        self.reset()
+
+    # -- construction -------------------------------------------------------------------
+    def _check(self, name: str, value: object) -> float:
+        if self.scene is None:
+            from sandbox.errors import UnknownParameter
+
+            raise UnknownParameter(
+                f"{self.source.label!r} is an MJCF file and has no parameter {name!r}; "
+                "parameters exist only for registered scenes (see 'sandbox list')"
+            )
+        return self.scene.param(name).check(value)
+
+    def _compile(self) -> mujoco.MjModel:
+        model = build(self.source, self.values)
+        if self._integrator is not None:
+            model.opt.integrator = self._integrator
+        if self._timestep is not None:
+            model.opt.timestep = self._timestep
+        return model
+
+    @property
+    def label(self) -> str:
+        """Scene name or file name."""
+        return self.source.label
+
+    @property
+    def integrator(self) -> str:
+        """Current integrator name."""
+        return integrator_name(self.model)
+
+    @property
+    def timestep(self) -> float:
+        """Current timestep [s]."""
+        return float(self.model.opt.timestep)
+
+    # -- state --------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Back to the initial state: scene initial state, else the file's first keyframe."""
+        with self.lock:
+            mujoco.mj_resetData(self.model, self.data)
+            if self.scene is None and self.model.nkey > 0:
+                mujoco.mj_resetDataKeyframe(self.model, self.data, 0)
+            self._apply_drive()
+            if self.scene is not None and self.scene.initial_state is not None:
+                self.scene.initial_state(self.model, self.data, self.values)
+            mujoco.mj_forward(self.model, self.data)
+            self._warnings = self._warning_count()
+
+    def _apply_drive(self) -> None:
+        if self.scene is not None and self.scene.drive is not None:
+            self.scene.drive(self.model, self.data, self.values)
+
+    def set_value(self, name: str, value: object) -> float:
+        """Change a parameter; non-live ones rebuild the model and keep the motion going.
+
+        Returns:
+            The validated value.
+
+        Raises:
+            UnknownParameter, BadParameter: the change is refused, nothing is modified.
+        """
+        number = self._check(name, value)
+        with self.lock:
+            old = self.values[name]
+            self.values[name] = number
+            if self.scene is not None and self.scene.param(name).live:
+                self._apply_drive()
+                return number
+            try:
+                model = self._compile()
+            except Exception:
+                self.values[name] = old
+                raise
+            self._swap_model(model)
+        return number
+
+    def _swap_model(self, model: mujoco.MjModel) -> None:
+        old_model, old = self.model, self.data
+        data = mujoco.MjData(model)
+        data.time = old.time
+        if model.nq == old_model.nq and model.nv == old_model.nv:
+            data.qpos[:] = old.qpos
+            data.qvel[:] = old.qvel
+            data.act[: min(model.na, old_model.na)] = old.act[: min(model.na, old_model.na)]
+        self.model, self.data = model, data
+        self._apply_drive()
+        mujoco.mj_forward(model, data)
+        self._warnings = self._warning_count()
+
+    def set_integrator(self, name: str) -> None:
+        """Switch integrator live (no rebuild)."""
+        code = check_integrator(name)
+        with self.lock:
+            self._integrator = code
+            self.model.opt.integrator = code
+
+    def set_timestep(self, value: float) -> None:
+        """Switch timestep live (no rebuild)."""
+        dt = check_timestep(value)
+        with self.lock:
+            self._timestep = dt
+            self.model.opt.timestep = dt
+
+    # -- stepping -----------------------------------------------------------------------
+    def _warning_count(self) -> int:
+        return sum(int(self.data.warning[w].number) for w, _ in _BAD_WARNINGS)
+
+    def step(self, nstep: int = 1) -> None:
+        """Advance ``nstep`` timesteps in C, then check for divergence.
+
+        Raises:
+            Diverged: NaN/Inf in the state or a MuJoCo bad-state warning.
+        """
+        if nstep <= 0:
+            return
+        with self.lock:
+            mujoco.mj_step(self.model, self.data, nstep)
+            self._guard()
+
+    def _guard(self) -> None:
+        d = self.data
+        if self._warning_count() > self._warnings:
+            for w, text in _BAD_WARNINGS:
+                if d.warning[w].number:
+                    raise Diverged(float(d.time), text)
+        if not (np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()):
+            raise Diverged(float(d.time), "NaN or Inf in the state")
+
+    def advance(self, duration: float) -> None:
+        """Step for ``duration`` seconds (rounded to whole timesteps)."""
+        self.step(int(round(duration / self.timestep)))
+
+    # -- readouts -----------------------------------------------------------------------
+    def readout_infos(self) -> list[ReadoutInfo]:
+        """Every readout available: the generic ones, then the scene's."""
+        infos = [ReadoutInfo(r.name, r.unit, r.doc) for r in generic.GENERIC_READOUTS]
+        if self.scene is not None:
+            infos += [ReadoutInfo(r.name, r.unit, r.doc) for r in self.scene.readouts]
+        return infos
+
+    def readout_names(self) -> list[str]:
+        """Names of :meth:`readout_infos`, in column order."""
+        return [r.name for r in self.readout_infos()]
+
+    def snapshot(self, names: Iterable[str] = generic.GENERIC_NAMES) -> Snapshot:
+        """Bring derived quantities up to date for ``names`` and wrap them in a snapshot.
+
+        The solver warm start is restored afterwards, so reading never changes the
+        trajectory (a replay re-simulates bit for bit whatever the display rate).
+        """
+        warm = self.data.qacc_warmstart.copy()
+        generic.prepare(self.model, self.data, list(names))
+        self.data.qacc_warmstart[:] = warm
+        return Snapshot(self.model, self.data, self.values)
+
+    def readouts(self, names: Iterable[str] | None = None) -> dict[str, float]:
+        """Values of the requested readouts (all when ``names`` is None).
+
+        Raises:
+            KeyError: an unknown name (the message lists the valid ones).
+        """
+        wanted = self.readout_names() if names is None else list(names)
+        scene_fns = {r.name: r.fn for r in self.scene.readouts} if self.scene else {}
+        unknown = [n for n in wanted if n not in scene_fns and n not in generic.GENERIC_NAMES]
+        if unknown:
+            raise KeyError(
+                f"unknown readout {unknown[0]!r}; valid: {', '.join(self.readout_names())}"
+            )
+        with self.lock:
+            needs = [n for n in wanted if n in generic.GENERIC_NAMES]
+            if any(n in scene_fns for n in wanted):
+                needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
+            snap = self.snapshot(needs)
+            out = generic.compute(self.model, self.data, [n for n in wanted if n not in scene_fns])
+            for name in wanted:
+                if name in scene_fns:
+                    out[name] = float(scene_fns[name](snap))
+        return {name: out[name] for name in wanted}
+
+    def reference(self) -> dict[str, float]:
+        """Closed-form values from the course for the current parameters ({} if none)."""
+        if self.scene is None or self.scene.reference is None:
+            return {}
+        return self.scene.reference(self.values)
+
+
+def finite(values: Mapping[str, float]) -> bool:
+    """True when every value is a finite number."""
+    return all(math.isfinite(v) for v in values.values())

@@ -1,0 +1,32 @@
+"""Registry of the course's scenes (frozen :class:`~sandbox.scenes.base.Scene` specs)."""
+
+from __future__ import annotations
+
+from sandbox.errors import UnknownScene, choices
+from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
+from sandbox.scenes.rotor import SCENE as ROTOR
+
+SCENES: dict[str, Scene] = {s.name: s for s in (ROTOR,)}
+"""Every registered scene by name."""
+
+DEFAULT_SCENE = "rotor"
+
+
+def get_scene(name: str) -> Scene:
+    """The scene called ``name`` (UnknownScene listing the valid names)."""
+    try:
+        return SCENES[name]
+    except KeyError:
+        raise UnknownScene(f"unknown scene {name!r}; choose one of: {choices(SCENES)}") from None
+
+
+__all__ = [
+    "SCENES",
+    "DEFAULT_SCENE",
+    "get_scene",
+    "Scene",
+    "Param",
+    "Effects",
+    "SceneReadout",
+    "Arrow",
+]

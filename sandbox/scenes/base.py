@@ -1,0 +1,224 @@
+"""Frozen dataclasses describing a scene: parameters, effects, readouts, arrows, reference.
+
+A scene is one MJCF file in the top-level ``scenes/`` folder plus a :class:`Scene` spec.
+The spec is the single source of truth used by the CLI (``describe``, ``--set``), the web
+UI (sliders, panels), the lessons and the tests.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+
+from sandbox.errors import BadParameter
+
+if TYPE_CHECKING:
+    from sandbox.physics.snapshot import Snapshot
+
+Values = Mapping[str, float]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One scene parameter: a number with a unit, a default and an allowed range.
+
+    Attributes:
+        name: Contract name used by ``--set NAME=VALUE``, the UI and lessons.
+        unit: Unit shown to the user ("" when dimensionless).
+        default: Default value, inside ``[min, max]``.
+        min: Smallest allowed value (inclusive).
+        max: Largest allowed value (inclusive).
+        doc: One sentence saying what the parameter is.
+        live: True when a change needs no model rebuild (e.g. a motor set point).
+        step: Suggested slider step in the web UI (0 means range/200).
+    """
+
+    name: str
+    unit: str
+    default: float
+    min: float
+    max: float
+    doc: str
+    live: bool = False
+    step: float = 0.0
+
+    def check(self, value: object) -> float:
+        """Validate ``value`` (number or numeric string) and return it as a float.
+
+        Raises:
+            BadParameter: if it is not a finite number or lies outside ``[min, max]``.
+        """
+        try:
+            number = float(value)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise BadParameter(
+                f"parameter {self.name!r} needs a number, got {value!r}; "
+                f"give a value between {self.min:g} and {self.max:g} {self.unit}".rstrip()
+            ) from None
+        if not math.isfinite(number) or not (self.min <= number <= self.max):
+            raise BadParameter(
+                f"parameter {self.name!r} = {value!r} is out of range; "
+                f"allowed: {self.min:g} to {self.max:g} {self.unit}".rstrip()
+            )
+        return number
+
+
+@dataclass(frozen=True)
+class Effects:
+    """The physical effects a scene calls for; every other one is switched off in MuJoCo.
+
+    Each False field sets the matching ``mjDSBL_*`` flag so that MuJoCo neither computes
+    nor applies the effect (e.g. no contact -> no collision detection at all).
+    """
+
+    gravity: bool = False
+    contacts: bool = False
+    equality: bool = False
+    limits: bool = False
+    joint_damping: bool = False
+    joint_friction: bool = False
+    springs: bool = False
+    actuation: bool = True
+
+    def disable_flags(self) -> int:
+        """Bit mask of MuJoCo disable flags for the effects not called for."""
+        off = {
+            "gravity": mujoco.mjtDisableBit.mjDSBL_GRAVITY,
+            "contacts": mujoco.mjtDisableBit.mjDSBL_CONTACT,
+            "equality": mujoco.mjtDisableBit.mjDSBL_EQUALITY,
+            "limits": mujoco.mjtDisableBit.mjDSBL_LIMIT,
+            "joint_damping": mujoco.mjtDisableBit.mjDSBL_DAMPER,
+            "joint_friction": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS,
+            "springs": mujoco.mjtDisableBit.mjDSBL_SPRING,
+            "actuation": mujoco.mjtDisableBit.mjDSBL_ACTUATION,
+        }
+        mask = 0
+        for name, bit in off.items():
+            if not getattr(self, name):
+                mask |= int(bit)
+        return mask
+
+    def simulated(self) -> tuple[str, ...]:
+        """Names of the effects that are on."""
+        return tuple(k for k, v in self.__dict__.items() if v)
+
+    def hypotheses(self) -> tuple[str, ...]:
+        """The modelling hypotheses in the course's words (French), one line each."""
+        lines = []
+        lines.append("Pesanteur prise en compte" if self.gravity else "Poids négligé")
+        lines.append(
+            "Contacts simulés (lois de Coulomb)"
+            if self.contacts
+            else "Pas de contact entre solides"
+        )
+        if self.equality:
+            lines.append("Fermeture de chaîne par contrainte d'égalité raide")
+        lines.append(
+            "Liaisons avec frottement visqueux" if self.joint_damping else "Liaisons parfaites"
+        )
+        if self.joint_friction:
+            lines.append("Frottement sec dans les liaisons")
+        if self.springs:
+            lines.append("Ressorts dans les liaisons")
+        lines.append("Référentiel terrestre supposé galiléen")
+        return tuple(lines)
+
+
+@dataclass(frozen=True)
+class SceneReadout:
+    """A readout specific to a scene: a pure function of a :class:`Snapshot`.
+
+    Attributes:
+        name: Contract name (CSV column, UI label).
+        unit: Unit of the value.
+        doc: One sentence saying what it measures.
+        fn: Computes the value from a snapshot of the simulation.
+    """
+
+    name: str
+    unit: str
+    doc: str
+    fn: Callable[[Snapshot], float]
+
+
+@dataclass(frozen=True)
+class Arrow:
+    """An arrow drawn in the 3D view: origin and vector (world frame) from a snapshot.
+
+    ``scale`` converts the vector's unit into metres of arrow (e.g. 1e-3 m/N).
+    """
+
+    name: str
+    label: str
+    color: tuple[int, int, int]
+    fn: Callable[[Snapshot], tuple[np.ndarray, np.ndarray]]
+    scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A registered scene: MJCF file plus everything the course says about it.
+
+    Attributes:
+        name: Registry key (``sandbox run NAME``).
+        title: Title shown to users.
+        summary: Two or three sentences on what the scene shows.
+        mjcf: File name inside the top-level ``scenes/`` folder.
+        params: Parameters in display order.
+        effects: Effects simulated; all others are switched off.
+        readouts: Scene readouts, added to the generic ones.
+        edit: Applies the non-live parameters to the MjSpec before compiling.
+        drive: Applies live parameters (motor set points) to ``data.ctrl``.
+        initial_state: Sets a consistent initial qpos/qvel after reset.
+        reference: Closed-form values of some readouts from the course.
+        integrator: Default integrator name.
+        timestep: Default timestep [s].
+        plots: Readout names plotted by default in the web app.
+        arrows: Arrows drawn in the 3D view.
+        body_frame: Body whose frame gives the basis B1 of the readout panel.
+        sections: Course sections the scene illustrates.
+    """
+
+    name: str
+    title: str
+    summary: str
+    mjcf: str
+    params: tuple[Param, ...]
+    effects: Effects
+    readouts: tuple[SceneReadout, ...] = ()
+    edit: Callable[[mujoco.MjSpec, Values], None] | None = None
+    drive: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
+    initial_state: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
+    reference: Callable[[Values], dict[str, float]] | None = None
+    integrator: str = "rk4"
+    timestep: float = 1e-3
+    plots: tuple[str, ...] = ()
+    arrows: tuple[Arrow, ...] = ()
+    body_frame: str | None = None
+    sections: str = ""
+    extra: Mapping[str, object] = field(default_factory=dict)
+
+    def param(self, name: str) -> Param:
+        """The parameter called ``name``.
+
+        Raises:
+            UnknownParameter: naming the valid parameters.
+        """
+        from sandbox.errors import UnknownParameter, choices
+
+        for p in self.params:
+            if p.name == name:
+                return p
+        valid = choices(p.name for p in self.params) or "none (this model has no parameters)"
+        raise UnknownParameter(
+            f"scene {self.name!r} has no parameter {name!r}; valid parameters: {valid}"
+        )
+
+    def defaults(self) -> dict[str, float]:
+        """Default value of every parameter."""
+        return {p.name: p.default for p in self.params}

@@ -1,0 +1,341 @@
+"""Unbalanced rotor on a fixed axis (course section 7.2): static and dynamic balancing.
+
+Rotor 1 turns about (O, x0) at constant speed, guided by two bearings A and B. A defect
+mass gives a static unbalance (G off the axis) and a skewed disk a couple unbalance
+(products of inertia E, F of the x column). Two correction masses, one per plane at a
+fixed radius, let the student cancel both: static balance needs Y = 0, dynamic balance
+needs Y = 0 and E = F = 0.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from sandbox.mechanics import MassProperties, coefficients, combine, cylinder, huygens, sphere
+from sandbox.physics.snapshot import Snapshot
+from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout, Values
+
+# Geometry (metres, kg/m³), shared by the model edits and the closed-form reference.
+STEEL = 7800.0
+SHAFT_RADIUS, SHAFT_LENGTH = 0.01, 0.40
+DISK_RADIUS, DISK_THICKNESS = 0.10, 0.02
+FLANGE_RADIUS, FLANGE_THICKNESS = 0.06, 0.01
+BEARING_X = 0.15  # A at x = -a, B at x = +a (O mid-span)
+PLANE_X = 0.12  # correction planes 1 at x = -c, 2 at x = +c
+CORRECTION_RADIUS = 0.05
+DEFECT_X, DEFECT_RADIUS = 0.0, 0.08
+MASS_SPHERE_RADIUS = 0.006
+AXIS = np.array([1.0, 0.0, 0.0])
+
+PARAMS = (
+    Param(
+        "speed_rpm",
+        "rpm",
+        1500.0,
+        0.0,
+        6000.0,
+        "Rotation speed imposed by the motor.",
+        live=True,
+        step=50.0,
+    ),
+    Param(
+        "defect_mass_g",
+        "g",
+        20.0,
+        0.0,
+        200.0,
+        "Defect mass on the disk at 80 mm from the axis (static unbalance).",
+        step=1.0,
+    ),
+    Param(
+        "skew_deg",
+        "deg",
+        2.0,
+        -10.0,
+        10.0,
+        "Tilt of the disk's axis from the rotation axis (couple unbalance).",
+        step=0.1,
+    ),
+    Param(
+        "mass1_g",
+        "g",
+        0.0,
+        0.0,
+        200.0,
+        "Correction mass in plane 1 (x = -120 mm) at 50 mm from the axis.",
+        step=0.5,
+    ),
+    Param(
+        "angle1_deg",
+        "deg",
+        0.0,
+        -180.0,
+        180.0,
+        "Angle of correction mass 1 from y1 towards z1.",
+        step=1.0,
+    ),
+    Param(
+        "mass2_g",
+        "g",
+        0.0,
+        0.0,
+        200.0,
+        "Correction mass in plane 2 (x = +120 mm) at 50 mm from the axis.",
+        step=0.5,
+    ),
+    Param(
+        "angle2_deg",
+        "deg",
+        0.0,
+        -180.0,
+        180.0,
+        "Angle of correction mass 2 from y1 towards z1.",
+        step=1.0,
+    ),
+)
+
+
+def omega(values: Values) -> float:
+    """Imposed speed [rad/s]."""
+    return values["speed_rpm"] * 2.0 * math.pi / 60.0
+
+
+def _radial(x: float, radius: float, angle_deg: float) -> np.ndarray:
+    a = math.radians(angle_deg)
+    return np.array([x, radius * math.cos(a), radius * math.sin(a)])
+
+
+def disk_axis(values: Values) -> np.ndarray:
+    """Unit axis of the skewed disk in the rotor frame (tilted about z1)."""
+    b = math.radians(values["skew_deg"])
+    return np.array([math.cos(b), math.sin(b), 0.0])
+
+
+def _mass_points(values: Values) -> list[tuple[str, float, np.ndarray]]:
+    return [
+        ("defect", values["defect_mass_g"] / 1000.0, _radial(DEFECT_X, DEFECT_RADIUS, 0.0)),
+        (
+            "correction1",
+            values["mass1_g"] / 1000.0,
+            _radial(-PLANE_X, CORRECTION_RADIUS, values["angle1_deg"]),
+        ),
+        (
+            "correction2",
+            values["mass2_g"] / 1000.0,
+            _radial(PLANE_X, CORRECTION_RADIUS, values["angle2_deg"]),
+        ),
+    ]
+
+
+def edit(spec: mujoco.MjSpec, values: Values) -> None:
+    """Place the defect and correction masses and tilt the disk."""
+    quat = np.zeros(4)
+    mujoco.mju_quatZ2Vec(quat, disk_axis(values))
+    spec.geom("disk").quat = quat
+    for name, mass, pos in _mass_points(values):
+        geom = spec.geom(name)
+        geom.mass = mass
+        geom.pos = pos
+        geom.rgba[3] = 1.0 if mass > 0 else 0.0
+
+
+def drive(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
+    """The velocity servo holds the imposed speed."""
+    data.ctrl[0] = omega(values)
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
+    """Start already at the imposed speed (steady state)."""
+    data.qvel[0] = omega(values)
+
+
+# -- closed-form reference (course 7.2) ---------------------------------------------------
+def mass_properties(values: Values) -> MassProperties:
+    """Mass, centre of mass and inertia of rotor 1 in its own frame, from the shapes."""
+
+    def shaped(inertia: np.ndarray, mass: float, com: np.ndarray, axis: np.ndarray):
+        rot = np.zeros(9)
+        quat = np.zeros(4)
+        mujoco.mju_quatZ2Vec(quat, axis)
+        mujoco.mju_quat2Mat(rot, quat)
+        return MassProperties.of_shape(inertia, mass, com, rotation=rot.reshape(3, 3))
+
+    def cyl_mass(r: float, h: float) -> float:
+        return STEEL * math.pi * r * r * h
+
+    parts = []
+    m = cyl_mass(SHAFT_RADIUS, SHAFT_LENGTH)
+    parts.append(shaped(cylinder(m, SHAFT_RADIUS, SHAFT_LENGTH), m, np.zeros(3), AXIS))
+    m = cyl_mass(DISK_RADIUS, DISK_THICKNESS)
+    parts.append(
+        shaped(cylinder(m, DISK_RADIUS, DISK_THICKNESS), m, np.zeros(3), disk_axis(values))
+    )
+    m = cyl_mass(FLANGE_RADIUS, FLANGE_THICKNESS)
+    for x in (-PLANE_X, PLANE_X):
+        parts.append(
+            shaped(cylinder(m, FLANGE_RADIUS, FLANGE_THICKNESS), m, np.array([x, 0, 0]), AXIS)
+        )
+    for _, mass, pos in _mass_points(values):
+        parts.append(MassProperties.of_shape(sphere(mass, MASS_SPHERE_RADIUS), mass, pos))
+    return combine(parts)
+
+
+def unbalance(values: Values) -> tuple[float, np.ndarray, float, float]:
+    """(m, G, E, F) of the rotor: mass [kg], centre [m], products at O [kg·m²]."""
+    props = mass_properties(values)
+    _, _, _, _, e, f = coefficients(props.inertia_at(np.zeros(3)))
+    return props.mass, props.com, e, f
+
+
+def bearing_split(r: np.ndarray, m_o: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Forces of the frame at A and B from its action (R, M_O) across the axis.
+
+    Bearing A (ball joint at x = -a) and B (linear annular joint at x = +a) make the
+    guidance isostatic: R⊥ = F_A + F_B and M_O⊥ = OA ∧ F_A + OB ∧ F_B.
+    """
+    r_perp = r - np.dot(r, AXIS) * AXIS
+    twist = np.cross(m_o, AXIS) / BEARING_X
+    return 0.5 * (r_perp - twist), 0.5 * (r_perp + twist)
+
+
+def reference(values: Values) -> dict[str, float]:
+    """Course 7.2: F_rot = m ω² Y, M_rot = ω² √(E²+F²), and the bearing forces."""
+    w = omega(values)
+    mass, g, e, f = unbalance(values)
+    r = -mass * w * w * np.array([0.0, g[1], g[2]])
+    m_o = w * w * np.array([0.0, e, -f])
+    f_a, f_b = bearing_split(r, m_o)
+    return {
+        "omega": w,
+        "static_unbalance": mass * math.hypot(g[1], g[2]),
+        "products_EF": math.hypot(e, f),
+        "F_rot": float(np.linalg.norm(r)),
+        "M_rot": float(np.linalg.norm(m_o)),
+        "bearing_A": float(np.linalg.norm(f_a)),
+        "bearing_B": float(np.linalg.norm(f_b)),
+    }
+
+
+def balancing_solution(values: Values) -> dict[str, float]:
+    """Correction masses that balance statically and dynamically (course 7.2.2–7.2.3).
+
+    A point mass m_k at (x_k, r cos φ_k, r sin φ_k) adds u_k = m_k r (cos φ_k, sin φ_k)
+    to m·(Y_y, Y_z) and x_k·u_k to (F, E). With the planes at x = ∓c, the conditions
+    Y = 0 and E = F = 0 give u2 = -(S + Q/c)/2 and u1 = -(S - Q/c)/2.
+    """
+    bare = {**values, "mass1_g": 0.0, "mass2_g": 0.0}
+    mass, g, e, f = unbalance(bare)
+    s = mass * np.array([g[1], g[2]])
+    q = np.array([f, e])
+    u1 = -(s - q / PLANE_X) / 2.0
+    u2 = -(s + q / PLANE_X) / 2.0
+    out = {}
+    for k, u in (("1", u1), ("2", u2)):
+        out[f"mass{k}_g"] = float(np.linalg.norm(u) / CORRECTION_RADIUS * 1000.0)
+        out[f"angle{k}_deg"] = float(math.degrees(math.atan2(u[1], u[0])))
+    return out
+
+
+# -- scene readouts -----------------------------------------------------------------------
+def _rotor_id(s: Snapshot) -> int:
+    return s.body_id("rotor")
+
+
+def _bearings(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
+    return bearing_split(*s.support)
+
+
+def _products(s: Snapshot) -> float:
+    b = _rotor_id(s)
+    rot = s.data.ximat[b].reshape(3, 3)
+    i_g = rot @ np.diag(s.model.body_inertia[b]) @ rot.T
+    i_o = huygens(i_g, float(s.model.body_mass[b]), -s.data.xipos[b])
+    _, _, _, _, e, f = coefficients(i_o)
+    return math.hypot(e, f)
+
+
+def _static(s: Snapshot) -> float:
+    b = _rotor_id(s)
+    g = s.data.subtree_com[b]
+    return float(s.model.body_subtreemass[b]) * math.hypot(g[1], g[2])
+
+
+def _perp(v: np.ndarray) -> float:
+    return float(np.linalg.norm(v - np.dot(v, AXIS) * AXIS))
+
+
+READOUTS = (
+    SceneReadout("omega", "rad/s", "Rotation speed of the rotor.", lambda s: s.joint_qvel("spin")),
+    SceneReadout(
+        "bearing_A",
+        "N",
+        "Force of the frame on the rotor at bearing A, across the axis.",
+        lambda s: float(np.linalg.norm(_bearings(s)[0])),
+    ),
+    SceneReadout(
+        "bearing_B",
+        "N",
+        "Force of the frame on the rotor at bearing B, across the axis.",
+        lambda s: float(np.linalg.norm(_bearings(s)[1])),
+    ),
+    SceneReadout("static_unbalance", "kg·m", "m × distance of G to the axis.", _static),
+    SceneReadout(
+        "products_EF", "kg·m²", "√(E²+F²): products of inertia of the axis column at O.", _products
+    ),
+    SceneReadout(
+        "F_rot",
+        "N",
+        "Rotating resultant of the frame's action on the rotor.",
+        lambda s: _perp(s.support[0]),
+    ),
+    SceneReadout(
+        "M_rot",
+        "N·m",
+        "Rotating moment at O of the frame's action on the rotor.",
+        lambda s: _perp(s.support[1]),
+    ),
+)
+
+ARROWS = (
+    Arrow(
+        "bearing_A",
+        "Palier A",
+        (40, 110, 230),
+        lambda s: (np.array([-BEARING_X, 0.0, 0.0]), _bearings(s)[0]),
+        scale=4e-3,
+    ),
+    Arrow(
+        "bearing_B",
+        "Palier B",
+        (230, 80, 40),
+        lambda s: (np.array([BEARING_X, 0.0, 0.0]), _bearings(s)[1]),
+        scale=4e-3,
+    ),
+)
+
+SCENE = Scene(
+    name="rotor",
+    title="Rotor déséquilibré : équilibrage statique et dynamique",
+    summary=(
+        "A rotor on two bearings turns at constant speed. A defect mass and a skewed disk "
+        "make the frame feel rotating forces; two correction masses cancel them."
+    ),
+    mjcf="rotor.xml",
+    params=PARAMS,
+    effects=Effects(gravity=False, contacts=False, actuation=True),
+    readouts=READOUTS,
+    edit=edit,
+    drive=drive,
+    initial_state=initial_state,
+    reference=reference,
+    integrator="rk4",
+    timestep=1e-3,
+    plots=("bearing_A", "bearing_B"),
+    arrows=ARROWS,
+    body_frame="rotor",
+    sections="2–3, 5, 6, 7.2",
+    extra={"balancing_solution": balancing_solution},
+)

@@ -1,0 +1,198 @@
+"""CLI contract: commands, flags, CSV/JSON output, one-line errors (exit 2), divergence (3)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+
+import pytest
+
+from sandbox.cli import main
+
+PENDULUM = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <body name="arm">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
+    </body>
+  </worldbody>
+  <keyframe><key qpos="0.5"/></keyframe>
+</mujoco>
+"""
+
+DIVERGING = """
+<mujoco>
+  <option timestep="0.05" integrator="Euler"/>
+  <worldbody>
+    <body>
+      <joint type="slide" axis="1 0 0" stiffness="1e9"/>
+      <geom type="sphere" size="0.1" mass="0.001"/>
+    </body>
+  </worldbody>
+  <keyframe><key qpos="0.1"/></keyframe>
+</mujoco>
+"""
+
+
+def _err(capsys) -> str:
+    return capsys.readouterr().err.strip()
+
+
+def _rows(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_list_names_the_rotor(capsys):
+    assert main(["list"]) == 0
+    assert "rotor" in capsys.readouterr().out
+
+
+def test_describe_json_schema(capsys):
+    assert main(["describe", "rotor", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert {"name", "title", "effects", "params", "readouts"} <= set(info)
+    assert info["name"] == "rotor"
+    names = [p["name"] for p in info["params"]]
+    assert names[:3] == ["speed_rpm", "defect_mass_g", "skew_deg"]
+    for p in info["params"]:
+        assert set(p) == {"name", "value", "unit", "min", "max", "doc"}
+    for r in info["readouts"]:
+        assert set(r) == {"name", "unit", "doc"}
+    readouts = {r["name"] for r in info["readouts"]}
+    assert {
+        "omega",
+        "bearing_A",
+        "bearing_B",
+        "static_unbalance",
+        "products_EF",
+        "F_rot",
+        "M_rot",
+        "T",
+        "P_acc",
+        "sup_M_z",
+    } <= readouts
+
+
+def test_run_3000_rpm_is_four_times_1500(tmp_path, capsys):
+    """Acceptance: bearing forces at 3000 rpm are 4x those at 1500 rpm within 1 %."""
+    fast, slow = tmp_path / "r.csv", tmp_path / "s.csv"
+    assert (
+        main(["run", "rotor", "--set", "speed_rpm=3000", "--duration", "1", "--out", str(fast)])
+        == 0
+    )
+    assert (
+        main(["run", "rotor", "--set", "speed_rpm=1500", "--duration", "1", "--out", str(slow)])
+        == 0
+    )
+    f, s = _rows(fast)[-1], _rows(slow)[-1]
+    for key in ("bearing_A", "bearing_B"):
+        assert float(f[key]) / float(s[key]) == pytest.approx(4.0, rel=1e-2)
+    assert float(f["time"]) == pytest.approx(1.0)
+
+
+def test_run_rate_sets_rows(tmp_path):
+    out = tmp_path / "r.csv"
+    assert main(["run", "rotor", "--duration", "0.5", "--rate", "20", "--out", str(out)]) == 0
+    assert len(_rows(out)) == 11  # t = 0 and 10 samples
+
+
+def test_run_json_output(tmp_path):
+    out = tmp_path / "r.json"
+    assert (
+        main(
+            [
+                "run",
+                "rotor",
+                "--duration",
+                "0.05",
+                "--out",
+                str(out),
+                "--integrator",
+                "implicitfast",
+                "--timestep",
+                "0.0005",
+            ]
+        )
+        == 0
+    )
+    doc = json.loads(out.read_text())
+    assert doc["integrator"] == "implicitfast" and doc["timestep"] == 0.0005
+    assert doc["columns"][0] == "time" and len(doc["rows"][0]) == len(doc["columns"])
+    assert doc["units"]["bearing_A"] == "N"
+
+
+def test_arbitrary_mjcf_runs_with_generic_readouts(tmp_path):
+    xml = tmp_path / "pendulum.xml"
+    xml.write_text(PENDULUM)
+    out = tmp_path / "p.csv"
+    assert main(["run", str(xml), "--duration", "0.5", "--out", str(out)]) == 0
+    rows = _rows(out)
+    assert list(rows[0])[:6] == ["time", "T", "V", "P_ext", "P_int", "P_acc"]
+    assert float(rows[0]["T"]) == 0.0  # starts from its keyframe at rest
+    assert float(rows[-1]["T"]) > 0.0  # and falls under its own gravity
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["run", "nope"], ["unknown scene or file 'nope'", "rotor"]),
+        (["run", "rotor", "--set", "bogus=1"], ["no parameter 'bogus'", "speed_rpm"]),
+        (["run", "rotor", "--set", "speed_rpm=99999"], ["out of range", "6000"]),
+        (["run", "rotor", "--set", "speed_rpm=fast"], ["needs a number"]),
+        (["run", "rotor", "--set", "speed_rpm"], ["NAME=VALUE"]),
+        (["run", "rotor", "--duration", "-1"], ["--duration", "positive"]),
+        (["run", "rotor", "--timestep", "0"], ["--timestep", "positive"]),
+        (["run", "rotor", "--integrator", "leapfrog"], ["leapfrog", "rk4"]),
+        (["run", "rotor", "--out", "x.txt"], [".csv or .json"]),
+        (["run", "."], ["directory"]),
+        (["describe", "missing.xml"], ["unknown scene or file"]),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(argv, words, capsys):
+    assert main(argv) == 2
+    err = _err(capsys)
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith("sandbox: error: ")
+    for word in words:
+        assert word in err
+
+
+def test_malformed_mjcf_is_one_line(tmp_path, capsys):
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<mujoco><worldbody><body><geom type='sphere'/></body></worldbody>")
+    assert main(["run", str(bad)]) == 2
+    err = _err(capsys)
+    assert len(err.splitlines()) == 1 and "cannot load MJCF" in err
+
+
+def test_parameter_on_a_file_is_refused(tmp_path, capsys):
+    xml = tmp_path / "p.xml"
+    xml.write_text(PENDULUM)
+    assert main(["run", str(xml), "--set", "speed_rpm=1"]) == 2
+    assert "no parameter" in _err(capsys)
+
+
+def test_divergence_exits_3_and_keeps_rows(tmp_path, capsys):
+    xml = tmp_path / "div.xml"
+    xml.write_text(DIVERGING)
+    out = tmp_path / "d.csv"
+    assert main(["run", str(xml), "--duration", "5", "--out", str(out)]) == 3
+    err = _err(capsys)
+    assert "diverged at t =" in err and "--timestep" in err
+    assert len(_rows(out)) >= 1
+
+
+def test_console_script_has_no_traceback():
+    proc = subprocess.run(
+        [sys.executable, "-m", "sandbox.cli", "run", "rotor", "--set", "mass1_g=-5"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr and "mass1_g" in proc.stderr
