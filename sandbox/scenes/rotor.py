@@ -134,7 +134,9 @@ def edit(spec: mujoco.MjSpec, values: Values) -> None:
     """Place the defect and correction masses and tilt the disk."""
     quat = np.zeros(4)
     mujoco.mju_quatZ2Vec(quat, disk_axis(values))
-    spec.geom("disk").quat = quat
+    disk = spec.geom("disk")
+    disk.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT  # the XML gives a zaxis
+    disk.quat = quat
     for name, mass, pos in _mass_points(values):
         geom = spec.geom(name)
         geom.mass = mass

@@ -1,0 +1,332 @@
+"""Generic readouts for any MJCF model: energy, powers and torsors of the mechanism.
+
+Pure functions of (model, data). Everything is at the world origin O, on the world axes,
+relative to the world frame R0 (Galilean). The *mechanism* is every body not welded to
+the world (``model.body_weldid != 0``).
+
+Call :func:`prepare` once at the current state (after ``mj_step`` MuJoCo's derived
+quantities belong to the state *before* the step), then :func:`compute`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+Pair = tuple[np.ndarray, np.ndarray]
+
+
+@dataclass(frozen=True)
+class ReadoutInfo:
+    """Name, unit and one-line doc of a generic readout."""
+
+    name: str
+    unit: str
+    doc: str
+
+
+def _torsor_infos(prefix: str, what: str, ru: str, mu: str) -> list[ReadoutInfo]:
+    out = [ReadoutInfo(f"{prefix}_R_{c}", ru, f"{what}: resultant, {c} component")
+           for c in "xyz"]
+    out += [ReadoutInfo(f"{prefix}_M_{c}", mu, f"{what}: moment at O, {c} component")
+            for c in "xyz"]
+    return out
+
+
+GENERIC_READOUTS: tuple[ReadoutInfo, ...] = (
+    ReadoutInfo("time", "s", "Simulated time."),
+    ReadoutInfo("T", "J", "Kinetic energy of the mechanism in R0."),
+    ReadoutInfo("V", "J", "Potential energy of weight and joint springs."),
+    ReadoutInfo("P_ext", "W", "Power of weight, motors and applied loads."),
+    ReadoutInfo("P_int", "W", "Power of inter-efforts, non-perfect joints and contacts."),
+    ReadoutInfo("P_acc", "W", "Power of the accelerations, equal to dT/dt."),
+    *_torsor_infos("kin", "Kinetic torsor {C}", "kg·m/s", "kg·m²/s"),
+    *_torsor_infos("dyn", "Dynamic torsor {D}", "N", "N·m"),
+    *_torsor_infos("sup", "Action of the frame on the mechanism", "N", "N·m"),
+)
+GENERIC_NAMES: tuple[str, ...] = tuple(r.name for r in GENERIC_READOUTS)
+_NEEDS_RNE = ("dyn_", "sup_", "P_acc")
+
+
+def mechanism_bodies(model: mujoco.MjModel) -> np.ndarray:
+    """Ids of the bodies not welded to the world."""
+    return np.flatnonzero(model.body_weldid != 0)
+
+
+def _inertia_world(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """I_G of every body in world axes, shape (nbody, 3, 3)."""
+    rot = data.ximat.reshape(-1, 3, 3)
+    return np.einsum("bij,bj,bkj->bik", rot, model.body_inertia, rot)
+
+
+def body_velocities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """(v_G, ω) of every body's centre of mass in R0, each (nbody, 3), world axes."""
+    omega = data.cvel[:, :3]
+    c = data.subtree_com[model.body_rootid]
+    v_g = data.cvel[:, 3:] + np.cross(omega, data.xipos - c)
+    return v_g, omega
+
+
+def _gravity(model: mujoco.MjModel) -> np.ndarray:
+    if model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY:
+        return np.zeros(3)
+    return np.array(model.opt.gravity)
+
+
+def body_accelerations(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """(a_G, α): true accelerations of every centre of mass, after mj_rnePostConstraint.
+
+    MuJoCo's ``cacc`` is a spatial acceleration that includes −g (like an accelerometer);
+    the classical acceleration of G is cacc_lin + α ∧ (G − c) + ω ∧ v_G, plus g.
+    """
+    v_g, omega = body_velocities(model, data)
+    alpha = data.cacc[:, :3]
+    c = data.subtree_com[model.body_rootid]
+    a_g = data.cacc[:, 3:] + np.cross(alpha, data.xipos - c) + np.cross(omega, v_g)
+    return a_g + _gravity(model), alpha
+
+
+def _select(model: mujoco.MjModel, bodies: Iterable[int] | None) -> np.ndarray:
+    return mechanism_bodies(model) if bodies is None else np.asarray(list(bodies), dtype=int)
+
+
+def kinetic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+    """{C} at O: (Σ m v_G, Σ I_G ω + OG ∧ m v_G)."""
+    b = _select(model, bodies)
+    v_g, omega = body_velocities(model, data)
+    m = model.body_mass[b][:, None]
+    p = m * v_g[b]
+    sigma = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
+    return p.sum(0), (sigma + np.cross(data.xipos[b], p)).sum(0)
+
+
+def dynamic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+    """{D} at O: (Σ m a_G, Σ I_G α + ω ∧ I_G ω + OG ∧ m a_G)."""
+    b = _select(model, bodies)
+    a_g, alpha = body_accelerations(model, data)
+    _, omega = body_velocities(model, data)
+    inertia = _inertia_world(model, data)[b]
+    m = model.body_mass[b][:, None]
+    ma = m * a_g[b]
+    iw = np.einsum("bij,bj->bi", inertia, omega[b])
+    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + np.cross(omega[b], iw)
+    return ma.sum(0), (delta + np.cross(data.xipos[b], ma)).sum(0)
+
+
+def gravity_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+    """Weight of the mechanism at O (zero when weight is neglected)."""
+    b = _select(model, bodies)
+    w = model.body_mass[b][:, None] * _gravity(model)
+    return w.sum(0), np.cross(data.xipos[b], w).sum(0)
+
+
+def _frame_children(model: mujoco.MjModel) -> np.ndarray:
+    """Mechanism bodies whose parent is welded to the world (they touch the frame)."""
+    b = mechanism_bodies(model)
+    return b[model.body_weldid[model.body_parentid[b]] == 0]
+
+
+def _dof_wrenches(model: mujoco.MjModel, data: mujoco.MjData, force: np.ndarray,
+                  bodies: np.ndarray) -> Pair:
+    """Wrench at O of generalised forces ``force`` (nv,) in the joints of ``bodies``."""
+    r, m = np.zeros(3), np.zeros(3)
+    for body in bodies:
+        for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
+            kind, dof = model.jnt_type[j], model.jnt_dofadr[j]
+            rot = data.xmat[body].reshape(3, 3)
+            if kind == mujoco.mjtJoint.mjJNT_HINGE:
+                m += force[dof] * data.xaxis[j]
+            elif kind == mujoco.mjtJoint.mjJNT_SLIDE:
+                f = force[dof] * data.xaxis[j]
+                r += f
+                m += np.cross(data.xanchor[j], f)
+            elif kind == mujoco.mjtJoint.mjJNT_BALL:
+                m += rot @ force[dof:dof + 3]
+            else:  # free: world-axis force at the body origin, body-axis torque
+                f = force[dof:dof + 3]
+                r += f
+                m += np.cross(data.xpos[body], f) + rot @ force[dof + 3:dof + 6]
+    return r, m
+
+
+def actuator_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """Motors (and qfrc_applied) acting in joints between the frame and the mechanism."""
+    return _dof_wrenches(model, data, data.qfrc_actuator + data.qfrc_applied,
+                         _frame_children(model))
+
+
+def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """xfrc_applied (force at G, torque) on mechanism bodies, at O."""
+    b = mechanism_bodies(model)
+    f = data.xfrc_applied[b, :3]
+    return f.sum(0), (data.xfrc_applied[b, 3:] + np.cross(data.xipos[b], f)).sum(0)
+
+
+def _spatial_at_origin(model: mujoco.MjModel, data: mujoco.MjData, body: int,
+                       wrench: np.ndarray) -> Pair:
+    """Com-based spatial force [torque at c; force] of ``body`` reduced at O."""
+    c = data.subtree_com[model.body_rootid[body]]
+    return wrench[3:].copy(), wrench[:3] + np.cross(c, wrench[3:])
+
+
+def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """Action of the frame on the mechanism at O: joints, contacts, equality constraints.
+
+    Joints: cfrc_int of each body hanging from the frame is the wrench its parent
+    transmits, motors and qfrc_applied included, so those are removed. Contacts and
+    equality constraints with the frame come from the contact/constraint forces.
+    Requires mj_rnePostConstraint.
+    """
+    r, m = np.zeros(3), np.zeros(3)
+    children = _frame_children(model)
+    for body in children:
+        if model.body_jntnum[body] == 0:
+            continue
+        dr, dm = _spatial_at_origin(model, data, body, data.cfrc_int[body])
+        r += dr
+        m += dm
+    ar, am = _dof_wrenches(model, data, data.qfrc_actuator + data.qfrc_applied, children)
+    r -= ar
+    m -= am
+    cr, cm = _frame_contacts(model, data)
+    er, em = _frame_equalities(model, data)
+    return r + cr + er, m + cm + em
+
+
+def _on_frame(model: mujoco.MjModel, body: int) -> bool:
+    return bool(model.body_weldid[body] == 0)
+
+
+def _frame_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    r, m = np.zeros(3), np.zeros(3)
+    local = np.zeros(6)
+    for i in range(data.ncon):
+        con = data.contact[i]
+        b1, b2 = model.geom_bodyid[con.geom1], model.geom_bodyid[con.geom2]
+        f1, f2 = _on_frame(model, b1), _on_frame(model, b2)
+        if f1 == f2 or con.efc_address < 0:
+            continue
+        mujoco.mj_contactForce(model, data, i, local)
+        frame = con.frame.reshape(3, 3)  # rows: normal, tangents (world)
+        force, torque = frame.T @ local[:3], frame.T @ local[3:]
+        sign = 1.0 if f1 else -1.0  # force of geom1 on geom2 is +force
+        r += sign * force
+        m += sign * (torque + np.cross(con.pos, force))
+    return r, m
+
+
+def _frame_equalities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """Connect/weld constraints between the frame and a mechanism body, on the mechanism."""
+    r, m = np.zeros(3), np.zeros(3)
+    if model.neq == 0:
+        return r, m
+    for row in np.flatnonzero(data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY):
+        pass  # located per equality below
+    rows = np.flatnonzero(data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    for eq in range(model.neq):
+        kind = model.eq_type[eq]
+        if kind not in (mujoco.mjtEq.mjEQ_CONNECT, mujoco.mjtEq.mjEQ_WELD):
+            continue
+        if model.eq_objtype[eq] != mujoco.mjtObj.mjOBJ_BODY:
+            continue
+        b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
+        if _on_frame(model, b1) == _on_frame(model, b2):
+            continue
+        mine = rows[data.efc_id[rows] == eq]
+        if len(mine) == 0:
+            continue
+        # Generalised force of these rows, expressed as a wrench on the mechanism side:
+        # the constraint force acts on the mechanism body through its Jacobian, so its
+        # power-equivalent wrench is recovered from the body's own Jacobian at O.
+        qf = data.efc_J[mine].T @ data.efc_force[mine] if data.efc_J.ndim == 2 else None
+        body = b2 if _on_frame(model, b1) else b1
+        jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+        mujoco.mj_jac(model, data, jacp, jacr, np.zeros(3), body)
+        j = np.vstack([jacp, jacr])
+        wrench, *_ = np.linalg.lstsq(j.T, qf, rcond=None)
+        r += wrench[:3]
+        m += wrench[3:]
+    return r, m
+
+
+def kinetic_energy(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> float:
+    """T = Σ ½ m v_G² + ½ ω·I_G ω (armature, a joint property, is not counted)."""
+    b = _select(model, bodies)
+    v_g, omega = body_velocities(model, data)
+    iw = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
+    return float(0.5 * (model.body_mass[b] * (v_g[b] ** 2).sum(1)).sum()
+                 + 0.5 * (iw * omega[b]).sum())
+
+
+def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """Weight (−Σ m g·OG) plus hinge and slide joint springs ½ k (q − q_ref)²."""
+    b = mechanism_bodies(model)
+    v = -float((model.body_mass[b] * (data.xipos[b] @ _gravity(model))).sum())
+    if not model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_SPRING:
+        for j in np.flatnonzero(model.jnt_stiffness > 0):
+            if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+                a = model.jnt_qposadr[j]
+                v += 0.5 * model.jnt_stiffness[j] * (data.qpos[a] - model.qpos_spring[a]) ** 2
+    return v
+
+
+def powers(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, float]:
+    """P_ext and P_int [W] (see the module and README for the split)."""
+    b = mechanism_bodies(model)
+    v_g, omega = body_velocities(model, data)
+    qv = data.qvel
+    p_grav = float((model.body_mass[b] * (v_g[b] @ _gravity(model))).sum())
+    xf = data.xfrc_applied[b]
+    p_xfrc = float((xf[:, :3] * v_g[b]).sum() + (xf[:, 3:] * omega[b]).sum())
+    p_ext = p_grav + p_xfrc + float(qv @ (data.qfrc_actuator + data.qfrc_applied
+                                          + data.qfrc_gravcomp))
+    p_int = float(qv @ (data.qfrc_passive - data.qfrc_gravcomp + data.qfrc_constraint))
+    return {"P_ext": p_ext, "P_int": p_int}
+
+
+def acceleration_power(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """P_acc = Σ {D_i}⊗{V_i} = Σ m a_G·v_G + (I_G α + ω ∧ I_G ω)·ω."""
+    b = mechanism_bodies(model)
+    a_g, alpha = body_accelerations(model, data)
+    v_g, omega = body_velocities(model, data)
+    inertia = _inertia_world(model, data)[b]
+    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + np.cross(
+        omega[b], np.einsum("bij,bj->bi", inertia, omega[b]))
+    return float((model.body_mass[b] * (a_g[b] * v_g[b]).sum(1)).sum()
+                 + (delta * omega[b]).sum())
+
+
+def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> None:
+    """Bring ``data`` up to date at its current state for the readouts ``names``."""
+    mujoco.mj_forward(model, data)
+    if any(n.startswith(_NEEDS_RNE) for n in names):
+        mujoco.mj_rnePostConstraint(model, data)
+
+
+def compute(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> dict[str, float]:
+    """Values of the generic readouts ``names`` (after :func:`prepare`); only those asked."""
+    names = list(names)
+    unknown = [n for n in names if n not in GENERIC_NAMES]
+    if unknown:
+        raise KeyError(f"unknown readout {unknown[0]!r}; valid: {', '.join(GENERIC_NAMES)}")
+    out: dict[str, float] = {}
+    groups = {"kin": kinetic_torsor, "dyn": dynamic_torsor, "sup": support_torsor}
+    for prefix, fn in groups.items():
+        if any(n.startswith(prefix + "_") for n in names):
+            r, m = fn(model, data)
+            for i, c in enumerate("xyz"):
+                out[f"{prefix}_R_{c}"], out[f"{prefix}_M_{c}"] = float(r[i]), float(m[i])
+    if "time" in names:
+        out["time"] = float(data.time)
+    if "T" in names:
+        out["T"] = kinetic_energy(model, data)
+    if "V" in names:
+        out["V"] = potential_energy(model, data)
+    if "P_ext" in names or "P_int" in names:
+        out.update(powers(model, data))
+    if "P_acc" in names:
+        out["P_acc"] = acceleration_power(model, data)
+    return {n: out[n] for n in names}

@@ -1,0 +1,260 @@
+"""MJCF geoms -> viser scene nodes, created once per model and posed every frame.
+
+The pure helpers (:func:`geom_shapes`, :func:`geom_pose`, :func:`capsule_mesh`,
+:func:`mesh_arrays`) need no server and are tested on an inline MJCF; the
+:class:`SceneRenderer` turns their output into nodes of one client's scene.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+_T = mujoco.mjtGeom
+KINDS: dict[int, str] = {
+    int(_T.mjGEOM_PLANE): "plane",
+    int(_T.mjGEOM_BOX): "box",
+    int(_T.mjGEOM_SPHERE): "sphere",
+    int(_T.mjGEOM_CAPSULE): "capsule",
+    int(_T.mjGEOM_CYLINDER): "cylinder",
+    int(_T.mjGEOM_ELLIPSOID): "ellipsoid",
+    int(_T.mjGEOM_MESH): "mesh",
+}
+"""MuJoCo geom types drawn in the browser (height fields and SDFs are not)."""
+
+HIDDEN_GROUP = 3
+"""Geoms in this group or above are hidden, as in MuJoCo's viewer defaults."""
+
+_DEFAULT_RGBA = (0.5, 0.5, 0.5, 1.0)
+
+
+@dataclass(frozen=True)
+class GeomShape:
+    """What to draw for one geom, independent of its pose.
+
+    Attributes:
+        geom_id: Index in the model.
+        name: Scene-tree name of the node.
+        kind: One of :data:`KINDS` values.
+        size: Kind-specific dimensions [m]: box (dx, dy, dz) full edges; sphere (r,);
+            capsule (r, half_length); cylinder (r, height); ellipsoid (a, b, c) radii;
+            plane (width, depth, cell); mesh (vertex count, face count, checksum) so
+            that an edited mesh compares unequal (vertices come from the model).
+        rgba: Colour and opacity in [0, 1].
+        moving: False for geoms welded to the world (posed once).
+        mesh_id: Mesh index for ``kind == "mesh"``, else -1.
+    """
+
+    geom_id: int
+    name: str
+    kind: str
+    size: tuple[float, ...]
+    rgba: tuple[float, float, float, float]
+    moving: bool
+    mesh_id: int = -1
+
+    @property
+    def rgb255(self) -> tuple[int, int, int]:
+        """Colour as 0-255 integers."""
+        r, g, b, _ = self.rgba
+        return (round(255 * r), round(255 * g), round(255 * b))
+
+    @property
+    def opacity(self) -> float | None:
+        """Opacity for viser (None when opaque)."""
+        return None if self.rgba[3] >= 1.0 else float(self.rgba[3])
+
+
+def _rgba(model: mujoco.MjModel, i: int) -> tuple[float, float, float, float]:
+    rgba = tuple(float(x) for x in model.geom_rgba[i])
+    mat = int(model.geom_matid[i])
+    if mat >= 0 and np.allclose(rgba, _DEFAULT_RGBA):
+        rgba = tuple(float(x) for x in model.mat_rgba[mat])
+    return rgba  # type: ignore[return-value]
+
+
+def _size(kind: str, s: np.ndarray, extent: float) -> tuple[float, ...]:
+    if kind == "box":
+        return (2 * s[0], 2 * s[1], 2 * s[2])
+    if kind == "sphere":
+        return (s[0],)
+    if kind == "capsule":
+        return (s[0], s[1])
+    if kind == "cylinder":
+        return (s[0], 2 * s[1])
+    if kind == "ellipsoid":
+        return (s[0], s[1], s[2])
+    if kind == "plane":  # size 0 means infinite: draw a few model extents
+        width = 2 * s[0] if s[0] > 0 else 4 * extent
+        depth = 2 * s[1] if s[1] > 0 else 4 * extent
+        cell = s[2] if s[2] > 0 else max(width, depth) / 20
+        return (width, depth, cell)
+    return ()
+
+
+def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomShape]:
+    """Shapes of the visible geoms: drawn types, alpha > 0 and group < 3.
+
+    Args:
+        model: Compiled model.
+        prefix: Scene-tree folder of the nodes.
+    """
+    shapes = []
+    extent = float(model.stat.extent) or 1.0
+    for i in range(model.ngeom):
+        kind = KINDS.get(int(model.geom_type[i]))
+        rgba = _rgba(model, i)
+        if kind is None or rgba[3] <= 0.0 or int(model.geom_group[i]) >= HIDDEN_GROUP:
+            continue
+        body = int(model.geom_bodyid[i])
+        moving = int(model.body_weldid[body]) != 0 or int(model.body_mocapid[body]) >= 0
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom{i}"
+        size = tuple(float(x) for x in _size(kind, model.geom_size[i], extent))
+        mesh_id = int(model.geom_dataid[i]) if kind == "mesh" else -1
+        if kind == "mesh":
+            verts, faces = mesh_arrays(model, mesh_id)
+            size = (float(len(verts)), float(len(faces)), float(np.abs(verts).sum()))
+        shapes.append(GeomShape(i, f"{prefix}/{i}_{name}", kind, size, rgba, moving, mesh_id))
+    return shapes
+
+
+def mat_to_wxyz(mat: np.ndarray) -> np.ndarray:
+    """Quaternion (w, x, y, z) of a row-major 3x3 rotation matrix (9 numbers)."""
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.asarray(mat, dtype=float).reshape(9))
+    return quat
+
+
+def geom_pose(data: mujoco.MjData, geom_id: int) -> tuple[np.ndarray, np.ndarray]:
+    """World position [m] and orientation (w, x, y, z) of a geom."""
+    return data.geom_xpos[geom_id].copy(), mat_to_wxyz(data.geom_xmat[geom_id])
+
+
+def mesh_arrays(model: mujoco.MjModel, mesh_id: int) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) float32 [m] and triangles (F, 3) uint32 of a compiled mesh."""
+    v0, nv = int(model.mesh_vertadr[mesh_id]), int(model.mesh_vertnum[mesh_id])
+    f0, nf = int(model.mesh_faceadr[mesh_id]), int(model.mesh_facenum[mesh_id])
+    verts = np.asarray(model.mesh_vert[v0 : v0 + nv], dtype=np.float32)
+    faces = np.asarray(model.mesh_face[f0 : f0 + nf], dtype=np.uint32)
+    return verts, faces
+
+
+def capsule_mesh(
+    radius: float, half_length: float, *, segments: int = 24, rings: int = 6
+) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle mesh of a capsule along z: a cylinder of ``2 half_length`` with two caps.
+
+    Returns:
+        Vertices (V, 3) float32 [m] and triangles (F, 3) uint32, outward facing.
+    """
+    # Latitude circles from the bottom pole to the top pole; the two equators are
+    # shifted by -/+ half_length, which makes the cylindrical part.
+    lat = []
+    for k in range(1, rings + 1):  # bottom cap, pole excluded
+        phi = -math.pi / 2 + math.pi / 2 * k / rings
+        lat.append((phi, -half_length))
+    for k in range(0, rings):  # top cap, pole excluded
+        phi = math.pi / 2 * k / rings
+        lat.append((phi, half_length))
+    theta = np.linspace(0.0, 2 * math.pi, segments, endpoint=False)
+    verts = [(0.0, 0.0, -half_length - radius)]
+    for phi, dz in lat:
+        r, z = radius * math.cos(phi), radius * math.sin(phi) + dz
+        verts += [(r * math.cos(t), r * math.sin(t), z) for t in theta]
+    verts.append((0.0, 0.0, half_length + radius))
+    faces = []
+    n, top = len(lat), len(verts) - 1
+
+    def ring(k: int, j: int) -> int:
+        return 1 + k * segments + j % segments
+
+    for j in range(segments):
+        faces.append((0, ring(0, j + 1), ring(0, j)))
+        faces.append((top, ring(n - 1, j), ring(n - 1, j + 1)))
+        for k in range(n - 1):
+            a, b = ring(k, j), ring(k, j + 1)
+            c, d = ring(k + 1, j), ring(k + 1, j + 1)
+            faces += [(a, b, d), (a, d, c)]
+    return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32)
+
+
+def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
+    """Create the viser node of one geom in ``scene`` (a viser ``SceneApi``)."""
+    color, opacity, name = shape.rgb255, shape.opacity, shape.name
+    common = {"opacity": opacity} if opacity is not None else {}
+    if shape.kind == "box":
+        return scene.add_box(name, color=color, dimensions=shape.size, **common)
+    if shape.kind == "sphere":
+        return scene.add_icosphere(name, radius=shape.size[0], color=color, **common)
+    if shape.kind == "ellipsoid":
+        return scene.add_icosphere(name, radius=1.0, color=color, scale=shape.size, **common)
+    if shape.kind == "cylinder":
+        r, h = shape.size
+        return scene.add_cylinder(name, radius=r, height=h, color=color, **common)
+    if shape.kind == "capsule":
+        verts, faces = capsule_mesh(*shape.size)
+        return scene.add_mesh_simple(name, verts, faces, color=color, **common)
+    if shape.kind == "mesh":
+        verts, faces = mesh_arrays(model, shape.mesh_id)
+        return scene.add_mesh_simple(name, verts, faces, color=color, flat_shading=True, **common)
+    if shape.kind == "plane":
+        width, depth, cell = shape.size
+        return scene.add_grid(
+            name, width=width, height=depth, plane="xy", cell_size=cell,
+            section_size=cell * 5, plane_color=color, plane_opacity=shape.rgba[3] * 0.5,
+        )
+    raise ValueError(f"cannot draw geom kind {shape.kind!r}")
+
+
+class SceneRenderer:
+    """Keeps one client's scene nodes in step with a model and its data.
+
+    Args:
+        scene: A viser ``SceneApi`` (``client.scene``).
+        prefix: Scene-tree folder of the nodes.
+    """
+
+    def __init__(self, scene: Any, *, prefix: str = "/model") -> None:
+        self.scene = scene
+        self.prefix = prefix
+        self.model: mujoco.MjModel | None = None
+        self.nodes: dict[int, tuple[GeomShape, Any]] = {}
+
+    def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Rebuild changed nodes when the model object changed, then pose the moving ones."""
+        fresh: list[int] = []
+        if model is not self.model:
+            fresh = self._rebuild(model)
+            self.model = model
+        for gid, (shape, node) in self.nodes.items():
+            if shape.moving or gid in fresh:
+                pos, wxyz = geom_pose(data, gid)
+                if np.isfinite(pos).all() and np.isfinite(wxyz).all():
+                    node.position = pos
+                    node.wxyz = wxyz
+
+    def _rebuild(self, model: mujoco.MjModel) -> list[int]:
+        """Keep nodes whose shape is unchanged, replace the others; returns new ids."""
+        wanted = {s.geom_id: s for s in geom_shapes(model, prefix=self.prefix)}
+        for gid in list(self.nodes):
+            shape, node = self.nodes[gid]
+            if wanted.get(gid) != shape:
+                node.remove()
+                del self.nodes[gid]
+        fresh = []
+        for gid, shape in wanted.items():
+            if gid not in self.nodes:
+                self.nodes[gid] = (shape, add_node(self.scene, model, shape))
+                fresh.append(gid)
+        return fresh
+
+    def clear(self) -> None:
+        """Remove every node."""
+        for _, node in self.nodes.values():
+            node.remove()
+        self.nodes.clear()
+        self.model = None

@@ -1,0 +1,275 @@
+"""One browser's simulation: a request queue, real-time pacing and the frame loop.
+
+:class:`Controller` owns the :class:`~sandbox.physics.simulation.Simulation` and the
+queue; it knows nothing about viser, so tests drive it directly. :class:`Session`
+runs the loop thread that drains the queue, steps in real time and asks a
+:class:`View` (the viser panels, or anything with the same two methods) to draw.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import queue
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from sandbox.errors import Diverged, SandboxError
+from sandbox.physics.simulation import Simulation
+
+log = logging.getLogger(__name__)
+
+FPS = 60.0
+"""Frame rate of pose updates sent to the browser [Hz]."""
+
+MAX_LAG = 0.1
+"""Wall-clock lag [s] beyond which pacing re-syncs instead of catching up."""
+
+SPEEDS = (0.1, 4.0)
+"""Allowed speed factors (slowest, fastest)."""
+
+
+@dataclass(frozen=True)
+class Request:
+    """Something a GUI callback asks of the simulation loop.
+
+    Attributes:
+        kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step``, ``reset``,
+            ``speed``, ``integrator`` or ``timestep``.
+        name: Parameter name for ``set_value``.
+        value: The new value, unvalidated.
+    """
+
+    kind: str
+    value: Any = None
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class Notice:
+    """A message for the user: ``level`` is ``error``, ``diverged`` or ``info``."""
+
+    level: str
+    title: str
+    text: str
+
+
+class View(Protocol):
+    """What the loop needs from a display (the viser panels implement it)."""
+
+    def render(self, controller: Controller, now: float) -> None:
+        """Draw the current state (called at up to :data:`FPS`)."""
+
+    def notify(self, notice: Notice) -> None:
+        """Show a message to the user."""
+
+
+class Controller:
+    """The simulation of one session and the requests waiting for it.
+
+    Args:
+        sim: The session's own simulation.
+        clock: Wall clock [s] (monotonic), replaceable in tests.
+    """
+
+    def __init__(self, sim: Simulation, *, clock: Callable[[], float] = time.perf_counter) -> None:
+        self.sim = sim
+        self.clock = clock
+        self.requests: queue.Queue[Request] = queue.Queue()
+        self.playing = True
+        self.speed = 1.0
+        self.diverged: str | None = None
+        self.generation = 0  # bumped on reset: plots restart
+        self._resync(clock())
+
+    # -- called from GUI callbacks (any thread) ------------------------------------------
+    def submit(self, request: Request) -> None:
+        """Queue a request; the loop thread applies it before its next frame."""
+        self.requests.put(request)
+
+    # -- called from the loop thread -----------------------------------------------------
+    def frame(self, now: float | None = None) -> list[Notice]:
+        """Apply the queued requests, then step to catch up with the wall clock."""
+        now = self.clock() if now is None else now
+        notices = self.drain(now)
+        notices += self.advance(now)
+        return notices
+
+    def drain(self, now: float | None = None) -> list[Notice]:
+        """Apply every queued request; a refused one becomes an ``error`` notice."""
+        now = self.clock() if now is None else now
+        notices: list[Notice] = []
+        while True:
+            try:
+                request = self.requests.get_nowait()
+            except queue.Empty:
+                break
+            try:
+                notice = self._apply(request)
+            except Diverged as exc:
+                notice = self._diverge(exc)
+            except SandboxError as exc:
+                notice = Notice("error", "Valeur refusée", str(exc))
+            except Exception as exc:  # a bug must not kill the session
+                log.exception("request %r failed", request)
+                notice = Notice("error", "Erreur interne", f"{type(exc).__name__}: {exc}")
+            if notice is not None:
+                notices.append(notice)
+            self._resync(now)
+        return notices
+
+    def advance(self, now: float | None = None) -> list[Notice]:
+        """Step so that simulated time follows wall time × speed (in C, one call).
+
+        When the simulation falls more than :data:`MAX_LAG` behind (slow machine,
+        huge speed) or runs ahead (time jumped), pacing re-syncs rather than racing.
+        """
+        now = self.clock() if now is None else now
+        if not self.playing or self.diverged:
+            self._resync(now)
+            return []
+        dt = self.sim.timestep
+        target = self._sync_sim + (now - self._sync_wall) * self.speed
+        behind = target - float(self.sim.data.time)
+        if behind < -MAX_LAG * self.speed:
+            self._resync(now)
+            return []
+        steps = int(behind / dt) if behind > 0 else 0
+        cap = max(1, int(math.ceil(MAX_LAG * self.speed / dt)))
+        try:
+            self.sim.step(min(steps, cap))
+        except Diverged as exc:
+            return [self._diverge(exc)]
+        if steps > cap:
+            self._resync(now)
+        return []
+
+    # -- internals -----------------------------------------------------------------------
+    def _resync(self, now: float) -> None:
+        self._sync_wall = now
+        self._sync_sim = float(self.sim.data.time)
+
+    def _diverge(self, exc: Diverged) -> Notice:
+        self.playing = False
+        self.diverged = (
+            f"La simulation a divergé à t = {exc.time:.4g} s. {exc} "
+            "Réduisez le pas de temps ou prenez l'intégrateur rk4 ou implicitfast, "
+            "puis cliquez sur « Réinitialiser »."
+        )
+        return Notice("diverged", "Simulation divergée", self.diverged)
+
+    def _apply(self, request: Request) -> Notice | None:
+        kind, value, sim = request.kind, request.value, self.sim
+        if kind == "reset":
+            sim.reset()
+            self.diverged = None
+            self.generation += 1
+            return None
+        if kind in ("play", "pause", "toggle"):
+            want = {"play": True, "pause": False}.get(kind, not self.playing)
+            if want and self.diverged:
+                return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
+            self.playing = want
+            return None
+        if kind == "step":
+            if self.diverged:
+                return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
+            self.playing = False
+            sim.step(max(1, int(value or 1)))
+            return None
+        if kind == "speed":
+            speed = _number(value, "speed")
+            if not SPEEDS[0] <= speed <= SPEEDS[1]:
+                raise _bad(f"speed {value!r} is out of range; allowed: {SPEEDS[0]:g} to "
+                           f"{SPEEDS[1]:g}")
+            self.speed = speed
+            return None
+        if kind == "set_value":
+            sim.set_value(request.name, value)
+            return None
+        if kind == "integrator":
+            sim.set_integrator(str(value))
+            return None
+        if kind == "timestep":
+            sim.set_timestep(_number(value, "timestep"))
+            return None
+        raise _bad(f"unknown request {kind!r}")
+
+
+def _bad(message: str) -> SandboxError:
+    from sandbox.errors import BadOption
+
+    return BadOption(message)
+
+
+def _number(value: Any, what: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise _bad(f"{what} needs a number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise _bad(f"{what} needs a finite number, got {value!r}")
+    return number
+
+
+class Session:
+    """A browser's own simulation, stepped by a loop thread that draws into a view.
+
+    Args:
+        controller: The session's controller (owns the simulation).
+        view: Display called at up to ``fps`` frames per second.
+        fps: Frame rate [Hz].
+    """
+
+    def __init__(self, controller: Controller, view: View, *, fps: float = FPS) -> None:
+        self.controller = controller
+        self.view = view
+        self.period = 1.0 / fps
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="sandbox-session", daemon=True)
+
+    def start(self) -> None:
+        """Start the loop thread."""
+        self._thread.start()
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Ask the loop to finish and wait for it (at most ``timeout`` seconds)."""
+        self._stop.set()
+        if self._thread.is_alive() and self._thread is not threading.current_thread():
+            self._thread.join(timeout)
+
+    @property
+    def running(self) -> bool:
+        """True while the loop thread is alive."""
+        return self._thread.is_alive()
+
+    def run_once(self, now: float | None = None) -> None:
+        """One frame: requests, stepping, drawing; any error is shown, never raised."""
+        ctl = self.controller
+        now = ctl.clock() if now is None else now
+        try:
+            for notice in ctl.frame(now):
+                self.view.notify(notice)
+            self.view.render(ctl, now)
+        except Exception as exc:  # keep serving: the user sees the problem
+            if self._stop.is_set():
+                return
+            log.exception("session frame failed")
+            try:
+                self.view.notify(Notice("error", "Erreur interne", f"{type(exc).__name__}: {exc}"))
+            except Exception:
+                pass
+
+    def _run(self) -> None:
+        next_frame = time.perf_counter()
+        while not self._stop.is_set():
+            self.run_once()
+            next_frame += self.period
+            delay = next_frame - time.perf_counter()
+            if delay < 0:  # late: start a fresh schedule, still yield to the sender
+                next_frame = time.perf_counter()
+                delay = 0.002
+            self._stop.wait(delay)
