@@ -29,10 +29,10 @@ class ReadoutInfo:
 
 
 def _torsor_infos(prefix: str, what: str, ru: str, mu: str) -> list[ReadoutInfo]:
-    out = [ReadoutInfo(f"{prefix}_R_{c}", ru, f"{what}: resultant, {c} component")
-           for c in "xyz"]
-    out += [ReadoutInfo(f"{prefix}_M_{c}", mu, f"{what}: moment at O, {c} component")
-            for c in "xyz"]
+    out = [ReadoutInfo(f"{prefix}_R_{c}", ru, f"{what}: resultant, {c} component") for c in "xyz"]
+    out += [
+        ReadoutInfo(f"{prefix}_M_{c}", mu, f"{what}: moment at O, {c} component") for c in "xyz"
+    ]
     return out
 
 
@@ -129,8 +129,9 @@ def _frame_children(model: mujoco.MjModel) -> np.ndarray:
     return b[model.body_weldid[model.body_parentid[b]] == 0]
 
 
-def _dof_wrenches(model: mujoco.MjModel, data: mujoco.MjData, force: np.ndarray,
-                  bodies: np.ndarray) -> Pair:
+def _dof_wrenches(
+    model: mujoco.MjModel, data: mujoco.MjData, force: np.ndarray, bodies: np.ndarray
+) -> Pair:
     """Wrench at O of generalised forces ``force`` (nv,) in the joints of ``bodies``."""
     r, m = np.zeros(3), np.zeros(3)
     for body in bodies:
@@ -144,18 +145,19 @@ def _dof_wrenches(model: mujoco.MjModel, data: mujoco.MjData, force: np.ndarray,
                 r += f
                 m += np.cross(data.xanchor[j], f)
             elif kind == mujoco.mjtJoint.mjJNT_BALL:
-                m += rot @ force[dof:dof + 3]
+                m += rot @ force[dof : dof + 3]
             else:  # free: world-axis force at the body origin, body-axis torque
-                f = force[dof:dof + 3]
+                f = force[dof : dof + 3]
                 r += f
-                m += np.cross(data.xpos[body], f) + rot @ force[dof + 3:dof + 6]
+                m += np.cross(data.xpos[body], f) + rot @ force[dof + 3 : dof + 6]
     return r, m
 
 
 def actuator_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """Motors (and qfrc_applied) acting in joints between the frame and the mechanism."""
-    return _dof_wrenches(model, data, data.qfrc_actuator + data.qfrc_applied,
-                         _frame_children(model))
+    return _dof_wrenches(
+        model, data, data.qfrc_actuator + data.qfrc_applied, _frame_children(model)
+    )
 
 
 def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
@@ -165,8 +167,9 @@ def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     return f.sum(0), (data.xfrc_applied[b, 3:] + np.cross(data.xipos[b], f)).sum(0)
 
 
-def _spatial_at_origin(model: mujoco.MjModel, data: mujoco.MjData, body: int,
-                       wrench: np.ndarray) -> Pair:
+def _spatial_at_origin(
+    model: mujoco.MjModel, data: mujoco.MjData, body: int, wrench: np.ndarray
+) -> Pair:
     """Com-based spatial force [torque at c; force] of ``body`` reduced at O."""
     c = data.subtree_com[model.body_rootid[body]]
     return wrench[3:].copy(), wrench[:3] + np.cross(c, wrench[3:])
@@ -175,81 +178,24 @@ def _spatial_at_origin(model: mujoco.MjModel, data: mujoco.MjData, body: int,
 def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """Action of the frame on the mechanism at O: joints, contacts, equality constraints.
 
-    Joints: cfrc_int of each body hanging from the frame is the wrench its parent
+    Joints: ``cfrc_int`` of each body hanging from the frame is the wrench its parent
     transmits, motors and qfrc_applied included, so those are removed. Contacts and
-    equality constraints with the frame come from the contact/constraint forces.
-    Requires mj_rnePostConstraint.
+    connect/weld constraints: MuJoCo gathers their forces with ``xfrc_applied`` in
+    ``cfrc_ext``; summed over the mechanism, the pairs between two moving bodies cancel
+    (mutual actions), leaving the frame's share. Requires mj_rnePostConstraint.
     """
     r, m = np.zeros(3), np.zeros(3)
     children = _frame_children(model)
     for body in children:
-        if model.body_jntnum[body] == 0:
-            continue
-        dr, dm = _spatial_at_origin(model, data, body, data.cfrc_int[body])
-        r += dr
-        m += dm
+        if model.body_jntnum[body]:
+            dr, dm = _spatial_at_origin(model, data, body, data.cfrc_int[body])
+            r, m = r + dr, m + dm
+    for body in mechanism_bodies(model):
+        dr, dm = _spatial_at_origin(model, data, body, data.cfrc_ext[body])
+        r, m = r + dr, m + dm
     ar, am = _dof_wrenches(model, data, data.qfrc_actuator + data.qfrc_applied, children)
-    r -= ar
-    m -= am
-    cr, cm = _frame_contacts(model, data)
-    er, em = _frame_equalities(model, data)
-    return r + cr + er, m + cm + em
-
-
-def _on_frame(model: mujoco.MjModel, body: int) -> bool:
-    return bool(model.body_weldid[body] == 0)
-
-
-def _frame_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
-    r, m = np.zeros(3), np.zeros(3)
-    local = np.zeros(6)
-    for i in range(data.ncon):
-        con = data.contact[i]
-        b1, b2 = model.geom_bodyid[con.geom1], model.geom_bodyid[con.geom2]
-        f1, f2 = _on_frame(model, b1), _on_frame(model, b2)
-        if f1 == f2 or con.efc_address < 0:
-            continue
-        mujoco.mj_contactForce(model, data, i, local)
-        frame = con.frame.reshape(3, 3)  # rows: normal, tangents (world)
-        force, torque = frame.T @ local[:3], frame.T @ local[3:]
-        sign = 1.0 if f1 else -1.0  # force of geom1 on geom2 is +force
-        r += sign * force
-        m += sign * (torque + np.cross(con.pos, force))
-    return r, m
-
-
-def _frame_equalities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
-    """Connect/weld constraints between the frame and a mechanism body, on the mechanism."""
-    r, m = np.zeros(3), np.zeros(3)
-    if model.neq == 0:
-        return r, m
-    for row in np.flatnonzero(data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY):
-        pass  # located per equality below
-    rows = np.flatnonzero(data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-    for eq in range(model.neq):
-        kind = model.eq_type[eq]
-        if kind not in (mujoco.mjtEq.mjEQ_CONNECT, mujoco.mjtEq.mjEQ_WELD):
-            continue
-        if model.eq_objtype[eq] != mujoco.mjtObj.mjOBJ_BODY:
-            continue
-        b1, b2 = model.eq_obj1id[eq], model.eq_obj2id[eq]
-        if _on_frame(model, b1) == _on_frame(model, b2):
-            continue
-        mine = rows[data.efc_id[rows] == eq]
-        if len(mine) == 0:
-            continue
-        # Generalised force of these rows, expressed as a wrench on the mechanism side:
-        # the constraint force acts on the mechanism body through its Jacobian, so its
-        # power-equivalent wrench is recovered from the body's own Jacobian at O.
-        qf = data.efc_J[mine].T @ data.efc_force[mine] if data.efc_J.ndim == 2 else None
-        body = b2 if _on_frame(model, b1) else b1
-        jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
-        mujoco.mj_jac(model, data, jacp, jacr, np.zeros(3), body)
-        j = np.vstack([jacp, jacr])
-        wrench, *_ = np.linalg.lstsq(j.T, qf, rcond=None)
-        r += wrench[:3]
-        m += wrench[3:]
-    return r, m
+    xr, xm = applied_torsor(model, data)
+    return r - ar - xr, m - am - xm
 
 
 def kinetic_energy(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> float:
@@ -257,8 +203,9 @@ def kinetic_energy(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> f
     b = _select(model, bodies)
     v_g, omega = body_velocities(model, data)
     iw = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
-    return float(0.5 * (model.body_mass[b] * (v_g[b] ** 2).sum(1)).sum()
-                 + 0.5 * (iw * omega[b]).sum())
+    return float(
+        0.5 * (model.body_mass[b] * (v_g[b] ** 2).sum(1)).sum() + 0.5 * (iw * omega[b]).sum()
+    )
 
 
 def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
@@ -281,8 +228,9 @@ def powers(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, float]:
     p_grav = float((model.body_mass[b] * (v_g[b] @ _gravity(model))).sum())
     xf = data.xfrc_applied[b]
     p_xfrc = float((xf[:, :3] * v_g[b]).sum() + (xf[:, 3:] * omega[b]).sum())
-    p_ext = p_grav + p_xfrc + float(qv @ (data.qfrc_actuator + data.qfrc_applied
-                                          + data.qfrc_gravcomp))
+    p_ext = (
+        p_grav + p_xfrc + float(qv @ (data.qfrc_actuator + data.qfrc_applied + data.qfrc_gravcomp))
+    )
     p_int = float(qv @ (data.qfrc_passive - data.qfrc_gravcomp + data.qfrc_constraint))
     return {"P_ext": p_ext, "P_int": p_int}
 
@@ -294,9 +242,9 @@ def acceleration_power(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     v_g, omega = body_velocities(model, data)
     inertia = _inertia_world(model, data)[b]
     delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + np.cross(
-        omega[b], np.einsum("bij,bj->bi", inertia, omega[b]))
-    return float((model.body_mass[b] * (a_g[b] * v_g[b]).sum(1)).sum()
-                 + (delta * omega[b]).sum())
+        omega[b], np.einsum("bij,bj->bi", inertia, omega[b])
+    )
+    return float((model.body_mass[b] * (a_g[b] * v_g[b]).sum(1)).sum() + (delta * omega[b]).sum())
 
 
 def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> None:
