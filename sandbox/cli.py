@@ -141,9 +141,8 @@ def cmd_describe(target: str, as_json: bool) -> int:
         print(json.dumps(info, indent=2, ensure_ascii=False))
         return 0
     print(f"{info['name']}: {info['title']}")
-    print(
-        f"  effects: {', '.join(info['effects'])}; {info['integrator']}, dt = {info['timestep']:g} s"
-    )
+    effects = ", ".join(info["effects"])
+    print(f"  effects: {effects}; {info['integrator']}, dt = {info['timestep']:g} s")
     if info["params"]:
         print("  parameters:")
         for p in info["params"]:
