@@ -51,6 +51,19 @@ GENERIC_NAMES: tuple[str, ...] = tuple(r.name for r in GENERIC_READOUTS)
 _NEEDS_RNE = ("dyn_", "sup_", "P_acc")
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a ∧ b on the last axis (much cheaper than np.cross for small arrays)."""
+    a, b = np.broadcast_arrays(a, b)
+    return np.stack(
+        [
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ],
+        axis=-1,
+    )
+
+
 def mechanism_bodies(model: mujoco.MjModel) -> np.ndarray:
     """Ids of the bodies not welded to the world."""
     return np.flatnonzero(model.body_weldid != 0)
@@ -66,7 +79,7 @@ def body_velocities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """(v_G, ω) of every body's centre of mass in R0, each (nbody, 3), world axes."""
     omega = data.cvel[:, :3]
     c = data.subtree_com[model.body_rootid]
-    v_g = data.cvel[:, 3:] + np.cross(omega, data.xipos - c)
+    v_g = data.cvel[:, 3:] + _cross(omega, data.xipos - c)
     return v_g, omega
 
 
@@ -85,7 +98,7 @@ def body_accelerations(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     v_g, omega = body_velocities(model, data)
     alpha = data.cacc[:, :3]
     c = data.subtree_com[model.body_rootid]
-    a_g = data.cacc[:, 3:] + np.cross(alpha, data.xipos - c) + np.cross(omega, v_g)
+    a_g = data.cacc[:, 3:] + _cross(alpha, data.xipos - c) + _cross(omega, v_g)
     return a_g + _gravity(model), alpha
 
 
@@ -100,7 +113,7 @@ def kinetic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> P
     m = model.body_mass[b][:, None]
     p = m * v_g[b]
     sigma = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
-    return p.sum(0), (sigma + np.cross(data.xipos[b], p)).sum(0)
+    return p.sum(0), (sigma + _cross(data.xipos[b], p)).sum(0)
 
 
 def dynamic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
@@ -112,15 +125,15 @@ def dynamic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> P
     m = model.body_mass[b][:, None]
     ma = m * a_g[b]
     iw = np.einsum("bij,bj->bi", inertia, omega[b])
-    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + np.cross(omega[b], iw)
-    return ma.sum(0), (delta + np.cross(data.xipos[b], ma)).sum(0)
+    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + _cross(omega[b], iw)
+    return ma.sum(0), (delta + _cross(data.xipos[b], ma)).sum(0)
 
 
 def gravity_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
     """Weight of the mechanism at O (zero when weight is neglected)."""
     b = _select(model, bodies)
     w = model.body_mass[b][:, None] * _gravity(model)
-    return w.sum(0), np.cross(data.xipos[b], w).sum(0)
+    return w.sum(0), _cross(data.xipos[b], w).sum(0)
 
 
 def _frame_children(model: mujoco.MjModel) -> np.ndarray:
@@ -143,13 +156,13 @@ def _dof_wrenches(
             elif kind == mujoco.mjtJoint.mjJNT_SLIDE:
                 f = force[dof] * data.xaxis[j]
                 r += f
-                m += np.cross(data.xanchor[j], f)
+                m += _cross(data.xanchor[j], f)
             elif kind == mujoco.mjtJoint.mjJNT_BALL:
                 m += rot @ force[dof : dof + 3]
             else:  # free: world-axis force at the body origin, body-axis torque
                 f = force[dof : dof + 3]
                 r += f
-                m += np.cross(data.xpos[body], f) + rot @ force[dof + 3 : dof + 6]
+                m += _cross(data.xpos[body], f) + rot @ force[dof + 3 : dof + 6]
     return r, m
 
 
@@ -164,7 +177,7 @@ def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """xfrc_applied (force at G, torque) on mechanism bodies, at O."""
     b = mechanism_bodies(model)
     f = data.xfrc_applied[b, :3]
-    return f.sum(0), (data.xfrc_applied[b, 3:] + np.cross(data.xipos[b], f)).sum(0)
+    return f.sum(0), (data.xfrc_applied[b, 3:] + _cross(data.xipos[b], f)).sum(0)
 
 
 def _spatial_at_origin(
@@ -172,7 +185,7 @@ def _spatial_at_origin(
 ) -> Pair:
     """Com-based spatial force [torque at c; force] of ``body`` reduced at O."""
     c = data.subtree_com[model.body_rootid[body]]
-    return wrench[3:].copy(), wrench[:3] + np.cross(c, wrench[3:])
+    return wrench[3:].copy(), wrench[:3] + _cross(c, wrench[3:])
 
 
 def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
@@ -241,10 +254,25 @@ def acceleration_power(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     a_g, alpha = body_accelerations(model, data)
     v_g, omega = body_velocities(model, data)
     inertia = _inertia_world(model, data)[b]
-    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + np.cross(
+    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + _cross(
         omega[b], np.einsum("bij,bj->bi", inertia, omega[b])
     )
     return float((model.body_mass[b] * (a_g[b] * v_g[b]).sum(1)).sum() + (delta * omega[b]).sum())
+
+
+_TORSORS = {"kin": kinetic_torsor, "dyn": dynamic_torsor, "sup": support_torsor}
+
+
+def torsor(
+    model: mujoco.MjModel, data: mujoco.MjData, prefix: str, cache: dict[str, Pair] | None = None
+) -> Pair:
+    """The mechanism's torsor ``prefix`` ("kin", "dyn" or "sup") at O, memoised in cache."""
+    if cache is not None and prefix in cache:
+        return cache[prefix]
+    value = _TORSORS[prefix](model, data)
+    if cache is not None:
+        cache[prefix] = value
+    return value
 
 
 def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> None:
@@ -254,17 +282,24 @@ def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) ->
         mujoco.mj_rnePostConstraint(model, data)
 
 
-def compute(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> dict[str, float]:
-    """Values of the generic readouts ``names`` (after :func:`prepare`); only those asked."""
+def compute(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    names: Iterable[str],
+    cache: dict[str, Pair] | None = None,
+) -> dict[str, float]:
+    """Values of the generic readouts ``names`` (after :func:`prepare`); only those asked.
+
+    ``cache`` (prefix -> torsor) lets several consumers share one torsor computation.
+    """
     names = list(names)
     unknown = [n for n in names if n not in GENERIC_NAMES]
     if unknown:
         raise KeyError(f"unknown readout {unknown[0]!r}; valid: {', '.join(GENERIC_NAMES)}")
     out: dict[str, float] = {}
-    groups = {"kin": kinetic_torsor, "dyn": dynamic_torsor, "sup": support_torsor}
-    for prefix, fn in groups.items():
+    for prefix in _TORSORS:
         if any(n.startswith(prefix + "_") for n in names):
-            r, m = fn(model, data)
+            r, m = torsor(model, data, prefix, cache)
             for i, c in enumerate("xyz"):
                 out[f"{prefix}_R_{c}"], out[f"{prefix}_M_{c}"] = float(r[i]), float(m[i])
     if "time" in names:

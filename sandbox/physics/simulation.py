@@ -243,7 +243,9 @@ class Simulation:
             if any(n in scene_fns for n in wanted):
                 needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
             snap = self.snapshot(needs)
-            out = generic.compute(self.model, self.data, [n for n in wanted if n not in scene_fns])
+            out = generic.compute(
+                self.model, self.data, [n for n in wanted if n not in scene_fns], snap.cache
+            )
             for name in wanted:
                 if name in scene_fns:
                     out[name] = float(scene_fns[name](snap))

@@ -7,7 +7,6 @@ same torsor (e.g. both bearing forces) share one computation.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from functools import cached_property
 
 import mujoco
 import numpy as np
@@ -24,21 +23,22 @@ class Snapshot:
         self.model = model
         self.data = data
         self.values = values
+        self.cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
 
-    @cached_property
+    @property
     def kinetic(self) -> tuple[np.ndarray, np.ndarray]:
         """Kinetic torsor {C} of the mechanism at O: (R [kg·m/s], M_O [kg·m²/s])."""
-        return readouts.kinetic_torsor(self.model, self.data)
+        return readouts.torsor(self.model, self.data, "kin", self.cache)
 
-    @cached_property
+    @property
     def dynamic(self) -> tuple[np.ndarray, np.ndarray]:
         """Dynamic torsor {D} of the mechanism at O: (R [N], M_O [N·m])."""
-        return readouts.dynamic_torsor(self.model, self.data)
+        return readouts.torsor(self.model, self.data, "dyn", self.cache)
 
-    @cached_property
+    @property
     def support(self) -> tuple[np.ndarray, np.ndarray]:
         """Action of the frame on the mechanism at O: (R [N], M_O [N·m])."""
-        return readouts.support_torsor(self.model, self.data)
+        return readouts.torsor(self.model, self.data, "sup", self.cache)
 
     def body_id(self, name: str) -> int:
         """Id of the body called ``name`` (KeyError if absent)."""
