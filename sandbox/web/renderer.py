@@ -204,8 +204,14 @@ def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
     if shape.kind == "plane":
         width, depth, cell = shape.size
         return scene.add_grid(
-            name, width=width, height=depth, plane="xy", cell_size=cell,
-            section_size=cell * 5, plane_color=color, plane_opacity=shape.rgba[3] * 0.5,
+            name,
+            width=width,
+            height=depth,
+            plane="xy",
+            cell_size=cell,
+            section_size=cell * 5,
+            plane_color=color,
+            plane_opacity=shape.rgba[3] * 0.5,
         )
     raise ValueError(f"cannot draw geom kind {shape.kind!r}")
 

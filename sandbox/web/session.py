@@ -154,8 +154,9 @@ class Controller:
 
     def _diverge(self, exc: Diverged) -> Notice:
         self.playing = False
+        detail = str(exc).split("; ")[0]
         self.diverged = (
-            f"La simulation a divergé à t = {exc.time:.4g} s. {exc} "
+            f"La simulation a divergé à t = {exc.time:.4g} s ({detail}). "
             "Réduisez le pas de temps ou prenez l'intégrateur rk4 ou implicitfast, "
             "puis cliquez sur « Réinitialiser »."
         )
@@ -171,20 +172,21 @@ class Controller:
         if kind in ("play", "pause", "toggle"):
             want = {"play": True, "pause": False}.get(kind, not self.playing)
             if want and self.diverged:
-                return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
+                return _reset_first()
             self.playing = want
             return None
         if kind == "step":
             if self.diverged:
-                return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
+                return _reset_first()
             self.playing = False
             sim.step(max(1, int(value or 1)))
             return None
         if kind == "speed":
             speed = _number(value, "speed")
             if not SPEEDS[0] <= speed <= SPEEDS[1]:
-                raise _bad(f"speed {value!r} is out of range; allowed: {SPEEDS[0]:g} to "
-                           f"{SPEEDS[1]:g}")
+                raise _bad(
+                    f"speed {value!r} is out of range; allowed: {SPEEDS[0]:g} to {SPEEDS[1]:g}"
+                )
             self.speed = speed
             return None
         if kind == "set_value":
@@ -197,6 +199,10 @@ class Controller:
             sim.set_timestep(_number(value, "timestep"))
             return None
         raise _bad(f"unknown request {kind!r}")
+
+
+def _reset_first() -> Notice:
+    return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
 
 
 def _bad(message: str) -> SandboxError:

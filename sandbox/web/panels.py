@@ -1,0 +1,178 @@
+"""GUI folders of a session: controls, parameters, readouts, torsors, energy, hypotheses.
+
+Callbacks only queue :class:`~sandbox.web.session.Request` objects; the loop thread
+applies them. Refresh methods are called by the view from the loop thread. Values
+set programmatically (event.client is None) are never sent back as requests.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from sandbox.physics.model import INTEGRATORS
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import Param
+from sandbox.web import tables
+from sandbox.web.session import SPEEDS, Controller, Request
+
+COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
+COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
+COMMAND_KINDS = {"Pause": "pause", "Lecture": "play", "Pas": "step", "Réinitialiser": "reset"}
+"""Buttons of the time bar and the request each one queues."""
+
+
+def _on_user(handle: Any, action: Callable[[Any], None]) -> None:
+    """Run ``action(value)`` when the user (not the server) changes ``handle``."""
+
+    @handle.on_update
+    def _(event: Any) -> None:
+        if event.client is not None:
+            action(event.target.value)
+
+
+def param_label(p: Param) -> str:
+    """Slider label: the contract name and its unit."""
+    return f"{p.name} [{p.unit}]" if p.unit else p.name
+
+
+def param_step(p: Param) -> float:
+    """Slider step: the scene's own, else 1/200 of the range."""
+    return p.step if p.step > 0 else (p.max - p.min) / 200.0
+
+
+def hypotheses(sim: Simulation) -> tuple[str, ...]:
+    """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
+    if sim.scene is not None:
+        return sim.scene.effects.hypotheses()
+    flags = int(sim.model.opt.disableflags)
+    dsbl = mujoco.mjtDisableBit
+    g = float(np.linalg.norm(sim.model.opt.gravity))
+    lines = ["Fichier MJCF : options du fichier conservées"]
+    lines.append(
+        "Poids négligé"
+        if flags & dsbl.mjDSBL_GRAVITY or g == 0
+        else f"Pesanteur prise en compte (g = {g:.3g} m/s²)"
+    )
+    lines.append(
+        "Pas de contact entre solides"
+        if flags & dsbl.mjDSBL_CONTACT
+        else "Contacts simulés si les géométries se touchent"
+    )
+    lines.append("Référentiel terrestre supposé galiléen")
+    return tuple(lines)
+
+
+class ControlPanel:
+    """Folders "Simulation" and "Paramètres", plus the divergence alert.
+
+    Args:
+        gui: A viser ``GuiApi`` (``client.gui``).
+        controller: The session's controller (requests go to its queue).
+    """
+
+    def __init__(self, gui: Any, controller: Controller) -> None:
+        self.controller = controller
+        sim = controller.sim
+        submit = controller.submit
+        with gui.add_folder("Alerte", visible=False) as self.alert:
+            self.alert_text = gui.add_markdown("")
+            reset2 = gui.add_button("Réinitialiser", color="red")
+        reset2.on_click(lambda _: submit(Request("reset")))
+        with gui.add_folder("Simulation"):
+            self.title = gui.add_markdown(f"**{sim.scene.title if sim.scene else sim.label}**")
+            self.status = gui.add_markdown("")
+            self.commands = gui.add_button_group(
+                "Temps", COMMANDS_PLAYING, hint="Pause/Lecture, un pas dt, état initial"
+            )
+            self.commands.on_click(lambda event: submit(Request(COMMAND_KINDS[event.target.value])))
+            self.speed = gui.add_slider(
+                "Vitesse ×",
+                min=SPEEDS[0],
+                max=SPEEDS[1],
+                step=0.1,
+                initial_value=1.0,
+                hint="Temps simulé / temps réel",
+            )
+            _on_user(self.speed, lambda v: submit(Request("speed", v)))
+            self.integrator = gui.add_dropdown(
+                "Intégrateur", tuple(INTEGRATORS), initial_value=_known(sim.integrator)
+            )
+            _on_user(self.integrator, lambda v: submit(Request("integrator", v)))
+            self.timestep = gui.add_number(
+                "dt [s]",
+                initial_value=sim.timestep,
+                step=1e-5,
+                hint="Pas de temps de l'intégrateur (≤ 0,1 s)",
+            )
+            _on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+        self.sliders: dict[str, Any] = {}
+        if sim.scene is not None and sim.scene.params:
+            with gui.add_folder("Paramètres"):
+                for p in sim.scene.params:
+                    slider = gui.add_slider(
+                        param_label(p),
+                        min=p.min,
+                        max=p.max,
+                        step=param_step(p),
+                        initial_value=sim.values[p.name],
+                        hint=p.doc,
+                    )
+                    _on_user(slider, _setter(submit, p.name))
+                    self.sliders[p.name] = slider
+        self._playing: bool | None = None
+
+    def refresh(self) -> None:
+        """Status line and play/pause label."""
+        ctl = self.controller
+        state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
+        self.status.content = (
+            f"t = {ctl.sim.data.time:.3f} s · vitesse ×{ctl.speed:g} · **{state}**"
+        )
+        if ctl.playing != self._playing:
+            self.commands.options = COMMANDS_PLAYING if ctl.playing else COMMANDS_PAUSED
+            self._playing = ctl.playing
+        if bool(ctl.diverged) != self.alert.visible:
+            self.alert.visible = bool(ctl.diverged)
+            self.alert_text.content = ctl.diverged or ""
+
+    def sync(self) -> None:
+        """Put every control back to the simulation's actual values (after a refusal)."""
+        sim = self.controller.sim
+        for name, slider in self.sliders.items():
+            slider.value = sim.values[name]
+        self.speed.value = self.controller.speed
+        self.integrator.value = _known(sim.integrator)
+        self.timestep.value = sim.timestep
+
+
+def _known(name: str) -> str:
+    return name if name in INTEGRATORS else "euler"
+
+
+def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], None]:
+    return lambda value: submit(Request("set_value", value, name=name))
+
+
+class HypothesesPanel:
+    """Folder "Hypothèses de modélisation": effects simulated and numerical method."""
+
+    def __init__(self, gui: Any, sim: Simulation) -> None:
+        self.sim = sim
+        with gui.add_folder("Hypothèses de modélisation"):
+            self.text = gui.add_markdown(self._content())
+
+    def _content(self) -> str:
+        s = self.sim
+        return tables.hypotheses_markdown(
+            hypotheses(s), integrator=s.integrator, timestep=s.timestep
+        )
+
+    def refresh(self) -> None:
+        """Follow integrator and timestep changes."""
+        content = self._content()
+        if content != self.text.content:
+            self.text.content = content

@@ -1,0 +1,128 @@
+"""Live plots: a few readouts against time, kept in a deque and pushed to a uPlot chart."""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
+"""Line colours when a readout has no arrow colour of its own."""
+
+
+class Plot:
+    """One chart of readouts sharing a unit, against simulated time.
+
+    Args:
+        names: Readout names on this chart.
+        unit: Their common unit (y axis label).
+        colors: RGB colour of each series.
+        window: Time span kept [s].
+        maxlen: Most points kept per series.
+    """
+
+    def __init__(
+        self,
+        names: Sequence[str],
+        unit: str,
+        colors: Sequence[tuple[int, int, int]],
+        *,
+        window: float = 10.0,
+        maxlen: int = 1000,
+    ) -> None:
+        self.names = tuple(names)
+        self.unit = unit
+        self.colors = tuple(colors)
+        self.window = window
+        self.t: deque[float] = deque(maxlen=maxlen)
+        self.y: list[deque[float]] = [deque(maxlen=maxlen) for _ in self.names]
+        self.handle: Any = None
+
+    def append(self, values: Mapping[str, float]) -> None:
+        """Add one sample (needs ``time`` and every name); time going back clears the plot."""
+        t = float(values["time"])
+        if self.t and t < self.t[-1]:
+            self.clear()
+        self.t.append(t)
+        for series, name in zip(self.y, self.names, strict=True):
+            v = float(values.get(name, math.nan))
+            series.append(v if math.isfinite(v) else math.nan)
+        while self.t and self.t[0] < t - self.window:
+            self.t.popleft()
+            for series in self.y:
+                series.popleft()
+
+    def clear(self) -> None:
+        """Forget every sample."""
+        self.t.clear()
+        for series in self.y:
+            series.clear()
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """(t, y_1, ..., y_n) as float arrays, at least two points long for uPlot."""
+        if not self.t:
+            t = np.array([0.0, 1e-3])
+            return (t, *(np.zeros(2) for _ in self.names))
+        return (np.array(self.t), *(np.array(s) for s in self.y))
+
+    def series(self) -> tuple[dict[str, Any], ...]:
+        """uPlot series options: time first, then one coloured line per readout."""
+        out: list[dict[str, Any]] = [{"label": "t [s]"}]
+        for name, (r, g, b) in zip(self.names, self.colors, strict=True):
+            out.append(
+                {"label": f"{name} [{self.unit}]", "stroke": f"rgb({r},{g},{b})", "width": 2}
+            )
+        return tuple(out)
+
+    def attach(self, gui: Any, *, title: str) -> None:
+        """Create the chart in ``gui`` (a viser ``GuiApi``)."""
+        self.handle = gui.add_uplot(
+            data=self.arrays(),
+            series=self.series(),
+            title=title,
+            scales=self.scales(),
+            axes=({"label": "t [s]"}, {"label": self.unit, "size": 60}),
+            aspect=1.6,
+        )
+
+    def y_range(self) -> tuple[float, float]:
+        """Vertical range including 0 and every sample, with 10 % headroom."""
+        values = np.concatenate([np.asarray(s, dtype=float) for s in self.y] or [np.zeros(1)])
+        values = values[np.isfinite(values)]
+        lo = min(0.0, float(values.min())) if values.size else 0.0
+        hi = max(0.0, float(values.max())) if values.size else 1.0
+        pad = 0.1 * (hi - lo) or 1.0
+        return (lo - pad if lo < 0 else 0.0, hi + pad)
+
+    def scales(self) -> dict[str, Any]:
+        """uPlot scales: linear time axis and :meth:`y_range`."""
+        return {"x": {"time": False}, "y": {"auto": False, "range": self.y_range()}}
+
+    def push(self) -> None:
+        """Send the current samples (and the matching vertical range) to the chart."""
+        if self.handle is not None:
+            self.handle.data = self.arrays()
+            self.handle.scales = self.scales()
+
+
+def group_by_unit(
+    names: Sequence[str],
+    units: Mapping[str, str],
+    colors: Mapping[str, tuple[int, int, int]],
+) -> list[Plot]:
+    """One :class:`Plot` per unit, in the order the names first appear."""
+    groups: dict[str, list[str]] = {}
+    for name in names:
+        groups.setdefault(units.get(name, ""), []).append(name)
+    plots = []
+    k = 0
+    for unit, members in groups.items():
+        cols = []
+        for name in members:
+            cols.append(colors.get(name, PALETTE[k % len(PALETTE)]))
+            k += 1
+        plots.append(Plot(members, unit, cols))
+    return plots

@@ -1,0 +1,147 @@
+"""Readout folders: scene readouts vs the course, live plots, torsors, energy and powers."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from sandbox.physics.simulation import Simulation
+from sandbox.web import tables
+from sandbox.web.arrows import ArrowLayer
+from sandbox.web.plots import Plot, group_by_unit
+
+POINT_O = "O (origine)"
+POINT_P = "P (saisi)"
+BASIS_0 = "B0 (monde)"
+
+
+def short_name(label: str) -> str:
+    """Point name for a subscript: the last word of an arrow label ("Palier A" -> "A")."""
+    words = label.split()
+    return words[-1] if words else "P"
+
+
+class ReadoutPanel:
+    """Folders "Grandeurs de la scène", "Courbes", "Torseurs" and "Énergie et puissances".
+
+    Args:
+        gui: A viser ``GuiApi``.
+        sim: The session's simulation (only read).
+        arrows: The arrow layer, whose origins are offered as reduction points.
+    """
+
+    def __init__(self, gui: Any, sim: Simulation, *, arrows: ArrowLayer | None = None) -> None:
+        self.arrows = arrows
+        scene = sim.scene
+        infos = {i.name: i for i in sim.readout_infos()}
+        self.scene_rows = [(r.name, r.unit, r.doc) for r in scene.readouts] if scene else []
+        self._ref_key: tuple | None = None
+        self._ref: dict[str, float] = {}
+        self.scene_text = None
+        if self.scene_rows:
+            with gui.add_folder("Grandeurs de la scène"):
+                self.scene_text = gui.add_markdown("")
+        names = list(scene.plots) if scene and scene.plots else ["T", "V"]
+        names = [n for n in names if n in infos]
+        arrow_of = {a.name: a for a in (arrows.arrows if arrows else ())}
+        colors = {n: a.color for n, a in arrow_of.items()}
+        self.plots: list[Plot] = group_by_unit(names, {n: infos[n].unit for n in names}, colors)
+        if self.plots:
+            with gui.add_folder("Courbes"):
+                for plot in self.plots:
+                    shown = ", ".join(arrow_of[n].label if n in arrow_of else n for n in plot.names)
+                    plot.attach(gui, title=f"{shown} [{plot.unit}] en fonction de t")
+        self.body = -1
+        if scene is not None and scene.body_frame:
+            self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
+        with gui.add_folder("Torseurs"):
+            labels = [a.label for a in (arrows.arrows if arrows else ())]
+            self.point = gui.add_dropdown(
+                "Point",
+                (POINT_O, *labels, POINT_P),
+                initial_value=POINT_O,
+                hint="Point de réduction des torseurs",
+            )
+            self.point_xyz = gui.add_vector3(
+                "P [m]",
+                (0.0, 0.0, 0.0),
+                step=0.001,
+                hint="Coordonnées de P dans R0 (choisir P saisi)",
+            )
+            bases = [BASIS_0]
+            if self.body > 0:
+                bases.append(f"B1 ({scene.body_frame})")  # type: ignore[union-attr]
+            self.basis = gui.add_dropdown(
+                "Base",
+                tuple(bases),
+                initial_value=BASIS_0,
+                hint="Base de projection des composantes",
+            )
+            self.torsor_text = gui.add_markdown("")
+        with gui.add_folder("Énergie et puissances"):
+            self.energy_text = gui.add_markdown("")
+
+    # -- choices of the user -------------------------------------------------------------
+    def chosen_point(self) -> tuple[np.ndarray, str]:
+        """Reduction point in world coordinates [m] and its short name."""
+        choice = self.point.value
+        if choice == POINT_P:
+            return np.asarray(self.point_xyz.value, dtype=float), "P"
+        if self.arrows is not None:
+            for arrow, origin in zip(self.arrows.arrows, self.arrows.origins, strict=True):
+                if arrow.label == choice:
+                    return np.asarray(origin, dtype=float), short_name(arrow.label)
+        return np.zeros(3), "O"
+
+    def chosen_basis(self, sim: Simulation) -> tuple[np.ndarray, str, tuple[str, ...]]:
+        """Basis matrix (columns = unit vectors in world), its name and axis names."""
+        if self.basis.value != BASIS_0 and 0 < self.body < sim.model.nbody:
+            return (
+                sim.data.xmat[self.body].reshape(3, 3).copy(),
+                "B1",
+                ("x<sub>1</sub>", "y<sub>1</sub>", "z<sub>1</sub>"),
+            )
+        return np.eye(3), "B0", ("x<sub>0</sub>", "y<sub>0</sub>", "z<sub>0</sub>")
+
+    # -- refresh -------------------------------------------------------------------------
+    def reference(self, sim: Simulation) -> dict[str, float]:
+        """The course's closed-form values, recomputed only when parameters change."""
+        key = tuple(sorted(sim.values.items()))
+        if key != self._ref_key:
+            self._ref, self._ref_key = sim.reference(), key
+        return self._ref
+
+    def sample(self, values: Mapping[str, float]) -> None:
+        """Add the current readouts to the plots and send them."""
+        for plot in self.plots:
+            plot.append(values)
+            plot.push()
+
+    def refresh(self, sim: Simulation, values: Mapping[str, float]) -> None:
+        """Rewrite every table from ``values`` (readouts at the same instant)."""
+        if self.scene_text is not None:
+            _set(
+                self.scene_text, tables.scene_markdown(self.scene_rows, values, self.reference(sim))
+            )
+        point, point_name = self.chosen_point()
+        basis, basis_name, axes = self.chosen_basis(sim)
+        _set(
+            self.torsor_text,
+            tables.torsors_markdown(
+                values,
+                point=point,
+                point_name=point_name,
+                basis=basis,
+                basis_name=basis_name,
+                axes=axes,
+            ),
+        )
+        _set(self.energy_text, tables.energy_markdown(values))
+
+
+def _set(handle: Any, content: str) -> None:
+    if handle.content != content:
+        handle.content = content

@@ -1,0 +1,117 @@
+"""The viser side of a session: 3D scene, arrows, panels and messages for one browser."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from sandbox.web.arrows import ArrowLayer
+from sandbox.web.panels import ControlPanel, HypothesesPanel
+from sandbox.web.readout_panel import ReadoutPanel
+from sandbox.web.renderer import SceneRenderer
+from sandbox.web.session import Controller, Notice
+
+PANEL_RATE = 10.0
+"""Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
+
+SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
+"""Readouts brought up to date before the scene's arrows are evaluated."""
+
+
+def camera_pose(center: np.ndarray, extent: float) -> tuple[np.ndarray, np.ndarray]:
+    """A three-quarter view from the front (-y), slightly above, framing the model.
+
+    Returns:
+        Camera position and look-at point, world coordinates [m].
+    """
+    look_at = np.asarray(center, dtype=float)
+    direction = np.array([0.45, -1.0, 0.55])
+    direction /= np.linalg.norm(direction)
+    return look_at + 0.9 * max(extent, 1e-3) * direction, look_at
+
+
+class WebView:
+    """Draws a controller's simulation into one viser client (implements ``View``).
+
+    Args:
+        client: The viser ``ClientHandle`` of the browser.
+        controller: The session's controller.
+    """
+
+    def __init__(self, client: Any, controller: Controller) -> None:
+        self.client = client
+        self.controller = controller
+        sim = controller.sim
+        model = sim.model
+        client.gui.configure_theme(control_width="large", show_share_button=False)
+        position, look_at = camera_pose(model.stat.center, float(model.stat.extent))
+        client.camera.up_direction = (0.0, 0.0, 1.0)
+        client.camera.position = position
+        client.camera.look_at = look_at
+        self.renderer = SceneRenderer(client.scene)
+        self.arrows: ArrowLayer | None = None
+        scene = sim.scene
+        if scene is not None and scene.arrows:
+            units = {i.name: i.unit for i in sim.readout_infos()}
+            self.arrows = ArrowLayer(
+                client.scene,
+                scene.arrows,
+                extent=float(model.stat.extent),
+                units=[units.get(a.name, "") for a in scene.arrows],
+            )
+        self.controls = ControlPanel(client.gui, controller)
+        self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
+        self.hypotheses = HypothesesPanel(client.gui, sim)
+        self._drawn: tuple[Any, ...] | None = None
+        self._last_panel = -math.inf
+        self._resync_controls = False
+
+    # -- View protocol -------------------------------------------------------------------
+    def render(self, controller: Controller, now: float) -> None:
+        """Poses and arrows when the state changed; tables and plots at :data:`PANEL_RATE`."""
+        sim = controller.sim
+        with self.client.atomic():
+            if self._resync_controls:
+                self._resync_controls = False
+                self.controls.sync()
+            state = (id(sim.model), float(sim.data.time), controller.generation)
+            if controller.diverged:
+                if self.arrows is not None:
+                    self.arrows.hide()
+            elif state != self._drawn:
+                self._drawn = state
+                with sim.lock:
+                    self.renderer.sync(sim.model, sim.data)
+                    if self.arrows is not None:
+                        self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
+            if now - self._last_panel >= 1.0 / PANEL_RATE:
+                self._last_panel = now
+                self._refresh_panels(controller)
+
+    def _refresh_panels(self, controller: Controller) -> None:
+        sim = controller.sim
+        self.controls.refresh()
+        self.hypotheses.refresh()
+        if controller.diverged:
+            return
+        values = sim.readouts()
+        self.readouts.sample(values)
+        self.readouts.refresh(sim, values)
+        if self.arrows is not None:
+            self.arrows.relabel()
+
+    def notify(self, notice: Notice) -> None:
+        """A toast for every notice; refused values put the controls back."""
+        color = {"error": "red", "diverged": "orange"}.get(notice.level, "blue")
+        self.client.add_notification(
+            notice.title,
+            notice.text,
+            with_close_button=True,
+            auto_close_seconds=None if notice.level == "diverged" else 8.0,
+            color=color,
+        )
+        if notice.level == "error":
+            self._resync_controls = True
+        self._last_panel = -math.inf  # show the new state at once
