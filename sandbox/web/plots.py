@@ -13,6 +13,17 @@ PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 1
 """Line colours when a readout has no arrow colour of its own."""
 
 
+def nice_ceil(x: float) -> float:
+    """Smallest of 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 × 10^k that is >= ``x`` (``x`` > 0)."""
+    if not math.isfinite(x) or x <= 0:
+        return 1.0
+    k = math.floor(math.log10(x))
+    for m in (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0):
+        if m * 10.0**k >= x * (1 - 1e-12):
+            return m * 10.0**k
+    return 10.0 ** (k + 1)
+
+
 class Plot:
     """One chart of readouts sharing a unit, against simulated time.
 
@@ -40,6 +51,7 @@ class Plot:
         self.t: deque[float] = deque(maxlen=maxlen)
         self.y: list[deque[float]] = [deque(maxlen=maxlen) for _ in self.names]
         self.handle: Any = None
+        self._sent_scales: dict[str, Any] | None = None
 
     def append(self, values: Mapping[str, float]) -> None:
         """Add one sample (needs ``time`` and every name); time going back clears the plot."""
@@ -79,11 +91,12 @@ class Plot:
 
     def attach(self, gui: Any, *, title: str) -> None:
         """Create the chart in ``gui`` (a viser ``GuiApi``)."""
+        self._sent_scales = self.scales()
         self.handle = gui.add_uplot(
             data=self.arrays(),
             series=self.series(),
             title=title,
-            scales=self.scales(),
+            scales=self._sent_scales or self.scales(),
             axes=({"label": "t [s]"}, {"label": self.unit, "size": 60}),
             aspect=1.6,
         )
@@ -95,17 +108,23 @@ class Plot:
         lo = min(0.0, float(values.min())) if values.size else 0.0
         hi = max(0.0, float(values.max())) if values.size else 1.0
         pad = 0.1 * (hi - lo) or 1.0
-        return (lo - pad if lo < 0 else 0.0, hi + pad)
+        return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
 
     def scales(self) -> dict[str, Any]:
         """uPlot scales: linear time axis and :meth:`y_range`."""
         return {"x": {"time": False}, "y": {"auto": False, "range": self.y_range()}}
 
     def push(self) -> None:
-        """Send the current samples (and the matching vertical range) to the chart."""
+        """Send the current samples, and the vertical range when it changed.
+
+        The range is rounded to "nice" bounds so that it rarely changes: a new
+        ``scales`` makes the browser rebuild the chart, which would flicker at 10 Hz.
+        """
         if self.handle is not None:
             self.handle.data = self.arrays()
-            self.handle.scales = self.scales()
+            scales = self.scales()
+            if scales != self._sent_scales:
+                self.handle.scales = self._sent_scales = scales
 
 
 def group_by_unit(

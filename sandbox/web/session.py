@@ -92,10 +92,14 @@ class Controller:
 
     # -- called from the loop thread -----------------------------------------------------
     def frame(self, now: float | None = None) -> list[Notice]:
-        """Apply the queued requests, then step to catch up with the wall clock."""
+        """Step to catch up with the wall clock, then apply the queued requests.
+
+        Stepping first means a request (which re-syncs the pacing) never swallows the
+        time elapsed since the previous frame.
+        """
         now = self.clock() if now is None else now
-        notices = self.drain(now)
-        notices += self.advance(now)
+        notices = self.advance(now)
+        notices += self.drain(now)
         return notices
 
     def drain(self, now: float | None = None) -> list[Notice]:

@@ -133,7 +133,9 @@ ENERGY_ROWS = (
 
 def energy_markdown(values: Mapping[str, float]) -> str:
     """Table of T, V and the powers, and the kinetic-energy theorem's balance."""
-    scale = max(abs(values.get(n, 0.0)) for n, *_ in ENERGY_ROWS[2:]) if values else 0.0
+    # Powers below 1e-9 of the largest power, or of T per second, are round-off: shown 0.
+    names = [n for n, *_ in ENERGY_ROWS[2:]] + ["T"]
+    scale = max(abs(values.get(n, 0.0)) for n in names) if values else 0.0
     floor = 1e-9 * max(scale, 1e-300)
     lines = ["| Grandeur | Valeur | |\n|:--|--:|:--|"]
     for name, symbol, unit, doc in ENERGY_ROWS:

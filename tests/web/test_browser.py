@@ -1,0 +1,85 @@
+"""The served page as a student sees it, in headless Chromium (Playwright)."""
+
+from __future__ import annotations
+
+import re
+import time
+
+import pytest
+
+pytestmark = pytest.mark.browser
+
+
+def _readout(page, name: str) -> float:
+    """The number shown in a readout cell (``data-readout`` span)."""
+    text = page.locator(f'[data-readout="{name}"]').first.inner_text()
+    return float(text.replace("·10", "e").replace("−", "-"))
+
+
+def _slider_input(page, label: str):
+    """The number box next to the slider labelled ``label``."""
+    row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last
+    return row.locator("input.mantine-NumberInput-input").first
+
+
+def _open(open_page, app):
+    page = open_page(app.url)
+    page.locator('[data-readout="bearing_A"]').first.wait_for(timeout=30_000)
+    return page
+
+
+def _wait_for(predicate, timeout: float = 15.0) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.2)
+    return False
+
+
+def test_page_shows_canvas_panels_and_bearing_forces(open_page, served_rotor):
+    page = _open(open_page, served_rotor)
+    assert page.locator("canvas").first.is_visible()
+    for title in ("Grandeurs de la scène", "Torseurs", "Hypothèses de modélisation", "Courbes"):
+        assert page.get_by_text(title, exact=True).first.is_visible(), title
+    assert page.get_by_text("Poids négligé").first.is_visible()
+    assert _readout(page, "bearing_A") > 1.0
+
+
+def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):
+    page = _open(open_page, served_rotor)
+    before = _readout(page, "bearing_A")
+    box = _slider_input(page, "mass1_g [g]")
+    box.fill("60")
+    box.press("Enter")
+    assert _wait_for(lambda: abs(_readout(page, "bearing_A") - before) > 0.05 * before), (
+        f"bearing_A stayed at {before} N after mass1_g = 60 g"
+    )
+    session = next(iter(served_rotor.sessions.values()))
+    assert session.controller.sim.values["mass1_g"] == pytest.approx(60.0)
+
+
+def test_bad_timestep_is_refused_and_the_server_keeps_running(open_page, served_rotor):
+    page = _open(open_page, served_rotor)
+    box = page.locator("div.mantine-Flex-root", has=page.get_by_text("dt [s]", exact=True))
+    field = box.last.locator("input").first
+    field.fill("0")
+    field.press("Enter")
+    page.get_by_text(re.compile("Valeur refusée")).first.wait_for(timeout=10_000)
+    session = next(iter(served_rotor.sessions.values()))
+    assert session.controller.sim.timestep == pytest.approx(1e-3)
+    t0 = session.controller.sim.data.time
+    assert _wait_for(lambda: session.controller.sim.data.time > t0 + 0.2)
+
+
+def test_each_browser_has_its_own_simulation(open_page, served_rotor):
+    first = _open(open_page, served_rotor)
+    second = _open(open_page, served_rotor)
+    assert _wait_for(lambda: len(served_rotor.sessions) == 2)
+    sims = [s.controller.sim for s in served_rotor.sessions.values()]
+    assert sims[0] is not sims[1]
+    _slider_input(first, "mass1_g [g]").fill("80")
+    _slider_input(first, "mass1_g [g]").press("Enter")
+    assert _wait_for(lambda: sorted(s.values["mass1_g"] for s in sims) == [0.0, 80.0])
+    second.close()
+    assert _wait_for(lambda: len(served_rotor.sessions) == 1)

@@ -1,0 +1,142 @@
+"""MJCF geoms to viser nodes: every drawn type, poses, static vs moving, rebuilds."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from sandbox.web.renderer import (
+    SceneRenderer,
+    capsule_mesh,
+    geom_pose,
+    geom_shapes,
+    mat_to_wxyz,
+)
+
+ALL_TYPES = """
+<mujoco>
+  <asset>
+    <mesh name="tetra" vertex="0 0 0  0.1 0 0  0 0.1 0  0 0 0.1"/>
+  </asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="1 2 0.1" rgba="0.3 0.3 0.3 1"/>
+    <geom name="hidden" type="box" size="0.1 0.1 0.1" group="3"/>
+    <geom name="invisible" type="box" size="0.1 0.1 0.1" rgba="1 0 0 0"/>
+    <body name="b" pos="0 0 1" euler="0.3 0.2 0.1">
+      <freejoint/>
+      <geom name="box" type="box" size="0.1 0.2 0.3" rgba="1 0 0 0.5"/>
+      <geom name="sphere" type="sphere" size="0.05" pos="0.3 0 0"/>
+      <geom name="capsule" type="capsule" fromto="0 0 0 0 0.4 0" size="0.02"/>
+      <geom name="cylinder" type="cylinder" size="0.05 0.1" pos="0 0 0.4"/>
+      <geom name="ellipsoid" type="ellipsoid" size="0.1 0.05 0.02" pos="0 0 -0.4"/>
+      <geom name="mesh" type="mesh" mesh="tetra" pos="0.2 0.2 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+class FakeNode:
+    def __init__(self, kind: str, name: str, kwargs: dict) -> None:
+        self.kind, self.name, self.kwargs = kind, name, kwargs
+        self.position = np.zeros(3)
+        self.wxyz = np.array([1.0, 0, 0, 0])
+        self.removed = False
+
+    def remove(self) -> None:
+        self.removed = True
+
+
+class FakeScene:
+    """Records the nodes a renderer asks viser for."""
+
+    def __init__(self) -> None:
+        self.nodes: list[FakeNode] = []
+
+    def __getattr__(self, attr: str):
+        if not attr.startswith("add_"):
+            raise AttributeError(attr)
+
+        def add(name, *args, **kwargs):
+            node = FakeNode(attr[4:], name, kwargs)
+            self.nodes.append(node)
+            return node
+
+        return add
+
+
+@pytest.fixture
+def model_data():
+    model = mujoco.MjModel.from_xml_string(ALL_TYPES)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    return model, data
+
+
+def test_every_drawn_geom_type_gets_a_shape(model_data):
+    model, _ = model_data
+    shapes = {s.name.split("_", 1)[1]: s for s in geom_shapes(model)}
+    assert set(shapes) == {"floor", "box", "sphere", "capsule", "cylinder", "ellipsoid", "mesh"}
+    assert shapes["box"].size == pytest.approx((0.2, 0.4, 0.6))  # full edges
+    assert shapes["box"].opacity == pytest.approx(0.5)
+    assert shapes["cylinder"].size == pytest.approx((0.05, 0.2))  # radius, full height
+    assert shapes["capsule"].size == pytest.approx((0.02, 0.2))  # radius, half length
+    assert shapes["ellipsoid"].size == pytest.approx((0.1, 0.05, 0.02))
+    assert shapes["floor"].size == pytest.approx((2.0, 4.0, 0.1))
+    assert not shapes["floor"].moving and shapes["box"].moving
+    assert shapes["mesh"].size[:2] == (4.0, 4.0)
+
+
+def test_poses_are_mujoco_world_poses(model_data):
+    model, data = model_data
+    gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "sphere")
+    pos, wxyz = geom_pose(data, gid)
+    assert pos == pytest.approx(data.geom_xpos[gid])
+    back = np.zeros(9)
+    mujoco.mju_quat2Mat(back, wxyz)
+    assert back == pytest.approx(data.geom_xmat[gid], abs=1e-12)
+    assert np.linalg.norm(mat_to_wxyz(np.eye(3))) == pytest.approx(1.0)
+
+
+def test_capsule_mesh_is_closed_and_has_the_right_extent():
+    verts, faces = capsule_mesh(0.02, 0.1)
+    assert verts[:, 2].min() == pytest.approx(-0.12) and verts[:, 2].max() == pytest.approx(0.12)
+    assert np.hypot(verts[:, 0], verts[:, 1]).max() == pytest.approx(0.02, rel=1e-6)
+    edges: dict[tuple[int, int], int] = {}
+    for a, b, c in faces:
+        for e in ((a, b), (b, c), (c, a)):
+            edges[e] = edges.get(e, 0) + 1
+    assert all(edges.get((b, a)) == 1 for a, b in edges)  # every edge shared, consistent
+
+
+def test_renderer_poses_moving_nodes_and_keeps_unchanged_ones(model_data):
+    model, data = model_data
+    scene = FakeScene()
+    renderer = SceneRenderer(scene)
+    renderer.sync(model, data)
+    kinds = sorted(n.kind for n in scene.nodes)
+    assert kinds == [
+        "box",
+        "cylinder",
+        "grid",
+        "icosphere",
+        "icosphere",
+        "mesh_simple",
+        "mesh_simple",
+    ]
+    data.qpos[:3] = (1.0, 2.0, 3.0)
+    mujoco.mj_forward(model, data)
+    renderer.sync(model, data)
+    for gid, (_, node) in renderer.nodes.items():
+        assert node.position == pytest.approx(data.geom_xpos[gid])
+    # A recompiled model with one geom resized: only that node is replaced.
+    spec = mujoco.MjSpec.from_string(ALL_TYPES)
+    spec.geom("sphere").size[0] = 0.08
+    model2 = spec.compile()
+    data2 = mujoco.MjData(model2)
+    mujoco.mj_forward(model2, data2)
+    renderer.sync(model2, data2)
+    removed = [n.name for n in scene.nodes if n.removed]
+    assert len(removed) == 1 and removed[0].endswith("sphere")
+    assert len(renderer.nodes) == 7

@@ -1,0 +1,159 @@
+"""The session loop without a browser: pacing, requests, refusals and divergence."""
+
+from __future__ import annotations
+
+import pytest
+
+from sandbox.physics.simulation import Simulation
+from sandbox.web.session import MAX_LAG, Controller, Notice, Request, Session
+
+DIVERGING = """
+<mujoco>
+  <option timestep="0.05" integrator="Euler"/>
+  <worldbody>
+    <body>
+      <joint type="slide" axis="1 0 0" stiffness="1e6"/>
+      <geom type="sphere" size="0.1" mass="0.001"/>
+    </body>
+  </worldbody>
+  <keyframe><key qpos="0.1"/></keyframe>
+</mujoco>
+"""
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+class Recorder:
+    """A View that remembers what it was asked to show."""
+
+    def __init__(self) -> None:
+        self.frames = 0
+        self.notices: list[Notice] = []
+
+    def render(self, controller, now):
+        self.frames += 1
+
+    def notify(self, notice):
+        self.notices.append(notice)
+
+
+@pytest.fixture
+def ctl():
+    return Controller(Simulation("rotor"), clock=Clock())
+
+
+def _run(ctl: Controller, seconds: float, fps: float = 60.0) -> list[Notice]:
+    notices = []
+    for _ in range(round(seconds * fps)):
+        ctl.clock.now += 1.0 / fps
+        notices += ctl.frame()
+    return notices
+
+
+def test_simulated_time_follows_the_wall_clock(ctl):
+    _run(ctl, 1.0)
+    assert ctl.sim.data.time == pytest.approx(1.0, abs=3 * ctl.sim.timestep)
+
+
+def test_speed_factor_and_pause(ctl):
+    ctl.submit(Request("speed", "2"))
+    ctl.frame()
+    _run(ctl, 0.5)
+    assert ctl.sim.data.time == pytest.approx(1.0, abs=3 * ctl.sim.timestep)
+    ctl.submit(Request("pause"))
+    ctl.frame()
+    _run(ctl, 0.5)
+    assert ctl.sim.data.time == pytest.approx(1.0, abs=3 * ctl.sim.timestep)
+    t = ctl.sim.data.time
+    ctl.submit(Request("step", 3))
+    _run(ctl, 0.1)
+    assert ctl.sim.data.time == pytest.approx(t + 3 * ctl.sim.timestep, abs=1e-9)
+
+
+def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
+    ctl.clock.now += 30.0  # the laptop slept
+    ctl.frame()
+    assert ctl.sim.data.time <= MAX_LAG + 2 * ctl.sim.timestep
+    _run(ctl, 0.5)
+    assert ctl.sim.data.time < 0.5 + MAX_LAG + 2 * ctl.sim.timestep
+
+
+@pytest.mark.parametrize(
+    "request_, needle",
+    [
+        (Request("set_value", "abc", name="mass1_g"), "needs a number"),
+        (Request("set_value", 1e6, name="mass1_g"), "out of range"),
+        (Request("set_value", 1, name="nope"), "nope"),
+        (Request("timestep", 0), "timestep"),
+        (Request("timestep", "nan"), "finite"),
+        (Request("integrator", "leapfrog"), "rk4"),
+        (Request("speed", 100), "speed"),
+        (Request("launch_missiles"), "unknown request"),
+    ],
+)
+def test_bad_requests_are_refused_with_a_message(ctl, request_, needle):
+    values, dt = dict(ctl.sim.values), ctl.sim.timestep
+    ctl.submit(request_)
+    notices = ctl.frame()
+    assert len(notices) == 1 and notices[0].level == "error"
+    assert needle in notices[0].text
+    assert ctl.sim.values == values and ctl.sim.timestep == dt
+    _run(ctl, 0.2)
+    assert ctl.sim.data.time > 0.15  # still running
+
+
+def test_a_parameter_change_keeps_the_motion_going(ctl):
+    _run(ctl, 0.3)
+    t = ctl.sim.data.time
+    ctl.submit(Request("set_value", "40", name="mass1_g"))
+    assert ctl.frame() == []
+    assert ctl.sim.values["mass1_g"] == 40.0
+    assert ctl.sim.data.time >= t
+    assert ctl.sim.readouts(["omega"])["omega"] == pytest.approx(50 * 3.14159265, rel=1e-3)
+
+
+def test_divergence_pauses_with_an_explanation_and_reset_recovers(tmp_path):
+    xml = tmp_path / "div.xml"
+    xml.write_text(DIVERGING)
+    ctl = Controller(Simulation(xml), clock=Clock())
+    notices = _run(ctl, 3.0)
+    assert [n.level for n in notices] == ["diverged"]
+    assert "pas de temps" in notices[0].text and "Réinitialiser" in notices[0].text
+    assert not ctl.playing and ctl.diverged
+    ctl.submit(Request("play"))
+    assert ctl.frame()[0].level == "error"  # must reset first
+    ctl.submit(Request("timestep", 1e-5))  # ω dt = 0.3: stable
+    ctl.submit(Request("reset"))
+    assert ctl.frame() == []
+    assert ctl.diverged is None and ctl.sim.data.time == 0.0
+    ctl.submit(Request("play"))
+    assert _run(ctl, 0.2) == []
+
+
+def test_session_survives_a_view_that_fails():
+    class Broken(Recorder):
+        def render(self, controller, now):
+            super().render(controller, now)
+            if self.frames == 1:
+                raise RuntimeError("boom")
+
+    view = Broken()
+    session = Session(Controller(Simulation("rotor")), view, fps=200)
+    session.start()
+    try:
+        session.controller.submit(Request("set_value", "x", name="mass1_g"))
+        import time
+
+        time.sleep(0.3)
+        assert session.running and view.frames > 5
+        texts = [n.text for n in view.notices]
+        assert any("boom" in t for t in texts) and any("needs a number" in t for t in texts)
+    finally:
+        session.stop()
+    assert not session.running
