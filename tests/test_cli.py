@@ -24,19 +24,6 @@ PENDULUM = """
 </mujoco>
 """
 
-DIVERGING = """
-<mujoco>
-  <option timestep="0.05" integrator="Euler"/>
-  <worldbody>
-    <body>
-      <joint type="slide" axis="1 0 0" stiffness="1e9"/>
-      <geom type="sphere" size="0.1" mass="0.001"/>
-    </body>
-  </worldbody>
-  <keyframe><key qpos="0.1"/></keyframe>
-</mujoco>
-"""
-
 
 def _err(capsys) -> str:
     return capsys.readouterr().err.strip()
@@ -177,9 +164,8 @@ def test_parameter_on_a_file_is_refused(tmp_path, capsys):
     assert "no parameter" in _err(capsys)
 
 
-def test_divergence_exits_3_and_keeps_rows(tmp_path, capsys):
-    xml = tmp_path / "div.xml"
-    xml.write_text(DIVERGING)
+def test_divergence_exits_3_and_keeps_rows(tmp_path, capsys, diverging_xml):
+    xml = diverging_xml
     out = tmp_path / "d.csv"
     assert main(["run", str(xml), "--duration", "5", "--out", str(out)]) == 3
     err = _err(capsys)

@@ -142,26 +142,9 @@ def start(
     return app
 
 
-def serve(
-    target: str | Path,
-    *,
-    host: str = "127.0.0.1",
-    port: int = 8080,
-    values: Mapping[str, object] | None = None,
-    integrator: str | None = None,
-    timestep: float | None = None,
-    open_message: bool = True,
-) -> None:
-    """Serve ``target`` until Ctrl-C (arguments as for :func:`start`)."""
-    app = start(
-        target,
-        host=host,
-        port=port,
-        values=values,
-        integrator=integrator,
-        timestep=timestep,
-        open_message=open_message,
-    )
+def serve(target: str | Path, **options: Any) -> None:
+    """Serve ``target`` until Ctrl-C (keyword arguments as for :func:`start`)."""
+    app = start(target, **options)
     try:
         while True:
             time.sleep(0.5)

@@ -7,19 +7,6 @@ import pytest
 from sandbox.physics.simulation import Simulation
 from sandbox.web.session import MAX_LAG, Controller, Notice, Request, Session
 
-DIVERGING = """
-<mujoco>
-  <option timestep="0.05" integrator="Euler"/>
-  <worldbody>
-    <body>
-      <joint type="slide" axis="1 0 0" stiffness="1e6"/>
-      <geom type="sphere" size="0.1" mass="0.001"/>
-    </body>
-  </worldbody>
-  <keyframe><key qpos="0.1"/></keyframe>
-</mujoco>
-"""
-
 
 class Clock:
     def __init__(self) -> None:
@@ -118,10 +105,8 @@ def test_a_parameter_change_keeps_the_motion_going(ctl):
     assert ctl.sim.readouts(["omega"])["omega"] == pytest.approx(50 * 3.14159265, rel=1e-3)
 
 
-def test_divergence_pauses_with_an_explanation_and_reset_recovers(tmp_path):
-    xml = tmp_path / "div.xml"
-    xml.write_text(DIVERGING)
-    ctl = Controller(Simulation(xml), clock=Clock())
+def test_divergence_pauses_with_an_explanation_and_reset_recovers(diverging_xml):
+    ctl = Controller(Simulation(diverging_xml), clock=Clock())
     notices = _run(ctl, 3.0)
     assert [n.level for n in notices] == ["diverged"]
     assert "pas de temps" in notices[0].text and "Réinitialiser" in notices[0].text
