@@ -1,4 +1,4 @@
-"""Command line: ``sandbox list | describe | run | serve`` (bare ``sandbox`` serves).
+"""Command line: ``sandbox list | describe | run | serve | replay`` (bare ``sandbox`` serves).
 
 Every user error prints one line ``sandbox: error: ...`` and exits with code 2; a
 diverging simulation exits with code 3 after writing what was computed so far.
@@ -19,6 +19,7 @@ from typing import NoReturn
 from sandbox.errors import BadOption, BadParameter, Diverged, SandboxError
 from sandbox.physics.model import INTEGRATORS, resolve
 from sandbox.physics.simulation import Simulation
+from sandbox.recording import Recorder, load, write_csv
 
 
 class _Parser(argparse.ArgumentParser):
@@ -88,11 +89,26 @@ def build_parser() -> argparse.ArgumentParser:
         help="readout rows per simulated second (default 100)",
     )
     r.add_argument("--out", type=Path, help="FILE.csv or FILE.json")
+    r.add_argument(
+        "--record", type=Path, metavar="FILE", help="also write a recording for 'sandbox replay'"
+    )
     s = sub.add_parser("serve", help="start the web sandbox")
     s.add_argument("target", nargs="?", default=None, help="scene name or MJCF file")
     s.add_argument("--host", default="127.0.0.1")
     s.add_argument("--port", type=int, default=8080)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    rp = sub.add_parser("replay", help="replay a recording in the browser, verify or export it")
+    rp.add_argument("file", type=Path, help="recording file (sandbox run --record, web app)")
+    rp.add_argument("--host", default="127.0.0.1")
+    rp.add_argument("--port", type=int, default=8080)
+    rp.add_argument(
+        "--verify", action="store_true", help="re-simulate and print the largest deviation"
+    )
+    rp.add_argument("--export", type=Path, metavar="DIR", help="write a static replay folder")
+    rp.add_argument("--csv", type=Path, metavar="OUT.csv", help="write the readouts as CSV")
+    rp.add_argument(
+        "--salvage", action="store_true", help="accept a recording that was never closed"
+    )
     return p
 
 
@@ -167,7 +183,13 @@ def _check_out(out: Path | None) -> None:
         raise BadOption(f"folder {str(out.parent)!r} of --out does not exist; create it first")
 
 
-def simulate(sim: Simulation, duration: float, rate: float, progress: bool = True):
+def simulate(
+    sim: Simulation,
+    duration: float,
+    rate: float,
+    progress: bool = True,
+    recorder: Recorder | None = None,
+):
     """Run ``duration`` seconds, sampling every readout ``rate`` times per second.
 
     Returns:
@@ -178,14 +200,22 @@ def simulate(sim: Simulation, duration: float, rate: float, progress: bool = Tru
     dt = sim.timestep
     per_row = max(1, round(1.0 / (rate * dt)))
     total = int(round(duration / dt))
-    rows = [list(sim.readouts(columns).values())]
+    rows = []
+
+    def sample() -> None:
+        values = sim.readouts(columns)
+        rows.append(list(values.values()))
+        if recorder is not None:
+            recorder.frame(values)
+
+    sample()
     done, start, shown = 0, time.perf_counter(), time.perf_counter()
     try:
         while done < total:
             n = min(per_row, total - done)
             sim.step(n)
             done += n
-            rows.append(list(sim.readouts(columns).values()))
+            sample()
             now = time.perf_counter()
             if progress and now - shown > 2.0:
                 shown = now
@@ -231,7 +261,15 @@ def cmd_run(args: argparse.Namespace) -> int:
         integrator=args.integrator,
         timestep=args.timestep,
     )
-    columns, rows, error = simulate(sim, args.duration, args.rate)
+    recorder = None
+    if args.record is not None:
+        _check_record(args.record)
+        recorder = Recorder(args.record, sim)
+    try:
+        columns, rows, error = simulate(sim, args.duration, args.rate, recorder=recorder)
+    finally:
+        if recorder is not None:
+            recorder.close()
     if args.out is not None:
         write_rows(args.out, sim, columns, rows)
     if error is not None:
@@ -251,13 +289,65 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_record(path: Path) -> None:
+    if path.is_dir():
+        raise BadOption(f"--record {str(path)!r} is a directory; give a file name such as r.sbx")
+    if not path.parent.exists():
+        raise BadOption(f"folder {str(path.parent)!r} of --record does not exist; create it first")
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    """``sandbox replay``: serve a recording, or verify / export / convert it."""
+    rec = load(args.file, salvage=args.salvage)
+    if not rec.complete:
+        print(
+            f"sandbox: warning: {args.file} was not closed; replaying its {rec.duration:.2f} s",
+            file=sys.stderr,
+        )
+    offline = args.verify or args.export is not None or args.csv is not None
+    if args.csv is not None:
+        if args.csv.is_dir() or not args.csv.parent.exists():
+            raise BadOption(f"--csv {str(args.csv)!r}: give a file in an existing folder")
+        n = write_csv(rec, args.csv)
+        print(f"{n} rows of {len(rec.names)} readouts written to {args.csv}")
+    if args.export is not None:
+        if args.export.exists() and not args.export.is_dir():
+            raise BadOption(f"--export {str(args.export)!r} is a file; give a folder")
+        from sandbox.replay import export_static
+
+        index = export_static(rec, args.export)
+        print(f"static replay written to {index} (open it in a browser; no Python needed)")
+    if args.verify:
+        from sandbox.replay import resimulate
+
+        worst, frames = resimulate(rec)
+        print(f"verify: {frames} frames re-simulated, maximum deviation {worst:.3g}")
+        if worst != 0.0:
+            print(
+                "sandbox: warning: the re-simulation differs from the recording (another "
+                "MuJoCo version or platform?)",
+                file=sys.stderr,
+            )
+    if offline:
+        return 0
+    from sandbox.web.player import serve_replay
+
+    _check_port_range(args.port)
+    serve_replay(rec, host=args.host, port=args.port)
+    return 0
+
+
+def _check_port_range(port: int) -> None:
+    if not 0 <= port <= 65535:
+        raise BadOption(f"--port must be between 0 and 65535, got {port!r}")
+
+
 def cmd_serve(target: str | None, host: str, port: int, sets: Sequence[str]) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
     from sandbox.scenes import DEFAULT_SCENE
     from sandbox.web.app import serve
 
-    if not 0 <= port <= 65535:
-        raise BadOption(f"--port must be between 0 and 65535, got {port!r}")
+    _check_port_range(port)
     serve(target or DEFAULT_SCENE, host=host, port=port, values=_pairs(sets))
     return 0
 
@@ -278,6 +368,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_list()
         if args.command == "describe":
             return cmd_describe(args.target, args.json)
+        if args.command == "replay":
+            return cmd_replay(args)
         return cmd_run(args)
     except SandboxError as exc:
         print(f"sandbox: error: {exc}", file=sys.stderr)

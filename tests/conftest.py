@@ -1,7 +1,11 @@
-"""Shared test models (inline MJCF) as fixtures writing them to a temporary file."""
+"""Shared fixtures: test models (inline MJCF), a served app, headless Chromium."""
 
 from __future__ import annotations
 
+import os
+import shutil
+import socket
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -26,3 +30,68 @@ def diverging_xml(tmp_path: Path) -> Path:
     path = tmp_path / "diverging.xml"
     path.write_text(DIVERGING)
     return path
+
+
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def chromium_path() -> str:
+    """Debian's Chromium; CI (SANDBOX_REQUIRE_BROWSER=1) fails instead of skipping."""
+    path = os.environ.get("CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
+    if not os.path.exists(path):
+        if os.environ.get("SANDBOX_REQUIRE_BROWSER"):
+            pytest.fail(f"Chromium not found at {path}; install it with apt-get install chromium")
+        pytest.skip("Chromium not installed (apt-get install chromium)")
+    return path
+
+
+@pytest.fixture
+def served_rotor() -> Iterator[object]:
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), open_message=False)
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+@pytest.fixture(scope="session")
+def browser() -> Iterator[object]:
+    playwright_api = pytest.importorskip("playwright.sync_api")
+    with playwright_api.sync_playwright() as pw:
+        instance = pw.chromium.launch(executable_path=chromium_path(), args=CHROMIUM_ARGS)
+        try:
+            yield instance
+        finally:
+            instance.close()
+
+
+@pytest.fixture
+def open_page(browser) -> Iterator[object]:
+    """Factory opening pages in a fresh browser context, all closed after the test."""
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+
+    def open_(url: str):
+        page = context.new_page()
+        page.goto(url)
+        return page
+
+    try:
+        yield open_
+    finally:
+        context.close()

@@ -88,6 +88,16 @@ def resolve(target: str | Path) -> Source:
     )
 
 
+def model_xml(source: Source, values: Mapping[str, float]) -> str:
+    """MJCF text of the model: a file's own text, or the scene's file with the edits."""
+    if source.scene is None or source.scene.edit is None:
+        return source.path.read_text()
+    spec = mujoco.MjSpec.from_file(str(source.path))
+    source.scene.edit(spec, values)
+    spec.compile()
+    return spec.to_xml()
+
+
 def build(source: Source, values: Mapping[str, float]) -> mujoco.MjModel:
     """Compile the model with the parameter values applied and the scene's effects only.
 

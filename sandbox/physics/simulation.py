@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 import threading
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -19,6 +20,7 @@ from sandbox.physics.model import (
     check_integrator,
     check_timestep,
     integrator_name,
+    model_xml,
     resolve,
 )
 from sandbox.physics.snapshot import Snapshot
@@ -67,6 +69,8 @@ class Simulation:
         self._integrator = None if integrator is None else check_integrator(integrator)
         self._timestep = None if timestep is None else check_timestep(timestep)
         self.lock = threading.RLock()
+        self.observers: list[Callable[[str, dict[str, Any]], None]] = []
+        """Called with (kind, fields) after a reset or a change (recordings use it)."""
         self.model = self._compile()
         self.data = mujoco.MjData(self.model)
         self.reset()
@@ -117,6 +121,15 @@ class Simulation:
                 self.scene.initial_state(self.model, self.data, self.values)
             mujoco.mj_forward(self.model, self.data)
             self._warnings = self._warning_count()
+        self._emit("reset")
+
+    def _emit(self, kind: str, **fields: Any) -> None:
+        for observer in list(self.observers):
+            observer(kind, fields)
+
+    def mjcf(self) -> str:
+        """MJCF text of the current model (a file's own text, or the edited scene)."""
+        return model_xml(self.source, self.values)
 
     def _apply_drive(self) -> None:
         if self.scene is not None and self.scene.drive is not None:
@@ -137,13 +150,14 @@ class Simulation:
             self.values[name] = number
             if self.scene is not None and self.scene.param(name).live:
                 self._apply_drive()
-                return number
-            try:
-                model = self._compile()
-            except Exception:
-                self.values[name] = old
-                raise
-            self._swap_model(model)
+            else:
+                try:
+                    model = self._compile()
+                except Exception:
+                    self.values[name] = old
+                    raise
+                self._swap_model(model)
+        self._emit("set", name=name, value=number)
         return number
 
     def _swap_model(self, model: mujoco.MjModel) -> None:
@@ -165,6 +179,7 @@ class Simulation:
         with self.lock:
             self._integrator = code
             self.model.opt.integrator = code
+        self._emit("integrator", value=name)
 
     def set_timestep(self, value: float) -> None:
         """Switch timestep live (no rebuild)."""
@@ -172,6 +187,7 @@ class Simulation:
         with self.lock:
             self._timestep = dt
             self.model.opt.timestep = dt
+        self._emit("timestep", value=dt)
 
     # -- stepping -----------------------------------------------------------------------
     def _warning_count(self) -> int:

@@ -10,7 +10,7 @@ import logging
 import socket
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -41,7 +41,7 @@ def _check_port(host: str, port: int) -> None:
 
 
 class App:
-    """A running web app.
+    """A running web app: one :class:`Session` per browser, made by ``factory``.
 
     Attributes:
         server: The viser server.
@@ -54,14 +54,12 @@ class App:
         self,
         server: viser.ViserServer,
         host: str,
-        target: str | Path,
-        options: Mapping[str, Any],
+        factory: Callable[[viser.ClientHandle], Session],
     ) -> None:
         self.server = server
         self.host = host
         self.port = server.get_port()
-        self.target = target
-        self.options = dict(options)
+        self.factory = factory
         self.sessions: dict[int, Session] = {}
         self._lock = threading.Lock()
         server.on_client_connect(self._connect)
@@ -75,9 +73,7 @@ class App:
 
     def _connect(self, client: viser.ClientHandle) -> None:
         try:
-            sim = Simulation(self.target, **self.options)
-            controller = Controller(sim)
-            session = Session(controller, WebView(client, controller))
+            session = self.factory(client)
         except Exception as exc:  # shown in that browser; the server keeps going
             log.exception("cannot open a session")
             client.add_notification("Erreur", f"{type(exc).__name__}: {exc}", color="red")
@@ -100,6 +96,27 @@ class App:
         for session in sessions:
             session.stop()
         self.server.stop()
+
+
+def open_server(host: str, port: int, label: str) -> viser.ViserServer:
+    """A viser server on exactly ``host:port`` (BadOption when the port is taken)."""
+    _check_port(host, port)
+    server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
+    if port != 0 and server.get_port() != port:  # lost a race for the port
+        server.stop()
+        raise BadOption(f"port {port} is in use; choose another one with --port")
+    return server
+
+
+def run_forever(app: App) -> None:
+    """Block until Ctrl-C, then stop ``app``."""
+    try:
+        while True:
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        app.stop()
 
 
 def start(
@@ -131,12 +148,13 @@ def start(
     """
     options = {"values": dict(values or {}), "integrator": integrator, "timestep": timestep}
     Simulation(target, **options)
-    _check_port(host, port)
-    server = viser.ViserServer(host=host, port=port, label="sandbox", verbose=False)
-    if port != 0 and server.get_port() != port:  # lost a race for the port
-        server.stop()
-        raise BadOption(f"port {port} is in use; choose another one with --port")
-    app = App(server, host, target, options)
+    server = open_server(host, port, "sandbox")
+
+    def session(client: viser.ClientHandle) -> Session:
+        controller = Controller(Simulation(target, **options))
+        return Session(controller, WebView(client, controller))
+
+    app = App(server, host, session)
     if open_message:
         print(f"sandbox: {target} served at {app.url} (Ctrl-C to stop)", flush=True)
     return app
@@ -144,11 +162,4 @@ def start(
 
 def serve(target: str | Path, **options: Any) -> None:
     """Serve ``target`` until Ctrl-C (keyword arguments as for :func:`start`)."""
-    app = start(target, **options)
-    try:
-        while True:
-            time.sleep(0.5)
-    except KeyboardInterrupt:
-        pass
-    finally:
-        app.stop()
+    run_forever(start(target, **options))

@@ -24,6 +24,10 @@ COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
 COMMAND_KINDS = {"Pause": "pause", "Lecture": "play", "Pas": "step", "Réinitialiser": "reset"}
 """Buttons of the time bar and the request each one queues."""
 
+RECORD_IDLE = ("● Enregistrer",)
+RECORD_BUSY = ("■ Arrêter l'enregistrement",)
+RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
+
 
 def _on_user(handle: Any, action: Callable[[Any], None]) -> None:
     """Run ``action(value)`` when the user (not the server) changes ``handle``."""
@@ -109,6 +113,12 @@ class ControlPanel:
                 hint="Pas de temps de l'intégrateur (≤ 0,1 s)",
             )
             _on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+            self.record = gui.add_button_group(
+                "Enregistrer",
+                RECORD_IDLE,
+                hint="Enregistre la séance pour « sandbox replay » (fichier .sbx)",
+            )
+            self.record.on_click(lambda event: submit(Request(RECORD_KINDS[event.target.value])))
         self.sliders: dict[str, Any] = {}
         if sim.scene is not None and sim.scene.params:
             with gui.add_folder("Paramètres"):
@@ -124,6 +134,7 @@ class ControlPanel:
                     _on_user(slider, _setter(submit, p.name))
                     self.sliders[p.name] = slider
         self._playing: bool | None = None
+        self._recording = False
 
     def refresh(self) -> None:
         """Status line and play/pause label."""
@@ -132,6 +143,12 @@ class ControlPanel:
         self.status.content = (
             f"t = {ctl.sim.data.time:.3f} s · vitesse ×{ctl.speed:g} · **{state}**"
         )
+        recording = getattr(ctl, "recorder", None) is not None
+        if recording:
+            self.status.content += f" · ● enregistrement ({ctl.recorder.frames} images)"
+        if recording != self._recording:
+            self.record.options = RECORD_BUSY if recording else RECORD_IDLE
+            self._recording = recording
         if ctl.playing != self._playing:
             self.commands.options = COMMANDS_PLAYING if ctl.playing else COMMANDS_PAUSED
             self._playing = ctl.playing

@@ -15,12 +15,17 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Protocol
 
 from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.simulation import Simulation
+from sandbox.recording import Recorder
 
 log = logging.getLogger(__name__)
+
+RECORD_READOUTS = 10.0
+"""Readouts stored per simulated second in a recording (the panels' refresh rate)."""
 
 FPS = 60.0
 """Frame rate of pose updates sent to the browser [Hz]."""
@@ -50,7 +55,8 @@ class Request:
 
 @dataclass(frozen=True)
 class Notice:
-    """A message for the user: ``level`` is ``error``, ``diverged`` or ``info``."""
+    """A message for the user: ``level`` is ``error``, ``diverged``, ``info`` or ``file``
+    (``text`` is then the path of a file to offer for download)."""
 
     level: str
     title: str
@@ -75,9 +81,19 @@ class Controller:
         clock: Wall clock [s] (monotonic), replaceable in tests.
     """
 
-    def __init__(self, sim: Simulation, *, clock: Callable[[], float] = time.perf_counter) -> None:
+    def __init__(
+        self,
+        sim: Simulation,
+        *,
+        clock: Callable[[], float] = time.perf_counter,
+        record_dir: Path | None = None,
+    ) -> None:
         self.sim = sim
         self.clock = clock
+        self.record_dir = Path(record_dir or Path.cwd() / "recordings")
+        self.recorder: Recorder | None = None
+        self._recorded_t = -math.inf
+        self._readouts_t = -math.inf
         self.requests: queue.Queue[Request] = queue.Queue()
         self.playing = True
         self.speed = 1.0
@@ -100,7 +116,49 @@ class Controller:
         now = self.clock() if now is None else now
         notices = self.advance(now)
         notices += self.drain(now)
+        self.record()
         return notices
+
+    # -- recording -----------------------------------------------------------------------
+    def record(self) -> None:
+        """Add the current state (and, at :data:`RECORD_READOUTS` Hz, readouts) if new."""
+        rec, sim = self.recorder, self.sim
+        t = float(sim.data.time)
+        if rec is None or t == self._recorded_t or self.diverged:
+            return
+        values = None
+        if not t - 1.0 / RECORD_READOUTS < self._readouts_t <= t:
+            values = sim.readouts()
+            self._readouts_t = t
+        rec.frame(values)
+        self._recorded_t = t
+
+    def start_recording(self, lesson: str | None = None) -> Path:
+        """Start writing a recording in :attr:`record_dir`; returns its path."""
+        if self.recorder is not None:
+            return self.recorder.path
+        self.record_dir.mkdir(parents=True, exist_ok=True)
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        path = self.record_dir / f"{self.sim.label.replace('.', '_')}-{stamp}.sbx"
+        self.recorder = Recorder(path, self.sim, lesson=lesson)
+        self._recorded_t = self._readouts_t = -math.inf
+        self.record()
+        return path
+
+    def stop_recording(self) -> Path | None:
+        """Close the recording (never lost: also called when the browser leaves)."""
+        rec, self.recorder = self.recorder, None
+        if rec is None:
+            return None
+        self._record_final(rec)
+        return rec.path
+
+    def _record_final(self, rec: Recorder) -> None:
+        try:
+            if float(self.sim.data.time) != self._recorded_t and not self.diverged:
+                rec.frame(self.sim.readouts())
+        finally:
+            rec.close()
 
     def drain(self, now: float | None = None) -> list[Notice]:
         """Apply every queued request; a refused one becomes an ``error`` notice."""
@@ -196,6 +254,14 @@ class Controller:
         if kind == "set_value":
             sim.set_value(request.name, value)
             return None
+        if kind == "record":
+            path = self.start_recording()
+            return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path}")
+        if kind == "stop_record":
+            path = self.stop_recording()
+            if path is None:
+                return None
+            return Notice("file", "Enregistrement terminé", str(path))
         if kind == "integrator":
             sim.set_integrator(str(value))
             return None
@@ -246,10 +312,14 @@ class Session:
         self._thread.start()
 
     def stop(self, timeout: float = 2.0) -> None:
-        """Ask the loop to finish and wait for it (at most ``timeout`` seconds)."""
+        """Ask the loop to finish, wait for it, then close any recording in progress."""
         self._stop.set()
         if self._thread.is_alive() and self._thread is not threading.current_thread():
             self._thread.join(timeout)
+        stop_recording = getattr(self.controller, "stop_recording", None)
+        if stop_recording is not None:
+            with self.controller.sim.lock:
+                stop_recording()
 
     @property
     def running(self) -> bool:

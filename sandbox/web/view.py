@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -37,12 +39,23 @@ class WebView:
 
     Args:
         client: The viser ``ClientHandle`` of the browser.
-        controller: The session's controller.
+        controller: The session's controller (or a replay's, with the same attributes).
+        controls: Builds the top panel from ``(gui, controller)``; default the live
+            :class:`ControlPanel` (a replay passes its timeline).
+        values: Readouts to show; default computed live from the simulation.
     """
 
-    def __init__(self, client: Any, controller: Controller) -> None:
+    def __init__(
+        self,
+        client: Any,
+        controller: Controller,
+        *,
+        controls: Callable[[Any, Any], Any] | None = None,
+        values: Callable[[], Mapping[str, float]] | None = None,
+    ) -> None:
         self.client = client
         self.controller = controller
+        self._values = values or (lambda: controller.sim.readouts())
         sim = controller.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
@@ -61,7 +74,7 @@ class WebView:
                 extent=float(model.stat.extent),
                 units=[units.get(a.name, "") for a in scene.arrows],
             )
-        self.controls = ControlPanel(client.gui, controller)
+        self.controls = (controls or ControlPanel)(client.gui, controller)
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.hypotheses = HypothesesPanel(client.gui, sim)
         self._drawn: tuple[Any, ...] | None = None
@@ -96,14 +109,19 @@ class WebView:
         self.hypotheses.refresh()
         if controller.diverged:
             return
-        values = sim.readouts()
+        values = self._values()
         self.readouts.sample(values)
         self.readouts.refresh(sim, values)
         if self.arrows is not None:
             self.arrows.relabel()
 
     def notify(self, notice: Notice) -> None:
-        """A toast for every notice; refused values put the controls back."""
+        """A toast for every notice; refused values put the controls back; a finished
+        recording is also sent to the browser as a download."""
+        if notice.level == "file":
+            path = Path(notice.text)
+            self.client.send_file_download(path.name, path.read_bytes())
+            notice = Notice("info", notice.title, f"Fichier {path} (aussi téléchargé).")
         color = {"error": "red", "diverged": "orange"}.get(notice.level, "blue")
         self.client.add_notification(
             notice.title,

@@ -142,3 +142,37 @@ def test_session_survives_a_view_that_fails():
     finally:
         session.stop()
     assert not session.running
+
+
+def test_recording_from_the_web_session_replays_identically(tmp_path):
+    from sandbox.recording import load
+    from sandbox.replay import resimulate
+
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl.submit(Request("record"))
+    assert ctl.frame()[0].level == "info"
+    _run(ctl, 0.5)
+    ctl.submit(Request("set_value", 30, name="mass2_g"))
+    _run(ctl, 0.5)
+    ctl.submit(Request("stop_record"))
+    notice = ctl.frame()[0]
+    assert notice.level == "file"
+    rec = load(notice.text)
+    assert rec.complete and len(rec.times) >= 55  # ~60 frames per second of sim time
+    assert len(rec.readouts) >= 9  # readouts at 10 Hz
+    assert resimulate(rec)[0] == 0.0
+
+
+def test_leaving_the_page_closes_the_recording(tmp_path):
+    from sandbox.recording import load
+
+    ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
+    session = Session(ctl, Recorder(), fps=100)
+    session.start()
+    ctl.submit(Request("record"))
+    import time
+
+    time.sleep(0.4)
+    session.stop()  # what the app does when the browser disconnects
+    (path,) = tmp_path.glob("*.sbx")
+    assert load(path).complete

@@ -1,0 +1,221 @@
+"""``sandbox replay``: a recording played in the browser with a timeline.
+
+Each browser gets its own :class:`ReplayController` (its own position on the timeline)
+over the shared, read-only :class:`~sandbox.recording.Recording`. The 3D view, arrows,
+tables and plots are the live app's (:class:`~sandbox.web.view.WebView`); only the top
+panel differs: a time scrubber, play/pause, frame stepping and a speed factor.
+"""
+
+from __future__ import annotations
+
+import queue
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import viser
+
+from sandbox.recording import Recording, set_state
+from sandbox.replay import open_simulation
+from sandbox.web.app import App, open_server, run_forever
+from sandbox.web.session import SPEEDS, Notice, Request, Session, _number
+from sandbox.web.view import WebView
+
+
+class ReplayController:
+    """Position, speed and play state of one browser's replay.
+
+    It has the attributes the live view reads (``sim``, ``playing``, ``speed``,
+    ``diverged``, ``generation``) so the same panels draw it.
+
+    Args:
+        rec: The recording.
+        clock: Wall clock [s].
+    """
+
+    def __init__(self, rec: Recording, *, clock: Callable[[], float] = time.perf_counter) -> None:
+        self.rec = rec
+        self.clock = clock
+        self.sim = open_simulation(rec)
+        self.requests: queue.Queue[Request] = queue.Queue()
+        self.playing = True
+        self.speed = 1.0
+        self.diverged: str | None = None
+        self.generation = 0
+        self.index = 0
+        self.timeline = rec.timeline
+        self.position = 0.0
+        self._last = clock()
+        self._show(0)
+
+    # -- requests ------------------------------------------------------------------------
+    def submit(self, request: Request) -> None:
+        """Queue a request (``play``, ``pause``, ``toggle``, ``step``, ``seek``, ``speed``)."""
+        self.requests.put(request)
+
+    def frame(self, now: float | None = None) -> list[Notice]:
+        """Apply requests, move along the timeline, load the frame's state."""
+        now = self.clock() if now is None else now
+        notices: list[Notice] = []
+        while True:
+            try:
+                request = self.requests.get_nowait()
+            except queue.Empty:
+                break
+            try:
+                self._apply(request)
+            except Exception as exc:  # a bad value never stops the replay
+                notices.append(Notice("error", "Valeur refusée", str(exc)))
+        if self.playing:
+            self.position += (now - self._last) * self.speed
+            if self.position >= self.timeline[-1]:
+                self.position = float(self.timeline[-1])
+                self.playing = False
+            self._show(self._index_at(self.position))
+        self._last = now
+        return notices
+
+    def _apply(self, request: Request) -> None:
+        kind, value = request.kind, request.value
+        if kind in ("play", "pause", "toggle"):
+            self.playing = {"play": True, "pause": False}.get(kind, not self.playing)
+            if self.playing and self.index >= len(self.rec.times) - 1:
+                self._seek_index(0)
+        elif kind == "step":
+            self.playing = False
+            self._seek_index(self.index + int(value or 1))
+        elif kind == "seek":
+            self._seek_index(self._index_at(_number(value, "time")))
+        elif kind == "speed":
+            speed = _number(value, "speed")
+            if not SPEEDS[0] <= speed <= SPEEDS[1]:
+                raise ValueError(f"speed {value!r} is out of range; allowed: 0.1 to 4")
+            self.speed = speed
+        else:
+            raise ValueError(f"a replay cannot {kind!r}; use the timeline")
+
+    # -- timeline ------------------------------------------------------------------------
+    def _index_at(self, t: float) -> int:
+        i = int(np.searchsorted(self.timeline, t + 1e-12, side="right")) - 1
+        return min(max(i, 0), len(self.timeline) - 1)
+
+    def _seek_index(self, index: int) -> None:
+        index = min(max(index, 0), len(self.rec.times) - 1)
+        if index < self.index:
+            self.generation += 1  # plots restart
+        self.position = float(self.timeline[index])
+        self._show(index)
+
+    def _show(self, index: int) -> None:
+        """Load frame ``index``: parameters in force then, and its full state."""
+        sim = self.sim
+        with sim.lock:
+            for name, value in self.rec.values_at(index).items():
+                if sim.values.get(name) != value:
+                    sim.set_value(name, value)
+            set_state(sim.model, sim.data, self.rec.states[index])
+        self.index = index
+
+    def values(self) -> dict[str, float]:
+        """Readouts shown at the current frame: the recorded ones, else computed."""
+        shown = self.rec.readouts_of_frame(self.index)
+        return shown if shown else self.sim.readouts()
+
+
+class ReplayPanel:
+    """Folder "Relecture": status, time scrubber, play/pause, frame steps, speed."""
+
+    COMMANDS = ("Lecture/Pause", "◀ image", "image ▶", "Début")
+
+    def __init__(self, gui: Any, controller: ReplayController) -> None:
+        self.controller = controller
+        rec = controller.rec
+        submit = controller.submit
+        t1 = float(controller.timeline[-1])
+        step = t1 / max(len(rec.times) - 1, 1) or 0.01
+        with gui.add_folder("Relecture"):
+            lesson = rec.header.get("lesson")
+            self.title = gui.add_markdown(
+                f"**{rec.header.get('target')}** · enregistré le {rec.header.get('created')}"
+                + (f" · leçon {lesson}" if lesson else "")
+            )
+            self.status = gui.add_markdown("")
+            self.commands = gui.add_button_group("Commandes", self.COMMANDS)
+            self.commands.on_click(lambda event: self._command(event.target.value))
+            self.time = gui.add_slider(
+                "Temps [s]", min=0.0, max=max(t1, step), step=step, initial_value=0.0
+            )
+            self.speed = gui.add_slider(
+                "Vitesse ×", min=SPEEDS[0], max=SPEEDS[1], step=0.1, initial_value=1.0
+            )
+        self.params = None
+        if controller.sim.scene is not None and controller.sim.scene.params:
+            with gui.add_folder("Paramètres enregistrés"):
+                self.params = gui.add_markdown("")
+
+        @self.time.on_update
+        def _(event: Any) -> None:
+            if event.client is not None:
+                submit(Request("seek", event.target.value))
+
+        @self.speed.on_update
+        def _(event: Any) -> None:
+            if event.client is not None:
+                submit(Request("speed", event.target.value))
+
+    def _command(self, label: str) -> None:
+        submit = self.controller.submit
+        if label == "Lecture/Pause":
+            submit(Request("toggle"))
+        elif label == "◀ image":
+            submit(Request("step", -1))
+        elif label == "image ▶":
+            submit(Request("step", 1))
+        else:
+            submit(Request("seek", 0.0))
+
+    def refresh(self) -> None:
+        """Follow the timeline (the scrubber moves while playing)."""
+        ctl = self.controller
+        t = float(ctl.rec.times[ctl.index])
+        pos = float(ctl.timeline[ctl.index])
+        state = "lecture" if ctl.playing else "pause"
+        self.status.content = (
+            f"t = {t:.3f} s · {pos:.2f} s / {float(ctl.timeline[-1]):.2f} s lus · image "
+            f"{ctl.index + 1}/{len(ctl.rec.times)} · ×{ctl.speed:g} · **{state}**"
+        )
+        if abs(self.time.value - pos) > 1e-9:
+            self.time.value = pos
+        if self.params is not None:
+            sim = ctl.sim
+            rows = [f"| {p.name} | {sim.values[p.name]:g} {p.unit} |" for p in sim.scene.params]
+            content = "| paramètre | valeur |\n|:--|--:|\n" + "\n".join(rows)
+            if self.params.content != content:
+                self.params.content = content
+
+    def sync(self) -> None:
+        """Nothing to put back: the replay refuses nothing the user can type."""
+
+
+def start_replay(
+    rec: Recording, *, host: str = "127.0.0.1", port: int = 8080, open_message: bool = True
+) -> App:
+    """Serve ``rec`` in background threads and return at once."""
+    open_simulation(rec)  # fails early with a clear message
+    server = open_server(host, port, "sandbox replay")
+
+    def session(client: viser.ClientHandle) -> Session:
+        ctl = ReplayController(rec)
+        view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)  # type: ignore[arg-type]
+        return Session(ctl, view)  # type: ignore[arg-type]
+
+    app = App(server, host, session)
+    if open_message:
+        print(f"sandbox: replay of {rec.path} at {app.url} (Ctrl-C to stop)", flush=True)
+    return app
+
+
+def serve_replay(rec: Recording, **options: Any) -> None:
+    """Serve ``rec`` until Ctrl-C (keyword arguments as for :func:`start_replay`)."""
+    run_forever(start_replay(rec, **options))
