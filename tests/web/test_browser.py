@@ -83,3 +83,26 @@ def test_each_browser_has_its_own_simulation(open_page, served_rotor):
     assert _wait_for(lambda: sorted(s.values["mass1_g"] for s in sims) == [0.0, 80.0])
     second.close()
     assert _wait_for(lambda: len(served_rotor.sessions) == 1)
+
+
+def test_replay_server_shows_the_timeline_to_several_browsers(open_page, tmp_path):
+    from conftest import free_port
+
+    from sandbox.cli import main
+    from sandbox.recording import load
+    from sandbox.web.player import start_replay
+
+    path = tmp_path / "r.sbx"
+    assert main(["run", "rotor", "--duration", "1", "--record", str(path)]) == 0
+    app = start_replay(load(path), port=free_port(), open_message=False)
+    try:
+        pages = [_open(open_page, app) for _ in range(2)]
+        assert _wait_for(lambda: len(app.sessions) == 2)
+        for page in pages:
+            assert page.get_by_text("Relecture", exact=True).first.is_visible()
+            assert _readout(page, "bearing_A") > 1.0
+        ctl = next(iter(app.sessions.values())).controller
+        assert _wait_for(lambda: not ctl.playing)  # a 1 s recording plays to its end
+        assert ctl.index == len(ctl.rec.times) - 1
+    finally:
+        app.stop()
