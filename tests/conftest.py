@@ -25,6 +25,28 @@ DIVERGING = """
 """A stiff spring (ω ≈ 3·10⁴ rad/s) integrated by explicit Euler at dt = 0.05 s: ω dt ≫ 2."""
 
 
+PENDULUM = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <body name="arm">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
+    </body>
+  </worldbody>
+  <keyframe><key qpos="0.5"/></keyframe>
+</mujoco>
+"""
+"""A 1 kg arm on a hinge, started at 0.5 rad by its keyframe."""
+
+
+@pytest.fixture
+def pendulum_xml(tmp_path: Path) -> Path:
+    path = tmp_path / "pendulum.xml"
+    path.write_text(PENDULUM)
+    return path
+
+
 @pytest.fixture
 def diverging_xml(tmp_path: Path) -> Path:
     path = tmp_path / "diverging.xml"

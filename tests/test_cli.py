@@ -11,19 +11,6 @@ import pytest
 
 from sandbox.cli import main
 
-PENDULUM = """
-<mujoco>
-  <option timestep="0.001"/>
-  <worldbody>
-    <body name="arm">
-      <joint name="hinge" type="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
-    </body>
-  </worldbody>
-  <keyframe><key qpos="0.5"/></keyframe>
-</mujoco>
-"""
-
 
 def _err(capsys) -> str:
     return capsys.readouterr().err.strip()
@@ -113,9 +100,8 @@ def test_run_json_output(tmp_path):
     assert doc["units"]["bearing_A"] == "N"
 
 
-def test_arbitrary_mjcf_runs_with_generic_readouts(tmp_path):
-    xml = tmp_path / "pendulum.xml"
-    xml.write_text(PENDULUM)
+def test_arbitrary_mjcf_runs_with_generic_readouts(tmp_path, pendulum_xml):
+    xml = pendulum_xml
     out = tmp_path / "p.csv"
     assert main(["run", str(xml), "--duration", "0.5", "--out", str(out)]) == 0
     rows = _rows(out)
@@ -157,9 +143,8 @@ def test_malformed_mjcf_is_one_line(tmp_path, capsys):
     assert len(err.splitlines()) == 1 and "cannot load MJCF" in err
 
 
-def test_parameter_on_a_file_is_refused(tmp_path, capsys):
-    xml = tmp_path / "p.xml"
-    xml.write_text(PENDULUM)
+def test_parameter_on_a_file_is_refused(capsys, pendulum_xml):
+    xml = pendulum_xml
     assert main(["run", str(xml), "--set", "speed_rpm=1"]) == 2
     assert "no parameter" in _err(capsys)
 

@@ -11,19 +11,6 @@ import pytest
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import FORMAT, VERSION, BadRecording, Recorder, get_state, load, write_csv
 
-PENDULUM = """
-<mujoco>
-  <option timestep="0.002"/>
-  <worldbody>
-    <body name="arm">
-      <joint name="hinge" type="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>
-    </body>
-  </worldbody>
-  <keyframe><key qpos="0.5"/></keyframe>
-</mujoco>
-"""
-
 
 def _record(path, sim, frames=120, steps=10, change_at=None):
     rec = Recorder(path, sim)
@@ -54,13 +41,11 @@ def test_round_trip_is_exact(tmp_path):
     assert out.read_text().splitlines()[0].split(",") == sim.readout_names()
 
 
-def test_file_target_keeps_its_own_mjcf(tmp_path):
-    xml = tmp_path / "pendulum.xml"
-    xml.write_text(PENDULUM)
-    sim = Simulation(xml)
+def test_file_target_keeps_its_own_mjcf(tmp_path, pendulum_xml):
+    sim = Simulation(pendulum_xml)
     _record(tmp_path / "p.sbx", sim, frames=10)
     rec = load(tmp_path / "p.sbx")
-    assert rec.header["scene"] is None and rec.header["mjcf"] == PENDULUM
+    assert rec.header["scene"] is None and rec.header["mjcf"] == pendulum_xml.read_text()
 
 
 def test_a_crash_loses_at_most_the_last_flush(tmp_path, monkeypatch):

@@ -19,7 +19,7 @@ import viser
 from sandbox.recording import Recording, set_state
 from sandbox.replay import open_simulation
 from sandbox.web.app import App, open_server, run_forever
-from sandbox.web.session import SPEEDS, Notice, Request, Session, _number
+from sandbox.web.session import SPEEDS, Notice, Request, Session, _number, pending
 from sandbox.web.view import WebView
 
 
@@ -58,11 +58,7 @@ class ReplayController:
         """Apply requests, move along the timeline, load the frame's state."""
         now = self.clock() if now is None else now
         notices: list[Notice] = []
-        while True:
-            try:
-                request = self.requests.get_nowait()
-            except queue.Empty:
-                break
+        for request in pending(self.requests):
             try:
                 self._apply(request)
             except Exception as exc:  # a bad value never stops the replay

@@ -13,7 +13,7 @@ import math
 import queue
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -164,11 +164,7 @@ class Controller:
         """Apply every queued request; a refused one becomes an ``error`` notice."""
         now = self.clock() if now is None else now
         notices: list[Notice] = []
-        while True:
-            try:
-                request = self.requests.get_nowait()
-            except queue.Empty:
-                break
+        for request in pending(self.requests):
             try:
                 notice = self._apply(request)
             except Diverged as exc:
@@ -269,6 +265,15 @@ class Controller:
             sim.set_timestep(_number(value, "timestep"))
             return None
         raise _bad(f"unknown request {kind!r}")
+
+
+def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
+    """The requests waiting in ``requests``, removed as they are yielded."""
+    while True:
+        try:
+            yield requests.get_nowait()
+        except queue.Empty:
+            return
 
 
 def _reset_first() -> Notice:
