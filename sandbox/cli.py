@@ -109,6 +109,12 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument(
         "--salvage", action="store_true", help="accept a recording that was never closed"
     )
+    b = sub.add_parser("bench", help="what accuracy costs in time: integrators × timesteps")
+    b.add_argument("scenes", nargs="*", metavar="SCENE", help="scenes (default: all)")
+    b.add_argument("--quick", action="store_true", help="shorter runs (under 2 minutes)")
+    b.add_argument("--out", type=Path, default=Path("bench-results"), metavar="DIR")
+    b.add_argument("--effects", action="store_true", help="declared effects vs everything on")
+    b.add_argument("--overhead", action="store_true", help="sandbox run vs a bare mj_step loop")
     return p
 
 
@@ -289,6 +295,59 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench(args: argparse.Namespace) -> int:
+    """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
+    from sandbox import bench
+    from sandbox.scenes import SCENES, get_scene
+
+    names = args.scenes or [n for n, s in SCENES.items() if s.accuracy is not None]
+    scenes = [get_scene(n) for n in names]
+    for scene in scenes:
+        if scene.accuracy is None:
+            raise BadOption(f"scene {scene.name!r} has no accuracy measure to benchmark")
+
+    def say(line: str) -> None:
+        print(line, file=sys.stderr, flush=True)
+
+    if args.effects:
+        print(f"{'scene':<18} {'speed ratio':>12} {'error declared':>15} {'error all on':>13}")
+        for scene in scenes:
+            res = bench.bench_effects(scene, quick=args.quick)
+            print(
+                f"{scene.name:<18} {res.speed_ratio:>11.2f}x {res.declared.error:>15.2e} "
+                f"{res.all_on.error:>13.2e}   drift {res.declared.drift:.1e} -> "
+                f"{res.all_on.drift:.1e} ({scene.accuracy.invariant})"  # type: ignore[union-attr]
+            )
+        print("speed ratio = CPU cost with every effect on / with the scene's effects only")
+    if args.overhead:
+        print(f"{'scene':<18} {'run / bare':>10} {'x real time':>12}")
+        for scene in scenes:
+            o = bench.bench_overhead(scene)
+            print(f"{scene.name:<18} {o.ratio:>10.2f} {o.realtime_factor:>12.1f}")
+        print("goals: run / bare <= 1.25 (readouts at 60 Hz), >= 20x real time at the defaults")
+    if args.effects or args.overhead:
+        return 0
+    if args.out.exists() and not args.out.is_dir():
+        raise BadOption(f"--out {str(args.out)!r} is a file; give a folder")
+    start = time.perf_counter()
+    results = []
+    for scene in scenes:
+        say(f"{scene.name}: {scene.accuracy.key} vs the course ...")  # type: ignore[union-attr]
+        results.append(bench.bench_scene(scene, quick=args.quick, progress=say))
+    paths = bench.write_results(results, args.out, quick=args.quick)
+    print(bench.markdown(results))
+    for res in results:
+        d = res.default
+        if d is not None:
+            mark = "on" if d.pareto else "NOT on"
+            print(
+                f"{res.scene}: default {d.integrator} dt = {d.timestep:g} s, error "
+                f"{d.error:.2e}, {mark} the Pareto front"
+            )
+    print(f"written: {', '.join(str(p) for p in paths)} ({time.perf_counter() - start:.0f} s)")
+    return 0
+
+
 def _check_record(path: Path) -> None:
     if path.is_dir():
         raise BadOption(f"--record {str(path)!r} is a directory; give a file name such as r.sbx")
@@ -370,6 +429,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_describe(args.target, args.json)
         if args.command == "replay":
             return cmd_replay(args)
+        if args.command == "bench":
+            return cmd_bench(args)
         return cmd_run(args)
     except SandboxError as exc:
         print(f"sandbox: error: {exc}", file=sys.stderr)

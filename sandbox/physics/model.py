@@ -18,6 +18,7 @@ INTEGRATORS: dict[str, int] = {
     "implicit": int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
     "implicitfast": int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST),
     "rk4": int(mujoco.mjtIntegrator.mjINT_RK4),
+    "discrete": int(mujoco.mjtIntegrator.mjINT_DISCRETE),
 }
 """Integrator names accepted by ``--integrator`` and the web app."""
 

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -52,35 +54,23 @@ _NEEDS_RNE = ("dyn_", "sup_", "P_acc")
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a ∧ b on the last axis (much cheaper than np.cross for small arrays)."""
-    a, b = np.broadcast_arrays(a, b)
-    return np.stack(
-        [
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ],
-        axis=-1,
-    )
+    """a ∧ b on the last axis, for (3,) or (n, 3) arrays (cheaper than np.cross)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    if a.shape != b.shape:
+        a, b = np.broadcast_arrays(a, b)
+    out = np.empty(a.shape)
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def mechanism_bodies(model: mujoco.MjModel) -> np.ndarray:
     """Ids of the bodies not welded to the world."""
     return np.flatnonzero(model.body_weldid != 0)
-
-
-def _inertia_world(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
-    """I_G of every body in world axes, shape (nbody, 3, 3)."""
-    rot = data.ximat.reshape(-1, 3, 3)
-    return np.einsum("bij,bj,bkj->bik", rot, model.body_inertia, rot)
-
-
-def body_velocities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
-    """(v_G, ω) of every body's centre of mass in R0, each (nbody, 3), world axes."""
-    omega = data.cvel[:, :3]
-    c = data.subtree_com[model.body_rootid]
-    v_g = data.cvel[:, 3:] + _cross(omega, data.xipos - c)
-    return v_g, omega
 
 
 def _gravity(model: mujoco.MjModel) -> np.ndarray:
@@ -89,49 +79,105 @@ def _gravity(model: mujoco.MjModel) -> np.ndarray:
     return np.array(model.opt.gravity)
 
 
+class Kinematics:
+    """Per-body quantities of one state, computed once and shared by every readout.
+
+    Velocities need ``mj_forward``; accelerations also ``mj_rnePostConstraint``.
+    Arrays cover every body (index = body id); ``bodies`` are the mechanism's.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        self.model, self.data = model, data
+        self.bodies = mechanism_bodies(model)
+
+    @cached_property
+    def arm(self) -> np.ndarray:
+        """G − c for every body, c the subtree com where cvel/cacc are expressed."""
+        return self.data.xipos - self.data.subtree_com[self.model.body_rootid]
+
+    @cached_property
+    def omega(self) -> np.ndarray:
+        return self.data.cvel[:, :3]
+
+    @cached_property
+    def v_g(self) -> np.ndarray:
+        return self.data.cvel[:, 3:] + _cross(self.omega, self.arm)
+
+    @cached_property
+    def alpha(self) -> np.ndarray:
+        return self.data.cacc[:, :3]
+
+    @cached_property
+    def a_g(self) -> np.ndarray:
+        """True acceleration of G: cacc includes −g like an accelerometer (module doc)."""
+        d = self.data
+        a = d.cacc[:, 3:] + _cross(self.alpha, self.arm) + _cross(self.omega, self.v_g)
+        return a + _gravity(self.model)
+
+    @cached_property
+    def inertia(self) -> np.ndarray:
+        """I_G of every body in world axes, (nbody, 3, 3)."""
+        rot = self.data.ximat.reshape(-1, 3, 3)
+        return np.einsum("bij,bj,bkj->bik", rot, self.model.body_inertia, rot)
+
+    @cached_property
+    def i_omega(self) -> np.ndarray:
+        """I_G ω of every body."""
+        return np.einsum("bij,bj->bi", self.inertia, self.omega)
+
+    @cached_property
+    def delta_g(self) -> np.ndarray:
+        """I_G α + ω ∧ I_G ω of every body (dynamic moment at G)."""
+        return np.einsum("bij,bj->bi", self.inertia, self.alpha) + _cross(self.omega, self.i_omega)
+
+
+def _kin(model: mujoco.MjModel, data: mujoco.MjData, kin: Kinematics | None) -> Kinematics:
+    return kin if kin is not None else Kinematics(model, data)
+
+
+def body_velocities(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
+    """(v_G, ω) of every body's centre of mass in R0, each (nbody, 3), world axes."""
+    k = Kinematics(model, data)
+    return k.v_g, k.omega
+
+
 def body_accelerations(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """(a_G, α): true accelerations of every centre of mass, after mj_rnePostConstraint.
 
     MuJoCo's ``cacc`` is a spatial acceleration that includes −g (like an accelerometer);
     the classical acceleration of G is cacc_lin + α ∧ (G − c) + ω ∧ v_G, plus g.
     """
-    v_g, omega = body_velocities(model, data)
-    alpha = data.cacc[:, :3]
-    c = data.subtree_com[model.body_rootid]
-    a_g = data.cacc[:, 3:] + _cross(alpha, data.xipos - c) + _cross(omega, v_g)
-    return a_g + _gravity(model), alpha
+    k = Kinematics(model, data)
+    return k.a_g, k.alpha
 
 
-def _select(model: mujoco.MjModel, bodies: Iterable[int] | None) -> np.ndarray:
-    return mechanism_bodies(model) if bodies is None else np.asarray(list(bodies), dtype=int)
+def _select(k: Kinematics, bodies: Iterable[int] | None) -> np.ndarray:
+    return k.bodies if bodies is None else np.asarray(list(bodies), dtype=int)
 
 
-def kinetic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+def kinetic_torsor(
+    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+) -> Pair:
     """{C} at O: (Σ m v_G, Σ I_G ω + OG ∧ m v_G)."""
-    b = _select(model, bodies)
-    v_g, omega = body_velocities(model, data)
-    m = model.body_mass[b][:, None]
-    p = m * v_g[b]
-    sigma = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
-    return p.sum(0), (sigma + _cross(data.xipos[b], p)).sum(0)
+    k = _kin(model, data, kin)
+    b = _select(k, bodies)
+    p = model.body_mass[b][:, None] * k.v_g[b]
+    return p.sum(0), (k.i_omega[b] + _cross(data.xipos[b], p)).sum(0)
 
 
-def dynamic_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+def dynamic_torsor(
+    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+) -> Pair:
     """{D} at O: (Σ m a_G, Σ I_G α + ω ∧ I_G ω + OG ∧ m a_G)."""
-    b = _select(model, bodies)
-    a_g, alpha = body_accelerations(model, data)
-    _, omega = body_velocities(model, data)
-    inertia = _inertia_world(model, data)[b]
-    m = model.body_mass[b][:, None]
-    ma = m * a_g[b]
-    iw = np.einsum("bij,bj->bi", inertia, omega[b])
-    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + _cross(omega[b], iw)
-    return ma.sum(0), (delta + _cross(data.xipos[b], ma)).sum(0)
+    k = _kin(model, data, kin)
+    b = _select(k, bodies)
+    ma = model.body_mass[b][:, None] * k.a_g[b]
+    return ma.sum(0), (k.delta_g[b] + _cross(data.xipos[b], ma)).sum(0)
 
 
 def gravity_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
     """Weight of the mechanism at O (zero when weight is neglected)."""
-    b = _select(model, bodies)
+    b = mechanism_bodies(model) if bodies is None else np.asarray(list(bodies), dtype=int)
     w = model.body_mass[b][:, None] * _gravity(model)
     return w.sum(0), _cross(data.xipos[b], w).sum(0)
 
@@ -211,13 +257,15 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     return r - ar - xr, m - am - xm
 
 
-def kinetic_energy(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> float:
+def kinetic_energy(
+    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+) -> float:
     """T = Σ ½ m v_G² + ½ ω·I_G ω (armature, a joint property, is not counted)."""
-    b = _select(model, bodies)
-    v_g, omega = body_velocities(model, data)
-    iw = np.einsum("bij,bj->bi", _inertia_world(model, data)[b], omega[b])
+    k = _kin(model, data, kin)
+    b = _select(k, bodies)
+    v = k.v_g[b]
     return float(
-        0.5 * (model.body_mass[b] * (v_g[b] ** 2).sum(1)).sum() + 0.5 * (iw * omega[b]).sum()
+        0.5 * (model.body_mass[b] * (v * v).sum(1)).sum() + 0.5 * (k.i_omega[b] * k.omega[b]).sum()
     )
 
 
@@ -227,20 +275,29 @@ def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     v = -float((model.body_mass[b] * (data.xipos[b] @ _gravity(model))).sum())
     if not model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_SPRING:
         for j in np.flatnonzero(model.jnt_stiffness > 0):
-            if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+            if int(model.jnt_type[j]) in (
+                int(mujoco.mjtJoint.mjJNT_HINGE),
+                int(mujoco.mjtJoint.mjJNT_SLIDE),
+            ):
                 a = model.jnt_qposadr[j]
-                v += 0.5 * model.jnt_stiffness[j] * (data.qpos[a] - model.qpos_spring[a]) ** 2
+                v += (
+                    0.5
+                    * float(model.jnt_stiffness[j])
+                    * float(data.qpos[a] - model.qpos_spring[a]) ** 2
+                )
     return v
 
 
-def powers(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, float]:
+def powers(
+    model: mujoco.MjModel, data: mujoco.MjData, *, kin: Kinematics | None = None
+) -> dict[str, float]:
     """P_ext and P_int [W] (see the module and README for the split)."""
-    b = mechanism_bodies(model)
-    v_g, omega = body_velocities(model, data)
+    k = _kin(model, data, kin)
+    b = k.bodies
     qv = data.qvel
-    p_grav = float((model.body_mass[b] * (v_g[b] @ _gravity(model))).sum())
+    p_grav = float((model.body_mass[b] * (k.v_g[b] @ _gravity(model))).sum())
     xf = data.xfrc_applied[b]
-    p_xfrc = float((xf[:, :3] * v_g[b]).sum() + (xf[:, 3:] * omega[b]).sum())
+    p_xfrc = float((xf[:, :3] * k.v_g[b]).sum() + (xf[:, 3:] * k.omega[b]).sum())
     p_ext = (
         p_grav + p_xfrc + float(qv @ (data.qfrc_actuator + data.qfrc_applied + data.qfrc_gravcomp))
     )
@@ -248,31 +305,45 @@ def powers(model: mujoco.MjModel, data: mujoco.MjData) -> dict[str, float]:
     return {"P_ext": p_ext, "P_int": p_int}
 
 
-def acceleration_power(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+def acceleration_power(
+    model: mujoco.MjModel, data: mujoco.MjData, *, kin: Kinematics | None = None
+) -> float:
     """P_acc = Σ {D_i}⊗{V_i} = Σ m a_G·v_G + (I_G α + ω ∧ I_G ω)·ω."""
-    b = mechanism_bodies(model)
-    a_g, alpha = body_accelerations(model, data)
-    v_g, omega = body_velocities(model, data)
-    inertia = _inertia_world(model, data)[b]
-    delta = np.einsum("bij,bj->bi", inertia, alpha[b]) + _cross(
-        omega[b], np.einsum("bij,bj->bi", inertia, omega[b])
+    k = _kin(model, data, kin)
+    b = k.bodies
+    return float(
+        (model.body_mass[b] * (k.a_g[b] * k.v_g[b]).sum(1)).sum()
+        + (k.delta_g[b] * k.omega[b]).sum()
     )
-    return float((model.body_mass[b] * (a_g[b] * v_g[b]).sum(1)).sum() + (delta * omega[b]).sum())
 
 
 _TORSORS = {"kin": kinetic_torsor, "dyn": dynamic_torsor, "sup": support_torsor}
 
 
 def torsor(
-    model: mujoco.MjModel, data: mujoco.MjData, prefix: str, cache: dict[str, Pair] | None = None
+    model: mujoco.MjModel, data: mujoco.MjData, prefix: str, cache: dict[str, Any] | None = None
 ) -> Pair:
     """The mechanism's torsor ``prefix`` ("kin", "dyn" or "sup") at O, memoised in cache."""
     if cache is not None and prefix in cache:
         return cache[prefix]
-    value = _TORSORS[prefix](model, data)
+    fn = _TORSORS[prefix]
+    value = (
+        fn(model, data) if prefix == "sup" else fn(model, data, kin=_cached_kin(model, data, cache))
+    )
     if cache is not None:
         cache[prefix] = value
     return value
+
+
+def _cached_kin(
+    model: mujoco.MjModel, data: mujoco.MjData, cache: dict[str, Any] | None
+) -> Kinematics:
+    if cache is None:
+        return Kinematics(model, data)
+    kin = cache.get("_kin")
+    if kin is None:
+        kin = cache["_kin"] = Kinematics(model, data)
+    return kin
 
 
 def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> None:
@@ -286,7 +357,7 @@ def compute(
     model: mujoco.MjModel,
     data: mujoco.MjData,
     names: Iterable[str],
-    cache: dict[str, Pair] | None = None,
+    cache: dict[str, Any] | None = None,
 ) -> dict[str, float]:
     """Values of the generic readouts ``names`` (after :func:`prepare`); only those asked.
 
@@ -304,12 +375,13 @@ def compute(
                 out[f"{prefix}_R_{c}"], out[f"{prefix}_M_{c}"] = float(r[i]), float(m[i])
     if "time" in names:
         out["time"] = float(data.time)
+    kin = _cached_kin(model, data, cache)
     if "T" in names:
-        out["T"] = kinetic_energy(model, data)
+        out["T"] = kinetic_energy(model, data, kin=kin)
     if "V" in names:
         out["V"] = potential_energy(model, data)
     if "P_ext" in names or "P_int" in names:
-        out.update(powers(model, data))
+        out.update(powers(model, data, kin=kin))
     if "P_acc" in names:
-        out["P_acc"] = acceleration_power(model, data)
+        out["P_acc"] = acceleration_power(model, data, kin=kin)
     return {n: out[n] for n in names}

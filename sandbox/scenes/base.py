@@ -160,6 +160,41 @@ class Arrow:
     scale: float = 1.0
 
 
+Series = Mapping[str, np.ndarray]
+"""Readouts sampled during a benchmark run: name -> values over time."""
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """How ``sandbox bench`` measures a scene against the course.
+
+    Attributes:
+        key: The key quantity compared with the closed form (a readout name).
+        readouts: Readouts sampled during a run (``time`` is always added).
+        duration: Simulated time of one run [s].
+        error: Relative error of the key quantity against the course's closed form.
+        invariant: What the scene conserves, in words (e.g. "T + V").
+        drift: Relative drift of that invariant over the run (or the energy-theorem
+            residual relative to the peak power).
+        constraint: Largest constraint violation [m] over the run, where there is one.
+        values: Parameter values of the benchmark (defaults otherwise).
+        rate: Samples per simulated second.
+        timesteps: The grid's timesteps [s] (two decades, the default among them);
+            empty means 0.1, 0.3, 1, 3 and 10 times the default.
+    """
+
+    key: str
+    readouts: tuple[str, ...]
+    duration: float
+    error: Callable[[Series, Values], float]
+    invariant: str
+    drift: Callable[[Series, Values], float]
+    constraint: Callable[[Series, Values], float] | None = None
+    values: Mapping[str, float] = field(default_factory=dict)
+    rate: float = 200.0
+    timesteps: tuple[float, ...] = ()
+
+
 @dataclass(frozen=True)
 class Scene:
     """A registered scene: MJCF file plus everything the course says about it.
@@ -182,6 +217,8 @@ class Scene:
         arrows: Arrows drawn in the 3D view.
         body_frame: Body whose frame gives the basis B1 of the readout panel.
         sections: Course sections the scene illustrates.
+        extra: Scene-specific helpers (e.g. the rotor's balancing solution).
+        accuracy: What ``sandbox bench`` compares with the course, and the invariant.
     """
 
     name: str
@@ -202,6 +239,7 @@ class Scene:
     body_frame: str | None = None
     sections: str = ""
     extra: Mapping[str, object] = field(default_factory=dict)
+    accuracy: Accuracy | None = None
 
     def param(self, name: str) -> Param:
         """The parameter called ``name``.

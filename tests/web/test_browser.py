@@ -67,7 +67,7 @@ def test_bad_timestep_is_refused_and_the_server_keeps_running(open_page, served_
     field.press("Enter")
     page.get_by_text(re.compile("Valeur refusée")).first.wait_for(timeout=10_000)
     session = next(iter(served_rotor.sessions.values()))
-    assert session.controller.sim.timestep == pytest.approx(1e-3)
+    assert session.controller.sim.timestep == pytest.approx(session.controller.sim.scene.timestep)
     t0 = session.controller.sim.data.time
     assert _wait_for(lambda: session.controller.sim.data.time > t0 + 0.2)
 

@@ -1,0 +1,438 @@
+"""What accuracy costs in time: work-precision grids, effects and overhead benchmarks.
+
+``sandbox bench`` runs, for every scene with an :class:`~sandbox.scenes.base.Accuracy`,
+each integrator at timesteps spanning two decades around the scene's default, and
+measures the key quantity's error against the course, the invariant's drift, the
+constraint violation, and the CPU cost of stepping (readouts excluded). Timings are
+printed and written, never asserted.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import platform
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from sandbox.errors import Diverged
+from sandbox.physics.model import INTEGRATORS
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import Accuracy, Scene
+
+SCHEMA = 1
+"""Version of results.json (documented in README)."""
+
+FACTORS = (0.1, 0.3, 1.0, 3.0, 10.0)
+"""Timesteps of the grid, as multiples of the scene's default (two decades)."""
+
+QUICK_DURATION = 0.25
+"""Fraction of each scene's run duration used by ``--quick``."""
+
+
+@dataclass
+class Run:
+    """One (integrator, timestep) run of a scene.
+
+    Attributes:
+        scene: Scene name.
+        integrator: Integrator name.
+        timestep: Timestep [s].
+        duration: Simulated time [s].
+        error: Relative error of the key quantity against the course (inf if diverged).
+        drift: Relative drift of the invariant (or energy-theorem residual).
+        constraint: Largest constraint violation [m] (None where there is none).
+        cpu_per_sim_s: CPU seconds of stepping per simulated second.
+        realtime_factor: Simulated seconds per CPU second.
+        diverged: True when MuJoCo reported a bad state (or NaN).
+        detail: Divergence message.
+        pareto: On the Pareto front (no other run is both cheaper and more accurate).
+        default: The scene's default integrator and timestep.
+    """
+
+    scene: str
+    integrator: str
+    timestep: float
+    duration: float
+    error: float = math.inf
+    drift: float = math.inf
+    constraint: float | None = None
+    cpu_per_sim_s: float = math.nan
+    realtime_factor: float = math.nan
+    diverged: bool = False
+    detail: str = ""
+    pareto: bool = False
+    default: bool = False
+
+
+@dataclass
+class SceneResult:
+    """Every run of one scene and what it measures."""
+
+    scene: str
+    key: str
+    invariant: str
+    default_integrator: str
+    default_timestep: float
+    runs: list[Run] = field(default_factory=list)
+
+    @property
+    def default(self) -> Run | None:
+        """The run at the scene's defaults."""
+        return next((r for r in self.runs if r.default), None)
+
+
+def _series(samples: dict[str, list[float]]) -> dict[str, np.ndarray]:
+    return {k: np.asarray(v, dtype=float) for k, v in samples.items()}
+
+
+def run_one(
+    target: str,
+    acc: Accuracy,
+    integrator: str,
+    timestep: float,
+    duration: float,
+    *,
+    simulation: Callable[..., Simulation] = Simulation,
+) -> Run:
+    """Simulate ``duration`` seconds and measure error, drift, constraint and cost.
+
+    The cost is timed separately (:func:`stepping_cost`): stepping only, no readouts.
+    """
+    run = Run(str(target), integrator, timestep, duration)
+    sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
+    names = tuple(dict.fromkeys(("time", *acc.readouts)))
+    samples: dict[str, list[float]] = {n: [] for n in names}
+
+    def sample() -> None:
+        for name, value in sim.readouts(names).items():
+            samples[name].append(value)
+
+    total = max(1, int(round(duration / timestep)))
+    per = max(1, int(round(1.0 / (acc.rate * timestep))))
+    sample()
+    done = 0
+    try:
+        while done < total:
+            n = min(per, total - done)
+            sim.step(n)
+            done += n
+            sample()
+    except Diverged as exc:
+        run.diverged, run.detail = True, str(exc)
+    if not run.diverged:
+        cost = stepping_cost(simulation, target, acc, integrator, timestep, duration)
+        run.cpu_per_sim_s = cost
+        run.realtime_factor = 1.0 / cost if cost > 0 else math.inf
+    if run.diverged:
+        return run
+    series = _series(samples)
+    values = sim.values
+    run.error = _finite(acc.error(series, values))
+    run.drift = _finite(acc.drift(series, values))
+    if acc.constraint is not None:
+        run.constraint = _finite(acc.constraint(series, values))
+    return run
+
+
+MIN_CPU = 0.03
+"""CPU seconds of stepping in one cost measurement, at least."""
+
+REPEATS = 3
+"""Cost measurements per run; the fastest is kept."""
+
+
+def stepping_cost(
+    simulation: Callable[..., Simulation],
+    target: str,
+    acc: Accuracy,
+    integrator: str,
+    timestep: float,
+    duration: float,
+) -> float:
+    """CPU seconds per simulated second of stepping alone, the way the web app steps
+    (``Simulation.step`` once per 60 Hz frame, divergence guard included).
+
+    Each of :data:`REPEATS` measurements lasts at least :data:`MIN_CPU` CPU seconds (the
+    run restarts when it reaches ``duration``); the smallest is kept, since other
+    processes can only slow a measurement down.
+    """
+    sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
+    total = max(1, int(round(duration / timestep)))
+    per = max(1, int(round(1.0 / (60.0 * timestep))))
+    best = math.inf
+    done = 0
+    for _ in range(REPEATS):
+        cpu, steps = 0.0, 0
+        while cpu < MIN_CPU:
+            if done >= total:
+                sim.reset()
+                done = 0
+            n = min(per, total - done)
+            start = time.process_time()
+            sim.step(n)
+            cpu += time.process_time() - start
+            done += n
+            steps += n
+        best = min(best, cpu / (steps * timestep))
+    return best
+
+
+def _finite(x: float) -> float:
+    return float(x) if math.isfinite(x) else math.inf
+
+
+ERROR_FLOOR = 1e-12
+"""Errors below this are round-off: all equal when comparing runs."""
+
+COST_NOISE = 0.25
+"""Relative CPU-time difference below which two runs cost the same: on a shared laptop
+repeated measurements of one run spread by about that much."""
+
+
+def dominates(a: Run, b: Run) -> bool:
+    """``a`` is at least as accurate and clearly cheaper, or clearly more accurate and
+    no dearer (errors under :data:`ERROR_FLOOR` and costs within :data:`COST_NOISE`
+    count as equal)."""
+    ea, eb = max(a.error, ERROR_FLOOR), max(b.error, ERROR_FLOOR)
+    cheaper = a.cpu_per_sim_s < (1 - COST_NOISE) * b.cpu_per_sim_s
+    not_dearer = a.cpu_per_sim_s <= (1 + COST_NOISE) * b.cpu_per_sim_s
+    return (ea <= eb and cheaper) or (ea < eb and not_dearer and ea < 0.5 * eb)
+
+
+def mark_pareto(runs: Sequence[Run]) -> None:
+    """Flag the runs no other run dominates (see :func:`dominates`)."""
+    ok = [r for r in runs if not r.diverged and math.isfinite(r.error)]
+    for r in runs:
+        r.pareto = r in ok and not any(dominates(o, r) for o in ok if o is not r)
+
+
+def bench_scene(
+    scene: Scene,
+    *,
+    quick: bool = False,
+    integrators: Iterable[str] = INTEGRATORS,
+    factors: Sequence[float] = FACTORS,
+    progress: Callable[[str], None] | None = None,
+) -> SceneResult:
+    """The integrator × timestep grid of one scene."""
+    acc = scene.accuracy
+    if acc is None:
+        raise ValueError(f"scene {scene.name!r} declares no accuracy measure")
+    duration = acc.duration * (QUICK_DURATION if quick else 1.0)
+    result = SceneResult(
+        scene.name, acc.key, acc.invariant, scene.integrator, scene.timestep, runs=[]
+    )
+    timesteps = acc.timesteps or tuple(scene.timestep * f for f in factors)
+    for integrator in integrators:
+        for dt in timesteps:
+            run = run_one(scene.name, acc, integrator, dt, duration)
+            run.default = integrator == scene.integrator and math.isclose(dt, scene.timestep)
+            result.runs.append(run)
+            if progress is not None:
+                status = "diverged" if run.diverged else f"error {run.error:.2e}"
+                progress(
+                    f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} "
+                    f"{run.realtime_factor:8.1f}x real time"
+                )
+    mark_pareto(result.runs)
+    return result
+
+
+# -- outputs -------------------------------------------------------------------------------
+def machine() -> dict[str, object]:
+    """Where the numbers were measured."""
+    import os
+
+    return {
+        "python": platform.python_version(),
+        "mujoco": mujoco.__version__,
+        "platform": platform.platform(),
+        "cpus": os.cpu_count(),
+        "date": time.strftime("%Y-%m-%d"),
+    }
+
+
+def _json_number(x: float | None) -> float | str | None:
+    if x is None:
+        return None
+    return x if math.isfinite(x) else ("inf" if x > 0 else "nan" if math.isnan(x) else "-inf")
+
+
+def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]:
+    """The results.json document (schema in README)."""
+    scenes = {}
+    for res in results:
+        runs = []
+        for r in res.runs:
+            d = asdict(r)
+            for k in ("error", "drift", "constraint", "cpu_per_sim_s", "realtime_factor"):
+                d[k] = _json_number(d[k])
+            runs.append(d)
+        scenes[res.scene] = {
+            "key": res.key,
+            "invariant": res.invariant,
+            "default": {"integrator": res.default_integrator, "timestep": res.default_timestep},
+            "runs": runs,
+        }
+    return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}
+
+
+CSV_COLUMNS = (
+    "scene",
+    "integrator",
+    "timestep",
+    "duration",
+    "error",
+    "drift",
+    "constraint",
+    "cpu_per_sim_s",
+    "realtime_factor",
+    "diverged",
+    "pareto",
+    "default",
+)
+
+
+def write_results(results: Sequence[SceneResult], out: Path, *, quick: bool) -> list[Path]:
+    """results.json, results.csv, results.md and one PNG per scene in ``out``."""
+    import csv
+
+    from sandbox.bench_plot import plot_scene
+
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "results.json").write_text(json.dumps(to_json(results, quick=quick), indent=1))
+    with (out / "results.csv").open("w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(CSV_COLUMNS)
+        for res in results:
+            for r in res.runs:
+                row = asdict(r)
+                writer.writerow(["" if row[c] is None else row[c] for c in CSV_COLUMNS])
+    (out / "results.md").write_text(markdown(results))
+    paths = [out / "results.json", out / "results.csv", out / "results.md"]
+    for res in results:
+        paths.append(plot_scene(res, out / f"{res.scene}.png"))
+    return paths
+
+
+def _fmt(x: float | None, spec: str = ".2e") -> str:
+    if x is None:
+        return "—"
+    return "∞" if math.isinf(x) else format(x, spec)
+
+
+def markdown(results: Sequence[SceneResult]) -> str:
+    """One table per scene: every run, the Pareto front and the default marked."""
+    parts = []
+    for res in results:
+        parts.append(
+            f"### {res.scene} — key: `{res.key}`, invariant: {res.invariant}\n\n"
+            "| integrator | dt [s] | error | drift | constraint [m] | CPU s / sim s | "
+            "× real time | |\n|:--|--:|--:|--:|--:|--:|--:|:--|"
+        )
+        for r in res.runs:
+            tags = []
+            if r.default:
+                tags.append("**default**")
+            if r.pareto:
+                tags.append("Pareto")
+            if r.diverged:
+                tags.append("diverged")
+            parts.append(
+                f"| {r.integrator} | {r.timestep:.3g} | {_fmt(r.error)} | {_fmt(r.drift)} | "
+                f"{_fmt(r.constraint)} | {_fmt(r.cpu_per_sim_s, '.3g')} | "
+                f"{_fmt(r.realtime_factor, '.1f')} | {', '.join(tags)} |"
+            )
+        parts.append("")
+    return "\n".join(parts)
+
+
+# -- effects and overhead --------------------------------------------------------------------
+def everything_on(sim: Simulation) -> None:
+    """Switch on every effect MuJoCo has: gravity, contacts between all geoms, joint
+    damping, friction and springs, limits, equality constraints."""
+    sim.model.opt.disableflags = int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
+    sim.model.geom_contype[:] = 1
+    sim.model.geom_conaffinity[:] = 1
+    mujoco.mj_forward(sim.model, sim.data)
+
+
+@dataclass
+class EffectsResult:
+    """Declared effects vs everything on, at the scene's defaults."""
+
+    scene: str
+    declared: Run
+    all_on: Run
+
+    @property
+    def speed_ratio(self) -> float:
+        """CPU cost with everything on / with the declared effects only."""
+        return self.all_on.cpu_per_sim_s / self.declared.cpu_per_sim_s
+
+
+def bench_effects(scene: Scene, *, quick: bool = False) -> EffectsResult:
+    """Run the scene's accuracy case twice: declared effects, then everything on."""
+    acc = scene.accuracy
+    assert acc is not None
+    duration = acc.duration * (QUICK_DURATION if quick else 1.0)
+
+    def all_on(target: str, **kwargs: object) -> Simulation:
+        sim = Simulation(target, **kwargs)  # type: ignore[arg-type]
+        everything_on(sim)
+        return sim
+
+    declared = run_one(scene.name, acc, scene.integrator, scene.timestep, duration)
+    on = run_one(scene.name, acc, scene.integrator, scene.timestep, duration, simulation=all_on)
+    return EffectsResult(scene.name, declared, on)
+
+
+@dataclass
+class OverheadResult:
+    """``sandbox run`` with readouts at 60 Hz against a bare ``mj_step`` loop."""
+
+    scene: str
+    bare_s: float
+    run_s: float
+    duration: float
+
+    @property
+    def ratio(self) -> float:
+        """Wall time of the sandbox run / wall time of the bare loop (goal ≤ 1.25)."""
+        return self.run_s / self.bare_s
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall second of the sandbox run (goal ≥ 20)."""
+        return self.duration / self.run_s
+
+
+def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -> OverheadResult:
+    """Time both loops on the same model at the scene's defaults (best of three)."""
+    from sandbox.cli import simulate
+
+    def bare() -> float:
+        sim = Simulation(scene.name)
+        m, d = sim.model, sim.data
+        per = max(1, int(round(1.0 / (rate * m.opt.timestep))))
+        frames = int(round(duration * rate))
+        start = time.perf_counter()
+        for _ in range(frames):
+            mujoco.mj_step(m, d, per)
+        return time.perf_counter() - start
+
+    def ours() -> float:
+        sim = Simulation(scene.name)
+        start = time.perf_counter()
+        simulate(sim, duration, rate, progress=False)
+        return time.perf_counter() - start
+
+    bare_s = min(bare() for _ in range(3))
+    run_s = min(ours() for _ in range(3))
+    return OverheadResult(scene.name, bare_s, run_s, duration)

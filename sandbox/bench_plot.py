@@ -1,0 +1,88 @@
+"""Work-precision charts (PNG) of ``sandbox bench``: error against cost, log-log."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from sandbox.bench import Run, SceneResult
+
+COLORS = {
+    "euler": "#d62728",
+    "implicit": "#9467bd",
+    "implicitfast": "#ff7f0e",
+    "rk4": "#1f77b4",
+    "discrete": "#2ca02c",
+}
+
+
+def _ok(r: Run) -> bool:
+    return not r.diverged and math.isfinite(r.error) and r.error > 0
+
+
+def plot_scene(res: SceneResult, path: Path) -> Path:
+    """Error of the key quantity vs CPU cost: one curve per integrator (points labelled
+    by timestep), the Pareto front as a thick grey line, the default as a star."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 5.4), dpi=150)
+    floor = 1e-16
+    by_integrator: dict[str, list[Run]] = {}
+    for r in res.runs:
+        by_integrator.setdefault(r.integrator, []).append(r)
+    for name, runs in by_integrator.items():
+        ok = sorted((r for r in runs if _ok(r)), key=lambda r: r.timestep)
+        if not ok:
+            continue
+        ax.plot(
+            [r.cpu_per_sim_s for r in ok],
+            [max(r.error, floor) for r in ok],
+            "o-",
+            color=COLORS.get(name, "black"),
+            label=name,
+            markersize=4,
+            linewidth=1.4,
+        )
+    front = sorted((r for r in res.runs if r.pareto and _ok(r)), key=lambda r: r.cpu_per_sim_s)
+    if front:
+        ax.plot(
+            [r.cpu_per_sim_s for r in front],
+            [max(r.error, floor) for r in front],
+            "-",
+            color="grey",
+            linewidth=6,
+            alpha=0.3,
+            label="Pareto front",
+            zorder=0,
+        )
+    default = res.default
+    if default is not None and _ok(default):
+        ax.plot(
+            [default.cpu_per_sim_s],
+            [max(default.error, floor)],
+            "*",
+            color="gold",
+            markeredgecolor="black",
+            markersize=16,
+            label=f"default ({default.integrator}, dt = {default.timestep:g} s)",
+        )
+    diverged = sum(r.diverged for r in res.runs)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cost: CPU seconds per simulated second")
+    ax.set_ylabel(f"relative error of {res.key} vs the course")
+    title = f"{res.scene}: what accuracy costs"
+    if diverged:
+        title += f" ({diverged} diverged runs not shown)"
+    ax.set_title(title)
+    ax.axhline(5e-3, color="green", linestyle=":", linewidth=1)
+    ax.text(ax.get_xlim()[0], 5e-3, " 0.5 %", color="green", va="bottom", fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path

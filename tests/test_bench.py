@@ -1,0 +1,145 @@
+"""sandbox bench: convergence orders, Pareto front, divergence, results schema.
+
+Timings are printed by the command, never asserted here.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from sandbox.bench import Run, bench_scene, mark_pareto, run_one, to_json, write_results
+from sandbox.cli import main
+from sandbox.scenes import SCENES
+from sandbox.scenes.base import Accuracy
+
+OSCILLATOR = """
+<mujoco>
+  <worldbody>
+    <body>
+      <joint type="slide" axis="1 0 0" stiffness="100"/>
+      <geom type="sphere" size="0.05" mass="1"/>
+    </body>
+  </worldbody>
+  <keyframe><key qpos="0.1"/></keyframe>
+</mujoco>
+"""
+"""m = 1 kg, k = 100 N/m, x0 = 0.1 m: p(t) = −m x0 ω sin ωt with ω = 10 rad/s."""
+
+
+def _momentum_error(series, values):
+    t, p = series["time"], series["kin_R_x"]
+    return float(np.max(np.abs(p + 1.0 * np.sin(10.0 * t))))  # |p| peaks at 1 kg·m/s
+
+
+def _energy_drift(series, values):
+    e = series["T"] + series["V"]
+    return float(np.max(np.abs(e - e[0])) / e[0])
+
+
+ACC = Accuracy(
+    key="kin_R_x",
+    readouts=("kin_R_x", "T", "V"),
+    duration=2.0,
+    error=_momentum_error,
+    invariant="T + V",
+    drift=_energy_drift,
+)
+
+
+@pytest.fixture
+def oscillator(tmp_path):
+    path = tmp_path / "oscillator.xml"
+    path.write_text(OSCILLATOR)
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    ("integrator", "low", "high"),
+    [("euler", 0.8, 2.2), ("implicitfast", 0.8, 2.2), ("implicit", 0.8, 2.2), ("rk4", 3.5, 4.5)],
+)
+def test_error_shrinks_with_the_integrators_order(oscillator, integrator, low, high):
+    """Error ∝ dt^p: first-order methods p ≥ 1 (the symplectic Euler of a linear
+    oscillator even reaches 2 on this observable), RK4 p = 4."""
+    dts = (1e-3, 3e-3, 1e-2)
+    errors = [run_one(oscillator, ACC, integrator, dt, ACC.duration).error for dt in dts]
+    slopes = [math.log(errors[i + 1] / errors[i]) / math.log(dts[i + 1] / dts[i]) for i in (0, 1)]
+    assert all(low <= s <= high for s in slopes), slopes
+
+
+def test_divergence_is_reported_not_hidden(diverging_xml):
+    run = run_one(str(diverging_xml), ACC, "euler", 0.05, 5.0)  # ω dt ≫ 2: unstable
+    assert run.diverged and "diverged" in run.detail and math.isinf(run.error)
+
+
+def test_pareto_front():
+    runs = [
+        Run("s", "a", 1e-3, 1, error=1e-6, cpu_per_sim_s=1.0),
+        Run("s", "b", 1e-3, 1, error=1e-3, cpu_per_sim_s=0.1),
+        Run("s", "c", 1e-3, 1, error=1e-2, cpu_per_sim_s=0.5),  # dearer and worse than b
+        Run("s", "d", 1e-3, 1, error=1e-4, cpu_per_sim_s=0.11),  # same cost as b, better
+        Run("s", "e", 1e-3, 1, diverged=True),
+    ]
+    mark_pareto(runs)
+    assert [r.pareto for r in runs] == [True, False, False, True, False]
+
+
+def test_rotor_default_is_on_its_pareto_front_within_half_a_percent():
+    res = bench_scene(SCENES["rotor"], quick=True, integrators=("euler", "implicitfast"))
+    default = res.default
+    assert default is not None and default.pareto and default.error <= 5e-3
+
+
+def test_results_schema(tmp_path, capsys):
+    assert main(["bench", "rotor", "--quick", "--out", str(tmp_path)]) == 0
+    doc = json.loads((tmp_path / "results.json").read_text())
+    assert doc["schema"] == 1 and set(doc["machine"]) >= {"mujoco", "cpus"}
+    scene = doc["scenes"]["rotor"]
+    assert scene["key"] == "bearing_A" and scene["default"]["integrator"] == "implicitfast"
+    integrators = {r["integrator"] for r in scene["runs"]}
+    assert integrators == {"euler", "implicit", "implicitfast", "rk4", "discrete"}
+    timesteps = sorted({r["timestep"] for r in scene["runs"]})
+    assert len(timesteps) >= 5 and timesteps[-1] / timesteps[0] >= 99
+    keys = {
+        "error",
+        "drift",
+        "constraint",
+        "cpu_per_sim_s",
+        "realtime_factor",
+        "diverged",
+        "pareto",
+        "default",
+    }
+    assert all(keys <= set(r) for r in scene["runs"])
+    for name in ("results.csv", "results.md", "rotor.png"):
+        assert (tmp_path / name).stat().st_size > 100, name
+    assert (tmp_path / "rotor.png").read_bytes()[:4] == b"\x89PNG"
+    assert "Pareto front" in capsys.readouterr().out
+
+
+def test_json_encodes_infinities(diverging_xml):
+    run = run_one(str(diverging_xml), ACC, "euler", 0.05, 5.0)
+    from sandbox.bench import SceneResult
+
+    doc = to_json([SceneResult("osc", "p", "T+V", "euler", 0.5, [run])], quick=True)
+    text = json.dumps(doc, allow_nan=False)
+    assert '"error": "inf"' in text
+
+
+def test_effects_and_overhead_print_their_ratios(capsys):
+    assert main(["bench", "rotor", "--effects", "--overhead", "--quick"]) == 0
+    out = capsys.readouterr().out
+    assert "speed ratio" in out and "run / bare" in out
+
+
+def test_unknown_scene_is_refused(capsys):
+    assert main(["bench", "nope"]) == 2
+
+
+def test_write_results_makes_one_png_per_scene(tmp_path):
+    res = bench_scene(SCENES["rotor"], quick=True, integrators=("euler",))
+    paths = write_results([res], tmp_path, quick=True)
+    assert tmp_path / "rotor.png" in paths
