@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 from sandbox.bench import Run, SceneResult
 
@@ -21,14 +22,25 @@ def _ok(r: Run) -> bool:
 
 
 def plot_scene(res: SceneResult, path: Path) -> Path:
-    """Error of the key quantity vs CPU cost: one curve per integrator (points labelled
-    by timestep), the Pareto front as a thick grey line, the default as a star."""
+    """Write the chart of :func:`draw` as a PNG."""
+    import matplotlib.pyplot as plt
+
+    fig = draw(res)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+def draw(res: SceneResult, live: Run | None = None) -> Any:
+    """Error of the key quantity vs CPU cost: one curve per integrator (small to large
+    timestep), the Pareto front as a thick grey band, the default as a star, and the
+    live setting of a web session as a black diamond. Returns the matplotlib figure."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8, 5.4), dpi=150)
+    fig, ax = plt.subplots(figsize=(8, 5.4))
     floor = 1e-16
     by_integrator: dict[str, list[Run]] = {}
     for r in res.runs:
@@ -69,6 +81,15 @@ def plot_scene(res: SceneResult, path: Path) -> Path:
             markersize=16,
             label=f"default ({default.integrator}, dt = {default.timestep:g} s)",
         )
+    if live is not None and _ok(live) and math.isfinite(live.cpu_per_sim_s):
+        ax.plot(
+            [live.cpu_per_sim_s],
+            [max(live.error, floor)],
+            "D",
+            color="black",
+            markersize=10,
+            label=f"now ({live.integrator}, dt = {live.timestep:g} s)",
+        )
     diverged = sum(r.diverged for r in res.runs)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -83,6 +104,4 @@ def plot_scene(res: SceneResult, path: Path) -> Path:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return fig

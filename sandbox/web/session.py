@@ -94,6 +94,8 @@ class Controller:
         self.recorder: Recorder | None = None
         self._recorded_t = -math.inf
         self._readouts_t = -math.inf
+        self.step_cpu = 0.0  # CPU seconds spent stepping (this thread), decayed
+        self.step_sim = 0.0  # simulated seconds stepped, decayed alike
         self.requests: queue.Queue[Request] = queue.Queue()
         self.playing = True
         self.speed = 1.0
@@ -197,13 +199,28 @@ class Controller:
             return []
         steps = int(behind / dt) if behind > 0 else 0
         cap = max(1, int(math.ceil(MAX_LAG * self.speed / dt)))
+        n = min(steps, cap)
+        start = time.thread_time()
         try:
-            self.sim.step(min(steps, cap))
+            self.sim.step(n)
         except Diverged as exc:
             return [self._diverge(exc)]
+        finally:
+            self._count(time.thread_time() - start, n * dt)
         if steps > cap:
             self._resync(now)
         return []
+
+    def _count(self, cpu: float, simulated: float) -> None:
+        """Keep a running cost of stepping (the last few seconds weigh most)."""
+        keep = 0.98
+        self.step_cpu = keep * self.step_cpu + cpu
+        self.step_sim = keep * self.step_sim + simulated
+
+    @property
+    def cost(self) -> float:
+        """CPU seconds of stepping per simulated second (NaN before any step)."""
+        return self.step_cpu / self.step_sim if self.step_sim > 0 else math.nan
 
     # -- internals -----------------------------------------------------------------------
     def _resync(self, now: float) -> None:

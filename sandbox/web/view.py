@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.readout_panel import ReadoutPanel
@@ -76,6 +77,7 @@ class WebView:
             )
         self.controls = (controls or ControlPanel)(client.gui, controller)
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
+        self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
         self._drawn: tuple[Any, ...] | None = None
         self._last_panel = -math.inf
@@ -101,9 +103,9 @@ class WebView:
                         self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
             if now - self._last_panel >= 1.0 / PANEL_RATE:
                 self._last_panel = now
-                self._refresh_panels(controller)
+                self._refresh_panels(controller, now)
 
-    def _refresh_panels(self, controller: Controller) -> None:
+    def _refresh_panels(self, controller: Controller, now: float) -> None:
         sim = controller.sim
         self.controls.refresh()
         self.hypotheses.refresh()
@@ -112,6 +114,10 @@ class WebView:
         values = self._values()
         self.readouts.sample(values)
         self.readouts.refresh(sim, values)
+        cost = getattr(controller, "cost", None)
+        if cost is not None:
+            self.accuracy.sample(sim, values, controller.generation)
+            self.accuracy.refresh(sim, cost, now)
         if self.arrows is not None:
             self.arrows.relabel()
 

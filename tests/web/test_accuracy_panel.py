@@ -1,0 +1,68 @@
+"""Live accuracy panel: shipped benchmark, live error and drift, chart with the live point."""
+
+from __future__ import annotations
+
+import math
+
+from sandbox.bench import Run
+from sandbox.physics.simulation import Simulation
+from sandbox.web.accuracy_panel import AccuracyPanel, chart_image, load_results
+
+
+class Handle:
+    def __init__(self, content="", image=None):
+        self.content = content
+        self.image = image
+
+
+class Gui:
+    """Just enough of viser's GuiApi for a panel."""
+
+    def add_folder(self, label):
+        import contextlib
+
+        return contextlib.nullcontext()
+
+    def add_markdown(self, content):
+        return Handle(content)
+
+    def add_image(self, image, **kwargs):
+        return Handle(image=image)
+
+
+def test_shipped_benchmark_has_the_rotor_default_on_its_front():
+    res = load_results("rotor")
+    assert res is not None and res.default is not None and res.default.pareto
+    assert load_results("no_such_scene") is None
+
+
+def test_chart_image_is_rgb_with_the_live_point():
+    res = load_results("rotor")
+    plain = chart_image(res, None)
+    live = Run("rotor", "rk4", 1e-3, 0.0, error=1e-3, cpu_per_sim_s=5e-3)
+    marked = chart_image(res, live)
+    assert plain.ndim == 3 and plain.shape[2] == 3 and (plain != marked).any()
+
+
+def test_live_error_and_drift_follow_the_simulation():
+    sim = Simulation("rotor", values={"speed_rpm": 3000})
+    panel = AccuracyPanel(Gui(), sim)
+    for _ in range(10):
+        sim.advance(0.05)
+        panel.sample(sim, sim.readouts(), generation=0)
+    error, drift = panel.measures(sim)
+    assert error < 1e-9 and drift < 1e-9  # a uniform rotation: exact
+    panel.refresh(sim, cost=2e-3, now=100.0)
+    assert "×500" in panel.text.content and "bearing_A" in panel.text.content
+    sim.set_timestep(2e-3)  # a new setting starts a new series
+    panel.sample(sim, sim.readouts(), generation=0)
+    assert len(panel.samples) == 1
+    assert math.isnan(panel.measures(sim)[0])
+
+
+def test_a_file_has_cost_but_no_error(pendulum_xml):
+    sim = Simulation(pendulum_xml)
+    panel = AccuracyPanel(Gui(), sim)
+    panel.refresh(sim, cost=1e-3, now=0.0)
+    assert "×1000" in panel.text.content and panel.image is None
+    assert "Erreur" not in panel.text.content
