@@ -93,7 +93,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--record", type=Path, metavar="FILE", help="also write a recording for 'sandbox replay'"
     )
     s = sub.add_parser("serve", help="start the web sandbox")
-    s.add_argument("target", nargs="?", default=None, help="scene name or MJCF file")
+    s.add_argument("target", nargs="?", default=None, help="scene, lesson or MJCF file")
     s.add_argument("--host", default="127.0.0.1")
     s.add_argument("--port", type=int, default=8080)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
@@ -120,12 +120,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 def cmd_list() -> int:
     """Print the scenes (and lessons) available."""
+    from sandbox.lessons import lessons
     from sandbox.scenes import DEFAULT_SCENE, SCENES
 
     print("Scenes:")
     for scene in SCENES.values():
         mark = " (default)" if scene.name == DEFAULT_SCENE else ""
         print(f"  {scene.name:<18} {scene.title}{mark}")
+    print("Lessons (sandbox serve LESSON):")
+    for name, lesson in lessons().items():
+        print(f"  {name:<18} {lesson.title} [{lesson.scene}, {len(lesson.steps)} steps]")
     return 0
 
 
@@ -403,11 +407,18 @@ def _check_port_range(port: int) -> None:
 
 def cmd_serve(target: str | None, host: str, port: int, sets: Sequence[str]) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
-    from sandbox.scenes import DEFAULT_SCENE
+    from sandbox.lessons import ANY_SCENE, lessons
+    from sandbox.scenes import DEFAULT_SCENE, SCENES
     from sandbox.web.app import serve
 
     _check_port_range(port)
-    serve(target or DEFAULT_SCENE, host=host, port=port, values=_pairs(sets))
+    target = target or DEFAULT_SCENE
+    lesson = None
+    if target not in SCENES and target in lessons():
+        lesson = target
+        scene = lessons()[lesson].scene
+        target = DEFAULT_SCENE if scene == ANY_SCENE else scene
+    serve(target, host=host, port=port, values=_pairs(sets), lesson=lesson)
     return 0
 
 

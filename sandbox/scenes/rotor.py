@@ -67,7 +67,7 @@ PARAMS = (
         0.0,
         200.0,
         "Correction mass in plane 1 (x = -120 mm) at 50 mm from the axis.",
-        step=0.5,
+        step=0.1,
     ),
     Param(
         "angle1_deg",
@@ -85,7 +85,7 @@ PARAMS = (
         0.0,
         200.0,
         "Correction mass in plane 2 (x = +120 mm) at 50 mm from the axis.",
-        step=0.5,
+        step=0.1,
     ),
     Param(
         "angle2_deg",

@@ -127,6 +127,7 @@ def start(
     values: Mapping[str, object] | None = None,
     integrator: str | None = None,
     timestep: float | None = None,
+    lesson: str | None = None,
     open_message: bool = True,
 ) -> App:
     """Start the web app in background threads and return at once.
@@ -141,6 +142,7 @@ def start(
         values: Parameter values for every session.
         integrator: Integrator name overriding the scene's.
         timestep: Timestep [s] overriding the scene's.
+        lesson: Lesson opened in every new browser (its scene is ``target``).
         open_message: Print the URL to open.
 
     Raises:
@@ -152,7 +154,7 @@ def start(
 
     def session(client: viser.ClientHandle) -> Session:
         controller = Controller(Simulation(target, **options))
-        return Session(controller, WebView(client, controller))
+        return Session(controller, WebView(client, controller, lesson=lesson))
 
     app = App(server, host, session)
     if open_message:

@@ -57,6 +57,7 @@ class ArrowLayer:
                 font_screen_scale=0.9,
             )
             self.nodes.append((node, label))
+        self.enabled: set[str] | None = None  # None: every arrow
         self.magnitudes = [0.0] * len(self.arrows)
         self.shown = [False] * len(self.arrows)
         self.origins = [np.zeros(3) for _ in self.arrows]
@@ -66,7 +67,8 @@ class ArrowLayer:
         for k, (arrow, (node, label)) in enumerate(zip(self.arrows, self.nodes, strict=True)):
             start, end, magnitude = arrow_points(arrow, snapshot)
             ok = bool(np.isfinite(end).all() and np.isfinite(start).all())
-            show = ok and float(np.linalg.norm(end - start)) > MIN_LENGTH
+            wanted = self.enabled is None or arrow.name in self.enabled
+            show = ok and wanted and float(np.linalg.norm(end - start)) > MIN_LENGTH
             if show:
                 node.points = np.stack([start, end])[None].astype(np.float32)
                 label.position = end
@@ -82,6 +84,10 @@ class ArrowLayer:
             self.arrows, self.nodes, self.magnitudes, self.units, strict=True
         ):
             label.text = f"{arrow.label} : {magnitude:.3g} {unit}".rstrip()
+
+    def only(self, names: Sequence[str] | None) -> None:
+        """Show only the arrows called ``names`` (None: all), from the next update on."""
+        self.enabled = None if names is None else set(names)
 
     def hide(self) -> None:
         """Hide every arrow (e.g. after a divergence)."""

@@ -92,6 +92,7 @@ class Controller:
         self.clock = clock
         self.record_dir = Path(record_dir or Path.cwd() / "recordings")
         self.recorder: Recorder | None = None
+        self.lesson: str | None = None  # lesson being followed (recorded with the session)
         self._recorded_t = -math.inf
         self._readouts_t = -math.inf
         self.step_cpu = 0.0  # CPU seconds spent stepping (this thread), decayed
@@ -142,7 +143,7 @@ class Controller:
         self.record_dir.mkdir(parents=True, exist_ok=True)
         stamp = time.strftime("%Y%m%d-%H%M%S")
         path = self.record_dir / f"{self.sim.label.replace('.', '_')}-{stamp}.sbx"
-        self.recorder = Recorder(path, self.sim, lesson=lesson)
+        self.recorder = Recorder(path, self.sim, lesson=lesson or self.lesson)
         self._recorded_t = self._readouts_t = -math.inf
         self.record()
         return path

@@ -11,6 +11,7 @@ import numpy as np
 
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.readout_panel import ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
@@ -44,6 +45,7 @@ class WebView:
         controls: Builds the top panel from ``(gui, controller)``; default the live
             :class:`ControlPanel` (a replay passes its timeline).
         values: Readouts to show; default computed live from the simulation.
+        lesson: Lesson to open at once (live sessions only).
     """
 
     def __init__(
@@ -53,6 +55,7 @@ class WebView:
         *,
         controls: Callable[[Any, Any], Any] | None = None,
         values: Callable[[], Mapping[str, float]] | None = None,
+        lesson: str | None = None,
     ) -> None:
         self.client = client
         self.controller = controller
@@ -76,6 +79,11 @@ class WebView:
                 units=[units.get(a.name, "") for a in scene.arrows],
             )
         self.controls = (controls or ControlPanel)(client.gui, controller)
+        self.lesson = (
+            LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
+            if controls is None
+            else None
+        )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
@@ -114,6 +122,8 @@ class WebView:
         values = self._values()
         self.readouts.sample(values)
         self.readouts.refresh(sim, values)
+        if self.lesson is not None:
+            self.lesson.refresh(values)
         cost = getattr(controller, "cost", None)
         if cost is not None:
             self.accuracy.sample(sim, values, controller.generation)

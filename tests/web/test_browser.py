@@ -106,3 +106,33 @@ def test_replay_server_shows_the_timeline_to_several_browsers(open_page, tmp_pat
         assert ctl.index == len(ctl.rec.times) - 1
     finally:
         app.stop()
+
+
+def test_a_student_walks_the_balancing_lesson_to_success(open_page):
+    """Lesson 3: go to the dynamic-balancing step, type the two correction masses
+    computed from the course's conditions, and see the check succeed."""
+    from conftest import free_port
+
+    from sandbox.scenes.rotor import balancing_solution
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), lesson="equilibrage", open_message=False)
+    try:
+        page = _open(open_page, app)
+        page.get_by_text("Équilibrage statique puis dynamique", exact=False).first.wait_for()
+        for _ in range(3):
+            page.get_by_text("Suivant ▶").click()
+            time.sleep(0.5)
+        page.get_by_text("étape 4/4", exact=False).first.wait_for(timeout=10_000)
+        session = next(iter(app.sessions.values()))
+        assert _wait_for(lambda: session.controller.sim.values["mass1_g"] == 0.0)
+        time.sleep(0.5)  # the step records the unbalanced forces as its start values
+        solution = balancing_solution(session.controller.sim.values)
+        for name in ("mass1_g", "angle1_deg", "mass2_g", "angle2_deg"):
+            box = _slider_input(page, f"{name} [{'g' if name.startswith('mass') else 'deg'}]")
+            box.fill(f"{solution[name]:.3f}")
+            box.press("Enter")
+            time.sleep(0.3)
+        page.get_by_text("Réussi", exact=False).first.wait_for(timeout=20_000)
+    finally:
+        app.stop()
