@@ -176,3 +176,18 @@ def test_leaving_the_page_closes_the_recording(tmp_path):
     session.stop()  # what the app does when the browser disconnects
     (path,) = tmp_path.glob("*.sbx")
     assert load(path).complete
+
+
+def test_a_recording_notes_the_lesson_and_its_steps(tmp_path):
+    from sandbox.recording import load
+
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl.lesson = "equilibrage"
+    ctl.submit(Request("record"))
+    ctl.frame()
+    ctl.recorder.event("lesson", step=2)  # what the lesson panel does on "Suivant"
+    _run(ctl, 0.2)
+    ctl.submit(Request("stop_record"))
+    rec = load(ctl.frame()[0].text)
+    assert rec.header["lesson"] == "equilibrage"
+    assert [e["step"] for e in rec.events if e["k"] == "lesson"] == [2]
