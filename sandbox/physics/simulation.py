@@ -179,6 +179,7 @@ class Simulation:
         with self.lock:
             self._integrator = code
             self.model.opt.integrator = code
+            self._apply_drive()  # a drive may tune gains to the integrator
         self._emit("integrator", value=name)
 
     def set_timestep(self, value: float) -> None:
@@ -187,6 +188,7 @@ class Simulation:
         with self.lock:
             self._timestep = dt
             self.model.opt.timestep = dt
+            self._apply_drive()  # a drive may tune gains to the timestep
         self._emit("timestep", value=dt)
 
     # -- stepping -----------------------------------------------------------------------

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from sandbox.errors import UnknownScene, choices
 from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
+from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.rotor import SCENE as ROTOR
 
-SCENES: dict[str, Scene] = {s.name: s for s in (ROTOR,)}
+SCENES: dict[str, Scene] = {s.name: s for s in (ROTOR, COMPRESSOR)}
 """Every registered scene by name."""
 
 DEFAULT_SCENE = "rotor"

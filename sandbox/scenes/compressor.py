@@ -1,0 +1,399 @@
+"""Micro-compressor, a slider-crank (course sections 1, 4, 5.7, 6.1.2, 6.2, 7.3).
+
+Frame 0, crank 1 (OA = R x1, OG1 = d1 x1, inertia I_O,1 with A1, B1, C1 and the product
+E1), rod 2 (AB = L y2, AG2 = d2 y2, I_A,2 = diag(A2, B2, C2)), piston 3 sliding along
+(O, y0) with BG3 = d3 y0 and OB = λ y0. θ is the angle from x0 to x1 about z0. A motor
+holds the crank at ``speed_rpm``; a counterweight on the crank, opposite the pin, trades
+part of the order-1 pilon for a tamis. Weight neglected, perfect joints, links never touch.
+
+Closed forms (constant ω): λ = R sin θ + √(L² − R² cos² θ); every centre of mass moves on a
+known curve, so the force the moving parts transmit to the frame is −Σ m_i Γ(G_i), and the
+kinetic-energy theorem gives the motor torque C_mot ω = dT/dt.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from sandbox.physics.snapshot import Snapshot
+from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+from sandbox.scenes.measures import largest, residual_over_peak
+
+RPM = 2 * math.pi / 60
+HARMONIC_SAMPLES = 64
+"""Samples per revolution for the pilon's orders 1 and 2."""
+
+
+def _p(name, unit, default, lo, hi, doc, *, live=False, step=0.0) -> Param:
+    return Param(name, unit, default, lo, hi, doc, live=live, step=step)
+
+
+PARAMS = (
+    _p("speed_rpm", "rpm", 3000.0, 0.0, 17000.0, "Crank speed held by the motor.", live=True, step=50.0),
+    _p("R", "m", 0.015, 0.005, 0.05, "Crank radius OA.", step=0.0005),
+    _p("L", "m", 0.055, 0.0055, 0.25, "Rod length AB (must exceed R).", step=0.0005),
+    _p("d1", "m", 0.003, -0.03, 0.05, "OG1: crank centre of mass along x1.", step=0.0005),
+    _p("d2", "m", 0.02, 0.0, 0.25, "AG2: rod centre of mass from the pin A along y2.", step=0.0005),
+    _p("d3", "m", 0.005, -0.05, 0.05, "BG3: piston centre of mass from B along y0.", step=0.0005),
+    _p("m1", "kg", 0.35, 0.01, 5.0, "Mass of the crank.", step=0.01),
+    _p("m2", "kg", 0.06, 0.001, 2.0, "Mass of the rod.", step=0.005),
+    _p("m3", "kg", 0.08, 0.001, 2.0, "Mass of the piston.", step=0.005),
+    _p("A1", "kg·m²", 1.2e-4, 1e-7, 1e-1, "Crank inertia about (O, x1).", step=1e-6),
+    _p("B1", "kg·m²", 2.0e-4, 1e-7, 1e-1, "Crank inertia about (O, y1).", step=1e-6),
+    _p("C1", "kg·m²", 2.2e-4, 1e-7, 1e-1, "Crank inertia about (O, z0), the rotation axis.", step=1e-6),
+    _p("E1", "kg·m²", 1.0e-6, -1e-2, 1e-2, "Crank product of inertia E1 = ∫ x z dm at O.", step=1e-7),
+    _p("A2", "kg·m²", 6.5e-5, 1e-8, 1e-1, "Rod inertia about (A, x2).", step=1e-6),
+    _p("B2", "kg·m²", 2.0e-6, 1e-9, 1e-1, "Rod inertia about (A, y2), its own axis.", step=1e-7),
+    _p("C2", "kg·m²", 6.5e-5, 1e-8, 1e-1, "Rod inertia about (A, z0).", step=1e-6),
+    _p("counterweight_mass", "kg", 0.0, 0.0, 2.0, "Balancing mass on the crank, opposite A.", step=0.005),
+    _p("counterweight_radius", "m", 0.015, 0.0, 0.06, "Distance of the balancing mass from O.", step=0.0005),
+    _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05),
+)  # fmt: skip
+
+
+# -- closed form ------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Kinematics:
+    """Slider-crank kinematics at crank angle θ [rad] and constant speed ω [rad/s].
+
+    Positions [m], velocities [m/s], accelerations [m/s²] in B0 (x, y); φ is the rod's
+    angle from y0 to y2 about z0, with its rates.
+    """
+
+    theta: float
+    omega: float
+    lam: float
+    dlam: float
+    ddlam: float
+    phi: float
+    dphi: float
+    ddphi: float
+
+
+def kinematics(theta: float, omega: float, R: float, L: float) -> Kinematics:
+    """λ = R sin θ + √(L² − R² cos² θ) and its derivatives; sin φ = R cos θ / L."""
+    s, c = math.sin(theta), math.cos(theta)
+    q = math.sqrt(L * L - R * R * c * c)
+    lam = R * s + q
+    dlam = omega * (R * c + R * R * s * c / q)
+    ddlam = omega**2 * (-R * s + R * R * (c * c - s * s) / q - R**4 * s * s * c * c / q**3)
+    phi = math.asin(R * c / L)
+    cp = math.cos(phi)
+    dphi = -R * omega * s / (L * cp)
+    ddphi = -(R * omega / L) * (omega * c / cp + s * math.sin(phi) * dphi / cp**2)
+    return Kinematics(theta, omega, lam, dlam, ddlam, phi, dphi, ddphi)
+
+
+def _crank_mass_moment(v: Values) -> float:
+    """Σ m·(distance along x1) of the crank and its counterweight [kg·m]."""
+    return v["m1"] * v["d1"] - v["counterweight_mass"] * v["counterweight_radius"]
+
+
+def frame_force(theta: float, omega: float, v: Values) -> np.ndarray:
+    """Force (x0, y0) the moving parts transmit to the frame: −Σ m_i Γ(G_i) [N]."""
+    k = kinematics(theta, omega, v["R"], v["L"])
+    s, c = math.sin(theta), math.cos(theta)
+    radial = -(omega**2) * np.array([c, s])  # Γ of a crank point at unit distance on x1
+    g_a = v["R"] * radial
+    g_b = np.array([0.0, k.ddlam])
+    w = v["d2"] / v["L"]
+    g_2 = (1 - w) * g_a + w * g_b
+    total = _crank_mass_moment(v) * radial + v["m2"] * g_2 + v["m3"] * g_b
+    return -total
+
+
+def motor_torque(theta: float, omega: float, v: Values) -> float:
+    """C_mot from the kinetic-energy theorem at constant ω: C_mot ω = dT/dt [N·m].
+
+    Only the rod and the piston change their kinetic energy: dT/dt = m2 Γ(G2)·V(G2)
+    + m3 λ'' λ' + I_G2,z φ' φ'' with I_G2,z = C2 − m2 d2².
+    """
+    if omega == 0:
+        return 0.0
+    k = kinematics(theta, omega, v["R"], v["L"])
+    s, c = math.sin(theta), math.cos(theta)
+    w = v["d2"] / v["L"]
+    v_a = omega * v["R"] * np.array([-s, c])
+    g_a = -(omega**2) * v["R"] * np.array([c, s])
+    v_2 = (1 - w) * v_a + w * np.array([0.0, k.dlam])
+    g_2 = (1 - w) * g_a + w * np.array([0.0, k.ddlam])
+    i_g2 = v["C2"] - v["m2"] * v["d2"] ** 2
+    power = v["m2"] * float(g_2 @ v_2) + v["m3"] * k.ddlam * k.dlam + i_g2 * k.dphi * k.ddphi
+    return power / omega
+
+
+def reference(v: Values) -> dict[str, float]:
+    """The course's constant values at ``speed_rpm``: ω, the pilon's orders 1 and 2 and the
+    tamis' order 1 (angle-dependent ones are readouts: pilon_ref, tamis_ref...)."""
+    omega = v["speed_rpm"] * RPM
+    thetas = np.linspace(0, 2 * math.pi, HARMONIC_SAMPLES, endpoint=False)
+    forces = np.array([frame_force(t, omega, v) for t in thetas])
+    amp = fit_orders(thetas, forces[:, 1])
+    tamis = fit_orders(thetas, forces[:, 0])
+    return {
+        "omega": omega,
+        "pilon_h1": float(amp[1]),
+        "pilon_h2": float(amp[2]),
+        "tamis_h1": float(tamis[1]),
+    }
+
+
+# -- model ------------------------------------------------------------------------------------
+def _check_geometry(v: Values) -> None:
+    from sandbox.errors import BadParameter
+
+    if v["L"] <= v["R"] * 1.0001:
+        raise BadParameter(
+            f"the rod (L = {v['L']:g} m) must be longer than the crank (R = {v['R']:g} m); "
+            "raise L or lower R"
+        )
+    m1d1, m2d2 = v["m1"] * v["d1"] ** 2, v["m2"] * v["d2"] ** 2
+    crank = np.array(
+        [[v["A1"], 0, -v["E1"]], [0, v["B1"] - m1d1, 0], [-v["E1"], 0, v["C1"] - m1d1]]
+    )
+    rod = np.diag([v["A2"] - m2d2, v["B2"], v["C2"] - m2d2])
+    for name, inertia, fix in (
+        ("crank", crank, "raise A1, B1, C1 or lower m1·d1² and |E1|"),
+        ("rod", rod, "raise A2, C2 or lower m2·d2²"),
+    ):
+        eig = np.linalg.eigvalsh(inertia)
+        if eig[0] <= 0 or eig[2] > eig[0] + eig[1] + 1e-15:
+            raise BadParameter(
+                f"these values give the {name} an impossible inertia at its centre of mass "
+                f"(principal moments {', '.join(f'{e:.3g}' for e in eig)} kg·m²); {fix}"
+            )
+
+
+def _inertial(body: mujoco.MjsBody, mass: float, pos, full) -> None:
+    body.explicitinertial = True
+    body.mass = mass
+    body.ipos = pos
+    body.fullinertia = full
+
+
+def edit(spec: mujoco.MjSpec, v: Values) -> None:
+    """Lengths, masses and inertias of the course's parametrisation (section 4)."""
+    _check_geometry(v)
+    R, L, d1, d2 = v["R"], v["L"], v["d1"], v["d2"]
+    m1, m2 = v["m1"], v["m2"]
+    # Crank: I_O,1 = [[A1, 0, -E1], [0, B1, 0], [-E1, 0, C1]] in B1; at G1 (Huygens, OG1 on x1).
+    crank = spec.body("crank")
+    _inertial(crank, m1, [d1, 0, 0], [v["A1"], v["B1"] - m1 * d1 * d1, v["C1"] - m1 * d1 * d1,
+                                      0.0, -v["E1"], 0.0])  # fmt: skip
+    spec.site("A_crank").pos = [R, 0, 0]
+    spec.geom("pin").pos = [R, 0, 0]
+    web = spec.geom("web")
+    web.pos = [R / 2, 0, -0.004]
+    web.size = [R / 2 + 0.006, 0.008, 0.003]
+    cw = spec.body("counterweight")
+    cw.pos = [-v["counterweight_radius"], 0, 0]
+    m_cw = v["counterweight_mass"]
+    tiny = m_cw * 1e-6 + 1e-12
+    _inertial(cw, max(m_cw, 1e-9), [0, 0, 0], [tiny, tiny, tiny, 0, 0, 0])
+    spec.geom("counterweight").rgba = [0.3, 0.3, 0.8, 1.0 if m_cw > 0 else 0.15]
+    # Rod: frame at B, y2 from A to B, so A = -L y2 and G2 = A + d2 y2;
+    # I_A,2 = diag(A2, B2, C2) in B2, at G2 (AG2 along y2).
+    rod = spec.body("rod")
+    _inertial(rod, m2, [0, -L + d2, 0], [v["A2"] - m2 * d2 * d2, v["B2"], v["C2"] - m2 * d2 * d2,
+                                         0.0, 0.0, 0.0])  # fmt: skip
+    spec.site("A_rod").pos = [0, -L, 0]
+    spec.geom("rod").fromto = [0, 0, 0.004, 0, -L, 0.004]
+    piston = spec.body("piston")
+    tiny3 = v["m3"] * 1e-4
+    _inertial(piston, v["m3"], [0, v["d3"], 0], [tiny3, tiny3, tiny3, 0, 0, 0])
+    spec.geom("cylinder").pos = [0, L + R + 0.01, 0]
+    spec.geom("cylinder").size = [0.022, R + 0.02, 0]
+    motor = spec.actuator("motor")
+    if v["ramp_s"] > 0:
+        motor.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
+        motor.dynprm[0] = v["ramp_s"]
+    else:
+        motor.dyntype = mujoco.mjtDyn.mjDYN_NONE
+
+
+SERVO_STIFFNESS = 1.4
+"""Servo gain × dt / C1: the velocity servo's time constant C1/kv is then 0.7 dt, inside
+RK4's stability limit (2.8 dt). The crank's own inertia takes the rest of the torque, so
+the speed ripple is about 1.4 ω dt × (torque ripple / C1 ω²): 5e-4 at 3000 rpm, dt 2e-5."""
+
+CLOSURE_TIMECONST = 2.0
+"""Time constant of the closure constraint, in timesteps (MuJoCo's stiffest safe value);
+with impedance 0.9999 it keeps the loop closed to ~1e-8 m and its power to ~1e-4 of the
+motor's under RK4 (a softer closure visibly loses energy whatever the timestep)."""
+
+
+def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """Motor set point (the crank speed, filtered when ``ramp_s`` > 0); servo gain and
+    closure stiffness follow the timestep so that any dt stays stable."""
+    dt = float(model.opt.timestep)
+    kv = SERVO_STIFFNESS * v["C1"] / dt
+    model.actuator_gainprm[0, 0] = kv
+    model.actuator_biasprm[0, :3] = [0.0, 0.0, -kv]
+    model.eq_solref[0] = [CLOSURE_TIMECONST * dt, 1.0]
+    model.eq_solimp[0, :3] = [0.9999, 0.9999, 0.001]
+    data.ctrl[0] = v["speed_rpm"] * RPM
+
+
+def set_loop_state(model: mujoco.MjModel, data: mujoco.MjData, theta: float, omega: float,
+                   v: Values) -> None:  # fmt: skip
+    """Put the mechanism on the loop at angle θ and speed ω (consistent velocities)."""
+    k = kinematics(theta, omega, v["R"], v["L"])
+    data.qpos[:] = [theta, k.lam, k.phi]
+    data.qvel[:] = [omega, k.dlam, k.dphi]
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """At speed on the loop (θ = 0), or at rest when a ramp is asked for."""
+    omega = v["speed_rpm"] * RPM
+    if v["ramp_s"] > 0:
+        set_loop_state(model, data, 0.0, 0.0, v)
+        if model.na:
+            data.act[:] = 0.0
+    else:
+        set_loop_state(model, data, 0.0, omega, v)
+        if model.na:
+            data.act[:] = omega
+
+
+# -- readouts -----------------------------------------------------------------------------------
+def _force(s: Snapshot) -> np.ndarray:
+    """Force of the moving parts on the frame (= −action of the frame), world axes."""
+    r, _ = s.support
+    return -np.asarray(r)
+
+
+def _theta(s: Snapshot) -> float:
+    return s.joint_qpos("crank")
+
+
+def _closure(s: Snapshot) -> float:
+    d, m = s.data, s.model
+    a = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "A_crank")
+    b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "A_rod")
+    return float(np.linalg.norm(d.site_xpos[a] - d.site_xpos[b]))
+
+
+_HARMONICS_CACHE: dict[tuple, np.ndarray] = {}
+
+
+def fit_orders(theta: np.ndarray, values: np.ndarray, orders: int = 4) -> np.ndarray:
+    """Least-squares amplitudes of orders 0..``orders`` of ``values`` sampled at angles θ."""
+    cols = [np.ones_like(theta)]
+    for k in range(1, orders + 1):
+        cols += [np.cos(k * theta), np.sin(k * theta)]
+    coef, *_ = np.linalg.lstsq(np.stack(cols, axis=1), values, rcond=None)
+    return np.concatenate([[abs(coef[0])], np.hypot(coef[1::2], coef[2::2])])
+
+
+def _pilon_harmonics(s: Snapshot) -> np.ndarray:
+    """Orders of the pilon over one revolution, simulated from the current state on a
+    scratch copy (the trajectory itself is untouched). Cached while the model, the
+    parameters and the speed (to 0.1 %) stay the same: in steady state they do not change."""
+    from sandbox.physics import readouts as generic
+
+    model, v = s.model, s.values
+    omega = float(s.data.qvel[0])
+    if abs(omega) < 1e-6:
+        return np.zeros((2, 5))
+    key = (
+        id(model),
+        tuple(sorted(v.items())),
+        float(model.opt.timestep),
+        round(math.log(abs(omega)) / 1e-3),
+    )
+    if key in _HARMONICS_CACHE:
+        return _HARMONICS_CACHE[key]
+    data = mujoco.MjData(model)
+    mujoco.mj_copyData(data, model, s.data)
+    period = 2 * math.pi / abs(omega)
+    per = max(1, int(round(period / HARMONIC_SAMPLES / model.opt.timestep)))
+    theta, force = [], []
+    while data.time < s.data.time + period:
+        mujoco.mj_forward(model, data)
+        mujoco.mj_rnePostConstraint(model, data)
+        theta.append(float(data.qpos[0]))
+        force.append(-generic.support_torsor(model, data)[0][:2])
+        mujoco.mj_step(model, data, per)
+    if len(_HARMONICS_CACHE) > 64:
+        _HARMONICS_CACHE.clear()
+    f = np.array(force)
+    amp = np.stack([fit_orders(np.array(theta), f[:, 1]), fit_orders(np.array(theta), f[:, 0])])
+    _HARMONICS_CACHE[key] = amp
+    return amp
+
+
+READOUTS = (
+    SceneReadout("theta", "rad", "Crank angle θ from x0 to x1 (unwrapped).", _theta),
+    SceneReadout("omega", "rad/s", "Crank speed θ'.", lambda s: s.joint_qvel("crank")),
+    SceneReadout("lambda", "m", "OB: position of the piston pin on y0.", lambda s: s.joint_qpos("piston")),
+    SceneReadout("pilon", "N", "Force of the moving parts on the frame along y0 (cylinder axis).", lambda s: float(_force(s)[1])),
+    SceneReadout("tamis", "N", "Force of the moving parts on the frame along x0 (across).", lambda s: float(_force(s)[0])),
+    SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank.", lambda s: float(s.data.actuator_force[0])),
+    SceneReadout("closure_error", "m", "Distance between the rod's end and the crank pin A.", _closure),
+    SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 1])),
+    SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 2])),
+    SceneReadout("tamis_h1", "N", "Order-1 amplitude of the tamis over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[1, 1])),
+    SceneReadout("pilon_ref", "N", "Course value of the pilon at the current θ and ω.", lambda s: float(frame_force(_theta(s), s.joint_qvel("crank"), s.values)[1])),
+    SceneReadout("tamis_ref", "N", "Course value of the tamis at the current θ and ω.", lambda s: float(frame_force(_theta(s), s.joint_qvel("crank"), s.values)[0])),
+    SceneReadout("motor_torque_ref", "N·m", "Course value C_mot = (dT/dt)/ω at the current θ and ω.", lambda s: motor_torque(_theta(s), s.joint_qvel("crank"), s.values)),
+)  # fmt: skip
+
+ARROW_SCALE = 2e-4
+"""Metres of arrow per newton."""
+
+
+def _at_o(vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return np.zeros(3), np.array([vec[0], vec[1], 0.0])
+
+
+ARROWS = (
+    Arrow("pilon", "Pilon", (220, 60, 60), lambda s: _at_o([0.0, _force(s)[1]]), ARROW_SCALE),
+    Arrow("tamis", "Tamis", (60, 140, 220), lambda s: _at_o([_force(s)[0], 0.0]), ARROW_SCALE),
+    Arrow("frame_force", "Pilon + tamis", (120, 60, 160), lambda s: _at_o(_force(s)), ARROW_SCALE),
+)
+
+
+def _peak_error(series, values) -> float:
+    """max |pilon − course| / max |course pilon| over the run."""
+    ref = np.asarray(series["pilon_ref"])
+    return float(np.max(np.abs(np.asarray(series["pilon"]) - ref)) / np.max(np.abs(ref)))
+
+
+SCENE = Scene(
+    name="compressor",
+    title="Micro-compresseur : effets de pilon et de tamis",
+    summary=(
+        "A slider-crank held at constant speed by a motor. The moving parts shake the frame "
+        "along the cylinder (pilon) and across it (tamis); a counterweight on the crank "
+        "trades part of the first one for the second."
+    ),
+    mjcf="compressor.xml",
+    params=PARAMS,
+    effects=Effects(gravity=False, contacts=False, equality=True, actuation=True),
+    readouts=READOUTS,
+    edit=edit,
+    drive=drive,
+    initial_state=initial_state,
+    reference=reference,
+    # RK4 keeps the stiff closure from draining energy (first-order integrators lose ~1 %
+    # of the motor power in it at dt = 2e-5); dt = 2e-5 s is ω dt = 0.006 at 3000 rpm.
+    integrator="rk4",
+    timestep=2e-5,
+    plots=("pilon", "tamis", "motor_torque"),
+    arrows=ARROWS,
+    body_frame="crank",
+    sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",
+    accuracy=Accuracy(
+        key="pilon",
+        readouts=("pilon", "pilon_ref", "P_int", "P_ext", "closure_error"),
+        duration=0.1,
+        error=_peak_error,
+        invariant="energy theorem (|P_int| / peak P_ext)",
+        drift=residual_over_peak("P_int", "P_ext"),
+        constraint=largest("closure_error"),
+    ),
+)
