@@ -120,7 +120,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
     from sandbox.recording import write_csv
     from sandbox.web.arrows import ArrowLayer
     from sandbox.web.renderer import SceneRenderer
-    from sandbox.web.view import camera_pose
+    from sandbox.web.view import camera_pose, scene_view
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -129,10 +129,12 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
     try:
         scene = server.scene
-        position, look_at = camera_pose(sim.model.stat.center, float(sim.model.stat.extent))
+        direction, up = scene_view(sim)
+        extent = float(sim.model.stat.extent)
+        position, look_at = camera_pose(sim.model.stat.center, extent, direction)
         server.initial_camera.position = position
         server.initial_camera.look_at = look_at
-        server.initial_camera.up = (0.0, 0.0, 1.0)
+        server.initial_camera.up = up
         renderer = SceneRenderer(scene)
         arrows = None
         if sim.scene is not None and sim.scene.arrows:

@@ -219,6 +219,9 @@ class Scene:
         sections: Course sections the scene illustrates.
         extra: Scene-specific helpers (e.g. the rotor's balancing solution).
         accuracy: What ``sandbox bench`` compares with the course, and the invariant.
+        camera: (direction from the model towards the camera, up vector) of the 3D view.
+        cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
+            simulated over the cycle, plus their "<name>_ref" course values.
     """
 
     name: str
@@ -240,6 +243,8 @@ class Scene:
     sections: str = ""
     extra: Mapping[str, object] = field(default_factory=dict)
     accuracy: Accuracy | None = None
+    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
 
     def param(self, name: str) -> Param:
         """The parameter called ``name``.

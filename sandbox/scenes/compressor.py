@@ -277,7 +277,7 @@ def _closure(s: Snapshot) -> float:
     return float(np.linalg.norm(d.site_xpos[a] - d.site_xpos[b]))
 
 
-_HARMONICS_CACHE: dict[tuple, np.ndarray] = {}
+_REVOLUTIONS: dict[tuple, dict[str, np.ndarray]] = {}
 
 
 def fit_orders(theta: np.ndarray, values: np.ndarray, orders: int = 4) -> np.ndarray:
@@ -289,41 +289,60 @@ def fit_orders(theta: np.ndarray, values: np.ndarray, orders: int = 4) -> np.nda
     return np.concatenate([[abs(coef[0])], np.hypot(coef[1::2], coef[2::2])])
 
 
-def _pilon_harmonics(s: Snapshot) -> np.ndarray:
-    """Orders of the pilon over one revolution, simulated from the current state on a
-    scratch copy (the trajectory itself is untouched). Cached while the model, the
-    parameters and the speed (to 0.1 %) stay the same: in steady state they do not change."""
+def revolution(s: Snapshot) -> dict[str, np.ndarray]:
+    """One revolution simulated from the current state on a scratch copy (the trajectory
+    itself is untouched): crank angle [deg], pilon, tamis and motor torque, and the
+    course's values at the same angles. Cached while the model, the parameters and the
+    speed (to 0.1 %) stay the same: in steady state the revolution does not change."""
     from sandbox.physics import readouts as generic
 
     model, v = s.model, s.values
     omega = float(s.data.qvel[0])
-    if abs(omega) < 1e-6:
-        return np.zeros((2, 5))
-    key = (
-        id(model),
-        tuple(sorted(v.items())),
-        float(model.opt.timestep),
-        round(math.log(abs(omega)) / 1e-3),
-    )
-    if key in _HARMONICS_CACHE:
-        return _HARMONICS_CACHE[key]
+    key = (id(model), tuple(sorted(v.items())), float(model.opt.timestep),
+           round(math.log(max(abs(omega), 1e-9)) / 1e-3))  # fmt: skip
+    if key in _REVOLUTIONS:
+        return _REVOLUTIONS[key]
     data = mujoco.MjData(model)
     mujoco.mj_copyData(data, model, s.data)
-    period = 2 * math.pi / abs(omega)
+    period = 2 * math.pi / max(abs(omega), 1e-9)
     per = max(1, int(round(period / HARMONIC_SAMPLES / model.opt.timestep)))
-    theta, force = [], []
-    while data.time < s.data.time + period:
+    rows = []
+    while data.time < s.data.time + period and abs(omega) > 1e-6:
         mujoco.mj_forward(model, data)
         mujoco.mj_rnePostConstraint(model, data)
-        theta.append(float(data.qpos[0]))
-        force.append(-generic.support_torsor(model, data)[0][:2])
+        theta, w = float(data.qpos[0]), float(data.qvel[0])
+        force = -generic.support_torsor(model, data)[0]
+        ref = frame_force(theta, w, v)
+        rows.append((theta, force[1], force[0], float(data.actuator_force[0]), ref[1], ref[0],
+                     motor_torque(theta, w, v)))  # fmt: skip
         mujoco.mj_step(model, data, per)
-    if len(_HARMONICS_CACHE) > 64:
-        _HARMONICS_CACHE.clear()
-    f = np.array(force)
-    amp = np.stack([fit_orders(np.array(theta), f[:, 1]), fit_orders(np.array(theta), f[:, 0])])
-    _HARMONICS_CACHE[key] = amp
-    return amp
+    a = np.array(rows).reshape(-1, 7)
+    order = np.argsort(np.mod(a[:, 0], 2 * math.pi))
+    a = a[order]
+    out = {
+        "angle_deg": np.degrees(np.mod(a[:, 0], 2 * math.pi)),
+        "theta": a[:, 0],
+        "pilon": a[:, 1],
+        "tamis": a[:, 2],
+        "motor_torque": a[:, 3],
+        "pilon_ref": a[:, 4],
+        "tamis_ref": a[:, 5],
+        "motor_torque_ref": a[:, 6],
+    }
+    if len(_REVOLUTIONS) > 64:
+        _REVOLUTIONS.clear()
+    _REVOLUTIONS[key] = out
+    return out
+
+
+def _pilon_harmonics(s: Snapshot) -> np.ndarray:
+    """Orders 0..4 of the pilon (row 0) and the tamis (row 1) over :func:`revolution`."""
+    rev = revolution(s)
+    if len(rev["theta"]) < 10:
+        return np.zeros((2, 5))
+    return np.stack(
+        [fit_orders(rev["theta"], rev["pilon"]), fit_orders(rev["theta"], rev["tamis"])]
+    )
 
 
 READOUTS = (
@@ -383,10 +402,16 @@ SCENE = Scene(
     # of the motor power in it at dt = 2e-5); dt = 2e-5 s is ω dt = 0.006 at 3000 rpm.
     integrator="rk4",
     timestep=2e-5,
-    plots=("pilon", "tamis", "motor_torque"),
+    # Time plots of slow quantities (the pilon itself is drawn against θ in "Sur un tour").
+    plots=("pilon_h1", "pilon_h2", "tamis_h1", "omega"),
     arrows=ARROWS,
     body_frame="crank",
     sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",
+    camera=((0.35, -0.45, 1.0), (0.0, 1.0, 0.0)),  # facing the mechanism's plane, y0 up
+    cycle=revolution,
+    extra={
+        "solid_names": {"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}
+    },
     accuracy=Accuracy(
         key="pilon",
         readouts=("pilon", "pilon_ref", "P_int", "P_ext", "closure_error"),

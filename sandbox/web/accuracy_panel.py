@@ -135,7 +135,7 @@ class AccuracyPanel:
         if self.acc is not None:
             lines += [
                 f"| Erreur de {self.acc.key} / cours | {fmt(error, digits=2)} |",
-                f"| Dérive de {self.acc.invariant} | {fmt(drift, digits=2)} |",
+                f"| Dérive de {self.acc.invariant.replace('|', '')} | {fmt(drift, digits=2)} |",
             ]
         text = "\n".join(lines) + (
             "\n\nL'étoile du graphique est le réglage par défaut de la scène, le losange noir "

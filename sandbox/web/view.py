@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -11,6 +11,8 @@ import numpy as np
 
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.cycle_panel import CyclePanel
+from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.readout_panel import ReadoutPanel
@@ -24,16 +26,24 @@ SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
 """Readouts brought up to date before the scene's arrows are evaluated."""
 
 
-def camera_pose(center: np.ndarray, extent: float) -> tuple[np.ndarray, np.ndarray]:
-    """A three-quarter view from the front (-y), slightly above, framing the model.
+def camera_pose(
+    center: np.ndarray, extent: float, direction: Sequence[float] = (0.45, -1.0, 0.55)
+) -> tuple[np.ndarray, np.ndarray]:
+    """A view along ``direction`` (default: three-quarter from the front, above).
 
     Returns:
         Camera position and look-at point, world coordinates [m].
     """
     look_at = np.asarray(center, dtype=float)
-    direction = np.array([0.45, -1.0, 0.55])
+    direction = np.asarray(direction, dtype=float)
     direction /= np.linalg.norm(direction)
     return look_at + 0.9 * max(extent, 1e-3) * direction, look_at
+
+
+def scene_view(sim: Any) -> tuple[Sequence[float], Sequence[float]]:
+    """(direction towards the camera, up vector): the scene's own, else z up."""
+    view = sim.scene.camera if sim.scene is not None and sim.scene.camera else None
+    return view if view else ((0.45, -1.0, 0.55), (0.0, 0.0, 1.0))
 
 
 class WebView:
@@ -63,8 +73,9 @@ class WebView:
         sim = controller.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
-        position, look_at = camera_pose(model.stat.center, float(model.stat.extent))
-        client.camera.up_direction = (0.0, 0.0, 1.0)
+        direction, up = scene_view(sim)
+        position, look_at = camera_pose(model.stat.center, float(model.stat.extent), direction)
+        client.camera.up_direction = up
         client.camera.position = position
         client.camera.look_at = look_at
         self.renderer = SceneRenderer(client.scene)
@@ -85,6 +96,8 @@ class WebView:
             else None
         )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
+        self.cycle = CyclePanel(client.gui, sim)
+        self.isolate = IsolatePanel(client.gui, sim)
         self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
         self._drawn: tuple[Any, ...] | None = None
@@ -124,6 +137,8 @@ class WebView:
         self.readouts.refresh(sim, values)
         if self.lesson is not None:
             self.lesson.refresh(values)
+        self.cycle.refresh(sim, now)
+        self.isolate.refresh(sim)
         cost = getattr(controller, "cost", None)
         if cost is not None:
             self.accuracy.sample(sim, values, controller.generation)

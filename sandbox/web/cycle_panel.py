@@ -1,0 +1,67 @@
+"""Folder "Sur un tour": a scene's readouts over one cycle against the angle, with the
+course's curves (e.g. pilon, tamis and motor torque over a crank revolution)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from sandbox.physics.simulation import Simulation
+
+PERIOD = 2.0
+"""Seconds between two looks at the cycle (redrawn only when it changed)."""
+
+GROUPS = ((("pilon", "tamis"), "N"), (("motor_torque",), "N·m"))
+COLORS = {"pilon": "rgb(220,60,60)", "tamis": "rgb(60,140,220)", "motor_torque": "rgb(90,90,90)"}
+
+
+class CyclePanel:
+    """Charts of ``scene.cycle`` (nothing when the scene has no cycle).
+
+    Args:
+        gui: A viser ``GuiApi``.
+        sim: The session's simulation.
+    """
+
+    def __init__(self, gui: Any, sim: Simulation) -> None:
+        self.fn = sim.scene.cycle if sim.scene is not None else None
+        self.charts: list[tuple[tuple[str, ...], Any]] = []
+        self._shown: object = None
+        self._at = -math.inf
+        if self.fn is None:
+            return
+        with gui.add_folder("Sur un tour"):
+            for names, unit in GROUPS:
+                series: list[dict[str, Any]] = [{"label": "θ [°]"}]
+                for n in names:
+                    color = COLORS.get(n, "black")
+                    series.append({"label": f"{n} [{unit}]", "stroke": color, "width": 2})
+                    series.append({"label": f"{n} (cours)", "stroke": color, "dash": [6, 4]})
+                empty = tuple(np.zeros(2) for _ in series)
+                chart = gui.add_uplot(
+                    data=empty,
+                    series=tuple(series),
+                    title=f"{', '.join(names)} sur un tour de manivelle",
+                    scales={"x": {"time": False, "auto": False, "range": (0.0, 360.0)}},
+                    axes=({"label": "θ [°]"}, {"label": unit, "size": 60}),
+                    aspect=1.6,
+                )
+                self.charts.append((names, chart))
+
+    def refresh(self, sim: Simulation, now: float) -> None:
+        """Redraw when the simulated cycle changed (new parameters or speed)."""
+        if self.fn is None or now - self._at < PERIOD:
+            return
+        self._at = now
+        with sim.lock:
+            cycle = self.fn(sim.snapshot(("sup_R_x",)))
+        if cycle is self._shown or len(cycle.get("angle_deg", ())) < 2:
+            return
+        self._shown = cycle
+        for names, chart in self.charts:
+            columns = [cycle["angle_deg"]]
+            for n in names:
+                columns += [cycle[n], cycle[f"{n}_ref"]]
+            chart.data = tuple(np.asarray(c, dtype=float) for c in columns)
