@@ -80,6 +80,14 @@ class SceneResult:
     default_integrator: str
     default_timestep: float
     runs: list[Run] = field(default_factory=list)
+    drift_tol: float = math.inf
+    constraint_tol: float = math.inf
+
+    def admissible(self, run: Run) -> bool:
+        """Within this scene's drift and constraint limits (and not diverged)."""
+        if run.diverged or not math.isfinite(run.error) or run.drift > self.drift_tol:
+            return False
+        return run.constraint is None or run.constraint <= self.constraint_tol
 
     @property
     def default(self) -> Run | None:
@@ -132,6 +140,9 @@ def run_one(
     if run.diverged:
         return run
     series = _series(samples)
+    keep = series["time"] >= acc.settle
+    if keep.sum() >= 2:
+        series = {k: v[keep] for k, v in series.items()}
     values = sim.values
     run.error = _finite(acc.error(series, values))
     run.drift = _finite(acc.drift(series, values))
@@ -155,8 +166,9 @@ def stepping_cost(
     timestep: float,
     duration: float,
 ) -> float:
-    """CPU seconds per simulated second of stepping alone, the way the web app steps
-    (``Simulation.step`` once per 60 Hz frame, divergence guard included).
+    """CPU seconds per simulated second of MuJoCo's stepping alone (``Simulation.step``
+    over the whole run in one call, so that Python's per-call overhead does not hide the
+    integrators' own cost).
 
     Each of :data:`REPEATS` measurements lasts at least :data:`MIN_CPU` CPU seconds (the
     run restarts when it reaches ``duration``); the smallest is kept, since other
@@ -164,7 +176,6 @@ def stepping_cost(
     """
     sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
     total = max(1, int(round(duration / timestep)))
-    per = max(1, int(round(1.0 / (60.0 * timestep))))
     best = math.inf
     done = 0
     for _ in range(REPEATS):
@@ -173,7 +184,7 @@ def stepping_cost(
             if done >= total:
                 sim.reset()
                 done = 0
-            n = min(per, total - done)
+            n = total - done
             start = time.process_time()
             sim.step(n)
             cpu += time.process_time() - start
@@ -205,9 +216,20 @@ def dominates(a: Run, b: Run) -> bool:
     return (ea <= eb and cheaper) or (ea < eb and not_dearer and ea < 0.5 * eb)
 
 
-def mark_pareto(runs: Sequence[Run]) -> None:
-    """Flag the runs no other run dominates (see :func:`dominates`)."""
-    ok = [r for r in runs if not r.diverged and math.isfinite(r.error)]
+def admissible(run: Run, acc: Accuracy | None = None) -> bool:
+    """Not diverged, finite error, and within the scene's drift and constraint limits."""
+    if run.diverged or not math.isfinite(run.error):
+        return False
+    if acc is None:
+        return True
+    if run.drift > acc.drift_tol:
+        return False
+    return run.constraint is None or run.constraint <= acc.constraint_tol
+
+
+def mark_pareto(runs: Sequence[Run], acc: Accuracy | None = None) -> None:
+    """Flag the admissible runs no other admissible run dominates (:func:`dominates`)."""
+    ok = [r for r in runs if admissible(r, acc)]
     for r in runs:
         r.pareto = r in ok and not any(dominates(o, r) for o in ok if o is not r)
 
@@ -226,7 +248,14 @@ def bench_scene(
         raise ValueError(f"scene {scene.name!r} declares no accuracy measure")
     duration = acc.duration * (QUICK_DURATION if quick else 1.0)
     result = SceneResult(
-        scene.name, acc.key, acc.invariant, scene.integrator, scene.timestep, runs=[]
+        scene.name,
+        acc.key,
+        acc.invariant,
+        scene.integrator,
+        scene.timestep,
+        runs=[],
+        drift_tol=acc.drift_tol,
+        constraint_tol=acc.constraint_tol,
     )
     timesteps = acc.timesteps or tuple(scene.timestep * f for f in factors)
     for integrator in integrators:
@@ -240,7 +269,7 @@ def bench_scene(
                     f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} "
                     f"{run.realtime_factor:8.1f}x real time"
                 )
-    mark_pareto(result.runs)
+    mark_pareto(result.runs, acc)
     return result
 
 
@@ -278,6 +307,8 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
             "key": res.key,
             "invariant": res.invariant,
             "default": {"integrator": res.default_integrator, "timestep": res.default_timestep},
+            "drift_tol": _json_number(res.drift_tol),
+            "constraint_tol": _json_number(res.constraint_tol),
             "runs": runs,
         }
     return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}

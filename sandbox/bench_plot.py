@@ -49,15 +49,25 @@ def draw(res: SceneResult, live: Run | None = None) -> Any:
         ok = sorted((r for r in runs if _ok(r)), key=lambda r: r.timestep)
         if not ok:
             continue
+        color = COLORS.get(name, "black")
         ax.plot(
             [r.cpu_per_sim_s for r in ok],
             [max(r.error, floor) for r in ok],
-            "o-",
-            color=COLORS.get(name, "black"),
+            "-",
+            color=color,
             label=name,
-            markersize=4,
             linewidth=1.4,
         )
+        for r in ok:
+            good = res.admissible(r)
+            ax.plot(
+                [r.cpu_per_sim_s],
+                [max(r.error, floor)],
+                "o",
+                color=color,
+                markerfacecolor=color if good else "white",
+                markersize=5,
+            )
     front = sorted((r for r in res.runs if r.pareto and _ok(r)), key=lambda r: r.cpu_per_sim_s)
     if front:
         ax.plot(
@@ -91,6 +101,14 @@ def draw(res: SceneResult, live: Run | None = None) -> Any:
             label=f"now ({live.integrator}, dt = {live.timestep:g} s)",
         )
     diverged = sum(r.diverged for r in res.runs)
+    if any(_ok(r) and not res.admissible(r) for r in res.runs):
+        ax.text(
+            0.01,
+            0.01,
+            f"hollow: {res.invariant} above {res.drift_tol:g} (not admissible)",
+            transform=ax.transAxes,
+            fontsize=8,
+        )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("cost: CPU seconds per simulated second")

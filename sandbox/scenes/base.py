@@ -181,6 +181,10 @@ class Accuracy:
         rate: Samples per simulated second.
         timesteps: The grid's timesteps [s] (two decades, the default among them);
             empty means 0.1, 0.3, 1, 3 and 10 times the default.
+        settle: Samples before this time [s] are ignored (start-up transient).
+        drift_tol: Runs whose drift exceeds this are not admissible on the Pareto front
+            (e.g. a closure that drains the energy theorem).
+        constraint_tol: Same for the constraint violation [m].
     """
 
     key: str
@@ -193,6 +197,9 @@ class Accuracy:
     values: Mapping[str, float] = field(default_factory=dict)
     rate: float = 200.0
     timesteps: tuple[float, ...] = ()
+    settle: float = 0.0
+    drift_tol: float = math.inf
+    constraint_tol: float = math.inf
 
 
 @dataclass(frozen=True)

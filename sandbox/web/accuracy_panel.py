@@ -44,8 +44,13 @@ def load_results(scene: str) -> SceneResult | None:
         entry["default"]["integrator"],
         entry["default"]["timestep"],
         runs,
+        drift_tol=float(entry.get("drift_tol", math.inf)),
+        constraint_tol=float(entry.get("constraint_tol", math.inf)),
     )
-    mark_pareto(res.runs)
+    from sandbox.scenes import SCENES
+
+    scene_spec = SCENES.get(scene)
+    mark_pareto(res.runs, scene_spec.accuracy if scene_spec else None)
     return res
 
 
