@@ -201,7 +201,9 @@ _SYMBOLS = {
     "psi": "ψ", "omega": "ω", "Omega": "Ω", "Gamma": "Γ", "wedge": "∧", "times": "×",
     "cdot": "·", "le": "≤", "ge": "≥", "approx": "≈", "neq": "≠", "infty": "∞", "in": "∈",
     "to": "→", "otimes": "⊗", "sum": "Σ", "quad": " ", "{": "{", "}": "}", "|": "‖",
-    "partial": "∂", "pm": "±", "ll": "≪", "gg": "≫",
+    "partial": "∂", "pm": "±", "ll": "≪", "gg": "≫", "Sigma": "Σ", "Lambda": "Λ",
+    "cos": "cos", "sin": "sin", "tan": "tan", "ln": "ln", "exp": "exp", "dot": "˙",
+    "nabla": "∇", "cdots": "⋯", "ldots": "…", "Rightarrow": "⇒", "iff": "⇔",
 }  # fmt: skip
 _GROUP = r"\{([^{}]*)\}"
 
