@@ -227,6 +227,8 @@ class Scene:
         extra: Scene-specific helpers (e.g. the rotor's balancing solution).
         accuracy: What ``sandbox bench`` compares with the course, and the invariant.
         camera: (direction from the model towards the camera, up vector) of the 3D view.
+        look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
+        start_paused: The web app waits for "Lecture" (motions that leave the view).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
     """
@@ -251,6 +253,8 @@ class Scene:
     extra: Mapping[str, object] = field(default_factory=dict)
     accuracy: Accuracy | None = None
     camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    look_at: tuple[tuple[float, float, float], float] | None = None
+    start_paused: bool = False
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
 
     def param(self, name: str) -> Param:

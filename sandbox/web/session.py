@@ -98,7 +98,7 @@ class Controller:
         self.step_cpu = 0.0  # CPU seconds spent stepping (this thread), decayed
         self.step_sim = 0.0  # simulated seconds stepped, decayed alike
         self.requests: queue.Queue[Request] = queue.Queue()
-        self.playing = True
+        self.playing = not (sim.scene is not None and sim.scene.start_paused)
         self.speed = 1.0
         self.diverged: str | None = None
         self.generation = 0  # bumped on reset: plots restart

@@ -74,7 +74,10 @@ class WebView:
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
         direction, up = scene_view(sim)
-        position, look_at = camera_pose(model.stat.center, float(model.stat.extent), direction)
+        center, extent = model.stat.center, float(model.stat.extent)
+        if sim.scene is not None and sim.scene.look_at is not None:
+            center, extent = np.asarray(sim.scene.look_at[0]), sim.scene.look_at[1]
+        position, look_at = camera_pose(center, extent, direction)
         client.camera.up_direction = up
         client.camera.position = position
         client.camera.look_at = look_at

@@ -1,0 +1,442 @@
+"""Rolling cylinder on an inclined plane (course 3.2 remark 1, 6.1.3, 6.2).
+
+A cylinder of radius R (solid, or hollow down to ``inner_radius``), possibly with an
+eccentric point mass, rolls or slips down a plane inclined at α = ``slope_deg``, with
+Coulomb friction μ. A is the geometric contact point (under the axis C): V(A∈S) is the
+velocity of the cylinder's material point at A (0 when rolling), V(A/R0) the velocity of
+the geometric point, which follows the axis. Gravity and the contact only.
+
+Contact settings (the course's hypotheses: rigid bodies, Coulomb friction, no slip below
+μ_min), measured on this scene: a pyramidal friction cone with impratio 100 makes friction
+100 times stiffer than the normal direction, so a rolling cylinder creeps at ~1e-6 m/s
+(the elliptic cone gives 1e-4, the default impratio 1e-3 m/s): no no-slip pass is needed.
+solref (2 ms, 1) and solimp (0.99, 0.999) keep the penetration to micrometres; MuJoCo's
+default (20 ms) sinks the cylinder ~0.1 mm, which shifts the rolling radius and costs
+~0.1 % of acceleration. condim 3: sliding friction only, no rolling resistance, as in the
+course. While slipping, MuJoCo's soft contact chatters (N oscillates about m g cos α at
+the timestep's scale); its time averages, hence x(t) and v(t), follow the course.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from sandbox.physics.snapshot import Snapshot
+from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+
+G = 9.81
+PARAMS = (
+    Param("R", "m", 0.1, 0.01, 0.5, "Outer radius of the cylinder.", step=0.005),
+    Param("length", "m", 0.2, 0.01, 1.0, "Length of the cylinder along its axis.", step=0.01),
+    Param("mass", "kg", 1.0, 0.01, 100.0, "Mass of the cylinder (without the eccentric mass).", step=0.01),
+    Param("inner_radius", "m", 0.0, 0.0, 0.499, "Inner radius: 0 for a solid cylinder, close to R for a thin tube.", step=0.005),
+    Param("slope_deg", "deg", 20.0, 0.0, 60.0, "Slope α of the plane.", step=0.5),
+    Param("mu", "", 0.3, 0.0, 2.0, "Coulomb friction coefficient between cylinder and plane.", step=0.01),
+    Param("eccentric_mass", "kg", 0.0, 0.0, 10.0, "Point mass fixed in the cylinder off its axis.", step=0.01),
+    Param("eccentric_radius", "m", 0.05, 0.0, 0.5, "Distance of the eccentric mass from the axis.", step=0.005),
+    Param("v0", "m/s", 0.0, -10.0, 10.0, "Initial speed of the centre down the slope (rolling).", step=0.05),
+    Param("plane_length", "m", 4.0, 1.0, 200.0, "Length of the drawn plane; on_plane turns 0 beyond it.", step=1.0),
+    Param("race", "", 0.0, 0.0, 1.0, "1: a thin tube and a solid sphere (same R and mass) race the cylinder side by side.", step=1.0),
+)  # fmt: skip
+
+
+# -- closed forms ---------------------------------------------------------------------------
+def axis_inertia(v: Values) -> float:
+    """Inertia of the cylinder about its axis: ½ m (R² + r²)."""
+    return 0.5 * v["mass"] * (v["R"] ** 2 + v["inner_radius"] ** 2)
+
+
+def mass_properties(v: Values) -> tuple[float, float, float]:
+    """Total mass, distance e from the axis to G, inertia about G's axis (y)."""
+    m_c, m_e, r_e = v["mass"], v["eccentric_mass"], v["eccentric_radius"]
+    m = m_c + m_e
+    e = m_e * r_e / m
+    i_g = axis_inertia(v) + m_c * e * e + m_e * (r_e - e) ** 2
+    return m, e, i_g
+
+
+def mu_min(v: Values) -> float:
+    """Least friction for rolling without slipping: tan α / (1 + m R² / I) (homogeneous)."""
+    alpha = math.radians(v["slope_deg"])
+    return math.tan(alpha) / (1 + v["mass"] * v["R"] ** 2 / axis_inertia(v))
+
+
+def acceleration(v: Values) -> float:
+    """Acceleration of the centre down the slope (homogeneous): rolling if μ ≥ μ_min,
+    a = g sin α / (1 + I/(mR²)); else slipping, a = g (sin α − μ cos α)."""
+    alpha = math.radians(v["slope_deg"])
+    if v["mu"] >= mu_min(v):
+        return G * math.sin(alpha) / (1 + axis_inertia(v) / (v["mass"] * v["R"] ** 2))
+    return G * (math.sin(alpha) - v["mu"] * math.cos(alpha))
+
+
+def eccentric_acceleration(beta: float, v_c: float, v: Values) -> float:
+    """Rolling with G off the axis, from the energy theorem (Lagrange on φ = x_C / R).
+
+    β is the angle of CG from the plane's normal towards the slope; T = ½ J_A(β) φ'²
+    with J_A = I_G + m (e² + R² + 2 R e cos β), V = −m g·OG.
+    """
+    m, e, i_g = mass_properties(v)
+    R, alpha = v["R"], math.radians(v["slope_deg"])
+    j_a = i_g + m * (e * e + R * R + 2 * R * e * math.cos(beta))
+    dj = -2 * m * R * e * math.sin(beta)
+    dv = (
+        -m * G * (math.sin(alpha) * (R + e * math.cos(beta)) + math.cos(alpha) * e * math.sin(beta))
+    )
+    dphi = v_c / R
+    return R * -(0.5 * dj * dphi**2 + dv) / j_a
+
+
+def reference(v: Values) -> dict[str, float]:
+    """Course values: μ_min, and the acceleration when the cylinder is homogeneous."""
+    out = {"mu_required": mu_min(v) if v["mu"] >= mu_min(v) else v["mu"]}
+    if v["eccentric_mass"] == 0:
+        out["a"] = acceleration(v)
+    return out
+
+
+# -- model ----------------------------------------------------------------------------------
+def edit(spec: mujoco.MjSpec, v: Values) -> None:
+    """Slope, radius, length, inertia (solid or hollow), eccentric mass, friction."""
+    if v["inner_radius"] >= v["R"]:
+        from sandbox.errors import BadParameter
+
+        raise BadParameter(
+            f"inner_radius = {v['inner_radius']:g} m must be smaller than R = {v['R']:g} m; "
+            "lower inner_radius"
+        )
+    alpha = math.radians(v["slope_deg"])
+    slope = spec.body("slope")
+    slope.quat = [math.cos(alpha / 2), 0, math.sin(alpha / 2), 0]  # x down the slope
+    plane = spec.geom("plane")  # infinite for collisions; drawn by "deck" below
+    plane.friction[0] = v["mu"]
+    plane.rgba = [0, 0, 0, 0]
+    deck = spec.geom("deck")
+    deck.size = [v["plane_length"] / 2, max(v["length"], 0.5), 0.005]
+    deck.pos = [v["plane_length"] / 2 - 0.5, 0, -0.005]
+    R, h, m = v["R"], v["length"], v["mass"]
+    cyl = spec.geom("cylinder")
+    cyl.size = [R, h / 2, 0]
+    cyl.friction[0] = v["mu"]
+    body = spec.body("cylinder")
+    body.pos = [0, 0, R]
+    i_axis = axis_inertia(v)
+    i_across = m * (3 * (R * R + v["inner_radius"] ** 2) + h * h) / 12
+    body.explicitinertial = True
+    body.mass, body.ipos = m, [0, 0, 0]
+    body.fullinertia = [i_across, i_axis, i_across, 0, 0, 0]
+    stripe = spec.geom("stripe")
+    stripe.pos = [0, 0, 0.6 * R]
+    stripe.size = [0.02 * R + 0.002, h / 2 + 0.001, 0.4 * R]
+    ecc = spec.body("eccentric")
+    ecc.pos = [0, 0, v["eccentric_radius"]]
+    m_e = v["eccentric_mass"]
+    ecc.explicitinertial = True
+    ecc.mass = max(m_e, 1e-9)
+    tiny = max(m_e * 1e-6, 1e-10)
+    ecc.fullinertia = [tiny, tiny, tiny, 0, 0, 0]
+    spec.geom("eccentric").rgba = [0.8, 0.1, 0.1, 1.0 if m_e > 0 else 0.0]
+    spec.geom("eccentric").size = [max(0.012, 0.1 * R), 0, 0]
+    spec.geom("cylinder").contype, spec.geom("cylinder").conaffinity = 2, 1
+    plane.contype, plane.conaffinity = 1, 2  # the plane touches bodies; bodies never each other
+    if v["race"] >= 0.5:
+        deck.size = [v["plane_length"] / 2, 3 * (h + 2 * R), 0.005]
+        _add_racers(spec, v)
+
+
+RACERS = (("hollow", 0.35), ("sphere", -0.35))
+"""Race companions and their offset along the axis, in multiples of (length + 2R)."""
+
+
+def _add_racers(spec: mujoco.MjSpec, v: Values) -> None:
+    """A thin tube (I = m R²) and a solid sphere (I = 2/5 m R²) beside the cylinder."""
+    R, h, m = v["R"], v["length"], v["mass"]
+    for name, side in RACERS:
+        y = side * (h + 2 * R) * 2.5
+        body = spec.body("slope").add_body(name=name, pos=[0, y, R])
+        for axis, kind, jname in (([1, 0, 0], "slide", "x"), ([0, 0, 1], "slide", "z"),
+                                  ([0, 1, 0], "hinge", "spin")):  # fmt: skip
+            joint = body.add_joint(name=f"{jname}_{name}", axis=axis)
+            joint.type = (
+                mujoco.mjtJoint.mjJNT_SLIDE if kind == "slide" else mujoco.mjtJoint.mjJNT_HINGE
+            )
+        body.explicitinertial = True
+        body.mass = m
+        if name == "hollow":
+            i_axis, i_across = m * R * R, m * (6 * R * R + h * h) / 12
+            geom = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[R, h / 2, 0])
+            geom.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
+            geom.quat = [math.cos(math.pi / 4), math.sin(math.pi / 4), 0, 0]
+            geom.rgba = [0.3, 0.5, 0.85, 1]
+        else:
+            i_axis = i_across = 0.4 * m * R * R
+            geom = body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[R, 0, 0])
+            geom.rgba = [0.3, 0.75, 0.4, 1]
+        body.ipos, body.iquat = [0, 0, 0], [1, 0, 0, 0]
+        body.inertia = [i_across, i_axis, i_across]
+        geom.friction[0] = v["mu"]
+        geom.contype, geom.conaffinity = 2, 1
+        geom.solref = [0.002, 1]
+        geom.solimp = [0.99, 0.999, 0.0001, 0.5, 2]
+        geom.condim = 3
+        stripe = body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, pos=[0, 0, 0.6 * R],
+                               size=[0.02 * R + 0.002, 0.3 * R, 0.4 * R])  # fmt: skip
+        stripe.rgba, stripe.contype, stripe.conaffinity = [0.2, 0.2, 0.2, 1], 0, 0
+        stripe.mass = 0
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """On the plane, rolling at v0 (ω = v0 / R), eccentric mass straight up; racers alike."""
+    data.qpos[:] = 0.0
+    for k in range(model.nv // 3):
+        data.qvel[3 * k : 3 * k + 3] = [v["v0"], 0.0, v["v0"] / v["R"]]
+
+
+# -- readouts ---------------------------------------------------------------------------------
+def _frame(s: Snapshot) -> np.ndarray:
+    """Slope basis (columns x down the slope, y axis, z normal) in world coordinates."""
+    return s.data.xmat[s.body_id("slope")].reshape(3, 3)
+
+
+def _centre(s: Snapshot) -> np.ndarray:
+    return s.data.xpos[s.body_id("cylinder")].copy()
+
+
+def _contact_point(s: Snapshot) -> np.ndarray:
+    """A: the geometric contact point, under the axis on the plane."""
+    b = _frame(s)
+    return _centre(s) - s.values["R"] * b[:, 2]
+
+
+def _omega(s: Snapshot) -> np.ndarray:
+    return s.data.cvel[s.body_id("cylinder"), :3].copy()
+
+
+def _velocity_of_material_point(s: Snapshot, p: np.ndarray) -> np.ndarray:
+    """Velocity in R0 of the cylinder's material point at p."""
+    res = np.zeros(6)
+    mujoco.mj_objectVelocity(
+        s.model, s.data, mujoco.mjtObj.mjOBJ_BODY, s.body_id("cylinder"), res, 0
+    )
+    v_origin, omega = res[3:], res[:3]
+    return v_origin + np.cross(omega, p - _centre(s))
+
+
+def _contact_force(s: Snapshot) -> np.ndarray:
+    """Force of the plane on the cylinder, world axes, summed over contact points."""
+    if "rc_force" in s.cache:
+        return s.cache["rc_force"]
+    m, d = s.model, s.data
+    plane = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "plane")
+    total = np.zeros(3)
+    f6 = np.zeros(6)
+    for i in range(d.ncon):
+        c = d.contact[i]
+        if plane not in (c.geom1, c.geom2):
+            continue
+        mujoco.mj_contactForce(m, d, i, f6)
+        frame = c.frame.reshape(3, 3)
+        f = frame.T @ f6[:3]  # on geom2, from geom1
+        total += f if c.geom1 == plane else -f
+    s.cache["rc_force"] = total
+    return total
+
+
+def _contact_power(s: Snapshot) -> float:
+    """Power of the contact forces on the cylinder: Σ f_i · V(P_i ∈ S) (≤ 0)."""
+    m, d = s.model, s.data
+    plane = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "plane")
+    p = 0.0
+    f6 = np.zeros(6)
+    for i in range(d.ncon):
+        c = d.contact[i]
+        if plane not in (c.geom1, c.geom2):
+            continue
+        mujoco.mj_contactForce(m, d, i, f6)
+        f = c.frame.reshape(3, 3).T @ f6[:3]
+        f = f if c.geom1 == plane else -f
+        p += float(f @ _velocity_of_material_point(s, np.asarray(c.pos)))
+    return p
+
+
+def _along(s: Snapshot, vec: np.ndarray, axis: int) -> float:
+    return float(_frame(s)[:, axis] @ vec)
+
+
+def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
+    """(dσA/dt, V(A) ∧ m V(G), δA direct) about the cylinder's axis y [N·m].
+
+    dσA/dt is a numerical time derivative of σA = σG + AG ∧ m V(G) (A moving with the
+    axis) from states at t ± h along the current motion; the direct value is
+    δG + AG ∧ m Γ(G) from MuJoCo's accelerations.
+    """
+    from sandbox.physics.readouts import Kinematics
+
+    m, d = s.model, s.data
+    ids = [s.body_id("cylinder"), s.body_id("eccentric")]
+    y = _frame(s)[:, 1]
+    k = Kinematics(m, d)
+
+    def sigma_a(data: mujoco.MjData, kin: Kinematics) -> np.ndarray:
+        c = data.xpos[ids[0]]
+        a = c - s.values["R"] * data.xmat[m.body_parentid[ids[0]]].reshape(3, 3)[:, 2]
+        total = np.zeros(3)
+        for b in ids:
+            mv = m.body_mass[b] * kin.v_g[b]
+            total += kin.i_omega[b] + np.cross(data.xipos[b] - a, mv)
+        return total
+
+    h = 1e-4
+    values = []
+    scratch = mujoco.MjData(m)
+    for sign in (1.0, -1.0):
+        scratch.qpos[:] = d.qpos + sign * h * d.qvel + 0.5 * h * h * d.qacc
+        scratch.qvel[:] = d.qvel + sign * h * d.qacc
+        mujoco.mj_kinematics(m, scratch)
+        mujoco.mj_comPos(m, scratch)
+        mujoco.mj_comVel(m, scratch)
+        values.append(sigma_a(scratch, Kinematics(m, scratch)))
+    dsigma = (values[0] - values[1]) / (2 * h)
+    v_a = _axis_velocity(s)
+    transport = np.zeros(3)
+    direct = np.zeros(3)
+    a = _contact_point(s)
+    for b in ids:
+        mv = m.body_mass[b] * k.v_g[b]
+        transport += np.cross(v_a, mv)
+        direct += k.delta_g[b] + np.cross(d.xipos[b] - a, m.body_mass[b] * k.a_g[b])
+    return float(dsigma @ y), float(transport @ y), float(direct @ y)
+
+
+def _axis_velocity(s: Snapshot) -> np.ndarray:
+    """V(C/R0) = V(A/R0): the geometric contact point moves with the axis."""
+    return _velocity_of_material_point(s, _centre(s))
+
+
+def _cached_delta(s: Snapshot) -> tuple[float, float, float]:
+    if "rc_delta" not in s.cache:
+        s.cache["rc_delta"] = _delta_terms(s)
+    return s.cache["rc_delta"]
+
+
+def _beta(s: Snapshot) -> float:
+    """Angle of CG from the plane's normal towards the slope (x)."""
+    d = s.data
+    g = sum(
+        s.model.body_mass[b] * d.xipos[b] for b in (s.body_id("cylinder"), s.body_id("eccentric"))
+    )
+    g = g / sum(s.model.body_mass[b] for b in (s.body_id("cylinder"), s.body_id("eccentric")))
+    cg = g - _centre(s)
+    return math.atan2(_along(s, cg, 0), _along(s, cg, 2))
+
+
+def _racer_x(s: Snapshot, name: str) -> float:
+    j = mujoco.mj_name2id(s.model, mujoco.mjtObj.mjOBJ_JOINT, f"x_{name}")
+    return float(s.data.qpos[s.model.jnt_qposadr[j]]) if j >= 0 else 0.0
+
+
+def _a_ref(s: Snapshot) -> float:
+    v = s.values
+    if v["eccentric_mass"] > 0:
+        return eccentric_acceleration(_beta(s), s.joint_qvel("x"), v)
+    return acceleration(v)
+
+
+READOUTS = (
+    SceneReadout("x", "m", "Distance travelled by the centre down the slope.", lambda s: s.joint_qpos("x")),
+    SceneReadout("v", "m/s", "Speed of the centre down the slope.", lambda s: s.joint_qvel("x")),
+    SceneReadout("a", "m/s²", "Acceleration of the centre down the slope.", lambda s: float(s.data.qacc[0])),
+    SceneReadout("a_ref", "m/s²", "Course value of the acceleration (rolling or slipping; energy theorem with the eccentric mass).", _a_ref),
+    SceneReadout("slip_velocity", "m/s", "V(A∈S/R0) down the slope: the material point at A (0 when rolling).", lambda s: _along(s, _velocity_of_material_point(s, _contact_point(s)), 0)),
+    SceneReadout("contact_point_velocity", "m/s", "V(A/R0) down the slope: the geometric contact point, which follows the axis.", lambda s: _along(s, _axis_velocity(s), 0)),
+    SceneReadout("N", "N", "Normal force of the plane on the cylinder.", lambda s: _along(s, _contact_force(s), 2)),
+    SceneReadout("Tt", "N", "Tangential force of the plane on the cylinder, down the slope.", lambda s: _along(s, _contact_force(s), 0)),
+    SceneReadout("mu_required", "", "|Tt| / N: the friction the motion uses.", lambda s: abs(_along(s, _contact_force(s), 0)) / max(_along(s, _contact_force(s), 2), 1e-12)),
+    SceneReadout("P_contact", "W", "Power of the contact forces on the cylinder (≤ 0; 0 when rolling).", _contact_power),
+    SceneReadout("delta_A_formula", "N·m", "δA about the axis from dσA/dt + V(A) ∧ m V(G).", lambda s: _cached_delta(s)[0] + _cached_delta(s)[1]),
+    SceneReadout("delta_A_direct", "N·m", "δA about the axis from δG + AG ∧ m Γ(G).", lambda s: _cached_delta(s)[2]),
+    SceneReadout("delta_A_dsigma", "N·m", "First term of the formula: dσA/dt (time derivative).", lambda s: _cached_delta(s)[0]),
+    SceneReadout("delta_A_transport", "N·m", "Second term: V(A) ∧ m V(G) (0 if G is on the axis).", lambda s: _cached_delta(s)[1]),
+    SceneReadout("x_hollow", "m", "Race: distance travelled by the thin tube (0 without race).", lambda s: _racer_x(s, "hollow")),
+    SceneReadout("x_sphere", "m", "Race: distance travelled by the sphere (0 without race).", lambda s: _racer_x(s, "sphere")),
+    SceneReadout("on_plane", "", "1 while the centre is over the drawn plane, 0 beyond its end.", lambda s: float(-0.5 <= s.joint_qpos("x") <= s.values["plane_length"] - 0.5)),
+)  # fmt: skip
+
+
+def _g_and_velocity(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
+    """G of cylinder + eccentric mass and V(G/R0)."""
+    from sandbox.physics.readouts import Kinematics
+
+    k = Kinematics(s.model, s.data)
+    ids = [s.body_id("cylinder"), s.body_id("eccentric")]
+    mass = s.model.body_mass[ids]
+    g = (mass[:, None] * s.data.xipos[ids]).sum(0) / mass.sum()
+    return g, (mass[:, None] * k.v_g[ids]).sum(0) / mass.sum()
+
+
+ARROW_SCALE = 0.02
+"""Metres of arrow per newton (forces) or per m/s (velocities, × 5)."""
+
+
+def _at_a(s: Snapshot, vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _contact_point(s), vec
+
+
+ARROWS = (
+    Arrow("N", "N", (60, 160, 60), lambda s: _at_a(s, _along(s, _contact_force(s), 2) * _frame(s)[:, 2]), ARROW_SCALE),
+    Arrow("Tt", "T", (220, 120, 40), lambda s: _at_a(s, _along(s, _contact_force(s), 0) * _frame(s)[:, 0]), ARROW_SCALE),
+    Arrow("v_G", "V(G)", (60, 100, 220), lambda s: _g_and_velocity(s), 0.1),
+    Arrow("slip", "V(A∈S)", (200, 40, 40), lambda s: _at_a(s, _velocity_of_material_point(s, _contact_point(s))), 0.1),
+)  # fmt: skip
+
+
+def _energy_drift(series, values) -> float:
+    e = np.asarray(series["T"]) + np.asarray(series["V"])
+    scale = max(float(np.max(np.abs(series["T"]))), 1e-12)
+    return float(np.max(np.abs(e - e[0])) / scale)
+
+
+def _accel_error(series, values) -> float:
+    return float(
+        np.max(np.abs(np.asarray(series["a"]) - np.asarray(series["a_ref"])))
+        / abs(np.mean(series["a_ref"]))
+    )
+
+
+SCENE = Scene(
+    name="rolling_cylinder",
+    title="Cylindre qui roule : V(A∈S) et V(A), frottement, énergie",
+    summary=(
+        "A cylinder rolls (or slips) down an inclined plane. The material point at the "
+        "contact is at rest while the geometric contact point runs with the axis."
+    ),
+    mjcf="rolling_cylinder.xml",
+    params=PARAMS,
+    effects=Effects(gravity=True, contacts=True, actuation=False),
+    readouts=READOUTS,
+    edit=edit,
+    initial_state=initial_state,
+    reference=reference,
+    integrator="implicitfast",
+    timestep=1e-3,
+    plots=("v", "slip_velocity"),
+    arrows=ARROWS,
+    body_frame="cylinder",
+    sections="3.2, 6.1.3, 6.2",
+    camera=((0.1, -1.0, 0.25), (0.0, 0.0, 1.0)),
+    look_at=((0.5, 0.0, -0.15), 1.3),
+    start_paused=True,
+    accuracy=Accuracy(
+        key="a",
+        readouts=("a", "a_ref", "T", "V"),
+        duration=1.0,
+        error=_accel_error,
+        invariant="T + V (rolling)",
+        drift=_energy_drift,
+        settle=0.01,
+        drift_tol=5e-3,  # the course's energy theorem while rolling, to 0.5 %
+    ),
+)
