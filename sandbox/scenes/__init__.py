@@ -5,12 +5,13 @@ from __future__ import annotations
 from sandbox.errors import UnknownScene, choices
 from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
+from sandbox.scenes.gyroscope import SCENE as GYROSCOPE
 from sandbox.scenes.heavy_gyroscope import SCENE as HEAVY_GYROSCOPE
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
 
 SCENES: dict[str, Scene] = {
-    s.name: s for s in (ROTOR, COMPRESSOR, ROLLING_CYLINDER, HEAVY_GYROSCOPE)
+    s.name: s for s in (ROTOR, COMPRESSOR, ROLLING_CYLINDER, GYROSCOPE, HEAVY_GYROSCOPE)
 }
 """Every registered scene by name."""
 
