@@ -154,6 +154,8 @@ SCENE = Scene(
         drift=_sigma_drift,
         values={"spin_rpm": 30000.0, "manoeuvre": 2.0},
         timesteps=(1.5e-4, 5e-4, 1.5e-3, 5e-3, 1.5e-2),
-        drift_tol=1e-6,  # |σG| kept to 1e-6 (the limit)
+        # |σG| kept to 1e-6 over 10 s (the limit), i.e. 2e-7 over this 2 s run:
+        # the implicit integrator, stable and cheap, bleeds σG (numerical damping) past it.
+        drift_tol=2e-7,
     ),
 )
