@@ -264,10 +264,10 @@ def bench_scene(
             run.default = integrator == scene.integrator and math.isclose(dt, scene.timestep)
             result.runs.append(run)
             if progress is not None:
+                speed = "" if run.diverged else f"{run.realtime_factor:8.1f}x real time"
                 status = "diverged" if run.diverged else f"error {run.error:.2e}"
                 progress(
-                    f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} "
-                    f"{run.realtime_factor:8.1f}x real time"
+                    f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} {speed}"
                 )
     mark_pareto(result.runs, acc)
     return result

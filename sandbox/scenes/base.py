@@ -229,6 +229,7 @@ class Scene:
         camera: (direction from the model towards the camera, up vector) of the 3D view.
         look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
         start_paused: The web app waits for "Lecture" (motions that leave the view).
+        trail: A point whose path the 3D view draws (e.g. the tip of a gyroscope's axis).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
     """
@@ -254,6 +255,7 @@ class Scene:
     accuracy: Accuracy | None = None
     camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
     look_at: tuple[tuple[float, float, float], float] | None = None
+    trail: Callable[[Snapshot], np.ndarray] | None = None
     start_paused: bool = False
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
 

@@ -145,6 +145,7 @@ SCENE = Scene(
     body_frame="rotor",
     sections="1, 2.2.2, 3, 5",
     camera=((0.8, -1.0, 0.6), (0.0, 0.0, 1.0)),
+    trail=lambda s: 0.07 * _axis(s),  # tip of the rotor's axle: stays put while spinning
     accuracy=Accuracy(
         key="axis_drift",
         readouts=("axis_drift", "sigma_G_x", "sigma_G_y", "sigma_G_z"),

@@ -155,6 +155,7 @@ SCENE = Scene(
     body_frame="rotor",
     sections="2.2.2, 3, 5",
     camera=((0.6, -1.0, 0.5), (0.0, 0.0, 1.0)),
+    trail=lambda s: 1.4 * max(s.values["d"], 0.036) * _axis(s),  # tip of the axle: the cone
     accuracy=Accuracy(
         key="precession_rate",
         readouts=("precession_rate", "T", "V"),

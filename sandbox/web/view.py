@@ -18,6 +18,7 @@ from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.readout_panel import ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Notice
+from sandbox.web.trail import Trail
 
 PANEL_RATE = 10.0
 """Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
@@ -92,6 +93,11 @@ class WebView:
                 extent=float(model.stat.extent),
                 units=[units.get(a.name, "") for a in scene.arrows],
             )
+        self.trail = (
+            Trail(client.scene, scene.trail, extent=float(model.stat.extent))
+            if scene is not None and scene.trail is not None
+            else None
+        )
         self.controls = (controls or ControlPanel)(client.gui, controller)
         self.lesson = (
             LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
@@ -141,6 +147,9 @@ class WebView:
         if self.lesson is not None:
             self.lesson.refresh(values)
         self.cycle.refresh(sim, now)
+        if self.trail is not None:
+            with sim.lock:
+                self.trail.update(sim.snapshot(()))
         self.isolate.refresh(sim)
         cost = getattr(controller, "cost", None)
         if cost is not None:

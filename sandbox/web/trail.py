@@ -1,0 +1,51 @@
+"""A scene's trail: the path of one point drawn as a polyline (e.g. the precession cone
+traced by a gyroscope's axis)."""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import Any
+
+import numpy as np
+
+from sandbox.physics.snapshot import Snapshot
+
+MAXLEN = 600
+"""Points kept (one per panel refresh: a minute at 10 Hz)."""
+
+
+class Trail:
+    """Polyline of ``scene.trail(snapshot)`` over time, in one client's scene.
+
+    Args:
+        scene: A viser ``SceneApi``.
+        fn: The scene's trail function (world point [m] from a snapshot).
+        extent: Size of the model [m] (line thickness).
+    """
+
+    def __init__(self, scene: Any, fn: Any, *, extent: float) -> None:
+        self.fn = fn
+        self.points: deque[np.ndarray] = deque(maxlen=MAXLEN)
+        self.last_time = -np.inf
+        self.node = scene.add_line_segments(
+            "/trail",
+            points=np.zeros((1, 2, 3), dtype=np.float32),
+            colors=(200, 60, 160),
+            thickness=0.004 * extent,
+            visible=False,
+        )
+
+    def update(self, snapshot: Snapshot) -> None:
+        """Add the current point; time going back (reset) starts a new trail."""
+        t = float(snapshot.data.time)
+        if t < self.last_time:
+            self.points.clear()
+        self.last_time = t
+        p = np.asarray(self.fn(snapshot), dtype=float)
+        if not np.isfinite(p).all():
+            return
+        self.points.append(p)
+        if len(self.points) >= 2:
+            pts = np.array(self.points, dtype=np.float32)
+            self.node.points = np.stack([pts[:-1], pts[1:]], axis=1)
+            self.node.visible = True
