@@ -16,6 +16,7 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+from sandbox.scenes.measures import energy_drift
 
 G = 9.81
 RPM = 2 * math.pi / 60
@@ -162,10 +163,7 @@ SCENE = Scene(
         duration=1.0,
         error=_precession_error,
         invariant="T + V",
-        drift=lambda series, values: float(
-            np.max(np.abs(series["T"] + series["V"] - series["T"][0] - series["V"][0]))
-            / max(abs(series["T"][0]), 1e-12)
-        ),
+        drift=energy_drift(),
         timesteps=(5e-5, 1.5e-4, 5e-4, 1.5e-3, 5e-3),
         drift_tol=1e-3,  # T + V: first-order integrators gain energy on a spinning top
     ),

@@ -52,3 +52,14 @@ def residual_over_peak(residual: str, peak: str) -> Measure:
         return float(np.max(np.abs(np.asarray(series[residual], dtype=float)))) / max(top, 1e-300)
 
     return measure
+
+
+def energy_drift() -> Measure:
+    """max over the run of |(T + V)(t) − (T + V)(0)| / max |T| (mechanical energy)."""
+
+    def measure(series: Series, values: Values) -> float:
+        e = np.asarray(series["T"], dtype=float) + np.asarray(series["V"], dtype=float)
+        scale = max(float(np.max(np.abs(series["T"]))), 1e-300)
+        return float(np.max(np.abs(e - e[0])) / scale)
+
+    return measure

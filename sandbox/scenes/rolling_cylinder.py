@@ -26,6 +26,7 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+from sandbox.scenes.measures import energy_drift
 
 G = 9.81
 PARAMS = (
@@ -225,41 +226,37 @@ def _velocity_of_material_point(s: Snapshot, p: np.ndarray) -> np.ndarray:
     return v_origin + np.cross(omega, p - _centre(s))
 
 
-def _contact_force(s: Snapshot) -> np.ndarray:
-    """Force of the plane on the cylinder, world axes, summed over contact points."""
-    if "rc_force" in s.cache:
-        return s.cache["rc_force"]
+def _plane_contacts(s: Snapshot) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(position, force of the plane on the cylinder) of each contact, world axes."""
+    if "rc_contacts" in s.cache:
+        return s.cache["rc_contacts"]
     m, d = s.model, s.data
     plane = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "plane")
-    total = np.zeros(3)
+    body = s.body_id("cylinder")
+    out = []
     f6 = np.zeros(6)
     for i in range(d.ncon):
         c = d.contact[i]
         if plane not in (c.geom1, c.geom2):
             continue
+        other = c.geom2 if c.geom1 == plane else c.geom1
+        if m.geom_bodyid[other] != body:
+            continue  # a racer's contact
         mujoco.mj_contactForce(m, d, i, f6)
-        frame = c.frame.reshape(3, 3)
-        f = frame.T @ f6[:3]  # on geom2, from geom1
-        total += f if c.geom1 == plane else -f
-    s.cache["rc_force"] = total
-    return total
+        f = c.frame.reshape(3, 3).T @ f6[:3]  # on geom2, from geom1
+        out.append((np.asarray(c.pos).copy(), f if c.geom1 == plane else -f))
+    s.cache["rc_contacts"] = out
+    return out
+
+
+def _contact_force(s: Snapshot) -> np.ndarray:
+    """Force of the plane on the cylinder, world axes, summed over contact points."""
+    return sum((f for _, f in _plane_contacts(s)), np.zeros(3))
 
 
 def _contact_power(s: Snapshot) -> float:
     """Power of the contact forces on the cylinder: Σ f_i · V(P_i ∈ S) (≤ 0)."""
-    m, d = s.model, s.data
-    plane = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "plane")
-    p = 0.0
-    f6 = np.zeros(6)
-    for i in range(d.ncon):
-        c = d.contact[i]
-        if plane not in (c.geom1, c.geom2):
-            continue
-        mujoco.mj_contactForce(m, d, i, f6)
-        f = c.frame.reshape(3, 3).T @ f6[:3]
-        f = f if c.geom1 == plane else -f
-        p += float(f @ _velocity_of_material_point(s, np.asarray(c.pos)))
-    return p
+    return float(sum(f @ _velocity_of_material_point(s, p) for p, f in _plane_contacts(s)))
 
 
 def _along(s: Snapshot, vec: np.ndarray, axis: int) -> float:
@@ -393,12 +390,6 @@ ARROWS = (
 )  # fmt: skip
 
 
-def _energy_drift(series, values) -> float:
-    e = np.asarray(series["T"]) + np.asarray(series["V"])
-    scale = max(float(np.max(np.abs(series["T"]))), 1e-12)
-    return float(np.max(np.abs(e - e[0])) / scale)
-
-
 def _accel_error(series, values) -> float:
     return float(
         np.max(np.abs(np.asarray(series["a"]) - np.asarray(series["a_ref"])))
@@ -435,7 +426,7 @@ SCENE = Scene(
         duration=1.0,
         error=_accel_error,
         invariant="T + V (rolling)",
-        drift=_energy_drift,
+        drift=energy_drift(),
         settle=0.01,
         drift_tol=5e-3,  # the course's energy theorem while rolling, to 0.5 %
     ),
