@@ -16,8 +16,9 @@ from sandbox.data import data_dir
 from sandbox.physics.simulation import Simulation
 from sandbox.web.tables import fmt
 
-CHART_PERIOD = 3.0
-"""Seconds between two redraws of the chart (only when the live point moved)."""
+CHART_PERIOD = 30.0
+"""Seconds between two redraws of the chart while the setting stays the same (a redraw
+costs the session loop a few tenths of a second; a new integrator or dt redraws at once)."""
 
 WINDOW = 300
 """Samples kept for the live error and drift (30 s at the panel rate)."""
@@ -95,9 +96,8 @@ class AccuracyPanel:
             self.text = gui.add_markdown("")
             self.image = None
             if self.results is not None:
-                self.image = gui.add_image(
-                    chart_image(self.results, None), label="Erreur / coût", format="png"
-                )
+                blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
+                self.image = gui.add_image(blank, label="Erreur / coût", format="png")
 
     def _settings(self, sim: Simulation, generation: int) -> tuple:
         return (sim.integrator, sim.timestep, tuple(sorted(sim.values.items())), generation)
@@ -153,7 +153,8 @@ class AccuracyPanel:
         if self.image is None or not math.isfinite(cost):
             return
         point = (sim.integrator, sim.timestep, _round(cost), _round(error))
-        if point != self._charted and now - self._chart_at >= CHART_PERIOD:
+        changed = self._charted is None or point[:2] != self._charted[:2]
+        if point != self._charted and (changed or now - self._chart_at >= CHART_PERIOD):
             self._chart_at, self._charted = now, point
             live = Run(
                 sim.label, sim.integrator, sim.timestep, 0.0, error=error, cpu_per_sim_s=cost
