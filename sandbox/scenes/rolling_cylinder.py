@@ -384,7 +384,7 @@ def _at_a(s: Snapshot, vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 ARROWS = (
     Arrow("N", "N", (60, 160, 60), lambda s: _at_a(s, _along(s, _contact_force(s), 2) * _frame(s)[:, 2]), ARROW_SCALE),
-    Arrow("Tt", "T", (220, 120, 40), lambda s: _at_a(s, _along(s, _contact_force(s), 0) * _frame(s)[:, 0]), ARROW_SCALE),
+    Arrow("Tt", "Tt", (220, 120, 40), lambda s: _at_a(s, _along(s, _contact_force(s), 0) * _frame(s)[:, 0]), ARROW_SCALE),
     Arrow("v_G", "V(G)", (60, 100, 220), lambda s: _g_and_velocity(s), 0.1),
     Arrow("slip", "V(A∈S)", (200, 40, 40), lambda s: _at_a(s, _velocity_of_material_point(s, _contact_point(s))), 0.1),
 )  # fmt: skip

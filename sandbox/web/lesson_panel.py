@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from sandbox.lessons import Lesson, Progress, lessons
+from sandbox.web.plots import Plot, group_by_unit
 from sandbox.web.session import Request
 from sandbox.web.tables import fmt
 
@@ -41,6 +42,7 @@ class LessonPanel:
             name: les for name, les in lessons().items() if scene and les.for_scene(scene)
         }
         self.progress: Progress | None = None
+        self.plots: list[Plot] = []
         self._step_handles: list[Any] = []
         self._pending: str | None = lesson if lesson in self.available else None
         self._pending_step: int | None = None
@@ -91,6 +93,9 @@ class LessonPanel:
         progress = self.progress
         if progress is None:
             return
+        for plot in self.plots:
+            plot.append(values)
+            plot.push()
         step = progress.step
         ok = progress.observe(values, self.controller.sim.values)
         rows = [f"| {n} | {fmt(values.get(n, math.nan))} |" for n in step.show]
@@ -116,6 +121,7 @@ class LessonPanel:
         self.controller.lesson = lesson.name if lesson else None
         if lesson is None:
             self.progress = None
+            self.plots = []
             self.nav.visible = False
             self.hint_button.visible = False
             for handle in (self.header, self.text, self.table, self.status, self.hints):
@@ -145,7 +151,14 @@ class LessonPanel:
         for handle in self._step_handles:
             handle.remove()
         self._step_handles = []
+        self.plots = []
         with self.folder:
+            if step.plots:
+                units = {i.name: i.unit for i in self.controller.sim.readout_infos()}
+                for plot in group_by_unit(step.plots, units, {}):
+                    plot.attach(self.gui, title=f"{', '.join(plot.names)} [{plot.unit}]")
+                    self.plots.append(plot)
+                    self._step_handles.append(plot.handle)
             for question, answer in step.questions:
                 q = self.gui.add_markdown(f"❓ {question}")
                 button = self.gui.add_button("Voir la réponse", color="gray")
