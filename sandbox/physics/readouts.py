@@ -212,11 +212,18 @@ def _dof_wrenches(
     return r, m
 
 
+def joint_drive(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """Generalised forces that motors and qfrc_applied pass on to the bodies (nv,).
+
+    A joint's armature models a motor rotor spinning with it: its inertial torque
+    armature·q̈ stays inside the motor, so the bodies receive the rest.
+    """
+    return data.qfrc_actuator + data.qfrc_applied - model.dof_armature * data.qacc
+
+
 def actuator_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """Motors (and qfrc_applied) acting in joints between the frame and the mechanism."""
-    return _dof_wrenches(
-        model, data, data.qfrc_actuator + data.qfrc_applied, _frame_children(model)
-    )
+    return _dof_wrenches(model, data, joint_drive(model, data), _frame_children(model))
 
 
 def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
@@ -252,7 +259,7 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     for body in mechanism_bodies(model):
         dr, dm = _spatial_at_origin(model, data, body, data.cfrc_ext[body])
         r, m = r + dr, m + dm
-    ar, am = _dof_wrenches(model, data, data.qfrc_actuator + data.qfrc_applied, children)
+    ar, am = _dof_wrenches(model, data, joint_drive(model, data), children)
     xr, xm = applied_torsor(model, data)
     return r - ar - xr, m - am - xm
 
@@ -260,13 +267,14 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
 def kinetic_energy(
     model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
 ) -> float:
-    """T = Σ ½ m v_G² + ½ ω·I_G ω (armature, a joint property, is not counted)."""
+    """T = Σ ½ m v_G² + ½ ω·I_G ω, plus ½ Σ armature q̇² (motor rotors, whole mechanism)."""
     k = _kin(model, data, kin)
     b = _select(k, bodies)
     v = k.v_g[b]
-    return float(
-        0.5 * (model.body_mass[b] * (v * v).sum(1)).sum() + 0.5 * (k.i_omega[b] * k.omega[b]).sum()
-    )
+    t = 0.5 * (model.body_mass[b] * (v * v).sum(1)).sum() + 0.5 * (k.i_omega[b] * k.omega[b]).sum()
+    if bodies is None:
+        t += 0.5 * float(model.dof_armature @ (data.qvel * data.qvel))
+    return float(t)
 
 
 def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
@@ -308,12 +316,14 @@ def powers(
 def acceleration_power(
     model: mujoco.MjModel, data: mujoco.MjData, *, kin: Kinematics | None = None
 ) -> float:
-    """P_acc = Σ {D_i}⊗{V_i} = Σ m a_G·v_G + (I_G α + ω ∧ I_G ω)·ω."""
+    """P_acc = Σ {D_i}⊗{V_i} = Σ m a_G·v_G + (I_G α + ω ∧ I_G ω)·ω, plus the motor
+    rotors' Σ armature q̇ q̈ (so that P_acc = dT/dt with T as above)."""
     k = _kin(model, data, kin)
     b = k.bodies
     return float(
         (model.body_mass[b] * (k.a_g[b] * k.v_g[b]).sum(1)).sum()
         + (k.delta_g[b] * k.omega[b]).sum()
+        + model.dof_armature @ (data.qvel * data.qacc)
     )
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from sandbox.physics.readouts import joint_drive
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import largest, residual_over_peak
@@ -51,6 +52,7 @@ PARAMS = (
     _p("C2", "kg·m²", 6.5e-5, 1e-8, 1e-1, "Rod inertia about (A, z0).", step=1e-6),
     _p("counterweight_mass", "kg", 0.0, 0.0, 2.0, "Balancing mass on the crank, opposite A.", step=0.005),
     _p("counterweight_radius", "m", 0.015, 0.0, 0.06, "Distance of the balancing mass from O.", step=0.0005),
+    _p("motor_inertia", "kg·m²", 0.02, 0.0, 1.0, "Inertia of the motor's rotor, turning with the crank (a joint armature).", step=0.001),
     _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05),
 )  # fmt: skip
 
@@ -207,6 +209,7 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     _inertial(piston, v["m3"], [0, v["d3"], 0], [tiny3, tiny3, tiny3, 0, 0, 0])
     spec.geom("cylinder").pos = [0, L + R + 0.01, 0]
     spec.geom("cylinder").size = [0.022, R + 0.02, 0]
+    spec.joint("crank").armature = v["motor_inertia"]
     motor = spec.actuator("motor")
     if v["ramp_s"] > 0:
         motor.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
@@ -216,9 +219,10 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
 
 
 SERVO_STIFFNESS = 1.4
-"""Servo gain × dt / C1: the velocity servo's time constant C1/kv is then 0.7 dt, inside
-RK4's stability limit (2.8 dt). The crank's own inertia takes the rest of the torque, so
-the speed ripple is about 1.4 ω dt × (torque ripple / C1 ω²): 5e-4 at 3000 rpm, dt 2e-5."""
+"""Servo gain × dt / (C1 + J): the velocity servo's time constant (C1 + J)/kv is then
+0.7 dt, inside RK4's stability limit (2.8 dt). With the motor's rotor inertia J = 0.02
+kg·m² (100 C1) the speed ripple is ~1e-6 and the crank's own C1·dω/dt a negligible part of
+the torque: the shaft torque matches C_mot = (dT/dt)/ω."""
 
 CLOSURE_TIMECONST = 2.0
 """Time constant of the closure constraint, in timesteps (MuJoCo's stiffest safe value);
@@ -230,7 +234,7 @@ def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
     """Motor set point (the crank speed, filtered when ``ramp_s`` > 0); servo gain and
     closure stiffness follow the timestep so that any dt stays stable."""
     dt = float(model.opt.timestep)
-    kv = SERVO_STIFFNESS * v["C1"] / dt
+    kv = SERVO_STIFFNESS * (v["C1"] + v["motor_inertia"]) / dt
     model.actuator_gainprm[0, 0] = kv
     model.actuator_biasprm[0, :3] = [0.0, 0.0, -kv]
     model.eq_solref[0] = [CLOSURE_TIMECONST * dt, 1.0]
@@ -313,7 +317,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
         theta, w = float(data.qpos[0]), float(data.qvel[0])
         force = -generic.support_torsor(model, data)[0]
         ref = frame_force(theta, w, v)
-        rows.append((theta, force[1], force[0], float(data.actuator_force[0]), ref[1], ref[0],
+        rows.append((theta, force[1], force[0], float(joint_drive(model, data)[0]), ref[1], ref[0],
                      motor_torque(theta, w, v)))  # fmt: skip
         mujoco.mj_step(model, data, per)
     a = np.array(rows).reshape(-1, 7)
@@ -351,7 +355,7 @@ READOUTS = (
     SceneReadout("lambda", "m", "OB: position of the piston pin on y0.", lambda s: s.joint_qpos("piston")),
     SceneReadout("pilon", "N", "Force of the moving parts on the frame along y0 (cylinder axis).", lambda s: float(_force(s)[1])),
     SceneReadout("tamis", "N", "Force of the moving parts on the frame along x0 (across).", lambda s: float(_force(s)[0])),
-    SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank.", lambda s: float(s.data.actuator_force[0])),
+    SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank shaft (its rotor's own inertia excluded).", lambda s: float(joint_drive(s.model, s.data)[0])),
     SceneReadout("closure_error", "m", "Distance between the rod's end and the crank pin A.", _closure),
     SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 1])),
     SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 2])),

@@ -231,3 +231,39 @@ def test_joint_springs_count_in_v_and_t_plus_v_is_conserved(tmp_path):
     sim.advance(0.37)
     r = sim.readouts(["T", "V"])
     assert r["T"] > 0.1 and r["T"] + r["V"] == pytest.approx(0.5, abs=1e-6)
+
+
+def test_armature_counts_as_motor_rotor_energy(tmp_path):
+    """A motor with rotor inertia (armature) spinning up an arm: T includes ½ J q̇²,
+    P_acc = P_ext + P_int = dT/dt, and the PFD still closes on the bodies."""
+    import mujoco
+
+    from sandbox.physics.simulation import Simulation
+
+    xml = tmp_path / "motor.xml"
+    xml.write_text(
+        '<mujoco><option timestep="1e-4" integrator="RK4" gravity="0 0 0"/><worldbody>'
+        '<body><joint name="j" type="hinge" axis="0 0 1" armature="0.05"/>'
+        '<geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/></body>'
+        '</worldbody><actuator><motor joint="j" gear="1"/></actuator></mujoco>'
+    )
+    sim = Simulation(xml)
+    sim.data.ctrl[0] = 0.7
+    sim.advance(0.2)
+    names = ["T", "P_acc", "P_ext", "P_int", "dyn_M_z", "sup_M_z"]
+    r = sim.readouts(names)
+    qv = float(sim.data.qvel[0])
+    full = np.zeros((1, 1))
+    mujoco.mj_fullM(sim.model, sim.data, full)  # joint-space inertia, armature included
+    assert r["T"] == pytest.approx(0.5 * full[0, 0] * qv * qv, rel=1e-9)
+    assert full[0, 0] > 0.05
+    assert r["P_acc"] == pytest.approx(r["P_ext"] + r["P_int"], rel=1e-9)
+    assert r["P_ext"] == pytest.approx(0.7 * qv, rel=1e-9)
+    t0, p0 = r["T"], r["P_acc"]
+    sim.advance(1e-3)
+    r1 = sim.readouts(["T", "P_acc"])
+    assert (r1["T"] - t0) / 1e-3 == pytest.approx(0.5 * (p0 + r1["P_acc"]), rel=1e-6)
+    # the body receives the motor torque minus the rotor's own inertial torque
+    drive = 0.7 - 0.05 * float(sim.data.qacc[0])
+    r = sim.readouts(names)
+    assert r["dyn_M_z"] == pytest.approx(r["sup_M_z"] + drive, rel=1e-6)
