@@ -391,6 +391,8 @@ def everything_on(sim: Simulation) -> None:
     sim.model.opt.disableflags = int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
     sim.model.geom_contype[:] = 1
     sim.model.geom_conaffinity[:] = 1
+    sim.model.body_contype[:] = 1  # MuJoCo's broadphase filters on these per-body unions
+    sim.model.body_conaffinity[:] = 1
     mujoco.mj_forward(sim.model, sim.data)
 
 
