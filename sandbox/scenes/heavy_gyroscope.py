@@ -14,6 +14,7 @@ import math
 import mujoco
 import numpy as np
 
+from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import energy_drift
@@ -98,7 +99,7 @@ def _omega(s: Snapshot) -> np.ndarray:
 
 def _precession_rate(s: Snapshot) -> float:
     e3 = _axis(s)
-    de3 = np.cross(_omega(s), e3)
+    de3 = _cross(_omega(s), e3)
     h = e3[0] ** 2 + e3[1] ** 2
     return float((e3[0] * de3[1] - e3[1] * de3[0]) / h) if h > 1e-12 else 0.0
 
@@ -108,10 +109,10 @@ def _sigma_o(s: Snapshot) -> np.ndarray:
     rot = s.data.ximat[b].reshape(3, 3)
     i_g = rot @ np.diag(s.model.body_inertia[b]) @ rot.T
     w = _omega(s)
-    from sandbox.physics.readouts import Kinematics
+    from sandbox.physics.readouts import Kinematics, _cross
 
     v_g = Kinematics(s.model, s.data).v_g[b]
-    return i_g @ w + np.cross(s.data.xipos[b], s.model.body_mass[b] * v_g)
+    return i_g @ w + _cross(s.data.xipos[b], s.model.body_mass[b] * v_g)
 
 
 READOUTS = (

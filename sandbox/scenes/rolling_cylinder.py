@@ -24,6 +24,7 @@ import math
 import mujoco
 import numpy as np
 
+from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import energy_drift
@@ -223,7 +224,7 @@ def _velocity_of_material_point(s: Snapshot, p: np.ndarray) -> np.ndarray:
         s.model, s.data, mujoco.mjtObj.mjOBJ_BODY, s.body_id("cylinder"), res, 0
     )
     v_origin, omega = res[3:], res[:3]
-    return v_origin + np.cross(omega, p - _centre(s))
+    return v_origin + _cross(omega, p - _centre(s))
 
 
 def _plane_contacts(s: Snapshot) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -270,7 +271,7 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
     axis) from states at t ± h along the current motion; the direct value is
     δG + AG ∧ m Γ(G) from MuJoCo's accelerations.
     """
-    from sandbox.physics.readouts import Kinematics
+    from sandbox.physics.readouts import Kinematics, _cross
 
     m, d = s.model, s.data
     ids = [s.body_id("cylinder"), s.body_id("eccentric")]
@@ -283,12 +284,12 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
         total = np.zeros(3)
         for b in ids:
             mv = m.body_mass[b] * kin.v_g[b]
-            total += kin.i_omega[b] + np.cross(data.xipos[b] - a, mv)
+            total += kin.i_omega[b] + _cross(data.xipos[b] - a, mv)
         return total
 
     h = 1e-4
     values = []
-    scratch = mujoco.MjData(m)
+    scratch = _scratch(m)
     for sign in (1.0, -1.0):
         scratch.qpos[:] = d.qpos + sign * h * d.qvel + 0.5 * h * h * d.qacc
         scratch.qvel[:] = d.qvel + sign * h * d.qacc
@@ -303,9 +304,22 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
     a = _contact_point(s)
     for b in ids:
         mv = m.body_mass[b] * k.v_g[b]
-        transport += np.cross(v_a, mv)
-        direct += k.delta_g[b] + np.cross(d.xipos[b] - a, m.body_mass[b] * k.a_g[b])
+        transport += _cross(v_a, mv)
+        direct += k.delta_g[b] + _cross(d.xipos[b] - a, m.body_mass[b] * k.a_g[b])
     return float(dsigma @ y), float(transport @ y), float(direct @ y)
+
+
+_SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
+
+
+def _scratch(model: mujoco.MjModel) -> mujoco.MjData:
+    """A reusable MjData for ``model`` (allocating one per readout costs more than using it)."""
+    entry = _SCRATCH.get(id(model))
+    if entry is None or entry[0] is not model:
+        if len(_SCRATCH) > 16:
+            _SCRATCH.clear()
+        entry = _SCRATCH[id(model)] = (model, mujoco.MjData(model))
+    return entry[1]
 
 
 def _axis_velocity(s: Snapshot) -> np.ndarray:

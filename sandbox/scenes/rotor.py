@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics import MassProperties, coefficients, combine, cylinder, huygens, sphere
+from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import relative_drift, worst_relative_error
@@ -200,7 +201,7 @@ def bearing_split(r: np.ndarray, m_o: np.ndarray) -> tuple[np.ndarray, np.ndarra
     guidance isostatic: R⊥ = F_A + F_B and M_O⊥ = OA ∧ F_A + OB ∧ F_B.
     """
     r_perp = r - np.dot(r, AXIS) * AXIS
-    twist = np.cross(m_o, AXIS) / BEARING_X
+    twist = _cross(m_o, AXIS) / BEARING_X
     return 0.5 * (r_perp - twist), 0.5 * (r_perp + twist)
 
 
