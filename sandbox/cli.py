@@ -60,6 +60,8 @@ def _pairs(items: Sequence[str]) -> dict[str, str]:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and docs)."""
     p = _Parser(prog="sandbox", description="Rigid-body dynamics teaching sandbox.")
+    p.add_argument("--host", default="127.0.0.1", help="bare 'sandbox': interface to serve on")
+    p.add_argument("--port", type=int, default=8080, help="bare 'sandbox': port to serve on")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     sub.add_parser("list", help="list scenes and lessons")
     d = sub.add_parser("describe", help="parameters, effects and readouts of a scene or file")

@@ -167,3 +167,16 @@ def test_console_script_has_no_traceback():
     )
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr and "mass1_g" in proc.stderr
+
+
+def test_bare_sandbox_accepts_host_and_port(monkeypatch):
+    calls = {}
+
+    def fake_serve(target, **options):
+        calls.update(target=target, **options)
+
+    monkeypatch.setattr("sandbox.web.app.serve", fake_serve)
+    assert main(["--port", "8133"]) == 0
+    assert calls["target"] == "rotor" and calls["port"] == 8133
+    assert main(["serve", "equilibrage", "--port", "8134"]) == 0
+    assert calls["target"] == "rotor" and calls["lesson"] == "equilibrage"

@@ -1,9 +1,10 @@
 """Micro-compressor (course 4, 6, 7.3) against the slider-crank closed forms, hard cases.
 
 Tolerances: pilon, tamis and motor torque within 0.5 % of their peak over a revolution at
-3000 rpm and
-1 % in the hard cases; closure < 1e-6 m; |P_int| (the energy-theorem residual, since only
-the motor works on the mechanism) < 1e-3 of the peak motor power; speed within 0.1 %.
+3000 rpm and the pilon within 1 % in the hard cases; closure < 1e-6 m; |P_int| (the
+energy-theorem residual: only the motor works on the mechanism, so P_acc − P_ext = P_int)
+< 1e-3 of the peak shaft power; speed within 0.1 %; no NaN and no MuJoCo warning.
+Sampling intervals are whole multiples of the default timestep (1e-4 s).
 """
 
 from __future__ import annotations
@@ -22,15 +23,27 @@ NAMES = ("pilon", "pilon_ref", "tamis", "tamis_ref", "motor_torque", "motor_torq
          "closure_error", "P_int", "P_ext", "omega")  # fmt: skip
 
 
-def _run(values=None, duration=0.1, *, every=5e-4, settle=0.0, timestep=None):
-    """Simulate and sample; returns arrays of every readout in NAMES after ``settle``."""
-    sim = Simulation("compressor", values=values or {}, timestep=timestep)
+def _sample(sim, duration, every):
+    """Advance ``sim`` by ``duration`` [s], reading NAMES every ``every`` [s]."""
+    assert every >= sim.timestep * 0.999, "sampling faster than the timestep"
     rows = []
     for _ in range(int(round(duration / every))):
         sim.advance(every)
-        if sim.data.time >= settle:
-            rows.append(sim.readouts(NAMES))
-    return sim, {n: np.array([r[n] for r in rows]) for n in NAMES}
+        rows.append(sim.readouts(NAMES))
+    return {n: np.array([r[n] for r in rows]) for n in NAMES}
+
+
+def _run(values=None, duration=0.1, *, every=5e-4, timestep=None):
+    """A new simulation sampled from its start; returns it with arrays of NAMES."""
+    sim = Simulation("compressor", values=values or {}, timestep=timestep)
+    return sim, _sample(sim, duration, every)
+
+
+def _one_revolution(sim, samples=200):
+    """A dense revolution from the current state (at most one sample per timestep)."""
+    period = 2 * math.pi / abs(float(sim.data.qvel[0]))
+    steps = max(1, int(period / samples / sim.timestep))
+    return _sample(sim, period * 1.02, steps * sim.timestep)
 
 
 def _peak_error(s, name):
@@ -38,11 +51,16 @@ def _peak_error(s, name):
     return float(np.max(np.abs(s[name] - ref)) / np.max(np.abs(ref)))
 
 
-def _assert_healthy(s, pilon_tol):
-    assert np.all(np.isfinite(s["pilon"]))
+def _assert_healthy(s, pilon_tol, sim=None):
+    """No NaN, no MuJoCo warning, loop closed to 1e-6 m, pilon within ``pilon_tol`` of its
+    peak, and |P_int| = |P_acc − P_ext| below 1e-3 of the peak shaft power C_mot·ω."""
+    assert all(np.all(np.isfinite(v)) for v in s.values())
+    if sim is not None:
+        assert not any(int(w.number) for w in sim.data.warning), "MuJoCo warning"
     assert s["closure_error"].max() < 1e-6
     assert _peak_error(s, "pilon") < pilon_tol
-    assert np.max(np.abs(s["P_int"])) < 1e-3 * np.max(np.abs(s["P_ext"]))
+    shaft_power = np.max(np.abs(s["motor_torque"] * s["omega"]))
+    assert np.max(np.abs(s["P_int"])) < 1e-3 * shaft_power
 
 
 def test_slider_crank_kinematics_at_dead_centres_and_by_differences():
@@ -88,7 +106,7 @@ def test_3000_rpm_matches_the_course_within_half_a_percent_of_the_peak():
     assert _peak_error(s, "pilon") < 5e-3
     assert _peak_error(s, "tamis") < 5e-3
     assert np.max(np.abs(s["omega"] / (3000 * RPM) - 1)) < 1e-3  # speed held to 0.1 %
-    _assert_healthy(s, 5e-3)
+    _assert_healthy(s, 5e-3, sim)
     assert _peak_error(s, "motor_torque") < 5e-3  # C_mot ω = dT/dt (energy theorem)
 
 
@@ -143,35 +161,70 @@ def test_rod_shorter_than_crank_is_refused():
         Simulation("compressor", values={"R": 0.03, "L": 0.02})
 
 
+# -- the closure's design ---------------------------------------------------------------------
+def test_initial_state_is_on_the_loop_with_consistent_velocities():
+    """The run starts closed: zero gap at A and a relative velocity J·q̇ of zero."""
+    sim = Simulation("compressor")
+    assert sim.readouts(["closure_error"])["closure_error"] < 1e-12
+    assert np.abs(sim.data.efc_vel).max() < 1e-9
+    assert sim.readouts(["omega"])["omega"] == pytest.approx(3000 * RPM, rel=1e-12)
+
+
+def test_closure_does_no_work_and_biases_nothing():
+    """Default settings at 3000 rpm: the closure's power is below 1e-4 of the shaft's and
+    the pilon matches the course within 5e-4 of its peak (a closure at MuJoCo's stiffest
+    time constant, 2 dt, shows 0.2 % here from its damping of a step-to-step violation)."""
+    sim = Simulation("compressor")
+    sim.advance(0.06)
+    s = _one_revolution(sim)
+    assert np.max(np.abs(s["P_int"])) < 1e-4 * np.max(np.abs(s["motor_torque"] * s["omega"]))
+    assert _peak_error(s, "pilon") < 5e-4
+    assert _peak_error(s, "tamis") < 5e-4
+    assert s["closure_error"].max() < 1e-7
+
+
+def test_live_speed_change_is_held_within_a_tenth_of_a_percent():
+    sim = Simulation("compressor")
+    model = sim.model
+    sim.set_value("speed_rpm", 6000)
+    assert sim.model is model  # live: no rebuild
+    sim.advance(0.3)
+    s = _one_revolution(sim)
+    assert np.max(np.abs(s["omega"] / (6000 * RPM) - 1)) < 1e-3
+    _assert_healthy(s, 5e-3, sim)
+
+
 # -- hard cases ------------------------------------------------------------------------------
-@pytest.mark.slow
 def test_17000_rpm_for_10_seconds():
-    sim, s = _run({"speed_rpm": 17000}, duration=10.0, every=0.05)
-    _assert_healthy(s, 1e-2)
-    _, tail = _run({"speed_rpm": 17000}, duration=0.01, every=2e-5)  # a dense revolution
-    _assert_healthy(tail, 1e-2)
+    sim, s = _run({"speed_rpm": 17000}, duration=10.0, every=0.01)
+    _assert_healthy(s, 1e-2, sim)
+    tail = _one_revolution(sim)  # the 10 s old motion, densely over a revolution
+    _assert_healthy(tail, 1e-2, sim)
+    assert np.max(np.abs(tail["omega"] / (17000 * RPM) - 1)) < 1e-3
 
 
 def test_short_rod_l_over_r_1_1():
-    _, s = _run({"L": 0.0165}, duration=0.1, every=2e-4)
-    _assert_healthy(s, 1e-2)
+    sim, s = _run({"L": 0.0165}, duration=0.1, every=2e-4)
+    _assert_healthy(s, 1e-2, sim)
+    assert _peak_error(s, "tamis") < 1e-2
 
 
 def test_start_from_rest_with_a_ramp():
+    """Set point rising with a 0.1 s time constant: closed and energy-consistent during
+    the whole start, and at speed (0.1 %) with the course's pilon after 1 s."""
     sim = Simulation("compressor", values={"ramp_s": 0.1})
     assert sim.readouts(["omega"])["omega"] == 0.0
-    rows = []
-    while sim.data.time < 1.0:
-        sim.advance(2e-3)
-        rows.append(sim.readouts(NAMES))
-    s = {n: np.array([r[n] for r in rows[-100:]]) for n in NAMES}  # the last 0.2 s
-    assert np.max(np.abs(s["omega"] / (3000 * RPM) - 1)) < 1e-3
-    assert max(r["closure_error"] for r in rows) < 1e-6
-    _assert_healthy(s, 1e-2)
+    s = _sample(sim, 1.0, 2e-3)
+    assert np.all(np.isfinite(s["P_int"])) and s["closure_error"].max() < 1e-6
+    assert np.max(np.abs(s["P_int"])) < 1e-3 * np.max(np.abs(s["motor_torque"] * s["omega"]))
+    tail = _one_revolution(sim)
+    assert np.max(np.abs(tail["omega"] / (3000 * RPM) - 1)) < 1e-3
+    _assert_healthy(tail, 1e-2, sim)
 
 
-@pytest.mark.slow
 def test_60_seconds_at_3000_rpm():
-    sim, s = _run(duration=60.0, every=0.1)
-    _assert_healthy(s, 1e-2)
-    assert sim.readouts(["closure_error"])["closure_error"] < 1e-6
+    sim, s = _run(duration=60.0, every=0.05)
+    _assert_healthy(s, 1e-2, sim)
+    tail = _one_revolution(sim)
+    _assert_healthy(tail, 5e-3, sim)
+    assert _peak_error(tail, "motor_torque") < 5e-3
