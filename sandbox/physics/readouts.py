@@ -250,15 +250,14 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     ``cfrc_ext``; summed over the mechanism, the pairs between two moving bodies cancel
     (mutual actions), leaving the frame's share. Requires mj_rnePostConstraint.
     """
-    r, m = np.zeros(3), np.zeros(3)
     children = _frame_children(model)
-    for body in children:
-        if model.body_jntnum[body]:
-            dr, dm = _spatial_at_origin(model, data, body, data.cfrc_int[body])
-            r, m = r + dr, m + dm
-    for body in mechanism_bodies(model):
-        dr, dm = _spatial_at_origin(model, data, body, data.cfrc_ext[body])
-        r, m = r + dr, m + dm
+    jointed = children[model.body_jntnum[children] > 0]
+    mech = mechanism_bodies(model)
+    bodies = np.concatenate([jointed, mech])
+    wrench = np.concatenate([data.cfrc_int[jointed], data.cfrc_ext[mech]])
+    c = data.subtree_com[model.body_rootid[bodies]]
+    r = wrench[:, 3:].sum(0)
+    m = (wrench[:, :3] + _cross(c, wrench[:, 3:])).sum(0)
     ar, am = _dof_wrenches(model, data, joint_drive(model, data), children)
     xr, xm = applied_torsor(model, data)
     return r - ar - xr, m - am - xm

@@ -7,6 +7,7 @@ same torsor (e.g. both bearing forces) share one computation.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -23,7 +24,12 @@ class Snapshot:
         self.model = model
         self.data = data
         self.values = values
-        self.cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.cache: dict[str, Any] = {}
+
+    @property
+    def kinematics(self) -> readouts.Kinematics:
+        """Per-body velocities, accelerations and inertias, shared by every readout."""
+        return readouts._cached_kin(self.model, self.data, self.cache)
 
     @property
     def kinetic(self) -> tuple[np.ndarray, np.ndarray]:

@@ -27,6 +27,8 @@ from sandbox.scenes.measures import largest, residual_over_peak
 RPM = 2 * math.pi / 60
 HARMONIC_SAMPLES = 64
 """Samples per revolution for the pilon's orders 1 and 2."""
+LOOP_SAMPLES = 32
+"""Crank angles of :func:`loop_forces` (orders 0..4 need 9; 32 keeps aliasing out)."""
 
 
 def _p(name, unit, default, lo, hi, doc, *, live=False, step=0.0) -> Param:
@@ -349,14 +351,62 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     return out
 
 
+def steady(s: Snapshot, tol: float = 1e-3) -> bool:
+    """True when the crank turns at its set point (and a ramp has reached it), to ``tol``."""
+    target = float(s.data.ctrl[0])
+    if target == 0.0:
+        return False
+    near = abs(float(s.data.qvel[0]) - target) <= tol * abs(target)
+    if s.model.na:
+        near = near and abs(float(s.data.act[0]) - target) <= tol * abs(target)
+    return near
+
+
+def loop_forces(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
+    """Pilon and tamis [N] that MuJoCo computes for the mechanism put on the loop at
+    ``LOOP_SAMPLES`` crank angles, at the current speed and motor state, without
+    stepping (a scratch copy: the trajectory is untouched). Returns (θ, forces (n, 2))."""
+    from sandbox.physics import readouts as generic
+
+    model, v = s.model, s.values
+    data = mujoco.MjData(model)
+    mujoco.mj_copyData(data, model, s.data)
+    omega = float(s.data.qvel[0])
+    thetas = np.linspace(0, 2 * math.pi, LOOP_SAMPLES, endpoint=False)
+    forces = np.empty((LOOP_SAMPLES, 2))
+    for i, theta in enumerate(thetas):
+        set_loop_state(model, data, float(theta), omega, v)
+        mujoco.mj_forward(model, data)
+        mujoco.mj_rnePostConstraint(model, data)
+        forces[i] = -generic.support_torsor(model, data)[0][[1, 0]]
+    return thetas, forces
+
+
 def _pilon_harmonics(s: Snapshot) -> np.ndarray:
-    """Orders 0..4 of the pilon (row 0) and the tamis (row 1) over :func:`revolution`."""
-    rev = revolution(s)
-    if len(rev["theta"]) < 10:
-        return np.zeros((2, 5))
-    return np.stack(
-        [fit_orders(rev["theta"], rev["pilon"]), fit_orders(rev["theta"], rev["tamis"])]
-    )
+    """Orders 0..4 of the pilon (row 0) and the tamis (row 1) over one revolution.
+
+    In steady state the revolution is simulated ahead from the current state on a scratch
+    copy (:func:`revolution`, cached while nothing changes): at constant speed it is the
+    last revolution again. During a speed change (ramp, new set point) that would cost a
+    whole revolution of steps at every reading and mix several speeds, so the orders come
+    from :func:`loop_forces` at the current speed instead (same values in steady state,
+    within 1e-4 of the peak). Shared by the three order readouts through the snapshot.
+    """
+    cached = s.cache.get("compressor_orders")
+    if cached is not None:
+        return cached[0]
+    if steady(s):
+        rev = revolution(s)
+        theta, pilon, tamis = rev["theta"], rev["pilon"], rev["tamis"]
+    else:
+        theta, forces = loop_forces(s)
+        pilon, tamis = forces[:, 0], forces[:, 1]
+    if len(theta) < 10 or float(s.data.qvel[0]) == 0.0:
+        orders = np.zeros((2, 5))
+    else:
+        orders = np.stack([fit_orders(theta, pilon), fit_orders(theta, tamis)])
+    s.cache["compressor_orders"] = (orders, orders)
+    return orders
 
 
 READOUTS = (
@@ -367,9 +417,9 @@ READOUTS = (
     SceneReadout("tamis", "N", "Force of the moving parts on the frame along x0 (across).", lambda s: float(_force(s)[0])),
     SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank shaft (its rotor's own inertia excluded).", lambda s: float(joint_drive(s.model, s.data)[0])),
     SceneReadout("closure_error", "m", "Distance between the rod's end and the crank pin A.", _closure),
-    SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 1])),
-    SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[0, 2])),
-    SceneReadout("tamis_h1", "N", "Order-1 amplitude of the tamis over a revolution at this speed.", lambda s: float(_pilon_harmonics(s)[1, 1])),
+    SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution (simulated ahead in steady state, on the loop at the current speed during a speed change).", lambda s: float(_pilon_harmonics(s)[0, 1])),
+    SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[0, 2])),
+    SceneReadout("tamis_h1", "N", "Order-1 amplitude of the tamis over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[1, 1])),
     SceneReadout("pilon_ref", "N", "Course value of the pilon at the current θ and ω.", lambda s: float(frame_force(_theta(s), s.joint_qvel("crank"), s.values)[1])),
     SceneReadout("tamis_ref", "N", "Course value of the tamis at the current θ and ω.", lambda s: float(frame_force(_theta(s), s.joint_qvel("crank"), s.values)[0])),
     SceneReadout("motor_torque_ref", "N·m", "Course value C_mot = (dT/dt)/ω at the current θ and ω.", lambda s: motor_torque(_theta(s), s.joint_qvel("crank"), s.values)),

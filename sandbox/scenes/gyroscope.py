@@ -16,7 +16,7 @@ import math
 import mujoco
 import numpy as np
 
-from sandbox.physics.readouts import Kinematics, _spatial_at_origin
+from sandbox.physics.readouts import _spatial_at_origin
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 
@@ -76,7 +76,7 @@ def _axis(s: Snapshot) -> np.ndarray:
 
 def _sigma_g(s: Snapshot) -> np.ndarray:
     """Angular momentum of the rotor at G in R0: I_G ω."""
-    return Kinematics(s.model, s.data).i_omega[s.body_id("rotor")].copy()
+    return s.kinematics.i_omega[s.body_id("rotor")].copy()
 
 
 def _pivot_moment(s: Snapshot, body: str, joint: str) -> float:

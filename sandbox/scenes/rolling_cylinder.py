@@ -114,15 +114,14 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     slope = spec.body("slope")
     slope.quat = [math.cos(alpha / 2), 0, math.sin(alpha / 2), 0]  # x down the slope
     plane = spec.geom("plane")  # infinite for collisions; drawn by "deck" below
-    plane.friction[0] = v["mu"]
     plane.rgba = [0, 0, 0, 0]
+    spec.pair("contact").friction[:2] = [v["mu"], v["mu"]]
     deck = spec.geom("deck")
     deck.size = [v["plane_length"] / 2, max(v["length"], 0.5), 0.005]
     deck.pos = [v["plane_length"] / 2 - 0.5, 0, -0.005]
     R, h, m = v["R"], v["length"], v["mass"]
     cyl = spec.geom("cylinder")
     cyl.size = [R, h / 2, 0]
-    cyl.friction[0] = v["mu"]
     body = spec.body("cylinder")
     body.pos = [0, 0, R]
     i_axis = axis_inertia(v)
@@ -142,8 +141,6 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     ecc.fullinertia = [tiny, tiny, tiny, 0, 0, 0]
     spec.geom("eccentric").rgba = [0.8, 0.1, 0.1, 1.0 if m_e > 0 else 0.0]
     spec.geom("eccentric").size = [max(0.012, 0.1 * R), 0, 0]
-    spec.geom("cylinder").contype, spec.geom("cylinder").conaffinity = 2, 1
-    plane.contype, plane.conaffinity = 1, 2  # the plane touches bodies; bodies never each other
     if v["race"] >= 0.5:
         deck.size = [v["plane_length"] / 2, 3 * (h + 2 * R), 0.005]
         _add_racers(spec, v)
@@ -179,14 +176,11 @@ def _add_racers(spec: mujoco.MjSpec, v: Values) -> None:
             geom.rgba = [0.3, 0.75, 0.4, 1]
         body.ipos, body.iquat = [0, 0, 0], [1, 0, 0, 0]
         body.inertia = [i_across, i_axis, i_across]
-        geom.friction[0] = v["mu"]
-        geom.contype, geom.conaffinity = 2, 1
-        geom.solref = [0.002, 1]
-        geom.solimp = [0.99, 0.999, 0.0001, 0.5, 2]
-        geom.condim = 3
+        pair = spec.add_pair(name=f"contact_{name}", geomname1="plane", geomname2=name)
+        pair.friction = [v["mu"], v["mu"], 0, 0, 0]  # solref, solimp... from the pair default
         stripe = body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, pos=[0, 0, 0.6 * R],
                                size=[0.02 * R + 0.002, 0.3 * R, 0.4 * R])  # fmt: skip
-        stripe.rgba, stripe.contype, stripe.conaffinity = [0.2, 0.2, 0.2, 1], 0, 0
+        stripe.rgba = [0.2, 0.2, 0.2, 1]
         stripe.mass = 0
 
 
@@ -195,6 +189,28 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None
     data.qpos[:] = 0.0
     for k in range(model.nv // 3):
         data.qvel[3 * k : 3 * k + 3] = [v["v0"], 0.0, v["v0"] / v["R"]]
+    _settle(model, data)
+
+
+def _settle(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Sink every body to its static penetration (a few µm), where the contact carries it.
+
+    Started just touching, the cylinder would fall onto the plane while N builds up from
+    0, slip meanwhile (μ N is small), and keep that slip (~3 mm/s near μ_min): friction
+    barely corrects a slip velocity (solreffriction, below). Bisection on each z so that
+    its acceleration across the plane is 0.
+    """
+    z = np.arange(1, model.nv, 3)  # the z slide of each body (x, z, spin)
+    lo, hi = np.full(len(z), -0.01), np.zeros(len(z))  # pushed out at lo, falling at hi
+    for _ in range(40):
+        data.qpos[z] = 0.5 * (lo + hi)
+        mujoco.mj_forward(model, data)
+        out = data.qacc[z] > 0
+        lo = np.where(out, data.qpos[z], lo)
+        hi = np.where(out, hi, data.qpos[z])
+    data.qpos[z] = 0.5 * (lo + hi)
+    mujoco.mj_forward(model, data)
+    data.qacc_warmstart[:] = data.qacc
 
 
 # -- readouts ---------------------------------------------------------------------------------
@@ -276,7 +292,7 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
     m, d = s.model, s.data
     ids = [s.body_id("cylinder"), s.body_id("eccentric")]
     y = _frame(s)[:, 1]
-    k = Kinematics(m, d)
+    k = s.kinematics
 
     def sigma_a(data: mujoco.MjData, kin: Kinematics) -> np.ndarray:
         c = data.xpos[ids[0]]
@@ -379,9 +395,8 @@ READOUTS = (
 
 def _g_and_velocity(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
     """G of cylinder + eccentric mass and V(G/R0)."""
-    from sandbox.physics.readouts import Kinematics
 
-    k = Kinematics(s.model, s.data)
+    k = s.kinematics
     ids = [s.body_id("cylinder"), s.body_id("eccentric")]
     mass = s.model.body_mass[ids]
     g = (mass[:, None] * s.data.xipos[ids]).sum(0) / mass.sum()

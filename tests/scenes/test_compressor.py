@@ -141,6 +141,36 @@ def test_counterweight_trades_order_one_pilon_for_tamis_and_leaves_order_two():
     assert max(h2) - min(h2) < 1e-2 * max(h2)
 
 
+def test_orders_during_a_ramp_follow_the_current_speed():
+    """While the speed rises, pilon_h1, pilon_h2 and tamis_h1 are the course's amplitudes
+    at the current ω (they scale with ω²) within 0.5 %, and cost no revolution of steps."""
+    from sandbox.scenes.compressor import reference
+
+    sim = Simulation("compressor", values={"ramp_s": 0.5})
+    sim.advance(0.2)
+    got = sim.readouts(["pilon_h1", "pilon_h2", "tamis_h1", "omega"])
+    assert 0.2 * 3000 * RPM < got["omega"] < 0.6 * 3000 * RPM  # mid-ramp
+    ref = reference(sim.values | {"speed_rpm": got["omega"] / RPM})
+    for key in ("pilon_h1", "pilon_h2", "tamis_h1"):
+        assert got[key] == pytest.approx(ref[key], abs=5e-3 * ref["pilon_h1"]), key
+
+
+def test_both_ways_of_measuring_the_orders_agree_in_steady_state():
+    """The revolution simulated ahead and the loop states at the current speed give the
+    same orders once the speed is steady (1e-3 of the order-1 pilon)."""
+    from sandbox.scenes.compressor import loop_forces, revolution, steady
+
+    sim = Simulation("compressor", values={"counterweight_mass": 0.1})
+    sim.advance(0.05)
+    snap = sim.snapshot(["sup_R_x"])
+    assert steady(snap)
+    rev = revolution(snap)
+    theta, forces = loop_forces(snap)
+    ahead = fit_orders(rev["theta"], rev["pilon"])
+    loop = fit_orders(theta, forces[:, 0])
+    assert loop[1:3] == pytest.approx(ahead[1:3], abs=1e-3 * ahead[1])
+
+
 def test_orders_fit_recovers_known_amplitudes():
     th = np.linspace(0, 2 * math.pi, 40, endpoint=False)
     amp = fit_orders(th, 3 + 2 * np.cos(th + 0.3) + 0.5 * np.sin(2 * th))
