@@ -67,7 +67,7 @@ class Simulation:
         for name, value in (values or {}).items():
             self.values[name] = self._check(name, value)
         self._integrator = None if integrator is None else check_integrator(integrator)
-        self._timestep = None if timestep is None else check_timestep(timestep)
+        self._timestep = None if timestep is None else self._check_dt(timestep)
         self.lock = threading.RLock()
         self.observers: list[Callable[[str, dict[str, Any]], None]] = []
         """Called with (kind, fields) after a reset or a change (recordings use it)."""
@@ -182,9 +182,22 @@ class Simulation:
             self._apply_drive()  # a drive may tune gains to the integrator
         self._emit("integrator", value=name)
 
+    def _check_dt(self, value: float) -> float:
+        dt = check_timestep(value)
+        limit = self.scene.max_timestep if self.scene is not None else math.inf
+        if dt > limit:
+            from sandbox.errors import BadOption
+
+            raise BadOption(
+                f"timestep {value!r} s is too large for {self.scene.name!r} (max {limit:g} s: "  # type: ignore[union-attr]
+                f"beyond it the results drift from the course); try --timestep "
+                f"{self.scene.timestep:g}"  # type: ignore[union-attr]
+            )
+        return dt
+
     def set_timestep(self, value: float) -> None:
         """Switch timestep live (no rebuild)."""
-        dt = check_timestep(value)
+        dt = self._check_dt(value)
         with self.lock:
             self._timestep = dt
             self.model.opt.timestep = dt

@@ -230,6 +230,8 @@ class Scene:
         look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
         start_paused: The web app waits for "Lecture" (motions that leave the view).
         trail: A point whose path the 3D view draws (e.g. the tip of a gyroscope's axis).
+        max_timestep: Larger timesteps are refused: they stay stable but silently lose the
+            accuracy the scene promises (e.g. a contact that softens).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
     """
@@ -256,6 +258,7 @@ class Scene:
     camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
     look_at: tuple[tuple[float, float, float], float] | None = None
     trail: Callable[[Snapshot], np.ndarray] | None = None
+    max_timestep: float = math.inf
     start_paused: bool = False
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
 

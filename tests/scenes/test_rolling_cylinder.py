@@ -1,8 +1,9 @@
 """Rolling cylinder (course 3.2, 6.1.3, 6.2) against the closed forms, and hard cases.
 
-Tolerances: acceleration within 1 % rolling, 2 % slipping (slope of v(t) over 1 s: the
-slipping contact chatters, its average is what the course predicts); regime switch at
-μ_min within 5 %; no spurious slip (< 1 mm/s); T + V within 0.5 % while rolling.
+Tolerances from the issue: acceleration within 1 % rolling, 2 % slipping (slope of v(t)
+over 1 s); regime switch at μ_min within 5 %; no spurious slip (< 1 mm/s); T + V within
+0.5 % while rolling. Measured with the scene's defaults (RK4, 1 ms): rolling 1.5e-5,
+slipping 1e-9, switch between 0.98 and 1.02 μ_min, slip < 1e-4 m/s, T + V 6e-6.
 """
 
 from __future__ import annotations
@@ -55,7 +56,22 @@ def test_slipping_acceleration():
     assert s["slip_velocity"][-1] > 0.5
 
 
-@pytest.mark.parametrize("factor", [1.05, 0.95])
+@pytest.mark.parametrize(
+    "values",
+    [{"mu": 0.05}, {"mu": 0.3, "slope_deg": 60.0}, {"mu": 0.1, "slope_deg": 45.0, "mass": 100.0}],
+)
+def test_slipping_contact_stays_on_the_plane(values):
+    """No hopping while slipping (MuJoCo's convex contact lifts a slipping body unless the
+    scene's settings hold it): N = m g cos α, Tt = −μ N and P = Tt·V(A∈S) at every sample."""
+    sim, _, s = _run(values, names=("N", "mu_required", "slip_velocity", "P_contact", "Tt"))
+    m, alpha = sim.values["mass"], math.radians(sim.values["slope_deg"])
+    assert np.all(np.abs(s["N"] / (m * G * math.cos(alpha)) - 1) < 1e-3)
+    assert np.all(np.abs(s["mu_required"] / sim.values["mu"] - 1) < 1e-3)
+    assert np.all(s["Tt"] < 0) and np.all(s["P_contact"] <= 0)
+    assert s["P_contact"] == pytest.approx(s["Tt"] * s["slip_velocity"], rel=1e-3)
+
+
+@pytest.mark.parametrize("factor", [1.05, 0.95, 1.02, 0.98])
 def test_regime_switches_at_mu_min(factor):
     values = {"slope_deg": 30.0}
     threshold = mu_min({**Simulation("rolling_cylinder", values=values).values})
@@ -94,13 +110,15 @@ def test_eccentric_cylinder_follows_the_energy_theorem():
         assert r["a"] == pytest.approx(r["a_ref"], rel=1e-2, abs=1e-2)
 
 
-def test_energy_is_kept_while_rolling():
-    _, _, s = _run({"slope_deg": 30.0}, duration=2.0)
+@pytest.mark.parametrize("values", [{"slope_deg": 30.0}, {"inner_radius": 0.09, "v0": 1.0}])
+def test_energy_is_kept_while_rolling(values):
+    """T + V constant within 0.5 % of T (measured 6e-6 with RK4 at 1 ms)."""
+    _, _, s = _run(values, duration=3.0)
     e = s["T"] + s["V"]
     assert np.max(np.abs(e - e[0])) < 5e-3 * np.max(s["T"])
+    assert np.max(np.abs(s["slip_velocity"])) < 1e-3
 
 
-@pytest.mark.slow
 def test_twenty_seconds_on_a_horizontal_plane():
     _, _, s = _run({"slope_deg": 0.0, "v0": 2.0}, duration=20.0, every=0.1)
     assert np.max(np.abs(s["slip_velocity"])) < 1e-3
@@ -116,15 +134,29 @@ def test_light_and_heavy_cylinders_roll_alike(mass):
 
 
 def test_too_large_a_timestep_is_refused_or_detected():
-    with pytest.raises(SandboxError):
-        Simulation("rolling_cylinder", timestep=1.0)  # over 0.1 s: refused
-    sim = Simulation("rolling_cylinder", values={"mass": 0.01}, timestep=0.1, integrator="euler")
-    try:
-        sim.advance(2.0)
-    except Diverged:
-        return  # detected
-    r = sim.readouts(["v", "a", "a_ref"])  # or still sane
-    assert math.isfinite(r["v"]) and abs(r["v"]) < 100
+    """Over 20 ms the timestep is refused, at start or live: MuJoCo would soften the contact
+    (solref = 2 h), the cylinder sink centimetres and roll up to 22 % slower, without any
+    explosion to detect. Up to 20 ms the run stays within 1 % and the penetration readout
+    shows the softening."""
+    for dt in (0.05, 0.1, 1.0):
+        with pytest.raises(SandboxError, match="too large"):
+            Simulation("rolling_cylinder", timestep=dt)
+    sim = Simulation("rolling_cylinder")
+    with pytest.raises(SandboxError, match="too large"):
+        sim.set_timestep(0.05)
+    assert sim.timestep == 1e-3
+    for integrator in ("euler", "implicitfast", "rk4"):
+        sim = Simulation("rolling_cylinder", integrator=integrator, timestep=0.02)
+        try:
+            sim.advance(2.0)
+        except Diverged:
+            continue  # detected
+        r = sim.readouts(["v", "penetration"])
+        assert r["v"] == pytest.approx(acceleration(sim.values) * sim.data.time, rel=1e-2)
+        assert r["penetration"] > 1e-4
+    fine = Simulation("rolling_cylinder")
+    fine.advance(0.5)
+    assert fine.readouts(["penetration"])["penetration"] < 1e-5
 
 
 def test_leaving_the_plane_is_reported():
