@@ -91,10 +91,16 @@ def test_pareto_front():
     assert [r.pareto for r in runs] == [True, False, False, True, False]
 
 
-def test_rotor_default_is_on_its_pareto_front_within_half_a_percent():
-    res = bench_scene(SCENES["rotor"], quick=True, integrators=("euler", "implicitfast"))
-    default = res.default
-    assert default is not None and default.pareto and default.error <= 5e-3
+def test_each_default_is_within_half_a_percent_and_admissible():
+    """Pareto membership depends on timings, which are printed, never asserted; what must
+    hold on any machine: each scene's default meets 0.5 % on its key quantity and stays
+    within its drift and constraint limits."""
+    for name in ("rotor", "heavy_gyroscope"):
+        scene = SCENES[name]
+        res = bench_scene(scene, quick=True, integrators=(scene.integrator,), factors=(1.0,))
+        default = res.default
+        assert default is not None and default.error <= 5e-3, name
+        assert res.admissible(default), name
 
 
 def test_results_schema(tmp_path, capsys):
