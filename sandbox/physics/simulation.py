@@ -168,6 +168,8 @@ class Simulation:
             data.qpos[:] = old.qpos
             data.qvel[:] = old.qvel
             data.act[: min(model.na, old_model.na)] = old.act[: min(model.na, old_model.na)]
+            n = min(model.nuserdata, old_model.nuserdata)  # a scene's stored state
+            data.userdata[:n] = old.userdata[:n]
         self.model, self.data = model, data
         self._apply_drive()
         mujoco.mj_forward(model, data)

@@ -119,7 +119,9 @@ class Effects:
         if self.equality:
             lines.append("Fermeture de chaîne par contrainte d'égalité raide")
         lines.append(
-            "Liaisons avec frottement visqueux" if self.joint_damping else "Liaisons parfaites"
+            "Frottement visqueux dans certaines liaisons (voir les paramètres)"
+            if self.joint_damping
+            else "Liaisons parfaites"
         )
         if self.joint_friction:
             lines.append("Frottement sec dans les liaisons")

@@ -1,12 +1,15 @@
 """Gyrometer of an inertial unit (course 1, 2.2.2, 3, 5): a rotor in two gimbals.
 
 The rotor spins about the inner gimbal's y; the inner gimbal pivots about the outer
-gimbal's x; the outer gimbal pivots about the case's z. The user turns the case (yaw,
-pitch, roll servos, or a preset manoeuvre). Spinning, the rotor's axis keeps its
-direction in R0 and the gimbal angles read the case's attitude; at spin 0, the pivots'
-small friction drags the rotor along with the case. When the rotor's axis lines up with
-the outer pivot (inner angle ±90°) the gimbals lock: the instrument loses one degree of
-freedom there.
+gimbal's x; the outer gimbal pivots about the case's z; all three axes meet at O, the
+rotor's centre of mass. The user turns the case (yaw, pitch, roll servos, or a preset
+manoeuvre). Spinning, the rotor's axis keeps its direction in R0 and the gimbal angles
+read the case's attitude; at spin 0 the small viscous friction of the gimbal pivots drags
+the rotor along with the case (with perfect pivots, ``pivot_damping`` = 0, nothing would:
+a torque-free rotor keeps its orientation whatever its spin; the spin makes it resist the
+small torques a real instrument has). When the rotor's axis lines up with the outer
+pivot (inner angle ±90°) the gimbals lock: only two rotations of the case are still free
+for the rotor, and a turn of the case about the third drags the axis.
 """
 
 from __future__ import annotations
@@ -27,18 +30,25 @@ MANOEUVRES = {
 }
 """Preset manoeuvres, reached with a 1 s time constant: 1 rolls the case to 120°, through
 gimbal lock at 90° (outer pivot along the rotor's axis); 2 turns it without lock."""
-LOCK_COS = math.cos(math.radians(10))
+LOCK_DEG = 10.0
+"""The gimbal_lock flag rises when the rotor's axis is within this angle of the outer pivot."""
+LOCK_SIN = math.cos(math.radians(LOCK_DEG))
+PIVOT_DAMPING = 0.002  # N·m·s/rad, the default friction of each gimbal pivot
 
 PARAMS = (
-    Param("spin_rpm", "rpm", 12000.0, 0.0, 30000.0, "Spin of the rotor (set at reset; the rotor then turns freely).", step=100.0),
+    Param("spin_rpm", "rpm", 12000.0, 0.0, 30000.0, "Spin of the rotor, given at reset and whenever it is changed (an instant launch); in between the rotor turns freely on a perfect pivot.", live=True, step=100.0),
     Param("case_yaw_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: yaw about z0.", live=True, step=1.0),
     Param("case_pitch_deg", "deg", 0.0, -90.0, 90.0, "Case attitude: pitch about the yawed y.", live=True, step=1.0),
     Param("case_roll_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: roll about the case's x.", live=True, step=1.0),
     Param("manoeuvre", "", 0.0, 0.0, 2.0, "Preset case motion: 0 none (sliders), 1 roll to 120° through gimbal lock, 2 yaw 90°, pitch 20°, roll 30°.", live=True, step=1.0),
+    Param("pivot_damping", "N·m·s/rad", PIVOT_DAMPING, 0.0, 0.02, "Viscous friction of each gimbal pivot (0: perfect pivots); the rotor's own pivot stays perfect.", live=True, step=1e-4),
 )  # fmt: skip
 
 CASE_JOINTS = ("case_yaw", "case_pitch", "case_roll")
 CASE_PARAMS = ("case_yaw_deg", "case_pitch_deg", "case_roll_deg")
+GIMBALS = ("outer", "inner")
+_SPIN_DOF = 5  # qvel index of the rotor's hinge (after the 3 case and 2 gimbal hinges)
+_APPLIED_SPIN = 3  # userdata slot holding the spin_rpm last given to the rotor
 
 
 def set_points(v: Values) -> np.ndarray:
@@ -47,10 +57,25 @@ def set_points(v: Values) -> np.ndarray:
     return np.radians([src[n] for n in CASE_PARAMS])
 
 
+def _launch(data: mujoco.MjData, spin_rpm: float) -> None:
+    data.qvel[_SPIN_DOF] = spin_rpm * RPM
+    data.userdata[_APPLIED_SPIN] = spin_rpm
+
+
 def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
-    """Case servos: set points, filtered over 1 s during the manoeuvre, 50 ms otherwise."""
+    """Case servos and pivot friction; a new ``spin_rpm`` relaunches the rotor at once.
+
+    The servo set points are filtered over 1 s during a manoeuvre (a smooth motion) and
+    50 ms otherwise (the sliders). The spin is set only when ``spin_rpm`` differs from the
+    one last applied, so a slider move, a new integrator or timestep leave the free spin
+    alone.
+    """
     model.actuator_dynprm[:, 0] = 1.0 if v["manoeuvre"] >= 0.5 else 0.05
     data.ctrl[:] = set_points(v)
+    for name in GIMBALS:
+        model.dof_damping[model.joint(name).dofadr[0]] = v["pivot_damping"]
+    if data.userdata[_APPLIED_SPIN] != v["spin_rpm"]:
+        _launch(data, v["spin_rpm"])
 
 
 def _rotor_axis(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
@@ -59,13 +84,16 @@ def _rotor_axis(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
-    """Case at its set points, gimbals at 0, rotor spinning; the axis is remembered."""
+    """Case at its set points (level for a manoeuvre), gimbals at 0, rotor spinning.
+
+    The rotor's axis in R0 is kept in ``userdata[:3]`` as the reference of ``axis_drift``.
+    """
     q = set_points(v) if v["manoeuvre"] < 0.5 else np.zeros(3)
     data.qpos[:] = 0.0
     data.qpos[:3] = q
     data.act[:] = q
     data.qvel[:] = 0.0
-    data.qvel[5] = v["spin_rpm"] * RPM
+    _launch(data, v["spin_rpm"])
     mujoco.mj_kinematics(model, data)
     data.userdata[:3] = _rotor_axis(model, data)
 
@@ -75,24 +103,31 @@ def _axis(s: Snapshot) -> np.ndarray:
 
 
 def _sigma_g(s: Snapshot) -> np.ndarray:
-    """Angular momentum of the rotor at G in R0: I_G ω."""
+    """Angular momentum of the rotor at G in R0: I_G ω (course 3)."""
     return s.kinematics.i_omega[s.body_id("rotor")].copy()
 
 
-def _pivot_moment(s: Snapshot, body: str, joint: str) -> float:
-    """Moment the pivot of ``body`` transmits, across its axis [N·m] (at O)."""
-    m, d = s.model, s.data
-    b = s.body_id(body)
-    _, moment = _spatial_at_origin(m, d, b, d.cfrc_int[b])
-    j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, joint)
-    axis = d.xaxis[j]
-    return float(np.linalg.norm(moment - (moment @ axis) * axis))
+def pivot_moment(model: mujoco.MjModel, data: mujoco.MjData, gimbal: str) -> np.ndarray:
+    """Moment at O of the pivot of ``gimbal`` on it (and what it carries), across the axis.
+
+    ``cfrc_int`` is the wrench the parent body exerts on the subtree through the joint
+    (``data`` after ``mj_rnePostConstraint``); the axial part (pivot friction) is removed.
+    """
+    b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, gimbal)
+    _, moment = _spatial_at_origin(model, data, b, data.cfrc_int[b])
+    axis = data.xaxis[model.joint(gimbal).id]
+    return moment - (moment @ axis) * axis
 
 
 def _drift(s: Snapshot) -> float:
     a0 = np.asarray(s.data.userdata[:3])
     c = float(np.clip(_axis(s) @ a0 / max(np.linalg.norm(a0), 1e-12), -1.0, 1.0))
     return math.acos(c)
+
+
+def _lock(s: Snapshot) -> float:
+    """1 when |rotor axis · outer pivot axis| = |sin(inner)| exceeds cos(LOCK_DEG)."""
+    return float(abs(math.sin(s.joint_qpos("inner"))) > LOCK_SIN)
 
 
 READOUTS = (
@@ -103,9 +138,9 @@ READOUTS = (
     SceneReadout("sigma_G_x", "kg·m²/s", "Rotor's angular momentum at G, on x0.", lambda s: float(_sigma_g(s)[0])),
     SceneReadout("sigma_G_y", "kg·m²/s", "Rotor's angular momentum at G, on y0.", lambda s: float(_sigma_g(s)[1])),
     SceneReadout("sigma_G_z", "kg·m²/s", "Rotor's angular momentum at G, on z0.", lambda s: float(_sigma_g(s)[2])),
-    SceneReadout("pivot_moment_inner", "N·m", "Moment the inner gimbal's pivots transmit, across their axis.", lambda s: _pivot_moment(s, "inner", "inner")),
-    SceneReadout("pivot_moment_outer", "N·m", "Moment the outer gimbal's pivots transmit, across their axis.", lambda s: _pivot_moment(s, "outer", "outer")),
-    SceneReadout("gimbal_lock", "", "1 when the rotor's axis is within 10° of the outer pivot (lock), else 0.", lambda s: float(abs(math.sin(s.joint_qpos("inner"))) > LOCK_COS)),
+    SceneReadout("pivot_moment_inner", "N·m", "Moment the inner gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "inner")))),
+    SceneReadout("pivot_moment_outer", "N·m", "Moment the outer gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "outer")))),
+    SceneReadout("gimbal_lock", "", f"1 when the rotor's axis is within {LOCK_DEG:g}° of the outer pivot (lock), else 0.", _lock),
 )  # fmt: skip
 
 ARROWS = (
@@ -133,11 +168,17 @@ SCENE = Scene(
     readouts=READOUTS,
     drive=drive,
     initial_state=initial_state,
-    # RK4: euler and implicitfast gain energy in this spinning hinge chain (sandbox bench:
-    # axis drift of radians, |σG| off by 30-80 % at 0.15-1.5 ms). RK4 gives the same
-    # physical drift (9e-4 rad in the bench manoeuvre) from 0.05 to 1.5 ms and diverges at
-    # 5 ms, so 1.5 ms, the cheapest stable step, is the default; it also goes through
-    # gimbal lock at 30,000 rpm without a warning.
+    # RK4 at 1.5 ms, measured at 30,000 rpm (integrator x timestep, 0.15 to 5 ms):
+    # - case held at a tilted attitude, gimbals nudged by 0.05 rad/s, 10 s: euler and
+    #   implicitfast gain energy in this spinning hinge chain and throw the axis away
+    #   (|σG| and spin off by ~100 %, drift > 0.6 rad) at every step, or diverge; implicit
+    #   and RK4 keep |σG| to 1e-9 and agree on the physical drift (1.4e-4 rad, the nudge).
+    # - manoeuvre 2, 2 s, against RK4 at 0.05 ms: implicit's numerical damping bends the
+    #   axis (5.8e-4 rad off at 1.5 ms) and bleeds |σG| (2.5e-7); RK4 is within 5e-7 rad
+    #   and keeps |σG| to 1e-13, for 30 % more CPU.
+    # RK4 diverges at 5 ms (the nutation, ~770 rad/s, leaves its stability region near
+    # 3.7 ms); 1.5 ms keeps a 2.4x margin, runs ~100x faster than real time and goes
+    # through gimbal lock at 30,000 rpm without a warning.
     integrator="rk4",
     timestep=1.5e-3,
     plots=("gimbal_outer", "gimbal_inner", "axis_drift"),
