@@ -60,8 +60,18 @@ def _pairs(items: Sequence[str]) -> dict[str, str]:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and docs)."""
     p = _Parser(prog="sandbox", description="Rigid-body dynamics teaching sandbox.")
-    p.add_argument("--host", default="127.0.0.1", help="bare 'sandbox': interface to serve on")
-    p.add_argument("--port", type=int, default=8080, help="bare 'sandbox': port to serve on")
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="interface to serve on (0.0.0.0: reachable by the students' machines)",
+    )
+    p.add_argument("--port", type=int, default=8080, help="port to serve on")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="server processes sharing the port (default: one per core; 1: a single process)",
+    )
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     sub.add_parser("list", help="list scenes and lessons")
     d = sub.add_parser("describe", help="parameters, effects and readouts of a scene or file")
@@ -96,13 +106,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s = sub.add_parser("serve", help="start the web sandbox")
     s.add_argument("target", nargs="?", default=None, help="scene, lesson or MJCF file")
-    s.add_argument("--host", default="127.0.0.1")
-    s.add_argument("--port", type=int, default=8080)
+    _server_options(s)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     rp = sub.add_parser("replay", help="replay a recording in the browser, verify or export it")
     rp.add_argument("file", type=Path, help="recording file (sandbox run --record, web app)")
-    rp.add_argument("--host", default="127.0.0.1")
-    rp.add_argument("--port", type=int, default=8080)
+    _server_options(rp, workers=False)
     rp.add_argument(
         "--verify", action="store_true", help="re-simulate and print the largest deviation"
     )
@@ -117,7 +125,35 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", type=Path, default=Path("bench-results"), metavar="DIR")
     b.add_argument("--effects", action="store_true", help="declared effects vs everything on")
     b.add_argument("--overhead", action="store_true", help="sandbox run vs a bare mj_step loop")
+    b.add_argument(
+        "--classroom",
+        type=int,
+        metavar="N",
+        help="N headless browsers on one server of SCENE (default rotor): frames/s, "
+        "sim time rate, CPU, RSS, slider delay (--out FILE.json saves them)",
+    )
+    b.add_argument("--follow", action="store_true", help="--classroom: serve with --follow")
+    b.add_argument(
+        "--seconds",
+        type=_positive_float("--seconds"),
+        metavar="S",
+        help="--classroom: measured seconds (default 15)",
+    )
     return p
+
+
+def _server_options(sp: argparse.ArgumentParser, *, workers: bool = True) -> None:
+    """--host, --port (and --workers) of a serving command; given before the command
+    (``sandbox --host H serve``) they count just the same."""
+    sp.add_argument("--host", default=argparse.SUPPRESS, help="interface (default 127.0.0.1)")
+    sp.add_argument("--port", type=int, default=argparse.SUPPRESS, help="port (default 8080)")
+    if workers:
+        sp.add_argument(
+            "--workers",
+            type=int,
+            default=argparse.SUPPRESS,
+            help="server processes sharing the port (default: one per core)",
+        )
 
 
 def cmd_list() -> int:
@@ -303,6 +339,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_bench(args: argparse.Namespace) -> int:
     """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
+    if args.classroom is not None:
+        from sandbox.classroom import cli_classroom
+
+        return cli_classroom(args)
     from sandbox import bench
     from sandbox.scenes import SCENES, get_scene
 
@@ -407,7 +447,9 @@ def _check_port_range(port: int) -> None:
         raise BadOption(f"--port must be between 0 and 65535, got {port!r}")
 
 
-def cmd_serve(target: str | None, host: str, port: int, sets: Sequence[str]) -> int:
+def cmd_serve(
+    target: str | None, host: str, port: int, sets: Sequence[str], workers: int | None = None
+) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
     from sandbox.lessons import ANY_SCENE, lessons
     from sandbox.scenes import DEFAULT_SCENE, SCENES
@@ -420,7 +462,9 @@ def cmd_serve(target: str | None, host: str, port: int, sets: Sequence[str]) -> 
         lesson = target
         scene = lessons()[lesson].scene
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
-    serve(target, host=host, port=port, values=_pairs(sets), lesson=lesson)
+    if workers is not None and workers < 1:
+        raise BadOption(f"--workers must be 1 or more, got {workers!r}")
+    serve(target, host=host, port=port, values=_pairs(sets), lesson=lesson, workers=workers)
     return 0
 
 
@@ -435,6 +479,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "host", "127.0.0.1"),
                 getattr(args, "port", 8080),
                 getattr(args, "set", []),
+                getattr(args, "workers", None),
             )
         if args.command == "list":
             return cmd_list()

@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 import logging
+import signal
 import socket
 import threading
 import time
@@ -18,6 +19,7 @@ import viser
 
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
+from sandbox.web import network
 from sandbox.web.session import Controller, Session
 from sandbox.web.view import WebView
 
@@ -40,14 +42,32 @@ def _check_port(host: str, port: int) -> None:
             ) from None
 
 
+MAX_SESSIONS = 60
+"""Browsers one server process accepts; the next one is told the machine is full."""
+
+MAX_TOMBSTONES = 1000
+"""Browsers remembered as gone before their connect callback ran (client ids grow)."""
+
+FULL_MESSAGE = (
+    "Ce serveur accueille déjà le nombre maximal de simulations. Attendez qu'un poste se "
+    "libère puis rechargez la page, ou demandez à l'enseignant l'adresse d'une autre machine."
+)
+
+
 class App:
     """A running web app: one :class:`Session` per browser, made by ``factory``.
+
+    The lifecycle cannot leak, whatever the order in which viser runs the connect and
+    disconnect callbacks (it may run them concurrently): a disconnect that finds no
+    session leaves a tombstone that the late connect honours, and every session also
+    checks twice a second that its browser is still connected.
 
     Attributes:
         server: The viser server.
         host: Interface listened on.
         port: Port actually bound.
         sessions: Live sessions by client id.
+        max_sessions: Browsers served at once; the next ones get a French message.
     """
 
     def __init__(
@@ -55,52 +75,113 @@ class App:
         server: viser.ViserServer,
         host: str,
         factory: Callable[[viser.ClientHandle], Session],
+        *,
+        max_sessions: int = MAX_SESSIONS,
     ) -> None:
         self.server = server
         self.host = host
         self.port = server.get_port()
         self.factory = factory
+        self.max_sessions = max_sessions
         self.sessions: dict[int, Session] = {}
+        self._opening: set[int] = set()
+        self._gone: set[int] = set()
         self._lock = threading.Lock()
         server.on_client_connect(self._connect)
         server.on_client_disconnect(self._disconnect)
 
     @property
     def url(self) -> str:
-        """Address to open in a browser."""
+        """Address to open in a browser on this machine."""
         host = "127.0.0.1" if self.host in ("0.0.0.0", "", "::") else self.host
-        return f"http://{host}:{self.port}"
+        return f"http://{_bracket(host)}:{self.port}"
+
+    def connected(self, client_id: int) -> bool:
+        """True while the browser ``client_id`` is connected to the server."""
+        return client_id in self.server.get_clients()
 
     def _connect(self, client: viser.ClientHandle) -> None:
+        cid = client.client_id
+        with self._lock:
+            if cid in self._gone:  # the browser left before we got here
+                self._gone.discard(cid)
+                return
+            if len(self.sessions) + len(self._opening) >= self.max_sessions:
+                full = True
+            else:
+                full = False
+                self._opening.add(cid)
+        if full:
+            log.warning("refused a browser: %d sessions already", self.max_sessions)
+            _tell(client, "Machine pleine", FULL_MESSAGE)
+            return
         try:
             session = self.factory(client)
         except Exception as exc:  # shown in that browser; the server keeps going
+            with self._lock:
+                self._opening.discard(cid)
+                self._gone.discard(cid)
             log.exception("cannot open a session")
-            client.add_notification("Erreur", f"{type(exc).__name__}: {exc}", color="red")
+            _tell(client, "Erreur", f"La simulation n'a pas pu démarrer : {exc}")
             return
+        session.alive = lambda: self.connected(cid)
         with self._lock:
-            self.sessions[client.client_id] = session
-        session.start()
+            self._opening.discard(cid)
+            left = cid in self._gone
+            self._gone.discard(cid)
+            if not left:
+                self.sessions[cid] = session
+        if left:
+            session.stop()
+        else:
+            session.start()
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
+        cid = client.client_id
         with self._lock:
-            session = self.sessions.pop(client.client_id, None)
+            session = self.sessions.pop(cid, None)
+            if session is None:  # its connect callback is late, or still building it
+                self._gone.add(cid)
+                if len(self._gone) > MAX_TOMBSTONES:  # connect never came for the oldest
+                    self._gone.discard(min(self._gone))
         if session is not None:
             session.stop()
 
+    def reap(self) -> int:
+        """Forget sessions whose loop has ended (browser gone); returns how many remain."""
+        with self._lock:
+            for cid in [c for c, s in self.sessions.items() if s.finished]:
+                del self.sessions[cid]
+            return len(self.sessions)
+
     def stop(self) -> None:
-        """Stop every session, then the server."""
+        """Stop every session (all at once, then wait), then the server."""
         with self._lock:
             sessions = list(self.sessions.values())
             self.sessions.clear()
+        for session in sessions:
+            session.request_stop()
         for session in sessions:
             session.stop()
         self.server.stop()
 
 
-def open_server(host: str, port: int, label: str) -> viser.ViserServer:
+def _tell(client: viser.ClientHandle, title: str, text: str) -> None:
+    """A lasting red message in one browser (never raises: it may be gone already)."""
+    try:
+        client.add_notification(title, text, color="red", with_close_button=False)
+    except Exception:
+        log.debug("could not notify a browser", exc_info=True)
+
+
+def _bracket(host: str) -> str:
+    return f"[{host}]" if ":" in host else host
+
+
+def open_server(host: str, port: int, label: str, *, check: bool = True) -> viser.ViserServer:
     """A viser server on exactly ``host:port`` (BadOption when the port is taken)."""
-    _check_port(host, port)
+    if check:
+        _check_port(host, port)
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()
@@ -109,14 +190,24 @@ def open_server(host: str, port: int, label: str) -> viser.ViserServer:
 
 
 def run_forever(app: App) -> None:
-    """Block until Ctrl-C, then stop ``app``."""
+    """Block until Ctrl-C or SIGTERM, then stop ``app`` (recordings are closed)."""
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _interrupt)
     try:
         while True:
             time.sleep(0.5)
+            app.reap()
     except KeyboardInterrupt:
         pass
     finally:
         app.stop()
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt(signum: int, frame: Any) -> None:
+    raise KeyboardInterrupt
 
 
 def start(
@@ -129,6 +220,8 @@ def start(
     timestep: float | None = None,
     lesson: str | None = None,
     open_message: bool = True,
+    check_port: bool = True,
+    max_sessions: int = MAX_SESSIONS,
 ) -> App:
     """Start the web app in background threads and return at once.
 
@@ -144,24 +237,84 @@ def start(
         timestep: Timestep [s] overriding the scene's.
         lesson: Lesson opened in every new browser (its scene is ``target``).
         open_message: Print the URL to open.
+        check_port: Fail early when the port is taken (worker processes sharing the
+            port skip it).
+        max_sessions: Browsers served at once by this process.
 
     Raises:
         SandboxError: bad target, value or option; BadOption when the port is taken.
     """
+    network.install()
     options = {"values": dict(values or {}), "integrator": integrator, "timestep": timestep}
     Simulation(target, **options)
-    server = open_server(host, port, "sandbox")
+    server = open_server(host, port, "sandbox", check=check_port)
+    urls = network.student_urls(host, server.get_port()) if _public(host) else []
 
     def session(client: viser.ClientHandle) -> Session:
         controller = Controller(Simulation(target, **options))
-        return Session(controller, WebView(client, controller, lesson=lesson))
+        return Session(controller, WebView(client, controller, lesson=lesson, join_urls=urls))
 
-    app = App(server, host, session)
+    app = App(server, host, session, max_sessions=max_sessions)
     if open_message:
-        print(f"sandbox: {target} served at {app.url} (Ctrl-C to stop)", flush=True)
+        print(banner(target, host, app.port), flush=True)
     return app
 
 
-def serve(target: str | Path, **options: Any) -> None:
-    """Serve ``target`` until Ctrl-C (keyword arguments as for :func:`start`)."""
-    run_forever(start(target, **options))
+def _public(host: str) -> bool:
+    """True when other machines can reach a server listening on ``host``."""
+    return host not in ("127.0.0.1", "localhost", "::1") and not host.startswith("127.")
+
+
+def banner(target: str | Path, host: str, port: int, *, workers: int = 1) -> str:
+    """What ``sandbox serve`` prints once it listens: the addresses to open."""
+    local = "127.0.0.1" if host in ("0.0.0.0", "", "::") else host
+    local = f"[{local}]" if ":" in local else local
+    how = f" by {workers} worker processes" if workers > 1 else ""
+    lines = [f"sandbox: {target} served at http://{local}:{port}{how} (Ctrl-C to stop)"]
+    if _public(host):
+        urls = network.student_urls(host, port)
+        if urls:
+            lines.append("sandbox: students open " + "  or  ".join(urls))
+        else:
+            lines.append("sandbox: no network address found: students cannot reach this machine")
+    return "\n".join(lines)
+
+
+def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> None:
+    """Serve ``target`` until Ctrl-C or SIGTERM (keyword arguments as for :func:`start`).
+
+    Args:
+        target: Scene name or MJCF path.
+        workers: Server processes sharing the port (default one per core; 1 serves
+            from this process).
+    """
+    from sandbox.web.workers import WorkerSpec, default_workers, serve_pool
+
+    count = default_workers() if workers is None else workers
+    if count < 1:
+        raise BadOption(f"--workers must be 1 or more, got {count!r}")
+    if count == 1:
+        run_forever(start(target, **options))
+        return
+    host = str(options.pop("host", "127.0.0.1"))
+    port = int(options.pop("port", 8080))
+    options.pop("open_message", None)
+    options = {k: (dict(v) if k == "values" else v) for k, v in options.items()}
+    Simulation(
+        target,
+        values=options.get("values") or {},
+        integrator=options.get("integrator"),
+        timestep=options.get("timestep"),
+    )
+    _check_port(host, port)
+    if port == 0:
+        port = _free_port(host)
+    spec = WorkerSpec(str(target), host, port, options)
+    serve_pool(spec, count, banner=banner(target, host, port, workers=count))
+
+
+def _free_port(host: str) -> int:
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as sock:
+        sock.bind((host, 0))
+        return int(sock.getsockname()[1])

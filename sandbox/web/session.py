@@ -33,6 +33,9 @@ FPS = 60.0
 MAX_LAG = 0.1
 """Wall-clock lag [s] beyond which pacing re-syncs instead of catching up."""
 
+ALIVE_CHECK = 0.5
+"""Seconds between checks that the session's browser is still connected."""
+
 SPEEDS = (0.1, 4.0)
 """Allowed speed factors (slowest, fastest)."""
 
@@ -323,22 +326,44 @@ class Session:
         fps: Frame rate [Hz].
     """
 
-    def __init__(self, controller: Controller, view: View, *, fps: float = FPS) -> None:
+    def __init__(
+        self,
+        controller: Controller,
+        view: View,
+        *,
+        fps: float = FPS,
+        alive: Callable[[], bool] | None = None,
+    ) -> None:
         self.controller = controller
         self.view = view
         self.period = 1.0 / fps
+        self.alive = alive
         self._stop = threading.Event()
+        self._closed = threading.Lock()
+        self._recording_closed = False
         self._thread = threading.Thread(target=self._run, name="sandbox-session", daemon=True)
 
     def start(self) -> None:
         """Start the loop thread."""
         self._thread.start()
 
+    def request_stop(self) -> None:
+        """Ask the loop to finish at its next frame (returns at once)."""
+        self._stop.set()
+
     def stop(self, timeout: float = 2.0) -> None:
         """Ask the loop to finish, wait for it, then close any recording in progress."""
         self._stop.set()
         if self._thread.is_alive() and self._thread is not threading.current_thread():
             self._thread.join(timeout)
+        self._close_recording()
+
+    def _close_recording(self) -> None:
+        """Close the recording once, whoever stops the session first."""
+        with self._closed:
+            if self._recording_closed:
+                return
+            self._recording_closed = True
         stop_recording = getattr(self.controller, "stop_recording", None)
         if stop_recording is not None:
             with self.controller.sim.lock:
@@ -348,6 +373,11 @@ class Session:
     def running(self) -> bool:
         """True while the loop thread is alive."""
         return self._thread.is_alive()
+
+    @property
+    def finished(self) -> bool:
+        """True once the loop was started and has ended (stopped, or its browser left)."""
+        return self._thread.ident is not None and not self._thread.is_alive()
 
     def run_once(self, now: float | None = None) -> None:
         """One frame: requests, stepping, drawing; any error is shown, never raised."""
@@ -368,7 +398,15 @@ class Session:
 
     def _run(self) -> None:
         next_frame = time.perf_counter()
+        next_check = next_frame + ALIVE_CHECK
         while not self._stop.is_set():
+            if self.alive is not None and next_frame >= next_check:
+                next_check = next_frame + ALIVE_CHECK
+                if not self._still_alive():
+                    log.info("session stops: its browser is gone")
+                    self._stop.set()
+                    self._close_recording()
+                    return
             self.run_once()
             next_frame += self.period
             delay = next_frame - time.perf_counter()
@@ -376,3 +414,10 @@ class Session:
                 next_frame = time.perf_counter()
                 delay = 0.002
             self._stop.wait(delay)
+
+    def _still_alive(self) -> bool:
+        try:
+            return bool(self.alive()) if self.alive is not None else True
+        except Exception:  # a failing probe must not keep a dead session running
+            log.exception("session liveness check failed")
+            return False

@@ -13,6 +13,7 @@ from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.cycle_panel import CyclePanel
 from sandbox.web.isolate_panel import IsolatePanel
+from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.readout_panel import ReadoutPanel
@@ -57,6 +58,7 @@ class WebView:
             :class:`ControlPanel` (a replay passes its timeline).
         values: Readouts to show; default computed live from the simulation.
         lesson: Lesson to open at once (live sessions only).
+        join_urls: Addresses students type to join (folder "Rejoindre" when given).
     """
 
     def __init__(
@@ -67,6 +69,7 @@ class WebView:
         controls: Callable[[Any, Any], Any] | None = None,
         values: Callable[[], Mapping[str, float]] | None = None,
         lesson: str | None = None,
+        join_urls: Sequence[str] = (),
     ) -> None:
         self.client = client
         self.controller = controller
@@ -99,6 +102,7 @@ class WebView:
             else None
         )
         self.controls = (controls or ControlPanel)(client.gui, controller)
+        self.join = JoinPanel(client.gui, join_urls) if join_urls else None
         self.lesson = (
             LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
             if controls is None

@@ -1,0 +1,168 @@
+"""What the web server does on the network: which handshakes it accepts, how several
+processes share one port, and which addresses students can type.
+
+viser opens its websocket server with ``websockets.asyncio.server.serve`` and exposes
+none of its options, so :func:`install` wraps that one function, once per process, to
+add two of them:
+
+* ``process_request`` refuses a websocket handshake whose ``Origin`` is not the page's
+  own address (a web page the teacher happens to visit must not open sessions or press
+  buttons on a classroom server); a handshake without ``Origin`` comes from a program,
+  not from a page, and is let through.
+* ``reuse_port`` (``SO_REUSEPORT``, Linux) lets the worker processes of one
+  ``sandbox serve`` listen on the same port: the kernel spreads new connections over
+  them, behind the single address printed at start.
+"""
+
+from __future__ import annotations
+
+import http
+import ipaddress
+import logging
+import socket
+import struct
+import sys
+import threading
+from collections.abc import Callable
+from typing import Any
+from urllib.parse import urlsplit
+
+log = logging.getLogger(__name__)
+
+_DEFAULT_PORTS = {"http": 80, "https": 443, "ws": 80, "wss": 443}
+_lock = threading.Lock()
+_installed = False
+_reuse_port = False
+
+
+def origin_refusal(headers: Any) -> str | None:
+    """Why a handshake with these request headers is refused, or None to accept it.
+
+    Only websocket upgrades are judged; plain HTTP requests (the page, its scripts)
+    are always served. The Origin must name the same host and port as the Host header
+    the browser sent (that is how the page reached this server, through a proxy too).
+
+    Args:
+        headers: The request headers (a mapping with ``get``).
+    """
+    if str(headers.get("Upgrade", "")).lower() != "websocket":
+        return None
+    origin = headers.get("Origin")
+    if origin is None:
+        return None
+    host = headers.get("Host")
+    if not host:
+        return "no Host header"
+    try:
+        seen = _netloc(str(origin))
+        wanted = _netloc("http://" + str(host), default_scheme_of=str(origin))
+    except ValueError:
+        return f"malformed Origin {str(origin)[:80]!r}"
+    if seen != wanted:
+        return f"foreign Origin {str(origin)[:80]!r} (this server is {str(host)[:80]!r})"
+    return None
+
+
+def _netloc(url: str, *, default_scheme_of: str | None = None) -> tuple[str, int]:
+    parts = urlsplit(url)
+    scheme = urlsplit(default_scheme_of).scheme if default_scheme_of else parts.scheme
+    if parts.hostname is None:
+        raise ValueError(url)
+    port = parts.port or _DEFAULT_PORTS.get(scheme.lower())
+    if port is None:
+        raise ValueError(url)
+    return parts.hostname.lower(), port
+
+
+def install(*, reuse_port: bool | None = None) -> None:
+    """Wrap the websocket server of viser with the Origin check (and ``SO_REUSEPORT``).
+
+    Idempotent; ``reuse_port`` (None: unchanged) applies to the servers opened after
+    the call.
+    """
+    global _installed, _reuse_port
+    import websockets.asyncio.server as ws_server
+
+    with _lock:
+        if reuse_port is not None:
+            _reuse_port = reuse_port and hasattr(socket, "SO_REUSEPORT")
+        if _installed:
+            return
+        original = ws_server.serve
+
+        def serve(handler: Any, *args: Any, **kwargs: Any) -> Any:
+            kwargs["process_request"] = _guarded(kwargs.get("process_request"))
+            if _reuse_port:
+                kwargs["reuse_port"] = True
+            return original(handler, *args, **kwargs)
+
+        ws_server.serve = serve  # type: ignore[assignment,misc]
+        _installed = True
+
+
+def _guarded(inner: Callable[..., Any] | None) -> Callable[..., Any]:
+    def process_request(connection: Any, request: Any) -> Any:
+        reason = origin_refusal(request.headers)
+        if reason is not None:
+            log.warning("refused a websocket handshake: %s", reason)
+            return connection.respond(
+                http.HTTPStatus.FORBIDDEN,
+                "Connexion refusée : cette page n'est pas celle du serveur du sandbox.\n",
+            )
+        return inner(connection, request) if inner is not None else None
+
+    return process_request
+
+
+# -- addresses students can type ---------------------------------------------------------
+def lan_addresses() -> list[str]:
+    """IPv4 addresses of this machine that other machines can reach (no loopback).
+
+    Private (LAN) addresses come first. Empty when the machine has no network.
+    """
+    found: set[str] = set()
+    found.update(_interface_addresses())
+    try:
+        found.update(
+            info[4][0] for info in socket.getaddrinfo(socket.gethostname(), None, socket.AF_INET)
+        )
+    except OSError:
+        pass
+    usable = []
+    for text in found:
+        try:
+            ip = ipaddress.IPv4Address(text)
+        except ValueError:
+            continue
+        if ip.is_loopback or ip.is_link_local or ip.is_unspecified or ip.is_multicast:
+            continue
+        usable.append(ip)
+    return [str(ip) for ip in sorted(usable, key=lambda ip: (not ip.is_private, ip))]
+
+
+def _interface_addresses() -> list[str]:
+    """IPv4 address of every interface (Linux ioctl SIOCGIFADDR; elsewhere nothing)."""
+    if not sys.platform.startswith("linux"):
+        return []
+    import fcntl
+
+    out = []
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        for _, name in socket.if_nameindex():
+            try:
+                packed = fcntl.ioctl(sock.fileno(), 0x8915, struct.pack("256s", name.encode()[:15]))
+            except OSError:  # no IPv4 address on that interface
+                continue
+            out.append(socket.inet_ntoa(packed[20:24]))
+    return out
+
+
+def student_urls(host: str, port: int) -> list[str]:
+    """The addresses students type to reach a server listening on ``host:port``.
+
+    A wildcard host gives every LAN address; a specific one gives itself.
+    """
+    if host in ("0.0.0.0", "", "::"):
+        return [f"http://{ip}:{port}" for ip in lan_addresses()]
+    shown = f"[{host}]" if ":" in host else host
+    return [f"http://{shown}:{port}"]

@@ -1,0 +1,222 @@
+"""Several server processes behind one address: every core serves its share of browsers.
+
+``sandbox serve`` starts ``workers`` processes (spawned, so each has its own Python
+interpreter and its own lock). Each runs a complete web app on the same host and port
+(``SO_REUSEPORT``: the kernel hands every new connection to one of them) and owns the
+sessions of the browsers it accepted. The parent only starts them, prints the address,
+restarts a worker that dies, and stops them all on Ctrl-C or SIGTERM; a stopping worker
+closes its sessions, so recordings in progress are finished, never lost.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import os
+import queue
+import signal
+import sys
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from sandbox.errors import BadOption, SandboxError
+
+log = logging.getLogger(__name__)
+
+START_TIMEOUT = 60.0
+"""Seconds a worker may take to import, build its first simulation and listen."""
+
+STOP_TIMEOUT = 5.0
+"""Seconds a worker gets to close its sessions before it is killed."""
+
+MAX_RESTARTS = 5
+"""Restarts of dead workers allowed per minute before the server gives up."""
+
+
+def default_workers() -> int:
+    """One worker per core this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+@dataclass(frozen=True)
+class WorkerSpec:
+    """Everything a worker needs to start its app (picklable).
+
+    Attributes:
+        target: Scene name or MJCF path.
+        host: Interface to listen on.
+        port: TCP port shared by every worker.
+        options: Keyword arguments for :func:`sandbox.web.app.start`.
+    """
+
+    target: str
+    host: str
+    port: int
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+
+def _worker_main(spec: WorkerSpec, index: int, events: Any) -> None:
+    """Body of a worker process: serve until SIGTERM or SIGINT, then close sessions."""
+    from sandbox.web import network
+    from sandbox.web.app import run_forever, start
+
+    logging.basicConfig(level=logging.WARNING, format=f"sandbox[w{index}] %(message)s")
+    sys.stdout = open(os.devnull, "w")  # viser's banners: the parent prints the address
+    network.install(reuse_port=True)
+    try:
+        app = start(
+            spec.target,
+            host=spec.host,
+            port=spec.port,
+            open_message=False,
+            check_port=False,
+            **dict(spec.options),
+        )
+    except SandboxError as exc:
+        events.put(("error", index, str(exc)))
+        return
+    except KeyboardInterrupt:
+        return
+    except Exception as exc:  # reported by the parent as one line
+        events.put(("error", index, f"{type(exc).__name__}: {exc}"))
+        return
+    events.put(("ready", index, app.port))
+    try:
+        run_forever(app)
+    finally:  # sessions are closed: a second SIGTERM must not interrupt the exit
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+
+class WorkerPool:
+    """The worker processes of one ``sandbox serve``.
+
+    Args:
+        spec: What every worker serves.
+        workers: How many processes.
+    """
+
+    def __init__(self, spec: WorkerSpec, workers: int) -> None:
+        if workers < 1:
+            raise BadOption(f"--workers must be 1 or more, got {workers!r}")
+        self.spec = spec
+        self.count = workers
+        self._ctx = multiprocessing.get_context("spawn")
+        self._events: Any = self._ctx.Queue()
+        self.processes: dict[int, Any] = {}
+        self._restarts: list[float] = []
+
+    def _spawn(self, index: int) -> None:
+        proc = self._ctx.Process(
+            target=_worker_main,
+            args=(self.spec, index, self._events),
+            name=f"sandbox-worker-{index}",
+            daemon=False,
+        )
+        proc.start()
+        self.processes[index] = proc
+
+    def start(self) -> None:
+        """Start every worker and wait until all listen.
+
+        Raises:
+            SandboxError: a worker could not start (its one-line reason).
+        """
+        for index in range(self.count):
+            self._spawn(index)
+        ready: set[int] = set()
+        deadline = time.monotonic() + START_TIMEOUT
+        while len(ready) < self.count:
+            left = deadline - time.monotonic()
+            try:
+                kind, index, detail = self._events.get(timeout=max(0.1, min(left, 1.0)))
+            except queue.Empty:
+                dead = [i for i, p in self.processes.items() if p.exitcode is not None]
+                if dead or left <= 0:
+                    self.stop()
+                    why = "exited" if dead else f"did not start within {START_TIMEOUT:g} s"
+                    raise BadOption(f"a server worker {why}; try --workers 1 to see why") from None
+                continue
+            if kind == "error":
+                self.stop()
+                raise BadOption(str(detail))
+            ready.add(index)
+
+    def watch(self) -> None:
+        """Restart workers that died (a crash must not leave a core's students out).
+
+        Raises:
+            SandboxError: workers keep dying (more than :data:`MAX_RESTARTS` a minute).
+        """
+        for index, proc in list(self.processes.items()):
+            if proc.exitcode is None:
+                continue
+            now = time.monotonic()
+            self._restarts = [t for t in self._restarts if now - t < 60.0] + [now]
+            if len(self._restarts) > MAX_RESTARTS:
+                raise BadOption(
+                    f"server workers keep stopping (last exit code {proc.exitcode}); "
+                    "try --workers 1 to see why"
+                )
+            log.warning("worker %d stopped (exit code %s): restarting it", index, proc.exitcode)
+            print(
+                f"sandbox: worker {index} stopped (exit code {proc.exitcode}); restarting it",
+                flush=True,
+            )
+            self._spawn(index)
+        self._drain_events()
+
+    def _drain_events(self) -> None:
+        while True:
+            try:
+                kind, index, detail = self._events.get_nowait()
+            except queue.Empty:
+                return
+            if kind == "error":
+                print(f"sandbox: worker {index}: {detail}", flush=True)
+
+    def alive(self) -> int:
+        """How many workers are running."""
+        return sum(1 for p in self.processes.values() if p.exitcode is None)
+
+    def stop(self) -> None:
+        """Ask every worker to close its sessions, wait, then kill stragglers."""
+        for proc in self.processes.values():
+            if proc.exitcode is None and proc.pid is not None:
+                try:
+                    os.kill(proc.pid, signal.SIGTERM)
+                except ProcessLookupError:
+                    pass
+        deadline = time.monotonic() + STOP_TIMEOUT
+        for proc in self.processes.values():
+            proc.join(max(0.0, deadline - time.monotonic()))
+        for proc in self.processes.values():
+            if proc.exitcode is None:
+                proc.kill()
+                proc.join(1.0)
+
+
+def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
+    """Run ``workers`` worker processes until Ctrl-C or SIGTERM; print ``banner`` once
+    they all listen."""
+
+    def terminate(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    pool = WorkerPool(spec, workers)
+    try:
+        pool.start()
+        print(banner, flush=True)
+        while True:
+            time.sleep(0.5)
+            pool.watch()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        pool.stop()
+        signal.signal(signal.SIGTERM, previous)

@@ -1,0 +1,189 @@
+"""The app's session lifecycle: whatever order viser runs connect and disconnect in,
+no session outlives its browser."""
+
+from __future__ import annotations
+
+import random
+import threading
+import time
+
+import pytest
+
+from sandbox.physics.simulation import Simulation
+from sandbox.web.app import App
+from sandbox.web.session import Controller, Session
+
+PENDULUM = """
+<mujoco><option timestep="0.01"/><worldbody>
+  <body name="arm"><joint name="hinge" type="hinge" axis="0 1 0"/>
+    <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/></body>
+</worldbody></mujoco>
+"""
+
+
+class FakeClient:
+    def __init__(self, client_id: int) -> None:
+        self.client_id = client_id
+        self.notifications: list[tuple[str, str]] = []
+
+    def add_notification(self, title: str, body: str, **_: object) -> None:
+        self.notifications.append((title, body))
+
+
+class FakeServer:
+    """The three callbacks and the client list of a viser server, driven by the test."""
+
+    def __init__(self) -> None:
+        self.clients: dict[int, FakeClient] = {}
+        self.connect_cb = None
+        self.disconnect_cb = None
+        self.stopped = False
+
+    def get_port(self) -> int:
+        return 1
+
+    def on_client_connect(self, cb) -> None:
+        self.connect_cb = cb
+
+    def on_client_disconnect(self, cb) -> None:
+        self.disconnect_cb = cb
+
+    def get_clients(self) -> dict[int, FakeClient]:
+        return dict(self.clients)
+
+    def stop(self) -> None:
+        self.stopped = True
+
+
+class NullView:
+    def render(self, controller, now) -> None:
+        pass
+
+    def notify(self, notice) -> None:
+        pass
+
+
+@pytest.fixture
+def pendulum(tmp_path):
+    path = tmp_path / "pendulum.xml"
+    path.write_text(PENDULUM)
+    return path
+
+
+def _session_threads() -> list[threading.Thread]:
+    return [t for t in threading.enumerate() if t.name == "sandbox-session"]
+
+
+def _wait(predicate, timeout: float = 5.0) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.02)
+    return predicate()
+
+
+def _factory(pendulum, gate: threading.Event | None = None):
+    def make(client) -> Session:
+        if gate is not None:
+            gate.wait(5.0)
+        return Session(Controller(Simulation(pendulum)), NullView(), fps=30)
+
+    return make
+
+
+def test_disconnect_during_a_slow_connect_leaves_no_session(pendulum):
+    server = FakeServer()
+    gate = threading.Event()
+    app = App(server, "127.0.0.1", _factory(pendulum, gate))
+    client = FakeClient(1)
+    server.clients[1] = client
+    connecting = threading.Thread(target=server.connect_cb, args=(client,))
+    connecting.start()
+    time.sleep(0.05)  # the factory is building the simulation
+    del server.clients[1]
+    server.disconnect_cb(client)  # finds no session yet: the race of the issue
+    gate.set()
+    connecting.join(5.0)
+    assert app.sessions == {}
+    assert _wait(lambda: not _session_threads())
+
+
+def test_a_session_whose_browser_vanished_stops_by_itself(pendulum):
+    server = FakeServer()
+    app = App(server, "127.0.0.1", _factory(pendulum))
+    client = FakeClient(7)
+    server.clients[7] = client
+    server.connect_cb(client)
+    session = app.sessions[7]
+    assert _wait(lambda: session.running)
+    del server.clients[7]  # gone without a disconnect callback
+    start = time.monotonic()
+    assert _wait(lambda: not session.running, timeout=3.0)
+    assert time.monotonic() - start < 2.0
+    assert app.reap() == 0
+
+
+def test_connect_and_drop_storm_returns_to_idle(pendulum):
+    """Many browsers connecting and leaving at once, callbacks in any order and on
+    several threads: afterwards no session and no session thread remain."""
+    server = FakeServer()
+    app = App(server, "127.0.0.1", _factory(pendulum))
+    rng = random.Random(12)
+    threads = []
+    for cid in range(40):
+        client = FakeClient(cid)
+        server.clients[cid] = client
+        order = rng.choice(["connect-first", "disconnect-first", "together"])
+
+        def connect(c=client):
+            server.connect_cb(c)
+
+        def drop(c=client):
+            time.sleep(rng.random() * 0.01)
+            server.clients.pop(c.client_id, None)
+            server.disconnect_cb(c)
+
+        pair = [threading.Thread(target=connect), threading.Thread(target=drop)]
+        if order == "disconnect-first":
+            pair.reverse()
+        threads += pair
+        for t in pair:
+            t.start()
+        if order != "together":
+            pair[0].join()
+    for t in threads:
+        t.join(10.0)
+    assert _wait(lambda: not _session_threads(), timeout=4.0), len(_session_threads())
+    assert app.reap() == 0
+
+
+def test_a_full_server_says_so_in_french(pendulum):
+    server = FakeServer()
+    app = App(server, "127.0.0.1", _factory(pendulum), max_sessions=2)
+    clients = [FakeClient(i) for i in range(3)]
+    for c in clients:
+        server.clients[c.client_id] = c
+        server.connect_cb(c)
+    try:
+        assert len(app.sessions) == 2
+        title, body = clients[2].notifications[0]
+        assert title == "Machine pleine" and "rechargez la page" in body
+    finally:
+        app.stop()
+    assert server.stopped and not app.sessions
+    assert _wait(lambda: not _session_threads())
+
+
+def test_a_failing_factory_tells_the_browser_and_keeps_serving(pendulum):
+    server = FakeServer()
+
+    def broken(client):
+        raise RuntimeError("boom")
+
+    app = App(server, "127.0.0.1", broken)
+    client = FakeClient(3)
+    server.clients[3] = client
+    server.connect_cb(client)
+    assert app.sessions == {}
+    assert client.notifications and client.notifications[0][0] == "Erreur"

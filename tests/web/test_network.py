@@ -1,0 +1,192 @@
+"""Handshakes the server accepts, the addresses it prints and the join panel."""
+
+from __future__ import annotations
+
+import asyncio
+import ipaddress
+
+import pytest
+import viser
+
+from sandbox.cli import build_parser
+from sandbox.web import network
+from sandbox.web.app import banner
+from sandbox.web.join_panel import join_html
+
+UPGRADE = {"Upgrade": "websocket", "Host": "192.168.1.20:8080"}
+
+
+@pytest.mark.parametrize(
+    "origin",
+    [
+        "http://evil.example",
+        "http://192.168.1.20:8081",  # another port on the same machine
+        "null",
+        "http://192.168.1.20.evil.example:8080",
+    ],
+)
+def test_a_foreign_origin_is_refused(origin):
+    assert network.origin_refusal(dict(UPGRADE, Origin=origin)) is not None
+
+
+@pytest.mark.parametrize(
+    "headers",
+    [
+        dict(UPGRADE, Origin="http://192.168.1.20:8080"),
+        dict(UPGRADE, Origin="HTTP://192.168.1.20:8080"),
+        # behind a TLS proxy the browser's Origin is https with the Host it reached
+        dict(UPGRADE, Origin="https://192.168.1.20:8080"),
+        {"Upgrade": "websocket", "Host": "salle-b12", "Origin": "http://salle-b12"},
+        {"Upgrade": "websocket", "Host": "[::1]:8080", "Origin": "http://[::1]:8080"},
+        dict(UPGRADE),  # no Origin: a program, not a web page
+        {"Host": "x", "Origin": "http://evil.example"},  # plain HTTP: the page itself
+    ],
+)
+def test_the_servers_own_pages_and_programs_are_accepted(headers):
+    assert network.origin_refusal(headers) is None
+
+
+def test_a_handshake_without_host_is_refused():
+    assert network.origin_refusal({"Upgrade": "websocket", "Origin": "http://a"}) is not None
+
+
+def _handshake(port: int, origin: str | None) -> int:
+    """HTTP status of a websocket handshake to ``port`` (101 when accepted)."""
+    import websockets.asyncio.client as ws_client
+    from websockets.exceptions import InvalidStatus
+
+    async def attempt() -> int:
+        headers = {"Origin": origin} if origin else None
+        try:
+            async with ws_client.connect(
+                f"ws://127.0.0.1:{port}",
+                additional_headers=headers,
+                subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+                open_timeout=5,
+            ):
+                return 101
+        except InvalidStatus as exc:
+            return exc.response.status_code
+
+    return asyncio.run(attempt())
+
+
+def test_the_real_server_refuses_a_foreign_origin(served_rotor):
+    port = served_rotor.port
+    assert _handshake(port, "http://evil.example") == 403
+    assert _handshake(port, f"http://127.0.0.1:{port}") == 101
+    assert _handshake(port, None) == 101
+
+
+def test_lan_addresses_are_reachable_ipv4_addresses():
+    for text in network.lan_addresses():
+        ip = ipaddress.IPv4Address(text)
+        assert not ip.is_loopback and not ip.is_link_local
+
+
+def test_student_urls_and_banner(monkeypatch):
+    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
+    assert network.student_urls("0.0.0.0", 8080) == [
+        "http://192.168.1.20:8080",
+        "http://10.0.0.5:8080",
+    ]
+    assert network.student_urls("192.168.1.20", 9000) == ["http://192.168.1.20:9000"]
+    text = banner("rotor", "0.0.0.0", 8080, workers=2)
+    assert "http://127.0.0.1:8080 by 2 worker processes" in text
+    assert "students open http://192.168.1.20:8080" in text
+    assert "127.0.0.1" not in text.splitlines()[1]
+    assert "students" not in banner("rotor", "127.0.0.1", 8080)
+    monkeypatch.setattr(network, "lan_addresses", lambda: [])
+    assert "no network address" in banner("rotor", "0.0.0.0", 8080)
+
+
+def test_join_panel_shows_the_address_and_a_qr_code_escaped():
+    page = join_html(["http://192.168.1.20:8080", "http://<b>x</b>:1"])
+    assert "http://192.168.1.20:8080" in page and "<svg" in page
+    assert "<b>x</b>" not in page and "&lt;b&gt;" in page
+    assert "réseau local" in join_html([])
+
+
+@pytest.mark.parametrize(
+    "argv, host, port, workers",
+    [
+        (["--host", "0.0.0.0", "--port", "9001", "serve", "rotor"], "0.0.0.0", 9001, None),
+        (["serve", "rotor", "--host", "0.0.0.0", "--port", "9002"], "0.0.0.0", 9002, None),
+        (["--port", "9003", "serve", "rotor", "--workers", "1"], "127.0.0.1", 9003, 1),
+        (["--workers", "3", "serve"], "127.0.0.1", 8080, 3),
+        (["--host", "0.0.0.0"], "0.0.0.0", 8080, None),
+    ],
+)
+def test_host_and_port_count_before_and_after_the_command(argv, host, port, workers):
+    args = build_parser().parse_args(argv)
+    assert (args.host, args.port, args.workers) == (host, port, workers)
+
+
+def test_serve_passes_its_options_on(monkeypatch):
+    from sandbox import cli
+    from sandbox.web import app
+
+    seen = {}
+    monkeypatch.setattr(app, "serve", lambda target, **kw: seen.update(kw, target=target))
+    assert cli.main(["--host", "0.0.0.0", "--port", "9010", "serve", "rotor"]) == 0
+    assert (seen["host"], seen["port"], seen["target"]) == ("0.0.0.0", 9010, "rotor")
+    assert cli.main(["serve", "rotor", "--workers", "0"]) == 2
+
+
+def test_workers_share_one_port_and_stop_cleanly(tmp_path):
+    """`sandbox serve --workers 2`: two processes listen on the printed port, both
+    accept handshakes, and SIGTERM stops everything."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    import urllib.request
+
+    from tests.conftest import free_port
+
+    port = free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sandbox.cli", "serve", "rotor", "--port", str(port)]
+        + ["--workers", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=tmp_path,
+        start_new_session=True,
+    )
+    try:
+        first = proc.stdout.readline()
+        assert f"http://127.0.0.1:{port} by 2 worker processes" in first, first
+        children = _children(proc.pid)
+        assert len(children) >= 2, children
+        with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=10) as page:
+            assert page.status == 200
+        for _ in range(6):  # the kernel spreads them; every worker answers
+            assert _handshake(port, None) == 101
+        assert _handshake(port, "http://evil.example") == 403
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=15) == 0
+        end = time.monotonic() + 5.0  # multiprocessing's helper leaves just after
+        while time.monotonic() < end and [p for p in children if os.path.exists(f"/proc/{p}")]:
+            time.sleep(0.1)
+        assert not [p for p in children if os.path.exists(f"/proc/{p}")]
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(5)
+
+
+def _children(pid: int) -> list[int]:
+    """Direct child processes of ``pid`` (Linux /proc)."""
+    import pathlib
+
+    out = []
+    for stat in pathlib.Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            out.append(int(stat.parent.name))
+    return out
