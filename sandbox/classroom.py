@@ -1,0 +1,910 @@
+"""Classroom benchmark: one server, N headless browsers, what each of them gets.
+
+Usage::
+
+    sandbox bench --classroom 30 rotor [--seconds 15] [--follow] [--out r.json]
+
+starts ``python -m sandbox.cli serve SCENE --port P`` on a free loopback port, opens N
+websocket clients that speak viser's protocol exactly as the browser does (subprotocol
+``viser-v<version>``, ``Origin: http://127.0.0.1:P``, a first ``ViewerCameraMessage``
+that starts the per-browser session), waits for every client's first frame, warms up,
+then measures for ``--seconds`` (all clients run in one asyncio loop and decode only
+what they need). Afterwards it runs a connect-and-drop phase and an Origin probe, stops
+the server and prints each target of issue 12 next to its value (PASS/FAIL words, never
+asserted).
+
+Definitions:
+
+- **Update frame**: one websocket message from the server that carries at least one
+  scene pose update (``SetPositionMessage`` or ``SetOrientationMessage``). Frames/s of
+  a client = its update frames received in the measurement window / the window [s].
+- **Simulated-time rate**: what the browser shows. The control panel's status line
+  ``t = 12.345 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
+  10 Hz) is read from the wire; the rate of a client = (last t - first t) / (wall time
+  between the two messages) inside the window [sim s per wall s].
+- **Slider delay**: during the window each client (only client 0 with ``--follow``,
+  where the simulation is shared) toggles a parameter slider every
+  :data:`PROBE_PERIOD` s between its initial value and that value plus a quarter of
+  its range, as a ``GuiUpdateMessage`` (the browser's own message). It "shows" in the
+  first server message received after the send that creates or removes a 3D node under
+  ``/model``: the renderer rebuilt the geom the parameter changed (the rotor's
+  correction mass ``mass1_g`` and the compressor's ``counterweight_mass`` appear or
+  disappear). Delay = receive time - send time [s]; a change not shown before the next
+  toggle counts as *not shown*. Other scenes probe their first parameter, which may
+  never show this way.
+- **Server CPU**: utime + stime (+ reaped children) from ``/proc`` of the server
+  process and all its descendants, over the window [cores]. **RSS**: sum of the
+  resident sizes over that tree (shared pages count once per process) [bytes].
+- **Idle CPU**: after the main clients left and 3 s passed, 20 clients connect, send
+  the camera message and close at once; the server tree's CPU is sampled each second
+  for 10 s; idle = the mean over the last 2 s [cores].
+- **Origin probe**: a handshake with ``Origin: http://evil.example``; *refused* means
+  no session: the handshake fails, the connection closes, or no update frame arrives
+  within 3 s.
+
+``--out FILE.json`` also writes the results (other ``--out`` values are ignored here).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import math
+import os
+import random
+import re
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import msgspec
+import websockets
+import websockets.exceptions
+import zstandard
+
+from sandbox.errors import BadOption
+
+PROBE_PERIOD = 5.0
+"""Seconds between two slider changes of one client."""
+
+PROBE_PARAMS = {"rotor": "mass1_g", "compressor": "counterweight_mass"}
+"""Parameter slider toggled by the slider-delay probe (other scenes: their first)."""
+
+POSE_MARKERS = (b"\xa4type\xb2SetPositionMessage", b"\xa4type\xb5SetOrientationMessage")
+"""msgpack bytes of ``"type": "SetPositionMessage"`` / ``"SetOrientationMessage"``."""
+
+TYPE_MARKER = b"\xa4type"
+STATUS_TIME = re.compile(rb"t = (-?[0-9]+(?:\.[0-9]+)?) s \xc2\xb7 vitesse")
+"""The simulated time in the control panel's status line (UTF-8 bytes on the wire)."""
+
+FOREIGN_ORIGIN = "http://evil.example"
+_ZSTD = zstandard.ZstdDecompressor()
+
+
+def _subprotocol() -> str:
+    import viser
+
+    return f"viser-v{viser.__version__}"
+
+
+# -- statistics and /proc ------------------------------------------------------------------
+
+
+def percentile(values: Sequence[float], q: float) -> float:
+    """Linear-interpolation percentile (numpy's default); NaN for no values.
+
+    Args:
+        values: Samples.
+        q: Percentile in [0, 100].
+    """
+    data = sorted(values)
+    if not data:
+        return math.nan
+    pos = (len(data) - 1) * q / 100.0
+    lo = math.floor(pos)
+    hi = min(lo + 1, len(data) - 1)
+    return data[lo] + (data[hi] - data[lo]) * (pos - lo)
+
+
+def summary(values: Sequence[float]) -> dict[str, float]:
+    """``min``, ``median``, ``p95`` and ``max`` of ``values`` (NaN when empty)."""
+    if not values:
+        return {k: math.nan for k in ("min", "median", "p95", "max")}
+    return {
+        "min": min(values),
+        "median": statistics.median(values),
+        "p95": percentile(values, 95),
+        "max": max(values),
+    }
+
+
+def _stat_fields(pid: int, task: int | None = None) -> list[str] | None:
+    path = f"/proc/{pid}/stat" if task is None else f"/proc/{pid}/task/{task}/stat"
+    try:
+        with open(path, "rb") as fh:
+            text = fh.read().decode()
+    except OSError:
+        return None
+    return text[text.rfind(")") + 2 :].split()  # fields 3.. (state, ppid, ...)
+
+
+def process_tree(pid: int) -> list[int]:
+    """``pid`` and all its live descendants (empty when ``pid`` is gone)."""
+    children: dict[int, list[int]] = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            fields = _stat_fields(int(entry))
+            if fields is not None:
+                children.setdefault(int(fields[1]), []).append(int(entry))
+    if _stat_fields(pid) is None:
+        return []
+    tree, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        tree.append(p)
+        todo.extend(children.get(p, ()))
+    return tree
+
+
+_TICK = os.sysconf("SC_CLK_TCK")
+_PAGE = os.sysconf("SC_PAGE_SIZE")
+
+
+def tree_cpu(pid: int) -> float:
+    """CPU time [s] of ``pid`` and its descendants: user + system, reaped children too."""
+    ticks = 0
+    for p in process_tree(pid):
+        fields = _stat_fields(p)
+        if fields is not None:
+            ticks += sum(int(x) for x in fields[11:15])  # utime stime cutime cstime
+    return ticks / _TICK
+
+
+def tree_rss(pid: int) -> int:
+    """Resident set size [bytes] summed over ``pid`` and its descendants."""
+    total = 0
+    for p in process_tree(pid):
+        try:
+            with open(f"/proc/{p}/statm") as fh:
+                total += int(fh.read().split()[1]) * _PAGE
+        except (OSError, IndexError, ValueError):
+            pass
+    return total
+
+
+def thread_cpu(pid: int) -> dict[tuple[int, int], float]:
+    """CPU time [s] of every thread of ``pid``'s tree, keyed by (pid, tid)."""
+    out: dict[tuple[int, int], float] = {}
+    for p in process_tree(pid):
+        with contextlib.suppress(OSError):
+            for tid in os.listdir(f"/proc/{p}/task"):
+                fields = _stat_fields(p, int(tid))
+                if fields is not None:
+                    out[(p, int(tid))] = (int(fields[11]) + int(fields[12])) / _TICK
+    return out
+
+
+# -- the wire ------------------------------------------------------------------------------
+
+
+def unpack(raw: bytes) -> bytes:
+    """The msgpack part of a server websocket message (viser's zstd wire format).
+
+    Layout: 8 bytes msgpack size, 8 bytes compressed size (little endian), the zstd
+    frame, then raw binary buffers (meshes), which are not needed and not copied.
+    """
+    size = int.from_bytes(raw[:8], "little")
+    clen = int.from_bytes(raw[8:16], "little")
+    return _ZSTD.decompress(memoryview(raw)[16 : 16 + clen], max_output_size=size)
+
+
+def is_update_frame(inner: bytes) -> bool:
+    """True when the message carries a scene pose update (see module docstring)."""
+    return POSE_MARKERS[0] in inner or POSE_MARKERS[1] in inner
+
+
+def status_time(inner: bytes) -> float | None:
+    """Simulated time [s] shown by the control panel's status line, if in the message."""
+    found = STATUS_TIME.findall(inner)
+    return float(found[-1]) if found else None
+
+
+def messages(inner: bytes) -> list[dict[str, Any]]:
+    """The decoded viser messages of one websocket message."""
+    return msgspec.msgpack.decode(inner)["messages"]
+
+
+def shows_rebuild(inner: bytes, prefix: str = "/model/") -> bool:
+    """True when a node under ``prefix`` is created (has props) or removed."""
+    if prefix.encode() not in inner:
+        return False
+    for m in messages(inner):
+        name = m.get("name")
+        if isinstance(name, str) and name.startswith(prefix):
+            if "props" in m or m.get("type") == "RemoveSceneNodeMessage":
+                return True
+    return False
+
+
+def find_slider(inner: bytes, param: str) -> dict[str, Any] | None:
+    """The ``GuiSliderMessage`` labelled ``param`` or ``"param [unit]"``, if present."""
+    if b"GuiSliderMessage" not in inner:
+        return None
+    for m in messages(inner):
+        if m.get("type") == "GuiSliderMessage":
+            label = str(m["props"]["label"])
+            if label == param or label.startswith(f"{param} ["):
+                return m
+    return None
+
+
+def camera_message() -> bytes:
+    """The browser's first message: its camera (starts the session)."""
+    return msgspec.msgpack.encode(
+        {
+            "type": "ViewerCameraMessage",
+            "wxyz": (1.0, 0.0, 0.0, 0.0),
+            "position": (0.0, -1.0, 0.5),
+            "fov": 1.0,
+            "near": 0.01,
+            "far": 1000.0,
+            "image_height": 720,
+            "image_width": 1280,
+            "look_at": (0.0, 0.0, 0.0),
+            "up_direction": (0.0, 0.0, 1.0),
+        }
+    )
+
+
+def slider_message(uuid: str, value: float) -> bytes:
+    """The browser's message when a slider is moved to ``value``."""
+    return msgspec.msgpack.encode(
+        {"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": float(value)}}
+    )
+
+
+# -- one headless client -------------------------------------------------------------------
+
+
+@dataclass
+class Window:
+    """Measurement window on the ``time.perf_counter`` clock [s]."""
+
+    start: float = math.inf
+    end: float = math.inf
+
+    def __contains__(self, now: float) -> bool:
+        return self.start <= now < self.end
+
+
+@dataclass
+class ClientStats:
+    """What one headless client saw; counts are inside the window only."""
+
+    index: int
+    first_frame: float | None = None  # perf_counter of the first update frame
+    error: str | None = None
+    frames: int = 0
+    ws_messages: int = 0
+    viser_messages: int = 0
+    wire_bytes: int = 0
+    times: list[tuple[float, float]] = field(default_factory=list)  # (wall, sim) [s]
+    delays: list[float] = field(default_factory=list)  # slider -> frame [s]
+    not_shown: int = 0
+    slider: dict[str, Any] | None = None
+    pending: float | None = None  # perf_counter of the unshown slider change
+
+    def feed(self, raw: bytes, now: float, window: Window) -> None:
+        """Account for one server message received at ``now``."""
+        inner = unpack(raw)
+        frame = is_update_frame(inner)
+        if frame and self.first_frame is None:
+            self.first_frame = now
+        if self.pending is not None and shows_rebuild(inner):
+            self.delays.append(now - self.pending)
+            self.pending = None
+        if now in window:
+            self.ws_messages += 1
+            self.wire_bytes += len(raw)
+            self.viser_messages += inner.count(TYPE_MARKER)
+            self.frames += frame
+            t = status_time(inner)
+            if t is not None:
+                self.times.append((now, t))
+
+    def fps(self, window: Window) -> float:
+        """Update frames per second over the window [1/s]."""
+        return self.frames / (window.end - window.start)
+
+    def sim_rate(self) -> float:
+        """Simulated seconds per wall second seen in the status line (NaN if < 2 samples)."""
+        if len(self.times) < 2 or self.times[-1][0] <= self.times[0][0]:
+            return math.nan
+        (w0, t0), (w1, t1) = self.times[0], self.times[-1]
+        return (t1 - t0) / (w1 - w0)
+
+
+async def run_client(
+    url: str,
+    stats: ClientStats,
+    window: Window,
+    *,
+    origin: str,
+    param: str | None,
+    seed: int = 0,
+) -> None:
+    """One browser: connect, send the camera, read until cancelled, probe a slider.
+
+    Args:
+        url: ``ws://127.0.0.1:P``.
+        stats: Filled in place.
+        window: Measurement window (frames and probes count inside it only).
+        origin: ``Origin`` header, as a browser on the page would send.
+        param: Parameter slider to toggle, or None for no probe.
+        seed: Seeds the probe's start offset.
+    """
+    try:
+        async with websockets.connect(
+            url,
+            subprotocols=[websockets.Subprotocol(_subprotocol())],
+            origin=websockets.Origin(origin),
+            max_size=None,
+            compression=None,
+            open_timeout=30,
+            close_timeout=1,
+        ) as ws:
+            await ws.send(camera_message())
+            prober = None
+            if param is not None:
+                prober = asyncio.create_task(_probe(ws, stats, window, random.Random(seed)))
+            try:
+                async for raw in ws:
+                    assert isinstance(raw, bytes)
+                    if param is not None and stats.slider is None and stats.ws_messages < 50:
+                        stats.slider = find_slider(unpack(raw), param)
+                    stats.feed(raw, time.perf_counter(), window)
+            finally:
+                if prober is not None:
+                    prober.cancel()
+    except asyncio.CancelledError:
+        raise
+    except Exception as exc:  # reported per client, the bench goes on
+        stats.error = f"{type(exc).__name__}: {exc}"
+
+
+async def _probe(ws: Any, stats: ClientStats, window: Window, rng: random.Random) -> None:
+    while not math.isfinite(window.start) or stats.slider is None:
+        await asyncio.sleep(0.1)
+    slider = stats.slider
+    low = float(slider["value"])
+    props = slider["props"]
+    span = float(props["max"]) - float(props["min"])
+    high = low + 0.25 * span if low + 0.25 * span <= float(props["max"]) else low - 0.25 * span
+    on = False
+    next_at = window.start + rng.uniform(0.0, PROBE_PERIOD)
+    while next_at < window.end - 0.5:
+        await asyncio.sleep(max(0.0, next_at - time.perf_counter()))
+        if stats.pending is not None:
+            stats.not_shown += 1
+        on = not on
+        stats.pending = time.perf_counter()
+        await ws.send(slider_message(slider["uuid"], high if on else low))
+        next_at += PROBE_PERIOD
+    await asyncio.sleep(max(0.0, window.end - time.perf_counter()))
+    if stats.pending is not None:
+        stats.not_shown += 1
+        stats.pending = None
+
+
+# -- the server ----------------------------------------------------------------------------
+
+
+def free_port() -> int:
+    """A TCP port free on 127.0.0.1 right now."""
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+class Server:
+    """``sandbox serve`` in its own process group; a context manager that always stops it.
+
+    Args:
+        scene: Scene, lesson or MJCF path.
+        follow: Pass ``--follow``.
+        workers: Pass ``--workers N`` when not None.
+        timeout: Bound on the wait for the first HTTP answer [s].
+    """
+
+    def __init__(
+        self, scene: str, *, follow: bool = False, workers: int | None = None, timeout: float = 60
+    ) -> None:
+        self.port = free_port()
+        self.command = [sys.executable, "-m", "sandbox.cli", "serve", scene]
+        self.command += ["--port", str(self.port)]
+        self.command += ["--follow"] if follow else []
+        self.command += ["--workers", str(workers)] if workers is not None else []
+        self.timeout = timeout
+        self.log = tempfile.TemporaryFile()
+        self.proc: subprocess.Popen[bytes] | None = None
+
+    @property
+    def pid(self) -> int:
+        """Process id of the server (root of its tree)."""
+        assert self.proc is not None
+        return self.proc.pid
+
+    def __enter__(self) -> Server:
+        self.proc = subprocess.Popen(
+            self.command,
+            stdin=subprocess.DEVNULL,
+            stdout=self.log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+        try:
+            self._wait_ready()
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    def output(self) -> str:
+        """What the server printed so far (last 2000 characters)."""
+        self.log.seek(0)
+        return self.log.read().decode(errors="replace")[-2000:]
+
+    def _wait_ready(self) -> None:
+        assert self.proc is not None
+        deadline = time.monotonic() + self.timeout
+        while time.monotonic() < deadline:
+            if self.proc.poll() is not None:
+                raise BadOption(
+                    f"the server exited with code {self.proc.returncode}: "
+                    f"{' '.join(self.command[2:])}\n{self.output().strip()}"
+                )
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{self.port}/", timeout=1):
+                    return
+            except OSError:
+                time.sleep(0.2)
+        raise BadOption(f"the server did not answer on port {self.port} within {self.timeout} s")
+
+    def stop(self) -> None:
+        """SIGINT, then SIGTERM, then SIGKILL to the whole group, each with a bounded wait."""
+        proc = self.proc
+        if proc is None:
+            return
+        for sig, wait in ((signal.SIGINT, 5.0), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
+            if proc.poll() is not None:
+                break
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                os.killpg(proc.pid, sig)
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                proc.wait(wait)
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(proc.pid, signal.SIGKILL)  # leftovers of the group
+        self.log.close()
+        self.proc = None
+
+
+# -- the benchmark -------------------------------------------------------------------------
+
+
+def probe_param(scene: str) -> str | None:
+    """Slider toggled by the delay probe: :data:`PROBE_PARAMS`, else the scene's first."""
+    if scene in PROBE_PARAMS:
+        return PROBE_PARAMS[scene]
+    from sandbox.scenes import SCENES
+
+    params = SCENES[scene].params if scene in SCENES else ()
+    return params[0].name if params else None
+
+
+async def _wait_first_frames(stats: list[ClientStats], tasks: list[asyncio.Task], limit: float):
+    deadline = time.perf_counter() + limit
+    while time.perf_counter() < deadline:
+        if all(s.first_frame is not None or t.done() for s, t in zip(stats, tasks, strict=True)):
+            return
+        await asyncio.sleep(0.1)
+
+
+async def main_phase(
+    server: Server,
+    clients: int,
+    *,
+    seconds: float,
+    warmup: float,
+    param: str | None,
+    probe_all: bool,
+) -> dict[str, Any]:
+    """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS."""
+    url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
+    window = Window()
+    stats = [ClientStats(i) for i in range(clients)]
+    tasks = []
+    connect_start = time.perf_counter()
+    for s in stats:
+        probe = param if (probe_all or s.index == 0) else None
+        tasks.append(
+            asyncio.create_task(
+                run_client(url, s, window, origin=origin, param=probe, seed=s.index)
+            )
+        )
+    try:
+        await _wait_first_frames(stats, tasks, 30.0 + 0.5 * clients)
+        ready = time.perf_counter() - connect_start
+        await asyncio.sleep(warmup)
+        own0, cpu0, threads0 = time.process_time(), tree_cpu(server.pid), thread_cpu(server.pid)
+        window.start = time.perf_counter()
+        window.end = window.start + seconds
+        rss: list[int] = []
+        while time.perf_counter() < window.end:
+            rss.append(tree_rss(server.pid))
+            await asyncio.sleep(min(1.0, max(0.0, window.end - time.perf_counter())))
+        cpu1, threads1, own1 = tree_cpu(server.pid), thread_cpu(server.pid), time.process_time()
+        rss.append(tree_rss(server.pid))
+        processes = len(process_tree(server.pid))
+    finally:
+        for t in tasks:
+            t.cancel()
+        await asyncio.wait(tasks, timeout=5.0)
+    fps = [s.fps(window) for s in stats]
+    rates = [r for r in (s.sim_rate() for s in stats) if math.isfinite(r)]
+    delays = [d for s in stats for d in s.delays]
+    threads = sorted(
+        ((threads1[k] - threads0.get(k, 0.0)) / seconds for k in threads1), reverse=True
+    )
+    frames = sum(s.frames for s in stats)
+    ws_msgs = sum(s.ws_messages for s in stats)
+    wire = sum(s.wire_bytes for s in stats)
+    return {
+        "clients": clients,
+        "connected": sum(s.first_frame is not None for s in stats),
+        "errors": sorted({s.error for s in stats if s.error}),
+        "ready_s": ready,
+        "seconds": seconds,
+        "warmup_s": warmup,
+        "fps": summary(fps),
+        "fps_per_client": fps,
+        "sim_rate": summary(rates),
+        "sim_rate_per_client": [s.sim_rate() for s in stats],
+        "sim_rate_samples": len(rates),
+        "slider_param": param,
+        "slider_delay_s": summary(delays),
+        "slider_samples": len(delays),
+        "slider_not_shown": sum(s.not_shown for s in stats),
+        "server_cpu_cores": (cpu1 - cpu0) / seconds,
+        "server_processes": processes,
+        "server_threads": len(threads1),
+        "server_top_thread_cores": threads[:6],
+        "server_rss_bytes": max(rss),
+        "bench_cpu_cores": (own1 - own0) / seconds,
+        "per_client_ws_messages_per_s": ws_msgs / seconds / clients,
+        "per_client_kbytes_per_s": wire / seconds / clients / 1000.0,
+        "bytes_per_ws_message": wire / ws_msgs if ws_msgs else math.nan,
+        "viser_messages_per_ws_message": (
+            sum(s.viser_messages for s in stats) / ws_msgs if ws_msgs else math.nan
+        ),
+        "update_frames_share": frames / ws_msgs if ws_msgs else math.nan,
+    }
+
+
+async def drop_phase(
+    server: Server, *, clients: int = 20, settle: float = 3.0, seconds: float = 10.0
+) -> dict[str, Any]:
+    """Clients that connect, send the camera and drop; then the server's CPU each second.
+
+    Returns:
+        ``cores_per_s`` (one value per second after the drop) and ``idle_cores`` (mean
+        of the last 2 s).
+    """
+    url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
+    await asyncio.sleep(settle)
+    camera = camera_message()
+
+    async def one() -> bool:
+        try:
+            async with websockets.connect(
+                url,
+                subprotocols=[websockets.Subprotocol(_subprotocol())],
+                origin=websockets.Origin(origin),
+                max_size=None,
+                open_timeout=10,
+                close_timeout=1,
+            ) as ws:
+                await ws.send(camera)
+            return True
+        except Exception:
+            return False
+
+    ok = await asyncio.wait_for(asyncio.gather(*(one() for _ in range(clients))), 30.0)
+    cores, last = [], (time.perf_counter(), tree_cpu(server.pid))
+    for _ in range(int(seconds)):
+        await asyncio.sleep(1.0)
+        now = (time.perf_counter(), tree_cpu(server.pid))
+        cores.append((now[1] - last[1]) / (now[0] - last[0]))
+        last = now
+    tail = cores[-2:] if cores else [math.nan]
+    return {
+        "clients": clients,
+        "connected": sum(ok),
+        "cores_per_s": cores,
+        "idle_cores": sum(tail) / len(tail),
+    }
+
+
+async def origin_probe(port: int, *, origin: str = FOREIGN_ORIGIN, wait: float = 3.0):
+    """Whether a page from ``origin`` is refused a session, and how.
+
+    Returns:
+        (refused, detail): refused is True when no update frame arrived.
+    """
+    try:
+        async with websockets.connect(
+            f"ws://127.0.0.1:{port}",
+            subprotocols=[websockets.Subprotocol(_subprotocol())],
+            origin=websockets.Origin(origin),
+            max_size=None,
+            open_timeout=10,
+            close_timeout=1,
+        ) as ws:
+            await ws.send(camera_message())
+            deadline = time.perf_counter() + wait
+            while (left := deadline - time.perf_counter()) > 0:
+                try:
+                    raw = await asyncio.wait_for(ws.recv(), left)
+                except TimeoutError:
+                    break
+                if isinstance(raw, bytes) and is_update_frame(unpack(raw)):
+                    return False, "accepted: the session sent update frames"
+            return True, f"handshake accepted but no update frame within {wait:g} s"
+    except websockets.exceptions.InvalidStatus as exc:
+        return True, f"handshake refused (HTTP {exc.response.status_code})"
+    except websockets.exceptions.ConnectionClosed as exc:
+        code = exc.rcvd.code if exc.rcvd is not None else None
+        return True, f"connection closed by the server (code {code})"
+    except (websockets.exceptions.InvalidHandshake, OSError, TimeoutError) as exc:
+        return True, f"handshake failed ({type(exc).__name__}: {exc})"
+
+
+def run_classroom(
+    scene: str,
+    clients: int,
+    *,
+    seconds: float = 15.0,
+    warmup: float = 3.0,
+    follow: bool = False,
+    workers: int | None = None,
+    drop_clients: int = 20,
+    idle_seconds: float = 10.0,
+    progress: Callable[[str], None] | None = None,
+) -> dict[str, Any]:
+    """Start a server, run the main phase, the connect-and-drop phase and the Origin probe.
+
+    Args:
+        scene: Scene (or lesson, or MJCF path) served.
+        clients: Headless browsers in the main phase.
+        seconds: Measurement window [s].
+        warmup: Wait after every client's first frame [s].
+        follow: Serve with ``--follow`` (one shared simulation; only client 0 probes).
+        workers: Pass ``--workers`` to the server when not None.
+        drop_clients: Connect-and-drop clients (0 skips that phase).
+        idle_seconds: CPU sampling after the drop [s].
+        progress: Called with one line per phase.
+
+    Returns:
+        JSON-able results (see :func:`report`).
+    """
+    say = progress or (lambda _line: None)
+    load = os.getloadavg()
+    param = probe_param(scene)
+    with Server(scene, follow=follow, workers=workers) as server:
+
+        async def all_phases() -> dict[str, Any]:
+            say(f"{clients} clients on {scene} (port {server.port}) ...")
+            main = await main_phase(
+                server, clients, seconds=seconds, warmup=warmup, param=param, probe_all=not follow
+            )
+            out: dict[str, Any] = {"main": main}
+            if drop_clients > 0:
+                say(f"{drop_clients} connect-and-drop clients, then {idle_seconds:g} s idle ...")
+                out["drop"] = await drop_phase(server, clients=drop_clients, seconds=idle_seconds)
+            refused, detail = await origin_probe(server.port)
+            out["origin"] = {"origin": FOREIGN_ORIGIN, "refused": refused, "detail": detail}
+            return out
+
+        results = asyncio.run(all_phases())
+    results.update(
+        scene=scene,
+        follow=follow,
+        workers=workers,
+        date=time.strftime("%Y-%m-%d %H:%M:%S %Z"),
+        cpus=os.cpu_count(),
+        load_average_before=load,
+        load_average_after=os.getloadavg(),
+    )
+    results["targets"] = targets(results)
+    return results
+
+
+@dataclass(frozen=True)
+class Target:
+    """One target of issue 12: ``value(results) op limit`` for ``browsers`` clients."""
+
+    label: str
+    key: str
+    op: str  # ">=", "<=", "<" or "is"
+    limit: float
+    browsers: int | None = None
+
+
+ROTOR_TARGETS = (
+    Target("median update frames/s >= 30", "fps.median", ">=", 30, 30),
+    Target("min update frames/s >= 20", "fps.min", ">=", 20, 30),
+    Target("simulated time >= 0.95 of real time (slowest)", "sim_rate.min", ">=", 0.95, 30),
+)
+COMPRESSOR_TARGETS = (
+    Target("median update frames/s >= 20", "fps.median", ">=", 20, 30),
+    Target("real time: simulated time >= 0.95 (slowest)", "sim_rate.min", ">=", 0.95, 30),
+)
+FOLLOW_TARGETS = (
+    Target("--follow: median update frames/s >= 30", "fps.median", ">=", 30, 60),
+    Target("--follow: server CPU <= 1 core", "server_cpu_cores", "<=", 1.0, 60),
+)
+COMMON_TARGETS = (
+    Target("idle after 20 connect-and-drop: < 0.05 cores within 10 s", "idle", "<", 0.05),
+    Target("a foreign Origin gets no session", "origin", "is", 1.0),
+)
+
+
+def _value(results: dict[str, Any], key: str) -> float:
+    if key == "idle":
+        return results["drop"]["idle_cores"] if "drop" in results else math.nan
+    if key == "origin":
+        return float(results["origin"]["refused"])
+    value: Any = results["main"]
+    for part in key.split("."):
+        value = value[part]
+    return float(value)
+
+
+def targets(results: dict[str, Any]) -> list[dict[str, Any]]:
+    """The targets that apply to this run, each with its value and PASS/FAIL."""
+    chosen: tuple[Target, ...] = ()
+    if results["follow"]:
+        chosen = FOLLOW_TARGETS
+    elif results["scene"] == "rotor":
+        chosen = ROTOR_TARGETS
+    elif results["scene"] == "compressor":
+        chosen = COMPRESSOR_TARGETS
+    out = []
+    for t in chosen + COMMON_TARGETS:
+        value = _value(results, t.key)
+        ok = {
+            ">=": value >= t.limit,
+            "<=": value <= t.limit,
+            "<": value < t.limit,
+            "is": value == t.limit,
+        }[t.op]
+        out.append(
+            {
+                "target": t.label,
+                "key": t.key,
+                "value": value,
+                "browsers": t.browsers,
+                "verdict": "PASS" if ok else "FAIL",
+            }
+        )
+    return out
+
+
+def report(results: dict[str, Any]) -> str:
+    """Human-readable lines: measurements, then each target with PASS/FAIL."""
+    m = results["main"]
+    fps, rate, delay = m["fps"], m["sim_rate"], m["slider_delay_s"]
+    mode = " --follow" if results["follow"] else ""
+    lines = [
+        f"classroom: {results['scene']}{mode}, {m['clients']} clients "
+        f"({m['connected']} got frames, ready after {m['ready_s']:.1f} s), "
+        f"{m['seconds']:g} s measured after {m['warmup_s']:g} s warm-up, {results['date']}",
+        f"  update frames/s per client   min {fps['min']:.1f}  median {fps['median']:.1f}"
+        f"  max {fps['max']:.1f}",
+        f"  simulated s per wall s       min {rate['min']:.3f}  median {rate['median']:.3f}"
+        f"  ({m['sim_rate_samples']} clients)",
+        f"  server CPU                   {m['server_cpu_cores']:.2f} cores "
+        f"({m['server_processes']} process(es), {m['server_threads']} threads; busiest "
+        + ", ".join(f"{c:.2f}" for c in m["server_top_thread_cores"][:4])
+        + ")",
+        f"  server RSS                   {m['server_rss_bytes'] / 1e6:.0f} MB",
+        f"  slider -> first frame        p95 {delay['p95'] * 1000:.0f} ms  median "
+        f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}, {m['slider_samples']} "
+        f"changes, {m['slider_not_shown']} not shown)",
+        f"  traffic per client           {m['per_client_ws_messages_per_s']:.1f} messages/s, "
+        f"{m['per_client_kbytes_per_s']:.1f} kB/s, {m['bytes_per_ws_message']:.0f} B and "
+        f"{m['viser_messages_per_ws_message']:.1f} viser messages per websocket message",
+        f"  bench clients' own CPU       {m['bench_cpu_cores']:.2f} cores",
+    ]
+    if m["errors"]:
+        lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")
+    if "drop" in results:
+        d = results["drop"]
+        series = " ".join(f"{c:.2f}" for c in d["cores_per_s"])
+        lines.append(
+            f"  after {d['clients']} connect-and-drop ({d['connected']} connected): "
+            f"server cores each second {series}"
+        )
+    o = results["origin"]
+    lines.append(
+        f"  Origin {o['origin']}: {'refused' if o['refused'] else 'ACCEPTED'} ({o['detail']})"
+    )
+    lines.append("targets (issue 12; printed, never asserted):")
+    for t in results["targets"]:
+        note = ""
+        if t["browsers"] is not None and t["browsers"] != m["clients"]:
+            note = f"  (target for {t['browsers']} browsers, measured with {m['clients']})"
+        if t["target"].endswith("no session"):
+            value = "refused" if t["value"] else "accepted"
+        elif "fps" in t["key"]:
+            value = f"{t['value']:.1f}"
+        else:
+            value = f"{t['value']:.3f}"
+        lines.append(f"  {t['verdict']:<4}  {t['target']:<58} {value}{note}")
+    return "\n".join(lines)
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` with NaN and infinities as None and tuples as lists (strict JSON)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    return value
+
+
+def cli_classroom(args: Any) -> int:
+    """``sandbox bench --classroom N [SCENE] [--follow] [--seconds S] [--out FILE.json]``."""
+    clients = int(args.classroom)
+    if not 1 <= clients <= 200:
+        raise BadOption(f"--classroom needs 1 to 200 clients, got {clients!r}")
+    scenes = list(args.scenes or ())
+    if len(scenes) > 1:
+        raise BadOption(f"--classroom takes one scene, got {len(scenes)}: {' '.join(scenes)}")
+    if not scenes:
+        from sandbox.scenes import DEFAULT_SCENE
+
+        scenes = [DEFAULT_SCENE]
+    seconds = float(args.seconds) if getattr(args, "seconds", None) else 15.0
+    out: Path | None = getattr(args, "out", None)
+    if out is not None and out.suffix.lower() != ".json":
+        out = None
+    if out is not None and not out.parent.exists():
+        raise BadOption(f"folder {str(out.parent)!r} of --out does not exist; create it first")
+    results = run_classroom(
+        scenes[0],
+        clients,
+        seconds=seconds,
+        follow=bool(getattr(args, "follow", False)),
+        workers=getattr(args, "workers", None),
+        progress=lambda line: print(line, file=sys.stderr, flush=True),
+    )
+    print(report(results))
+    if out is not None:
+        out.write_text(json.dumps(jsonable(results), indent=2) + "\n")
+        print(f"written: {out}")
+    return 0

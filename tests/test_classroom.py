@@ -1,0 +1,203 @@
+"""Classroom benchmark: statistics, /proc sampling, the wire format, and one real run."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import time
+
+import msgspec
+import numpy as np
+import pytest
+import zstandard
+from viser import _messages as vm
+
+from sandbox import classroom as cr
+from sandbox.cli import build_parser
+from sandbox.errors import BadOption
+
+
+def wire(*messages: vm.Message) -> bytes:
+    """A server websocket message as viser's producer frames it (zstd msgpack + buffers)."""
+    buffers: list[memoryview] = []
+    inner = msgspec.msgpack.encode(
+        {
+            "messages": [m.as_serializable_dict(buffers) for m in messages],
+            "timestampSec": 0.0,
+            "binaryBufferLengths": [b.nbytes for b in buffers],
+        }
+    )
+    packed = zstandard.ZstdCompressor(level=1).compress(inner)
+    head = len(inner).to_bytes(8, "little") + len(packed).to_bytes(8, "little")
+    return head + packed + b"".join(bytes(b) for b in buffers)
+
+
+def status(t: float) -> vm.GuiUpdateMessage:
+    return vm.GuiUpdateMessage("status", {"_markdown": f"t = {t:.3f} s · vitesse ×1 · **x**"})
+
+
+def test_percentile_and_summary() -> None:
+    assert cr.percentile([3.0, 1.0, 2.0], 50) == 2.0
+    assert cr.percentile([0.0, 10.0], 95) == pytest.approx(9.5)
+    assert cr.percentile(list(range(101)), 95) == pytest.approx(95.0)
+    assert math.isnan(cr.percentile([], 95))
+    s = cr.summary([4.0, 1.0, 3.0, 2.0])
+    assert (s["min"], s["median"], s["max"]) == (1.0, 2.5, 4.0)
+    assert math.isnan(cr.summary([])["median"])
+
+
+def test_tree_cpu_and_rss_include_a_busy_grandchild() -> None:
+    busy = "import time\nt = time.time()\nwhile time.time() - t < 5: pass"
+    parent = subprocess.Popen(["sh", "-c", '"$0" -c "$1" & wait', sys.executable, busy])
+    try:
+        deadline = time.monotonic() + 5
+        while len(cr.process_tree(parent.pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(cr.process_tree(parent.pid)) == 2  # sh and its python child
+        cpu0, wall0 = cr.tree_cpu(parent.pid), time.perf_counter()
+        time.sleep(1.0)
+        cores = (cr.tree_cpu(parent.pid) - cpu0) / (time.perf_counter() - wall0)
+        assert 0.1 < cores < 1.3  # one busy thread, on cores shared with other work
+        assert cr.tree_rss(parent.pid) > 1_000_000
+        assert sum(cr.thread_cpu(parent.pid).values()) > 0
+    finally:
+        subprocess.run(["pkill", "-P", str(parent.pid)], check=False)
+        parent.kill()
+        parent.wait(5)
+    assert cr.process_tree(parent.pid) == []
+    assert cr.tree_cpu(parent.pid) == 0.0
+
+
+def test_client_messages_are_what_viser_expects() -> None:
+    camera = vm.Message.deserialize(cr.camera_message())
+    assert isinstance(camera, vm.ViewerCameraMessage) and camera.image_width > 0
+    slider = vm.Message.deserialize(cr.slider_message("abc", 50))
+    assert isinstance(slider, vm.GuiUpdateMessage)
+    assert (slider.uuid, slider.updates) == ("abc", {"value": 50.0})
+
+
+def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
+    pose = wire(
+        vm.SetPositionMessage("/model/g1", (0.0, 0.0, 1.0)),
+        vm.SetOrientationMessage("/model/g1", (1.0, 0.0, 0.0, 0.0)),
+    )
+    panel = wire(status(2.5), vm.GuiUpdateMessage("x", {"value": 1.0}))
+    mesh = vm.MeshMessage(
+        "/model/m",
+        vm.MeshProps(
+            vertices=np.zeros((3, 3), np.float32),
+            faces=np.array([[0, 1, 2]], np.uint32),
+            color=(1, 2, 3),
+            wireframe=False,
+            opacity=None,
+            flat_shading=False,
+            side="front",
+            material="standard",
+            cast_shadow=True,
+            receive_shadow=True,
+            scale=1.0,
+        ),
+    )
+    assert cr.is_update_frame(cr.unpack(pose)) and not cr.is_update_frame(cr.unpack(panel))
+    assert cr.status_time(cr.unpack(panel)) == 2.5
+    assert cr.status_time(cr.unpack(pose)) is None
+    assert cr.shows_rebuild(cr.unpack(wire(mesh)))  # binary buffers after the zstd part
+    assert cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/model/g2"))))
+    assert not cr.shows_rebuild(cr.unpack(pose))
+    assert not cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/arrows/a"))))
+
+    window = cr.Window(start=10.0, end=12.0)
+    stats = cr.ClientStats(0)
+    stats.feed(pose, 9.0, window)  # warm-up: first frame, not counted
+    for k in range(60):  # 30 frames/s for 2 s, a status line every 0.5 s of wall
+        now = 10.0 + k / 30
+        stats.feed(pose, now, window)
+        if k % 15 == 0:
+            stats.feed(wire(status(100.0 + 0.5 * (now - 10.0))), now, window)
+    stats.feed(pose, 12.0, window)  # after the window
+    assert stats.first_frame == 9.0
+    assert stats.frames == 60 and stats.fps(window) == pytest.approx(30.0)
+    assert stats.ws_messages == 64 and stats.viser_messages == 124
+    assert stats.sim_rate() == pytest.approx(0.5)
+
+    stats.pending = 11.0
+    stats.feed(pose, 11.01, window)
+    assert stats.pending == 11.0 and stats.delays == []
+    stats.feed(wire(vm.RemoveSceneNodeMessage("/model/g2")), 11.04, window)
+    assert stats.pending is None and stats.delays == [pytest.approx(0.04)]
+
+
+def test_find_slider_by_parameter_name() -> None:
+    props = vm.GuiSliderProps(
+        order=0.0,
+        label="mass1_g [g]",
+        hint=None,
+        visible=True,
+        disabled=False,
+        min=0.0,
+        max=200.0,
+        step=1.0,
+        precision=0,
+        _marks=None,
+    )
+    inner = cr.unpack(wire(vm.GuiSliderMessage("u1", value=0.0, container_uuid="c", props=props)))
+    found = cr.find_slider(inner, "mass1_g")
+    assert found is not None and found["uuid"] == "u1" and found["props"]["max"] == 200.0
+    assert cr.find_slider(inner, "mass1") is None
+
+
+def _results(fps: float, idle: float, refused: bool) -> dict:
+    main = {
+        "clients": 30,
+        "fps": {"min": fps - 3, "median": fps},
+        "sim_rate": {"min": 0.99, "median": 1.0},
+        "server_cpu_cores": 0.8,
+    }
+    return {
+        "scene": "rotor",
+        "follow": False,
+        "main": main,
+        "drop": {"idle_cores": idle},
+        "origin": {"refused": refused},
+    }
+
+
+def test_targets_give_pass_and_fail() -> None:
+    good = {t["target"]: t["verdict"] for t in cr.targets(_results(31.0, 0.01, True))}
+    assert set(good.values()) == {"PASS"} and len(good) == 5
+    bad = {t["key"]: t["verdict"] for t in cr.targets(_results(24.0, 0.2, False))}
+    assert bad == {
+        "fps.median": "FAIL",
+        "fps.min": "PASS",
+        "sim_rate.min": "PASS",
+        "idle": "FAIL",
+        "origin": "FAIL",
+    }
+    follow = cr.targets({**_results(31.0, 0.01, True), "follow": True})
+    assert [t["key"] for t in follow][:2] == ["fps.median", "server_cpu_cores"]
+    assert cr.jsonable({"a": (math.nan, 1.0)}) == {"a": [None, 1.0]}
+
+
+def test_cli_options_and_their_checks() -> None:
+    args = build_parser().parse_args(
+        ["bench", "--classroom", "3", "rotor", "--seconds", "4", "--follow"]
+    )
+    assert (args.classroom, args.scenes, args.seconds, args.follow) == (3, ["rotor"], 4.0, True)
+    with pytest.raises(BadOption, match="1 to 200"):
+        cr.cli_classroom(build_parser().parse_args(["bench", "--classroom", "0"]))
+    with pytest.raises(BadOption, match="one scene"):
+        cr.cli_classroom(
+            build_parser().parse_args(["bench", "--classroom", "2", "rotor", "gyroscope"])
+        )
+
+
+@pytest.mark.slow  # a real server: ~6-13 s on the shared 2 cores
+def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
+    results = cr.run_classroom("rotor", 2, seconds=3.0, warmup=1.0, drop_clients=0)
+    main = results["main"]
+    assert main["connected"] == 2 and not main["errors"]
+    assert all(f > 0 for f in main["fps_per_client"])
+    assert all(r > 0 for r in main["sim_rate_per_client"])
+    assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
+    assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
