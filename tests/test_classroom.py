@@ -176,6 +176,9 @@ def test_targets_give_pass_and_fail() -> None:
     }
     follow = cr.targets({**_results(31.0, 0.01, True), "follow": True})
     assert [t["key"] for t in follow][:2] == ["fps.median", "server_cpu_cores"]
+    no_drop = _results(31.0, 0.01, True)
+    del no_drop["drop"]  # phase not run: its target is left out, not failed
+    assert "idle" not in [t["key"] for t in cr.targets(no_drop)]
     assert cr.jsonable({"a": (math.nan, 1.0)}) == {"a": [None, 1.0]}
 
 
