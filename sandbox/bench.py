@@ -247,21 +247,22 @@ def bench_scene(
     if acc is None:
         raise ValueError(f"scene {scene.name!r} declares no accuracy measure")
     duration = acc.duration * (QUICK_DURATION if quick else 1.0)
+    default_dt = scene.default_timestep(acc.values)  # at the benchmark's speed
     result = SceneResult(
         scene.name,
         acc.key,
         acc.invariant,
         scene.integrator,
-        scene.timestep,
+        default_dt,
         runs=[],
         drift_tol=acc.drift_tol,
         constraint_tol=acc.constraint_tol,
     )
-    timesteps = acc.timesteps or tuple(scene.timestep * f for f in factors)
+    timesteps = acc.timesteps or tuple(default_dt * f for f in factors)
     for integrator in integrators:
         for dt in timesteps:
             run = run_one(scene.name, acc, integrator, dt, duration)
-            run.default = integrator == scene.integrator and math.isclose(dt, scene.timestep)
+            run.default = integrator == scene.integrator and math.isclose(dt, default_dt)
             result.runs.append(run)
             if progress is not None:
                 speed = "" if run.diverged else f"{run.realtime_factor:8.1f}x real time"
@@ -421,8 +422,9 @@ def bench_effects(scene: Scene, *, quick: bool = False) -> EffectsResult:
         everything_on(sim)
         return sim
 
-    declared = run_one(scene.name, acc, scene.integrator, scene.timestep, duration)
-    on = run_one(scene.name, acc, scene.integrator, scene.timestep, duration, simulation=all_on)
+    dt = scene.default_timestep(acc.values)
+    declared = run_one(scene.name, acc, scene.integrator, dt, duration)
+    on = run_one(scene.name, acc, scene.integrator, dt, duration, simulation=all_on)
     return EffectsResult(scene.name, declared, on)
 
 

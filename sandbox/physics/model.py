@@ -124,6 +124,6 @@ def build(source: Source, values: Mapping[str, float]) -> mujoco.MjModel:
     if source.scene is not None:
         model.opt.disableflags = source.scene.effects.disable_flags()
         model.opt.integrator = check_integrator(source.scene.integrator)
-        model.opt.timestep = source.scene.timestep
+        model.opt.timestep = source.scene.default_timestep(values)
     model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
     return model

@@ -138,6 +138,10 @@ class Simulation:
     def set_value(self, name: str, value: object) -> float:
         """Change a parameter; non-live ones rebuild the model and keep the motion going.
 
+        A scene whose default timestep depends on the parameters (``Scene.timestep_for``,
+        e.g. the compressor's speed) gets its new default at once, unless the user chose a
+        timestep; observers then also see a ``timestep`` change (a replay repeats it).
+
         Returns:
             The validated value.
 
@@ -146,10 +150,11 @@ class Simulation:
         """
         number = self._check(name, value)
         with self.lock:
-            old = self.values[name]
+            old, old_dt = self.values[name], self.timestep
             self.values[name] = number
             if self.scene is not None and self.scene.param(name).live:
-                self._apply_drive()
+                self.model.opt.timestep = self._default_dt()
+                self._apply_drive()  # after the timestep: a drive may tune gains to it
             else:
                 try:
                     model = self._compile()
@@ -158,7 +163,17 @@ class Simulation:
                     raise
                 self._swap_model(model)
         self._emit("set", name=name, value=number)
+        if self.timestep != old_dt:
+            self._emit("timestep", value=self.timestep)
         return number
+
+    def _default_dt(self) -> float:
+        """The user's timestep if any, else the scene's default for the current values."""
+        if self._timestep is not None:
+            return self._timestep
+        if self.scene is None:
+            return self.timestep  # a file keeps its own option
+        return self.scene.default_timestep(self.values)
 
     def _swap_model(self, model: mujoco.MjModel) -> None:
         old_model, old = self.model, self.data

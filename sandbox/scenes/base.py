@@ -22,6 +22,28 @@ if TYPE_CHECKING:
 
 Values = Mapping[str, float]
 
+TIMESTEP_MANTISSAS = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)
+"""Leading digits of the timesteps :func:`per_revolution_timestep` picks (readable values
+that whole-millisecond sampling intervals mostly divide)."""
+
+
+def per_revolution_timestep(angle: float, omega: float, *, largest: float) -> float:
+    """Largest readable timestep [s] that turns by at most ``angle`` [rad] per step at
+    ``omega`` [rad/s], and at most ``largest`` [s].
+
+    For a scene whose error depends on the angle turned per step (ω dt) rather than on dt,
+    the accuracy per revolution is then at least the one measured at the speed that
+    defines ``angle``. The value is rounded down to a mantissa of
+    :data:`TIMESTEP_MANTISSAS` (e.g. 5.67e-4 s -> 5e-4 s).
+    """
+    if omega == 0 or not math.isfinite(omega) or angle / abs(omega) >= largest:
+        return float(largest)
+    dt = angle / abs(omega) * (1.0 + 1e-9)  # ω_max dt_ref itself gives dt_ref back
+    exponent = math.floor(math.log10(dt))
+    mantissa = dt / 10.0**exponent
+    digit = max([m for m in TIMESTEP_MANTISSAS if m <= mantissa * (1.0 + 1e-12)] or [1.0])
+    return float(f"{digit:g}e{exponent}")
+
 
 @dataclass(frozen=True)
 class Param:
@@ -221,7 +243,13 @@ class Scene:
         initial_state: Sets a consistent initial qpos/qvel after reset.
         reference: Closed-form values of some readouts from the course.
         integrator: Default integrator name.
-        timestep: Default timestep [s].
+        timestep: Default timestep [s] (at the default parameters when ``timestep_for``
+            is given).
+        timestep_for: Default timestep [s] as a function of the parameters, for scenes
+            whose accuracy is set per revolution (e.g. the compressor: dt shrinks as the
+            speed grows). A :class:`~sandbox.physics.simulation.Simulation` applies it at
+            construction and again after every parameter change, unless the user chose a
+            timestep (``--timestep``, the web app's field), which always overrides it.
         plots: Readout names plotted by default in the web app.
         arrows: Arrows drawn in the 3D view.
         body_frame: Body whose frame gives the basis B1 of the readout panel.
@@ -251,6 +279,7 @@ class Scene:
     reference: Callable[[Values], dict[str, float]] | None = None
     integrator: str = "rk4"
     timestep: float = 1e-3
+    timestep_for: Callable[[Values], float] | None = None
     plots: tuple[str, ...] = ()
     arrows: tuple[Arrow, ...] = ()
     body_frame: str | None = None
@@ -283,3 +312,9 @@ class Scene:
     def defaults(self) -> dict[str, float]:
         """Default value of every parameter."""
         return {p.name: p.default for p in self.params}
+
+    def default_timestep(self, values: Values | None = None) -> float:
+        """Default timestep [s] for ``values`` (missing ones at their defaults)."""
+        if self.timestep_for is None:
+            return self.timestep
+        return float(self.timestep_for({**self.defaults(), **(values or {})}))

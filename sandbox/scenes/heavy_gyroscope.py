@@ -22,7 +22,16 @@ import numpy as np
 from sandbox.errors import BadParameter
 from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+from sandbox.scenes.base import (
+    Accuracy,
+    Arrow,
+    Effects,
+    Param,
+    Scene,
+    SceneReadout,
+    Values,
+    per_revolution_timestep,
+)
 from sandbox.scenes.measures import energy_drift
 
 G = 9.81
@@ -117,6 +126,22 @@ def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
     data.userdata[_ARMED] = 1.0
 
 
+SPIN_ANGLE = 30000.0 * RPM * 1.5e-4
+"""Spin angle per step [rad] (0.47): RK4 at 0.15 ms holds the precession within 6e-4 of
+the exact root at 30,000 rpm, the top of the range; the error grows as (r dt)⁴."""
+LARGEST_TIMESTEP = 2e-4
+"""Default timestep at moderate spin [s]: a minute at 3000 rpm keeps θ to 3.5e-7 rad,
+Ω to 2.2e-7 and T + V to 9e-10 (at 0.15 ms: 8e-8, 7e-8, 2e-10; at 0.25 ms θ creeps
+1.1e-6 rad, as dt⁵). Gravity sets time scales that do not follow the spin, so the step
+cannot grow as 1/r below 22,500 rpm the way it shrinks above."""
+
+
+def default_timestep(v: Values) -> float:
+    """RK4 timestep [s]: at most :data:`SPIN_ANGLE` of spin per step, at most
+    :data:`LARGEST_TIMESTEP` (0.2 ms up to 22,500 rpm, 0.15 ms at 30,000 rpm)."""
+    return per_revolution_timestep(SPIN_ANGLE, v["spin_rpm"] * RPM, largest=LARGEST_TIMESTEP)
+
+
 def _axis(s: Snapshot) -> np.ndarray:
     return s.data.xmat[s.body_id("rotor")].reshape(3, 3)[:, 2].copy()
 
@@ -174,15 +199,17 @@ SCENE = Scene(
     drive=drive,
     initial_state=initial_state,
     reference=reference,
-    # RK4 at 0.15 ms, measured (integrator x timestep, 5 s on the steady precession):
+    # RK4, measured (integrator x timestep, 5 s on the steady precession):
     # euler and implicitfast gain energy on the spinning ball joint (Ω off by 6x at 50 µs
     # at 3000 rpm, divergence from 0.5 ms); implicit is stable but damps the motion (Ω off
     # by 0.6 % at 50 µs, 14 % at 1.5 ms; θ off by 0.03 to 1 rad). RK4 keeps T + V to 7e-9
     # and Ω within 9e-6 of the exact root at 0.5 ms and 3000 rpm, but the error grows as
     # (r dt)^4: at 30,000 rpm 0.5 ms is 2.3 % off and 1.5 ms diverges, while 0.15 ms
-    # (r dt = 0.47) stays within 6e-4 over the whole spin range, at ~20x real time.
+    # (r dt = 0.47) stays within 6e-4. So the step follows the spin (default_timestep):
+    # 0.2 ms up to 22,500 rpm (the long-run limit), 0.15 ms at 30,000 rpm.
     integrator="rk4",
-    timestep=1.5e-4,
+    timestep=2e-4,
+    timestep_for=default_timestep,
     plots=("precession_rate", "nutation"),
     arrows=ARROWS,
     body_frame="rotor",
@@ -196,7 +223,7 @@ SCENE = Scene(
         error=_precession_error,
         invariant="T + V",
         drift=energy_drift(),
-        timesteps=(5e-5, 1.5e-4, 5e-4, 1.5e-3, 5e-3),
+        timesteps=(5e-5, 2e-4, 5e-4, 1.5e-3, 5e-3),  # the default among them
         drift_tol=1e-3,  # T + V: first-order integrators gain energy on a spinning top
     ),
 )

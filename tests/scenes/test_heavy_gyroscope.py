@@ -71,9 +71,10 @@ def test_ball_joint_does_not_drift_over_a_minute():
     """60 s on the ball joint (about 4 turns of precession): unit quaternion, θ, Ω, T + V.
 
     RK4 is not symplectic: it gains a little T + V, so θ creeps up linearly, as dt⁵.
-    Measured at the default (0.15 ms): 8e-8 rad in a minute, Ω within 7e-8 of the exact
-    root, T + V within 2e-10 (at 0.5 ms: 3.4e-5 rad, 9e-6 and 8e-8).
-    """
+    Measured at the default (0.2 ms at 3000 rpm): 3.5e-7 rad in a minute, Ω within 2.2e-7
+    of the exact root, T + V within 9e-10 (0.15 ms: 8e-8, 7e-8, 2e-10; 0.25 ms: θ 1.1e-6;
+    0.5 ms: 3.4e-5 rad, 9e-6 and 8e-8)."""
+    assert Simulation("heavy_gyroscope").timestep == 2e-4
     sim = Simulation("heavy_gyroscope")
     exact, _ = precession(sim.values)
     theta = math.radians(sim.values["tilt_deg"])
@@ -100,6 +101,27 @@ def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
     assert r["precession_rate"] == pytest.approx(exact, rel=1e-3)
     assert r["nutation"] == pytest.approx(math.radians(45.0), abs=1e-4)
     assert r["spin"] == pytest.approx(6000.0 * RPM, rel=1e-6)
+
+
+def test_the_timestep_follows_the_spin_above_22500_rpm():
+    """At most 0.47 rad of spin per step (RK4's 6e-4 on Ω at 30,000 rpm and 0.15 ms),
+    at most 0.2 ms; a user's timestep stays."""
+    assert [SCENE.default_timestep({"spin_rpm": r}) for r in (0, 3000, 22500, 25000, 30000)] == [
+        2e-4,
+        2e-4,
+        2e-4,
+        1.5e-4,
+        1.5e-4,
+    ]
+    sim = Simulation("heavy_gyroscope")
+    sim.set_value("spin_rpm", 30000.0)
+    assert sim.timestep == 1.5e-4
+    sim.set_value("spin_rpm", 3000.0)
+    assert sim.timestep == 2e-4
+    assert Simulation("heavy_gyroscope", values={"spin_rpm": 30000.0}).timestep == 1.5e-4
+    user = Simulation("heavy_gyroscope", timestep=5e-5)
+    user.set_value("spin_rpm", 30000.0)
+    assert user.timestep == 5e-5
 
 
 def test_a_new_mass_acts_on_the_running_top():

@@ -50,3 +50,16 @@ def test_every_param_extreme_compiles_or_is_refused_clearly(name):
                 assert "\n" not in str(exc) and ("raise" in str(exc) or "lower" in str(exc))
                 continue
             sim.step(5)
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_default_timestep_is_declared_once_and_admitted(name):
+    """``Scene.timestep`` is the default at the default parameters (a scene whose step
+    follows its speed declares ``timestep_for``); every parameter's extremes give a step
+    the scene accepts."""
+    scene = SCENES[name]
+    assert scene.default_timestep() == scene.timestep == Simulation(name).timestep
+    for p in scene.params:
+        for value in (p.min, p.max):
+            dt = scene.default_timestep({p.name: value})
+            assert 0 < dt <= min(scene.max_timestep, 0.1), (p.name, value)
