@@ -88,6 +88,8 @@ STATUS_TIME = re.compile(rb"t = (-?[0-9]+(?:\.[0-9]+)?) s \xc2\xb7 vitesse")
 """The simulated time in the control panel's status line (UTF-8 bytes on the wire)."""
 
 FOREIGN_ORIGIN = "http://evil.example"
+BIG_MESSAGE = 16_000
+"""Bytes from which a server message counts as big (images, meshes, plot data)."""
 _ZSTD = zstandard.ZstdDecompressor()
 
 
@@ -294,6 +296,10 @@ class ClientStats:
     index: int
     first_frame: float | None = None  # perf_counter of the first update frame
     received: int = 0  # server messages, window or not
+    last_frame: float | None = None  # perf_counter of the latest update frame
+    max_gap: float = 0.0  # longest wait between two update frames in the window [s]
+    big: int = 0  # messages of BIG_MESSAGE bytes or more in the window
+    max_bytes: int = 0  # largest message in the window [bytes]
     error: str | None = None
     frames: int = 0
     ws_messages: int = 0
@@ -318,11 +324,22 @@ class ClientStats:
         if now in window:
             self.ws_messages += 1
             self.wire_bytes += len(raw)
+            self.big += len(raw) >= BIG_MESSAGE
+            self.max_bytes = max(self.max_bytes, len(raw))
+            if frame and self.last_frame is not None:
+                self.max_gap = max(self.max_gap, now - max(self.last_frame, window.start))
             self.viser_messages += inner.count(TYPE_MARKER)
             self.frames += frame
             t = status_time(inner)
             if t is not None:
                 self.times.append((now, t))
+        if frame:
+            self.last_frame = now
+
+    def longest_gap(self, window: Window) -> float:
+        """Longest time without an update frame inside the window, its end included [s]."""
+        last = max(self.last_frame or window.start, window.start)
+        return max(self.max_gap, window.end - min(last, window.end))
 
     def fps(self, window: Window) -> float:
         """Update frames per second over the window [1/s]."""
@@ -602,6 +619,9 @@ async def main_phase(
             sum(s.viser_messages for s in stats) / ws_msgs if ws_msgs else math.nan
         ),
         "update_frames_share": frames / ws_msgs if ws_msgs else math.nan,
+        "longest_frame_gap_s": summary([s.longest_gap(window) for s in stats]),
+        "big_messages_per_client_per_s": sum(s.big for s in stats) / seconds / clients,
+        "largest_message_bytes": max((s.max_bytes for s in stats), default=0),
     }
 
 
@@ -840,6 +860,10 @@ def report(results: dict[str, Any]) -> str:
         f"  traffic per client           {m['per_client_ws_messages_per_s']:.1f} messages/s, "
         f"{m['per_client_kbytes_per_s']:.1f} kB/s, {m['bytes_per_ws_message']:.0f} B and "
         f"{m['viser_messages_per_ws_message']:.1f} viser messages per websocket message",
+        f"  longest wait for a frame     median {m['longest_frame_gap_s']['median']:.2f} s  "
+        f"max {m['longest_frame_gap_s']['max']:.2f} s; messages >= {BIG_MESSAGE // 1000} kB: "
+        f"{m['big_messages_per_client_per_s']:.2f}/s per client, largest "
+        f"{m['largest_message_bytes'] / 1000:.0f} kB",
         f"  bench clients' own CPU       {m['bench_cpu_cores']:.2f} cores",
     ]
     if m["errors"]:

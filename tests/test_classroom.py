@@ -120,6 +120,8 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
     assert stats.frames == 60 and stats.fps(window) == pytest.approx(30.0)
     assert stats.ws_messages == 64 and stats.viser_messages == 124
     assert stats.sim_rate() == pytest.approx(0.5)
+    assert stats.longest_gap(window) == pytest.approx(1 / 30)
+    assert stats.longest_gap(cr.Window(start=10.0, end=20.0)) == pytest.approx(8.0)
 
     stats.pending = 11.0
     stats.feed(pose, 11.01, window)
