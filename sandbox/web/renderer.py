@@ -47,6 +47,9 @@ class GeomShape:
         rgba: Colour and opacity in [0, 1].
         moving: False for geoms welded to the world (posed once).
         mesh_id: Mesh index for ``kind == "mesh"``, else -1.
+        body: Body carrying a moving geom (its node is a child of the body's frame),
+            else -1.
+        local: Pose (x, y, z, w, qx, qy, qz) of a moving geom in its body's frame.
     """
 
     geom_id: int
@@ -56,6 +59,8 @@ class GeomShape:
     rgba: tuple[float, float, float, float]
     moving: bool
     mesh_id: int = -1
+    body: int = -1
+    local: tuple[float, ...] = ()
 
     @property
     def rgb255(self) -> tuple[int, int, int]:
@@ -118,8 +123,18 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
         if kind == "mesh":
             verts, faces = mesh_arrays(model, mesh_id)
             size = (float(len(verts)), float(len(faces)), float(np.abs(verts).sum()))
-        shapes.append(GeomShape(i, f"{prefix}/{i}_{name}", kind, size, rgba, moving, mesh_id))
+        if moving:
+            local = tuple(float(x) for x in (*model.geom_pos[i], *model.geom_quat[i]))
+            node = f"{body_frame(prefix, body)}/{i}_{name}"
+            shapes.append(GeomShape(i, node, kind, size, rgba, True, mesh_id, body, local))
+        else:
+            shapes.append(GeomShape(i, f"{prefix}/{i}_{name}", kind, size, rgba, False, mesh_id))
     return shapes
+
+
+def body_frame(prefix: str, body: int) -> str:
+    """Scene-tree name of the frame that carries a moving body's geoms."""
+    return f"{prefix}/body{body}"
 
 
 def mat_to_wxyz(mat: np.ndarray) -> np.ndarray:
@@ -185,7 +200,9 @@ def capsule_mesh(
 def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
     """Create the viser node of one geom in ``scene`` (a viser ``SceneApi``)."""
     color, opacity, name = shape.rgb255, shape.opacity, shape.name
-    common = {"opacity": opacity} if opacity is not None else {}
+    common: dict[str, Any] = {"opacity": opacity} if opacity is not None else {}
+    if shape.moving:
+        common.update(position=shape.local[:3], wxyz=shape.local[3:])
     if shape.kind == "box":
         return scene.add_box(name, color=color, dimensions=shape.size, **common)
     if shape.kind == "sphere":
@@ -212,6 +229,7 @@ def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
             section_size=cell * 5,
             plane_color=color,
             plane_opacity=shape.rgba[3] * 0.5,
+            **{k: v for k, v in common.items() if k in ("position", "wxyz")},
         )
     raise ValueError(f"cannot draw geom kind {shape.kind!r}")
 
@@ -219,8 +237,11 @@ def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
 class SceneRenderer:
     """Keeps one client's scene nodes in step with a model and its data.
 
+    Moving geoms are children of their body's frame, placed once at their pose in the
+    body; every frame then sends one pose per moving body (not one per geom).
+
     Args:
-        scene: A viser ``SceneApi`` (``client.scene``).
+        scene: A viser ``SceneApi`` (``client.scene``, or ``server.scene`` for all).
         prefix: Scene-tree folder of the nodes.
     """
 
@@ -229,19 +250,38 @@ class SceneRenderer:
         self.prefix = prefix
         self.model: mujoco.MjModel | None = None
         self.nodes: dict[int, tuple[GeomShape, Any]] = {}
+        self.bodies: dict[int, Any] = {}
 
     def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Rebuild changed nodes when the model object changed, then pose the moving ones."""
+        """Rebuild changed nodes when the model object changed, then pose the moving bodies."""
         fresh: list[int] = []
         if model is not self.model:
             fresh = self._rebuild(model)
             self.model = model
-        for gid, (shape, node) in self.nodes.items():
-            if shape.moving or gid in fresh:
+        for gid in fresh:
+            shape, node = self.nodes[gid]
+            if not shape.moving:
                 pos, wxyz = geom_pose(data, gid)
                 if np.isfinite(pos).all() and np.isfinite(wxyz).all():
                     node.position = pos
                     node.wxyz = wxyz
+        for body, frame in self.bodies.items():
+            pos, wxyz = data.xpos[body], data.xquat[body]
+            if np.isfinite(pos).all() and np.isfinite(wxyz).all():
+                frame.position = pos.copy()
+                frame.wxyz = wxyz.copy()
+
+    def world_pose(self, geom_id: int) -> tuple[np.ndarray, np.ndarray]:
+        """Where the browser draws a geom: world position [m] and (w, x, y, z)."""
+        shape, node = self.nodes[geom_id]
+        if not shape.moving:
+            return np.asarray(node.position, float), np.asarray(node.wxyz, float)
+        frame = self.bodies[shape.body]
+        quat = np.zeros(4)
+        mujoco.mju_mulQuat(quat, np.asarray(frame.wxyz, float), np.asarray(shape.local[3:]))
+        offset = np.zeros(3)
+        mujoco.mju_rotVecQuat(offset, np.asarray(shape.local[:3]), np.asarray(frame.wxyz, float))
+        return np.asarray(frame.position, float) + offset, quat
 
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:
         """Keep nodes whose shape is unchanged, replace the others; returns new ids."""
@@ -251,6 +291,11 @@ class SceneRenderer:
             if wanted.get(gid) != shape:
                 node.remove()
                 del self.nodes[gid]
+        moving = {s.body for s in wanted.values() if s.moving}
+        for body in [b for b in self.bodies if b not in moving or b >= model.nbody]:
+            self.bodies.pop(body).remove()
+        for body in sorted(moving - set(self.bodies)):
+            self.bodies[body] = self.scene.add_frame(body_frame(self.prefix, body), show_axes=False)
         fresh = []
         for gid, shape in wanted.items():
             if gid not in self.nodes:
@@ -262,5 +307,8 @@ class SceneRenderer:
         """Remove every node."""
         for _, node in self.nodes.values():
             node.remove()
+        for frame in self.bodies.values():
+            frame.remove()
         self.nodes.clear()
+        self.bodies.clear()
         self.model = None

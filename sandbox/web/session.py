@@ -8,6 +8,7 @@ runs the loop thread that drains the queue, steps in real time and asks a
 
 from __future__ import annotations
 
+import heapq
 import logging
 import math
 import queue
@@ -32,6 +33,9 @@ FPS = 60.0
 
 MAX_LAG = 0.1
 """Wall-clock lag [s] beyond which pacing re-syncs instead of catching up."""
+
+IDLE_EXIT = 5.0
+"""Seconds without any session after which the scheduler's thread ends."""
 
 ALIVE_CHECK = 0.5
 """Seconds between checks that the session's browser is still connected."""
@@ -318,12 +322,15 @@ def _number(value: Any, what: str) -> float:
 
 
 class Session:
-    """A browser's own simulation, stepped by a loop thread that draws into a view.
+    """A browser's own simulation, whose frames the process's :class:`Scheduler` runs.
 
     Args:
         controller: The session's controller (owns the simulation).
         view: Display called at up to ``fps`` frames per second.
         fps: Frame rate [Hz].
+        alive: Returns False once the session's browser has gone (checked every
+            :data:`ALIVE_CHECK` seconds; the session then stops by itself).
+        scheduler: The loop running the frames (default: the process's own).
     """
 
     def __init__(
@@ -333,29 +340,35 @@ class Session:
         *,
         fps: float = FPS,
         alive: Callable[[], bool] | None = None,
+        scheduler: Scheduler | None = None,
     ) -> None:
         self.controller = controller
         self.view = view
         self.period = 1.0 / fps
         self.alive = alive
+        self.scheduler = scheduler or Scheduler.shared()
         self._stop = threading.Event()
+        self._ended = threading.Event()
+        self._started = False
         self._closed = threading.Lock()
         self._recording_closed = False
-        self._thread = threading.Thread(target=self._run, name="sandbox-session", daemon=True)
+        self._next_check = 0.0
 
     def start(self) -> None:
-        """Start the loop thread."""
-        self._thread.start()
+        """Hand the session to the scheduler: its frames start at once."""
+        self._started = True
+        self.scheduler.add(self)
 
     def request_stop(self) -> None:
-        """Ask the loop to finish at its next frame (returns at once)."""
+        """Ask the loop to drop this session at its next turn (returns at once)."""
         self._stop.set()
+        self.scheduler.wake()
 
     def stop(self, timeout: float = 2.0) -> None:
-        """Ask the loop to finish, wait for it, then close any recording in progress."""
-        self._stop.set()
-        if self._thread.is_alive() and self._thread is not threading.current_thread():
-            self._thread.join(timeout)
+        """Drop the session, wait for a frame in progress, then close any recording."""
+        self.request_stop()
+        if self._started and not self.scheduler.in_loop():
+            self._ended.wait(timeout)
         self._close_recording()
 
     def _close_recording(self) -> None:
@@ -371,13 +384,13 @@ class Session:
 
     @property
     def running(self) -> bool:
-        """True while the loop thread is alive."""
-        return self._thread.is_alive()
+        """True from :meth:`start` until the session is dropped."""
+        return self._started and not self._ended.is_set()
 
     @property
     def finished(self) -> bool:
-        """True once the loop was started and has ended (stopped, or its browser left)."""
-        return self._thread.ident is not None and not self._thread.is_alive()
+        """True once the session was started and has ended (stopped, or its browser left)."""
+        return self._started and self._ended.is_set()
 
     def run_once(self, now: float | None = None) -> None:
         """One frame: requests, stepping, drawing; any error is shown, never raised."""
@@ -396,24 +409,24 @@ class Session:
             except Exception:
                 pass
 
-    def _run(self) -> None:
-        next_frame = time.perf_counter()
-        next_check = next_frame + ALIVE_CHECK
-        while not self._stop.is_set():
-            if self.alive is not None and next_frame >= next_check:
-                next_check = next_frame + ALIVE_CHECK
-                if not self._still_alive():
-                    log.info("session stops: its browser is gone")
-                    self._stop.set()
-                    self._close_recording()
-                    return
-            self.run_once()
-            next_frame += self.period
-            delay = next_frame - time.perf_counter()
-            if delay < 0:  # late: start a fresh schedule, still yield to the sender
-                next_frame = time.perf_counter()
-                delay = 0.002
-            self._stop.wait(delay)
+    def _turn(self, now: float) -> bool:
+        """The scheduler's call: one frame unless the session must end; False to drop it."""
+        if self._stop.is_set():
+            return False
+        if self.alive is not None and now >= self._next_check:
+            self._next_check = now + ALIVE_CHECK
+            if not self._still_alive():
+                log.info("session stops: its browser is gone")
+                self._stop.set()
+                return False
+        self.run_once()
+        return not self._stop.is_set()
+
+    def _end(self) -> None:
+        """Called by the scheduler once the session is dropped."""
+        self._ended.set()
+        if self.alive is not None and self._stop.is_set():
+            self._close_recording()
 
     def _still_alive(self) -> bool:
         try:
@@ -421,3 +434,92 @@ class Session:
         except Exception:  # a failing probe must not keep a dead session running
             log.exception("session liveness check failed")
             return False
+
+
+class Scheduler:
+    """One thread that runs the frames of every session of the process, earliest due first.
+
+    One thread instead of one per browser: with thirty browsers, thirty threads waking
+    sixty times a second spend more time handing the interpreter lock to each other
+    than drawing. When the frames cost more than the machine has, every session slows
+    down evenly (each is served in turn), and none starves.
+    """
+
+    _shared: Scheduler | None = None
+    _shared_lock = threading.Lock()
+
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self._heap: list[tuple[float, int, Session]] = []
+        self._seq = 0
+        self._thread: threading.Thread | None = None
+
+    @classmethod
+    def shared(cls) -> Scheduler:
+        """The process's scheduler (made on first use)."""
+        with cls._shared_lock:
+            if cls._shared is None:
+                cls._shared = cls()
+            return cls._shared
+
+    def add(self, session: Session) -> None:
+        """Run ``session``'s frames from now on."""
+        with self._cond:
+            self._seq += 1
+            heapq.heappush(self._heap, (time.perf_counter(), self._seq, session))
+            if self._thread is None or not self._thread.is_alive():
+                self._thread = threading.Thread(
+                    target=self._run, name="sandbox-sessions", daemon=True
+                )
+                self._thread.start()
+            self._cond.notify()
+
+    def wake(self) -> None:
+        """Let the loop look at its sessions now (one was asked to stop)."""
+        with self._cond:
+            for i, (due, seq, session) in enumerate(self._heap):
+                if session._stop.is_set() and due > 0:
+                    self._heap[i] = (0.0, seq, session)
+            heapq.heapify(self._heap)
+            self._cond.notify()
+
+    def in_loop(self) -> bool:
+        """True when called from the scheduler's own thread."""
+        return threading.current_thread() is self._thread
+
+    @property
+    def sessions(self) -> int:
+        """Sessions being served."""
+        with self._cond:
+            return len(self._heap)
+
+    def _run(self) -> None:
+        while True:
+            with self._cond:
+                while True:
+                    if not self._heap:
+                        if not self._cond.wait(IDLE_EXIT):
+                            self._thread = None  # idle: the thread ends, add() restarts it
+                            return
+                        continue
+                    due, seq, session = self._heap[0]
+                    delay = due - time.perf_counter()
+                    if delay <= 0:
+                        heapq.heappop(self._heap)
+                        break
+                    self._cond.wait(delay)
+            now = time.perf_counter()
+            try:
+                keep = session._turn(now)
+            except Exception:  # never lose the loop to one session
+                log.exception("session turn failed")
+                keep = True
+            if not keep:
+                session._end()
+                continue
+            after = time.perf_counter()
+            following = due + session.period
+            if following < after:  # late: fresh schedule, behind those already waiting
+                following = after
+            with self._cond:
+                heapq.heappush(self._heap, (following, seq, session))

@@ -11,7 +11,7 @@ import pytest
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.app import App
-from sandbox.web.session import Controller, Session
+from sandbox.web.session import Controller, Scheduler, Session
 
 PENDULUM = """
 <mujoco><option timestep="0.01"/><worldbody>
@@ -70,8 +70,9 @@ def pendulum(tmp_path):
     return path
 
 
-def _session_threads() -> list[threading.Thread]:
-    return [t for t in threading.enumerate() if t.name == "sandbox-session"]
+def _served() -> int:
+    """Sessions whose frames the process's scheduler still runs."""
+    return Scheduler.shared().sessions
 
 
 def _wait(predicate, timeout: float = 5.0) -> bool:
@@ -106,7 +107,7 @@ def test_disconnect_during_a_slow_connect_leaves_no_session(pendulum):
     gate.set()
     connecting.join(5.0)
     assert app.sessions == {}
-    assert _wait(lambda: not _session_threads())
+    assert _wait(lambda: _served() == 0)
 
 
 def test_a_session_whose_browser_vanished_stops_by_itself(pendulum):
@@ -154,7 +155,7 @@ def test_connect_and_drop_storm_returns_to_idle(pendulum):
             pair[0].join()
     for t in threads:
         t.join(10.0)
-    assert _wait(lambda: not _session_threads(), timeout=4.0), len(_session_threads())
+    assert _wait(lambda: _served() == 0, timeout=4.0), _served()
     assert app.reap() == 0
 
 
@@ -172,7 +173,7 @@ def test_a_full_server_says_so_in_french(pendulum):
     finally:
         app.stop()
     assert server.stopped and not app.sessions
-    assert _wait(lambda: not _session_threads())
+    assert _wait(lambda: _served() == 0)
 
 
 def test_a_failing_factory_tells_the_browser_and_keeps_serving(pendulum):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import ipaddress
+import threading
 
 import pytest
 import viser
@@ -68,7 +69,12 @@ def _handshake(port: int, origin: str | None) -> int:
         except InvalidStatus as exc:
             return exc.response.status_code
 
-    return asyncio.run(attempt())
+    # In a thread of its own: Playwright's sync API may hold an event loop in this one.
+    result: list[int] = []
+    worker = threading.Thread(target=lambda: result.append(asyncio.run(attempt())))
+    worker.start()
+    worker.join(20)
+    return result[0]
 
 
 def test_the_real_server_refuses_a_foreign_origin(served_rotor):

@@ -40,8 +40,8 @@ ALL_TYPES = """
 class FakeNode:
     def __init__(self, kind: str, name: str, kwargs: dict) -> None:
         self.kind, self.name, self.kwargs = kind, name, kwargs
-        self.position = np.zeros(3)
-        self.wxyz = np.array([1.0, 0, 0, 0])
+        self.position = np.asarray(kwargs.get("position", np.zeros(3)), float)
+        self.wxyz = np.asarray(kwargs.get("wxyz", (1.0, 0, 0, 0)), float)
         self.removed = False
 
     def remove(self) -> None:
@@ -115,7 +115,7 @@ def test_renderer_poses_moving_nodes_and_keeps_unchanged_ones(model_data):
     scene = FakeScene()
     renderer = SceneRenderer(scene)
     renderer.sync(model, data)
-    kinds = sorted(n.kind for n in scene.nodes)
+    kinds = sorted(n.kind for n in scene.nodes if n.kind != "frame")
     assert kinds == [
         "box",
         "cylinder",
@@ -128,8 +128,15 @@ def test_renderer_poses_moving_nodes_and_keeps_unchanged_ones(model_data):
     data.qpos[:3] = (1.0, 2.0, 3.0)
     mujoco.mj_forward(model, data)
     renderer.sync(model, data)
-    for gid, (_, node) in renderer.nodes.items():
-        assert node.position == pytest.approx(data.geom_xpos[gid])
+    moved = 0
+    for gid, (shape, _) in renderer.nodes.items():
+        pos, wxyz = renderer.world_pose(gid)
+        assert pos == pytest.approx(data.geom_xpos[gid])
+        mat = np.zeros(9)
+        mujoco.mju_quat2Mat(mat, wxyz)
+        assert mat == pytest.approx(data.geom_xmat[gid], abs=1e-9)
+        moved += shape.moving
+    assert moved >= 2 and len(renderer.bodies) == 1  # one pose a frame for the moving body
     # A recompiled model with one geom resized: only that node is replaced.
     spec = mujoco.MjSpec.from_string(ALL_TYPES)
     spec.geom("sphere").size[0] = 0.08
