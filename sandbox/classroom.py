@@ -196,6 +196,31 @@ def thread_cpu(pid: int) -> dict[tuple[int, int], float]:
     return out
 
 
+def connections_per_process(pid: int, port: int) -> dict[int, int]:
+    """Established TCP connections on local ``port`` held by each process of the tree.
+
+    Shows how the kernel spread the browsers over the server's worker processes.
+    """
+    inodes: dict[str, int] = {}
+    for p in process_tree(pid):
+        with contextlib.suppress(OSError):
+            for fd in os.listdir(f"/proc/{p}/fd"):
+                with contextlib.suppress(OSError):
+                    link = os.readlink(f"/proc/{p}/fd/{fd}")
+                    if link.startswith("socket:["):
+                        inodes[link[8:-1]] = p
+    counts = dict.fromkeys(process_tree(pid), 0)
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with contextlib.suppress(OSError), open(table) as fh:
+            for line in fh.readlines()[1:]:
+                cols = line.split()
+                local, state, inode = cols[1], cols[3], cols[9]
+                if state == "01" and int(local.rsplit(":", 1)[1], 16) == port:
+                    if inode in inodes:
+                        counts[inodes[inode]] += 1
+    return {p: n for p, n in counts.items() if n}
+
+
 # -- the wire ------------------------------------------------------------------------------
 
 
@@ -577,6 +602,7 @@ async def main_phase(
         cpu1, threads1, own1 = tree_cpu(server.pid), thread_cpu(server.pid), time.process_time()
         rss.append(tree_rss(server.pid))
         processes = len(process_tree(server.pid))
+        spread = sorted(connections_per_process(server.pid, server.port).values(), reverse=True)
     finally:
         for t in tasks:
             t.cancel()
@@ -608,6 +634,7 @@ async def main_phase(
         "slider_not_shown": sum(s.not_shown for s in stats),
         "server_cpu_cores": (cpu1 - cpu0) / seconds,
         "server_processes": processes,
+        "clients_per_process": spread,
         "server_threads": len(threads1),
         "server_top_thread_cores": threads[:6],
         "server_rss_bytes": max(rss),
@@ -850,9 +877,9 @@ def report(results: dict[str, Any]) -> str:
         f"  simulated s per wall s       min {rate['min']:.3f}  median {rate['median']:.3f}"
         f"  ({m['sim_rate_samples']} clients)",
         f"  server CPU                   {m['server_cpu_cores']:.2f} cores "
-        f"({m['server_processes']} process(es), {m['server_threads']} threads; busiest "
-        + ", ".join(f"{c:.2f}" for c in m["server_top_thread_cores"][:4])
-        + ")",
+        f"({m['server_processes']} process(es), clients per process "
+        f"{'/'.join(str(n) for n in m['clients_per_process'])}, {m['server_threads']} threads; "
+        "busiest " + ", ".join(f"{c:.2f}" for c in m["server_top_thread_cores"][:4]) + ")",
         f"  server RSS                   {m['server_rss_bytes'] / 1e6:.0f} MB",
         f"  slider -> first frame        p95 {delay['p95'] * 1000:.0f} ms  median "
         f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}, {m['slider_samples']} "

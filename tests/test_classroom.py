@@ -205,4 +205,5 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
     assert all(f > 0 for f in main["fps_per_client"])
     assert all(r > 0 for r in main["sim_rate_per_client"])
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
+    assert sum(main["clients_per_process"]) == 2  # both websockets found in /proc
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
