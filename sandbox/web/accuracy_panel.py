@@ -4,9 +4,12 @@ where the current integrator and timestep sit on the scene's work-precision char
 from __future__ import annotations
 
 import json
+import logging
 import math
+import threading
 from collections import deque
 from collections.abc import Mapping
+from concurrent.futures import Future
 from typing import Any
 
 import numpy as np
@@ -14,7 +17,10 @@ import numpy as np
 from sandbox.bench import Run, SceneResult, mark_pareto
 from sandbox.data import data_dir
 from sandbox.physics.simulation import Simulation
+from sandbox.web import charts
 from sandbox.web.tables import fmt
+
+log = logging.getLogger(__name__)
 
 CHART_PERIOD = 30.0
 """Seconds between two redraws of the chart while the setting stays the same (a redraw
@@ -55,25 +61,70 @@ def load_results(scene: str) -> SceneResult | None:
     return res
 
 
+_BASES: dict[int, tuple[np.ndarray, tuple[float, ...]]] = {}
+_BASES_LOCK = threading.Lock()
+CHART_DPI = 60
+
+
+def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
+    """The scene's chart without the live point, drawn once per process, and the map
+    from (log10 cost, log10 error) to pixels: ``(ax, bx, ay, by, x0, x1, y0, y1)``."""
+    with _BASES_LOCK:
+        cached = _BASES.get(id(res))
+        if cached is not None:
+            return cached
+        import io
+
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.image
+        import matplotlib.pyplot as plt
+
+        from sandbox.bench_plot import draw
+
+        fig = draw(res, None)
+        fig.set_dpi(CHART_DPI)
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="png", dpi=CHART_DPI)
+        axes = fig.axes[0]
+        height = fig.bbox.height
+        (px0, py0), (px1, py1) = axes.transData.transform([(1.0, 1.0), (10.0, 10.0)])
+        box = axes.get_window_extent()
+        plt.close(fig)
+        buffer.seek(0)
+        image = (matplotlib.image.imread(buffer, format="png")[..., :3] * 255).astype(np.uint8)
+        mapping = (
+            float(px0),
+            float(px1 - px0),
+            float(height - py0),
+            float(py0 - py1),
+            float(box.x0),
+            float(box.x1),
+            float(height - box.y1),
+            float(height - box.y0),
+        )
+        _BASES[id(res)] = (image, mapping)
+        return image, mapping
+
+
 def chart_image(res: SceneResult, live: Run | None) -> np.ndarray:
-    """The work-precision chart as an RGB array, with the live point if known."""
-    import io
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.image
-    import matplotlib.pyplot as plt
-
-    from sandbox.bench_plot import draw
-
-    buffer = io.BytesIO()
-    fig = draw(res, live)
-    fig.savefig(buffer, format="png", dpi=60)
-    plt.close(fig)
-    buffer.seek(0)
-    image = matplotlib.image.imread(buffer, format="png")
-    return (image[..., :3] * 255).astype(np.uint8)
+    """The work-precision chart as an RGB array, with the live point (a black diamond)
+    when its cost and error are known: the base is drawn once, the point in numpy."""
+    base, (ax, bx, ay, by, x0, x1, y0, y1) = chart_base(res)
+    image = base.copy()
+    if live is None or not (live.cpu_per_sim_s > 0 and live.error > 0):
+        return image
+    if not (math.isfinite(live.cpu_per_sim_s) and math.isfinite(live.error)):
+        return image
+    px = ax + bx * math.log10(live.cpu_per_sim_s)
+    py = ay + by * math.log10(max(live.error, 1e-16))
+    px, py = min(max(px, x0), x1), min(max(py, y0), y1)  # off the chart: on its edge
+    size = 7
+    rows, cols = np.ogrid[: image.shape[0], : image.shape[1]]
+    diamond = np.abs(rows - py) + np.abs(cols - px) <= size
+    image[diamond] = 0
+    return image
 
 
 class AccuracyPanel:
@@ -92,6 +143,7 @@ class AccuracyPanel:
         self._key: tuple | None = None
         self._chart_at = -math.inf
         self._charted: tuple | None = None
+        self._drawing: Future[np.ndarray] | None = None
         with gui.add_folder("Précision et coût"):
             self.text = gui.add_markdown("")
             self.image = None
@@ -150,7 +202,15 @@ class AccuracyPanel:
         )
         if self.text.content != text:
             self.text.content = text
-        if self.image is None or not math.isfinite(cost):
+        if self.image is None:
+            return
+        if self._drawing is not None and self._drawing.done():
+            drawing, self._drawing = self._drawing, None
+            try:
+                self.image.image = drawing.result()
+            except Exception:  # a chart is a bonus: the table stays
+                log.exception("work-precision chart failed")
+        if self._drawing is not None or not math.isfinite(cost):
             return
         point = (sim.integrator, sim.timestep, _round(cost), _round(error))
         changed = self._charted is None or point[:2] != self._charted[:2]
@@ -159,7 +219,8 @@ class AccuracyPanel:
             live = Run(
                 sim.label, sim.integrator, sim.timestep, 0.0, error=error, cpu_per_sim_s=cost
             )
-            self.image.image = chart_image(self.results, live)
+            # Drawn by the chart thread: the frames of every session go on meanwhile.
+            self._drawing = charts.submit(chart_image, self.results, live)
 
 
 def _round(x: float) -> float:

@@ -66,3 +66,17 @@ def test_a_file_has_cost_but_no_error(pendulum_xml):
     panel.refresh(sim, cost=1e-3, now=0.0)
     assert "×1000" in panel.text.content and panel.image is None
     assert "Erreur" not in panel.text.content
+
+
+def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
+    """refresh() only submits the drawing; a later refresh shows the finished image."""
+    sim = Simulation("rotor")
+    panel = AccuracyPanel(Gui(), sim)
+    blank = panel.image.image
+    panel.refresh(sim, cost=2e-3, now=100.0)
+    assert panel._drawing is not None
+    panel._drawing.result(timeout=60)
+    assert panel.image.image is blank  # not yet picked up: no frame waited for it
+    panel.refresh(sim, cost=2e-3, now=100.1)
+    assert panel.image.image is not blank and panel.image.image.shape[2] == 3
+    assert panel._drawing is None
