@@ -10,6 +10,7 @@ quantities belong to the state *before* the step), then :func:`compute`.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
@@ -50,15 +51,34 @@ GENERIC_READOUTS: tuple[ReadoutInfo, ...] = (
     *_torsor_infos("sup", "Action of the frame on the mechanism", "N", "N·m"),
 )
 GENERIC_NAMES: tuple[str, ...] = tuple(r.name for r in GENERIC_READOUTS)
+GENERIC_SET: frozenset[str] = frozenset(GENERIC_NAMES)
 _NEEDS_RNE = ("dyn_", "sup_", "P_acc")
+_SMALL = 32
+"""Up to this many vectors, :func:`_cross` works on Python floats (a handful of bodies:
+one numpy call per component would cost more than the arithmetic)."""
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a ∧ b on the last axis, for (3,) or (n, 3) arrays (cheaper than np.cross)."""
+    """a ∧ b on the last axis, for (3,) or (n, 3) arrays (cheaper than np.cross).
+
+    Each component is a1 b2 − a2 b1 (and its cyclic shifts) in IEEE double arithmetic,
+    the same operations whichever path computes it.
+    """
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
+    if a.ndim == 1 and b.ndim == 1:
+        a0, a1, a2 = a.tolist()
+        b0, b1, b2 = b.tolist()
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
     if a.shape != b.shape:
         a, b = np.broadcast_arrays(a, b)
+    if a.ndim == 2 and 0 < len(a) <= _SMALL:
+        return np.array(
+            [
+                (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
+                for (a0, a1, a2), (b0, b1, b2) in zip(a.tolist(), b.tolist(), strict=True)
+            ]
+        )
     out = np.empty(a.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
@@ -68,9 +88,84 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
+class _Structure:
+    """Model-constant index arrays of the mechanism (body tree and joints): computed once
+    per compiled model, since every readout row would otherwise rebuild them."""
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        weld, parent = model.body_weldid, model.body_parentid
+        self.bodies = _frozen(np.flatnonzero(weld != 0))
+        b = self.bodies
+        self.children = _frozen(b[weld[parent[b]] == 0])
+        jointed = self.children[model.body_jntnum[self.children] > 0]
+        self.support_bodies = _frozen(np.concatenate([jointed, b]))
+        self.support_roots = _frozen(model.body_rootid[self.support_bodies])
+        self.n_jointed = len(jointed)
+        self.children_joints = _JointGroups(model, self.children)
+        kind = model.jnt_type
+        scalar = (kind == mujoco.mjtJoint.mjJNT_HINGE) | (kind == mujoco.mjtJoint.mjJNT_SLIDE)
+        self.scalar_joints = _frozen(np.flatnonzero(scalar))  # those a spring may act in
+        self.scalar_qpos = _frozen(model.jnt_qposadr[self.scalar_joints])
+
+
+class _JointGroups:
+    """The joints of some bodies, grouped by type, as index arrays."""
+
+    def __init__(self, model: mujoco.MjModel, bodies: np.ndarray) -> None:
+        kinds: dict[int, list[tuple[int, int, int]]] = {}
+        for body in bodies:
+            start = int(model.body_jntadr[body])
+            for j in range(start, start + int(model.body_jntnum[body])):
+                kind = int(model.jnt_type[j])
+                kinds.setdefault(kind, []).append((j, int(model.jnt_dofadr[j]), int(body)))
+
+        def cols(kind: mujoco.mjtJoint) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+            rows = kinds.get(int(kind))
+            if not rows:
+                return None
+            a = np.array(rows, dtype=int)
+            return _frozen(a[:, 0]), _frozen(a[:, 1]), _frozen(a[:, 2])
+
+        self.hinge = cols(mujoco.mjtJoint.mjJNT_HINGE)
+        self.slide = cols(mujoco.mjtJoint.mjJNT_SLIDE)
+        self.ball = cols(mujoco.mjtJoint.mjJNT_BALL)
+        self.free = cols(mujoco.mjtJoint.mjJNT_FREE)
+        if self.ball is not None:
+            self.ball_dofs = _frozen(self.ball[1][:, None] + np.arange(3))
+        if self.free is not None:
+            self.free_dofs = _frozen(self.free[1][:, None] + np.arange(6))
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+_STRUCTURES: weakref.WeakKeyDictionary[Any, _Structure] = weakref.WeakKeyDictionary()
+_GROUPS: weakref.WeakKeyDictionary[Any, dict[bytes, _JointGroups]] = weakref.WeakKeyDictionary()
+
+
+def _structure(model: mujoco.MjModel) -> _Structure:
+    found = _STRUCTURES.get(model)
+    if found is None:
+        found = _STRUCTURES[model] = _Structure(model)
+    return found
+
+
+def _joint_groups(model: mujoco.MjModel, bodies: np.ndarray) -> _JointGroups:
+    cache = _GROUPS.get(model)
+    if cache is None:
+        cache = _GROUPS[model] = {}
+    key = np.asarray(bodies, dtype=int).tobytes()
+    found = cache.get(key)
+    if found is None:
+        found = cache[key] = _JointGroups(model, np.asarray(bodies, dtype=int))
+    return found
+
+
 def mechanism_bodies(model: mujoco.MjModel) -> np.ndarray:
-    """Ids of the bodies not welded to the world."""
-    return np.flatnonzero(model.body_weldid != 0)
+    """Ids of the bodies not welded to the world (read-only, shared)."""
+    return _structure(model).bodies
 
 
 def _gravity(model: mujoco.MjModel) -> np.ndarray:
@@ -130,6 +225,45 @@ class Kinematics:
         """I_G α + ω ∧ I_G ω of every body (dynamic moment at G)."""
         return np.einsum("bij,bj->bi", self.inertia, self.alpha) + _cross(self.omega, self.i_omega)
 
+    # -- the mechanism's bodies only (index = position in ``bodies``), shared by the torsors,
+    # energies and powers of one row instead of each indexing the per-body arrays again.
+    @cached_property
+    def gravity(self) -> np.ndarray:
+        return _gravity(self.model)
+
+    @cached_property
+    def mass_b(self) -> np.ndarray:
+        return self.model.body_mass[self.bodies]
+
+    @cached_property
+    def xipos_b(self) -> np.ndarray:
+        return self.data.xipos[self.bodies]
+
+    @cached_property
+    def v_g_b(self) -> np.ndarray:
+        return self.v_g[self.bodies]
+
+    @cached_property
+    def omega_b(self) -> np.ndarray:
+        return self.omega[self.bodies]
+
+    @cached_property
+    def i_omega_b(self) -> np.ndarray:
+        return self.i_omega[self.bodies]
+
+    @cached_property
+    def momentum_b(self) -> np.ndarray:
+        """m v_G of the mechanism's bodies."""
+        return self.mass_b[:, None] * self.v_g_b
+
+    @cached_property
+    def a_g_b(self) -> np.ndarray:
+        return self.a_g[self.bodies]
+
+    @cached_property
+    def delta_g_b(self) -> np.ndarray:
+        return self.delta_g[self.bodies]
+
 
 def _kin(model: mujoco.MjModel, data: mujoco.MjData, kin: Kinematics | None) -> Kinematics:
     return kin if kin is not None else Kinematics(model, data)
@@ -160,6 +294,9 @@ def kinetic_torsor(
 ) -> Pair:
     """{C} at O: (Σ m v_G, Σ I_G ω + OG ∧ m v_G)."""
     k = _kin(model, data, kin)
+    if bodies is None:
+        p = k.momentum_b
+        return p.sum(0), (k.i_omega_b + _cross(k.xipos_b, p)).sum(0)
     b = _select(k, bodies)
     p = model.body_mass[b][:, None] * k.v_g[b]
     return p.sum(0), (k.i_omega[b] + _cross(data.xipos[b], p)).sum(0)
@@ -170,6 +307,9 @@ def dynamic_torsor(
 ) -> Pair:
     """{D} at O: (Σ m a_G, Σ I_G α + ω ∧ I_G ω + OG ∧ m a_G)."""
     k = _kin(model, data, kin)
+    if bodies is None:
+        ma = k.mass_b[:, None] * k.a_g_b
+        return ma.sum(0), (k.delta_g_b + _cross(k.xipos_b, ma)).sum(0)
     b = _select(k, bodies)
     ma = model.body_mass[b][:, None] * k.a_g[b]
     return ma.sum(0), (k.delta_g[b] + _cross(data.xipos[b], ma)).sum(0)
@@ -184,31 +324,44 @@ def gravity_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> P
 
 def _frame_children(model: mujoco.MjModel) -> np.ndarray:
     """Mechanism bodies whose parent is welded to the world (they touch the frame)."""
-    b = mechanism_bodies(model)
-    return b[model.body_weldid[model.body_parentid[b]] == 0]
+    return _structure(model).children
 
 
 def _dof_wrenches(
-    model: mujoco.MjModel, data: mujoco.MjData, force: np.ndarray, bodies: np.ndarray
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    force: np.ndarray,
+    bodies: np.ndarray,
+    *,
+    groups: _JointGroups | None = None,
 ) -> Pair:
-    """Wrench at O of generalised forces ``force`` (nv,) in the joints of ``bodies``."""
+    """Wrench at O of generalised forces ``force`` (nv,) in the joints of ``bodies``.
+
+    Hinge: a torque along its axis; slide: a force along its axis through its anchor; ball:
+    a torque in body axes; free: a world-axis force at the body origin and a body-axis
+    torque. Vectorised over the joints of each type (``groups``: their cached indices).
+    """
+    g = groups if groups is not None else _joint_groups(model, bodies)
     r, m = np.zeros(3), np.zeros(3)
-    for body in bodies:
-        for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
-            kind, dof = model.jnt_type[j], model.jnt_dofadr[j]
-            rot = data.xmat[body].reshape(3, 3)
-            if kind == mujoco.mjtJoint.mjJNT_HINGE:
-                m += force[dof] * data.xaxis[j]
-            elif kind == mujoco.mjtJoint.mjJNT_SLIDE:
-                f = force[dof] * data.xaxis[j]
-                r += f
-                m += _cross(data.xanchor[j], f)
-            elif kind == mujoco.mjtJoint.mjJNT_BALL:
-                m += rot @ force[dof : dof + 3]
-            else:  # free: world-axis force at the body origin, body-axis torque
-                f = force[dof : dof + 3]
-                r += f
-                m += _cross(data.xpos[body], f) + rot @ force[dof + 3 : dof + 6]
+    if g.hinge is not None:
+        j, dof, _ = g.hinge
+        m += force[dof] @ data.xaxis[j]
+    if g.slide is not None:
+        j, dof, _ = g.slide
+        f = force[dof][:, None] * data.xaxis[j]
+        r += f.sum(0)
+        m += _cross(data.xanchor[j], f).sum(0)
+    if g.ball is not None:
+        _, _, body = g.ball
+        rot = data.xmat[body].reshape(-1, 3, 3)
+        m += np.einsum("bij,bj->i", rot, force[g.ball_dofs])
+    if g.free is not None:
+        _, _, body = g.free
+        rot = data.xmat[body].reshape(-1, 3, 3)
+        dofs = g.free_dofs
+        f = force[dofs[:, :3]]
+        r += f.sum(0)
+        m += _cross(data.xpos[body], f).sum(0) + np.einsum("bij,bj->i", rot, force[dofs[:, 3:]])
     return r, m
 
 
@@ -228,6 +381,8 @@ def actuator_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
 
 def applied_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     """xfrc_applied (force at G, torque) on mechanism bodies, at O."""
+    if not data.xfrc_applied.any():  # the usual case: no applied load
+        return np.zeros(3), np.zeros(3)
     b = mechanism_bodies(model)
     f = data.xfrc_applied[b, :3]
     return f.sum(0), (data.xfrc_applied[b, 3:] + _cross(data.xipos[b], f)).sum(0)
@@ -250,15 +405,14 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
     ``cfrc_ext``; summed over the mechanism, the pairs between two moving bodies cancel
     (mutual actions), leaving the frame's share. Requires mj_rnePostConstraint.
     """
-    children = _frame_children(model)
-    jointed = children[model.body_jntnum[children] > 0]
-    mech = mechanism_bodies(model)
-    bodies = np.concatenate([jointed, mech])
-    wrench = np.concatenate([data.cfrc_int[jointed], data.cfrc_ext[mech]])
-    c = data.subtree_com[model.body_rootid[bodies]]
+    st = _structure(model)
+    bodies, n = st.support_bodies, st.n_jointed
+    wrench = np.concatenate([data.cfrc_int[bodies[:n]], data.cfrc_ext[bodies[n:]]])
+    c = data.subtree_com[st.support_roots]
     r = wrench[:, 3:].sum(0)
     m = (wrench[:, :3] + _cross(c, wrench[:, 3:])).sum(0)
-    ar, am = _dof_wrenches(model, data, joint_drive(model, data), children)
+    drive = joint_drive(model, data)
+    ar, am = _dof_wrenches(model, data, drive, st.children, groups=st.children_joints)
     xr, xm = applied_torsor(model, data)
     return r - ar - xr, m - am - xm
 
@@ -268,9 +422,12 @@ def kinetic_energy(
 ) -> float:
     """T = Σ ½ m v_G² + ½ ω·I_G ω, plus ½ Σ armature q̇² (motor rotors, whole mechanism)."""
     k = _kin(model, data, kin)
-    b = _select(k, bodies)
-    v = k.v_g[b]
-    t = 0.5 * (model.body_mass[b] * (v * v).sum(1)).sum() + 0.5 * (k.i_omega[b] * k.omega[b]).sum()
+    if bodies is None:
+        v, m, i_omega, omega = k.v_g_b, k.mass_b, k.i_omega_b, k.omega_b
+    else:
+        b = _select(k, bodies)
+        v, m, i_omega, omega = k.v_g[b], model.body_mass[b], k.i_omega[b], k.omega[b]
+    t = 0.5 * (m * (v * v).sum(1)).sum() + 0.5 * (i_omega * omega).sum()
     if bodies is None:
         t += 0.5 * float(model.dof_armature @ (data.qvel * data.qvel))
     return float(t)
@@ -278,20 +435,15 @@ def kinetic_energy(
 
 def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     """Weight (−Σ m g·OG) plus hinge and slide joint springs ½ k (q − q_ref)²."""
-    b = mechanism_bodies(model)
+    st = _structure(model)
+    b = st.bodies
     v = -float((model.body_mass[b] * (data.xipos[b] @ _gravity(model))).sum())
     if not model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_SPRING:
-        for j in np.flatnonzero(model.jnt_stiffness > 0):
-            if int(model.jnt_type[j]) in (
-                int(mujoco.mjtJoint.mjJNT_HINGE),
-                int(mujoco.mjtJoint.mjJNT_SLIDE),
-            ):
-                a = model.jnt_qposadr[j]
-                v += (
-                    0.5
-                    * float(model.jnt_stiffness[j])
-                    * float(data.qpos[a] - model.qpos_spring[a]) ** 2
-                )
+        k = model.jnt_stiffness[st.scalar_joints]
+        if k.any():
+            a = st.scalar_qpos
+            stretch = data.qpos[a] - model.qpos_spring[a]
+            v += 0.5 * float(k @ (stretch * stretch))
     return v
 
 
@@ -300,11 +452,12 @@ def powers(
 ) -> dict[str, float]:
     """P_ext and P_int [W] (see the module and README for the split)."""
     k = _kin(model, data, kin)
-    b = k.bodies
     qv = data.qvel
-    p_grav = float((model.body_mass[b] * (k.v_g[b] @ _gravity(model))).sum())
-    xf = data.xfrc_applied[b]
-    p_xfrc = float((xf[:, :3] * k.v_g[b]).sum() + (xf[:, 3:] * k.omega[b]).sum())
+    p_grav = float((k.mass_b * (k.v_g_b @ k.gravity)).sum())
+    p_xfrc = 0.0
+    if data.xfrc_applied.any():
+        xf = data.xfrc_applied[k.bodies]
+        p_xfrc = float((xf[:, :3] * k.v_g_b).sum() + (xf[:, 3:] * k.omega_b).sum())
     p_ext = (
         p_grav + p_xfrc + float(qv @ (data.qfrc_actuator + data.qfrc_applied + data.qfrc_gravcomp))
     )
@@ -318,10 +471,9 @@ def acceleration_power(
     """P_acc = Σ {D_i}⊗{V_i} = Σ m a_G·v_G + (I_G α + ω ∧ I_G ω)·ω, plus the motor
     rotors' Σ armature q̇ q̈ (so that P_acc = dT/dt with T as above)."""
     k = _kin(model, data, kin)
-    b = k.bodies
     return float(
-        (model.body_mass[b] * (k.a_g[b] * k.v_g[b]).sum(1)).sum()
-        + (k.delta_g[b] * k.omega[b]).sum()
+        (k.mass_b * (k.a_g_b * k.v_g_b).sum(1)).sum()
+        + (k.delta_g_b * k.omega_b).sum()
         + model.dof_armature @ (data.qvel * data.qacc)
     )
 
@@ -373,24 +525,26 @@ def compute(
     ``cache`` (prefix -> torsor) lets several consumers share one torsor computation.
     """
     names = list(names)
-    unknown = [n for n in names if n not in GENERIC_NAMES]
+    asked = set(names)
+    unknown = [n for n in names if n not in GENERIC_SET]
     if unknown:
         raise KeyError(f"unknown readout {unknown[0]!r}; valid: {', '.join(GENERIC_NAMES)}")
     out: dict[str, float] = {}
+    heads = {n[:4] for n in asked}
     for prefix in _TORSORS:
-        if any(n.startswith(prefix + "_") for n in names):
+        if prefix + "_" in heads:
             r, m = torsor(model, data, prefix, cache)
-            for i, c in enumerate("xyz"):
-                out[f"{prefix}_R_{c}"], out[f"{prefix}_M_{c}"] = float(r[i]), float(m[i])
-    if "time" in names:
+            for c, ri, mi in zip("xyz", r.tolist(), m.tolist(), strict=True):
+                out[f"{prefix}_R_{c}"], out[f"{prefix}_M_{c}"] = ri, mi
+    if "time" in asked:
         out["time"] = float(data.time)
     kin = _cached_kin(model, data, cache)
-    if "T" in names:
+    if "T" in asked:
         out["T"] = kinetic_energy(model, data, kin=kin)
-    if "V" in names:
+    if "V" in asked:
         out["V"] = potential_energy(model, data)
-    if "P_ext" in names or "P_int" in names:
+    if "P_ext" in asked or "P_int" in asked:
         out.update(powers(model, data, kin=kin))
-    if "P_acc" in names:
+    if "P_acc" in asked:
         out["P_acc"] = acceleration_power(model, data, kin=kin)
     return {n: out[n] for n in names}

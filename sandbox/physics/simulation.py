@@ -253,14 +253,25 @@ class Simulation:
     # -- readouts -----------------------------------------------------------------------
     def readout_infos(self) -> list[ReadoutInfo]:
         """Every readout available: the generic ones, then the scene's."""
-        infos = [ReadoutInfo(r.name, r.unit, r.doc) for r in generic.GENERIC_READOUTS]
-        if self.scene is not None:
-            infos += [ReadoutInfo(r.name, r.unit, r.doc) for r in self.scene.readouts]
-        return infos
+        return list(self._readout_table()[0])
 
     def readout_names(self) -> list[str]:
         """Names of :meth:`readout_infos`, in column order."""
-        return [r.name for r in self.readout_infos()]
+        return list(self._readout_table()[1])
+
+    def _readout_table(
+        self,
+    ) -> tuple[tuple[ReadoutInfo, ...], tuple[str, ...], dict[str, Callable[[Snapshot], float]]]:
+        """(infos, names, scene functions by name): fixed for a simulation, built once."""
+        table = getattr(self, "_table", None)
+        if table is None:
+            infos = [ReadoutInfo(r.name, r.unit, r.doc) for r in generic.GENERIC_READOUTS]
+            fns: dict[str, Callable[[Snapshot], float]] = {}
+            if self.scene is not None:
+                infos += [ReadoutInfo(r.name, r.unit, r.doc) for r in self.scene.readouts]
+                fns = {r.name: r.fn for r in self.scene.readouts}
+            table = self._table = (tuple(infos), tuple(i.name for i in infos), fns)
+        return table
 
     def snapshot(self, names: Iterable[str] = generic.GENERIC_NAMES) -> Snapshot:
         """Bring derived quantities up to date for ``names`` and wrap them in a snapshot.
@@ -279,16 +290,17 @@ class Simulation:
         Raises:
             KeyError: an unknown name (the message lists the valid ones).
         """
-        wanted = self.readout_names() if names is None else list(names)
-        scene_fns = {r.name: r.fn for r in self.scene.readouts} if self.scene else {}
-        unknown = [n for n in wanted if n not in scene_fns and n not in generic.GENERIC_NAMES]
+        _, all_names, scene_fns = self._readout_table()
+        wanted = list(all_names) if names is None else list(names)
+        known = generic.GENERIC_SET
+        unknown = [n for n in wanted if n not in scene_fns and n not in known]
         if unknown:
             raise KeyError(
                 f"unknown readout {unknown[0]!r}; valid: {', '.join(self.readout_names())}"
             )
         with self.lock:
-            needs = [n for n in wanted if n in generic.GENERIC_NAMES]
-            if any(n in scene_fns for n in wanted):
+            needs = [n for n in wanted if n in known]
+            if len(needs) < len(wanted):
                 needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
             snap = self.snapshot(needs)
             out = generic.compute(

@@ -6,6 +6,7 @@ same torsor (e.g. both bearing forces) share one computation.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Mapping
 from typing import Any
 
@@ -46,19 +47,41 @@ class Snapshot:
         """Action of the frame on the mechanism at O: (R [N], M_O [N·m])."""
         return readouts.torsor(self.model, self.data, "sup", self.cache)
 
+    def _names(self) -> dict[tuple[str, str], int]:
+        names = _NAMES.get(self.model)
+        if names is None:
+            names = _NAMES[self.model] = {}
+        return names
+
     def body_id(self, name: str) -> int:
         """Id of the body called ``name`` (KeyError if absent)."""
-        bid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
-        if bid < 0:
-            raise KeyError(f"no body named {name!r} in the model")
+        names = self._names()
+        bid = names.get(("body", name))
+        if bid is None:
+            bid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, name)
+            if bid < 0:
+                raise KeyError(f"no body named {name!r} in the model")
+            names["body", name] = bid
         return bid
+
+    def _joint(self, name: str, kind: str) -> int:
+        """qvel (kind "dof") or qpos ("qpos") address of the joint called ``name``."""
+        names = self._names()
+        adr = names.get((kind, name))
+        if adr is None:
+            jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            table = self.model.jnt_dofadr if kind == "dof" else self.model.jnt_qposadr
+            adr = names[kind, name] = int(table[jid])
+        return adr
 
     def joint_qvel(self, name: str) -> float:
         """Velocity of a 1-dof joint called ``name``."""
-        jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)
-        return float(self.data.qvel[self.model.jnt_dofadr[jid]])
+        return float(self.data.qvel[self._joint(name, "dof")])
 
     def joint_qpos(self, name: str) -> float:
         """Position of a 1-dof joint called ``name``."""
-        jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)
-        return float(self.data.qpos[self.model.jnt_qposadr[jid]])
+        return float(self.data.qpos[self._joint(name, "qpos")])
+
+
+_NAMES: weakref.WeakKeyDictionary[Any, dict[tuple[str, str], int]] = weakref.WeakKeyDictionary()
+"""Ids and addresses by name, per compiled model (names never change once compiled)."""
