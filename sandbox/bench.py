@@ -82,6 +82,7 @@ class SceneResult:
     runs: list[Run] = field(default_factory=list)
     drift_tol: float = math.inf
     constraint_tol: float = math.inf
+    session: SessionCost | None = None
 
     def admissible(self, run: Run) -> bool:
         """Within this scene's drift and constraint limits (and not diverged)."""
@@ -194,6 +195,109 @@ def stepping_cost(
     return best
 
 
+# -- what one browser session costs ----------------------------------------------------------
+FRAME_RATE = 60.0
+"""Frames per second of a web session: poses and the arrows' snapshot (at most)."""
+PANEL_RATE = 10.0
+"""Readout rows per second of a web session (tables, plots, lesson checks)."""
+ARROW_READOUTS = ("sup_R_x", "dyn_R_x")
+"""Readouts brought up to date for the arrows at every frame (the web app's
+``SNAPSHOT_NAMES``): one forward pass and the torsors the arrows use."""
+GOAL = 20.0
+"""Real-time factor a session's default should reach on one core (2 cores, 30 sessions)."""
+
+
+@dataclass
+class SessionCost:
+    """CPU cost of one web session at a scene's defaults, per simulated second.
+
+    Attributes:
+        scene: Scene name.
+        integrator: Default integrator.
+        timestep: Default timestep at the default parameters [s].
+        step_s: CPU seconds of stepping per simulated second.
+        snapshot_s: CPU seconds of one arrows snapshot (forward pass, torsors, arrows).
+        row_s: CPU seconds of one row of every readout.
+    """
+
+    scene: str
+    integrator: str
+    timestep: float
+    step_s: float
+    snapshot_s: float
+    row_s: float
+
+    @property
+    def per_sim_s(self) -> float:
+        """Stepping + :data:`FRAME_RATE` snapshots + :data:`PANEL_RATE` rows [CPU s / sim s]."""
+        return self.step_s + FRAME_RATE * self.snapshot_s + PANEL_RATE * self.row_s
+
+    @property
+    def step_factor(self) -> float:
+        """Real-time factor of stepping alone on one core."""
+        return 1.0 / self.step_s if self.step_s > 0 else math.inf
+
+    @property
+    def realtime_factor(self) -> float:
+        """Real-time factor of the whole session on one core (sessions one core carries)."""
+        return 1.0 / self.per_sim_s
+
+    @property
+    def meets_goal(self) -> bool:
+        """Stepping and the whole session both reach :data:`GOAL`."""
+        return self.step_factor >= GOAL and self.realtime_factor >= GOAL
+
+
+def _best_cpu(fn: Callable[[], object], count: int) -> float:
+    """CPU seconds of one call of ``fn``: best of :data:`REPEATS` batches of ``count``."""
+    best = math.inf
+    for _ in range(REPEATS):
+        start = time.process_time()
+        for _ in range(count):
+            fn()
+        best = min(best, (time.process_time() - start) / count)
+    return best
+
+
+def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
+    """Measure :class:`SessionCost` at the scene's default parameters, integrator and
+    timestep, after ``warmup`` simulated seconds (start-up transients, cached revolutions).
+
+    Stepping is timed like :func:`stepping_cost` (one call per batch of at least
+    :data:`MIN_CPU`); a snapshot and a row are timed over a simulated second's worth
+    (:data:`FRAME_RATE` and :data:`PANEL_RATE` calls); each is the best of
+    :data:`REPEATS`.
+    """
+    sim = Simulation(scene.name)
+    sim.advance(warmup)
+    dt = sim.timestep
+    best = math.inf
+    for _ in range(REPEATS):
+        cpu, steps = 0.0, 0
+        while cpu < MIN_CPU:
+            n = max(1, int(round(0.05 / dt)))
+            start = time.process_time()
+            sim.step(n)
+            cpu += time.process_time() - start
+            steps += n
+        best = min(best, cpu / (steps * dt))
+
+    def snapshot() -> None:
+        snap = sim.snapshot(ARROW_READOUTS)
+        for arrow in scene.arrows:
+            arrow.fn(snap)
+
+    sim.readouts()  # first row of a steady state (the compressor simulates a revolution)
+    return SessionCost(
+        scene.name,
+        sim.integrator,
+        dt,
+        best,
+        _best_cpu(snapshot, int(FRAME_RATE)),
+        _best_cpu(sim.readouts, int(PANEL_RATE)),
+    )
+
+
 def _finite(x: float) -> float:
     return float(x) if math.isfinite(x) else math.inf
 
@@ -271,6 +375,7 @@ def bench_scene(
                     f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} {speed}"
                 )
     mark_pareto(result.runs, acc)
+    result.session = session_cost(scene)
     return result
 
 
@@ -312,6 +417,22 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
             "constraint_tol": _json_number(res.constraint_tol),
             "runs": runs,
         }
+        if res.session is not None:
+            c = res.session
+            scenes[res.scene]["session"] = {
+                "integrator": c.integrator,
+                "timestep": c.timestep,
+                "step_cpu_per_sim_s": c.step_s,
+                "snapshot_cpu_s": c.snapshot_s,
+                "row_cpu_s": c.row_s,
+                "frame_rate": FRAME_RATE,
+                "panel_rate": PANEL_RATE,
+                "cpu_per_sim_s": c.per_sim_s,
+                "step_realtime_factor": _json_number(c.step_factor),
+                "realtime_factor": c.realtime_factor,
+                "goal": GOAL,
+                "meets_goal": c.meets_goal,
+            }
     return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}
 
 
@@ -359,9 +480,42 @@ def _fmt(x: float | None, spec: str = ".2e") -> str:
     return "∞" if math.isinf(x) else format(x, spec)
 
 
+def session_markdown(results: Sequence[SceneResult]) -> str:
+    """One row per scene: its default session's cost on one core and the 20× goal."""
+    rows = [r for r in results if r.session is not None]
+    if not rows:
+        return ""
+    lines = [
+        f"### Sessions at the defaults — one core, goal ≥ {GOAL:g}× real time\n",
+        f"A web session steps in real time, takes an arrows snapshot {FRAME_RATE:g} times "
+        f"and a row of every readout {PANEL_RATE:g} times per simulated second. "
+        "Default parameters (the grids below may use harder ones: the benchmark's "
+        "default run is also given).\n",
+        "| scene | default | stepping × real time | snapshot [ms] | row [ms] | "
+        "session × real time | ≥ 20× | benchmark case |",
+        "|:--|:--|--:|--:|--:|--:|:--|:--|",
+    ]
+    for res in rows:
+        c = res.session
+        assert c is not None
+        d = res.default
+        case = (
+            f"{d.integrator} dt = {d.timestep:.3g} s: {_fmt(d.realtime_factor, '.1f')}×"
+            if d is not None
+            else "—"
+        )
+        lines.append(
+            f"| {res.scene} | {c.integrator}, dt = {c.timestep:.3g} s | "
+            f"{_fmt(c.step_factor, '.1f')} | {c.snapshot_s * 1e3:.3f} | {c.row_s * 1e3:.3f} | "
+            f"{c.realtime_factor:.1f} | {'yes' if c.meets_goal else '**no**'} | {case} |"
+        )
+    return "\n".join(lines) + "\n\n"
+
+
 def markdown(results: Sequence[SceneResult]) -> str:
-    """One table per scene: every run, the Pareto front and the default marked."""
-    parts = []
+    """The sessions' table (:func:`session_markdown`), then one table per scene: every
+    run, the Pareto front and the default marked."""
+    parts = [session_markdown(results)] if any(r.session for r in results) else []
     for res in results:
         parts.append(
             f"### {res.scene} — key: `{res.key}`, invariant: {res.invariant}\n\n"

@@ -154,3 +154,30 @@ def test_switching_every_effect_on_costs_time_and_energy_in_the_compressor():
     res = bench_effects(SCENES["compressor"], quick=True)
     assert res.all_on.drift > 100 * res.declared.drift
     assert res.speed_ratio > 1.0  # printed by the command; only its sign is asserted
+
+
+def test_each_scene_default_session_cost_is_measured_and_compared_with_the_goal():
+    """Stepping, a 60 Hz arrows snapshot and a 10 Hz readout row per simulated second, at
+    the default parameters; the numbers are written, only their consistency is asserted."""
+    from sandbox.bench import FRAME_RATE, GOAL, PANEL_RATE, session_cost, session_markdown
+
+    cost = session_cost(SCENES["heavy_gyroscope"])
+    assert cost.timestep == SCENES["heavy_gyroscope"].timestep and cost.integrator == "rk4"
+    assert min(cost.step_s, cost.snapshot_s, cost.row_s) > 0
+    total = cost.step_s + FRAME_RATE * cost.snapshot_s + PANEL_RATE * cost.row_s
+    assert cost.per_sim_s == pytest.approx(total)
+    assert cost.meets_goal == (cost.step_factor >= GOAL and cost.realtime_factor >= GOAL)
+    from sandbox.bench import SceneResult
+
+    res = SceneResult("heavy_gyroscope", "k", "T + V", "rk4", 2e-4, [], session=cost)
+    doc = to_json([res], quick=True)["scenes"]["heavy_gyroscope"]["session"]
+    assert doc["meets_goal"] == cost.meets_goal and doc["frame_rate"] == 60.0
+    assert "session × real time" in session_markdown([res])
+
+
+def test_a_speed_dependent_default_is_marked_at_the_benchmarks_speed():
+    """The compressor's grid runs at 17,000 rpm, where its default step is 1e-4 s; its
+    session (3000 rpm) runs at 5e-4 s."""
+    res = bench_scene(SCENES["compressor"], quick=True, integrators=("rk4",))
+    assert res.default is not None and res.default.timestep == 1e-4
+    assert res.default_timestep == 1e-4 and res.session.timestep == 5e-4
