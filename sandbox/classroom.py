@@ -633,6 +633,7 @@ async def main_phase(
         "slider_samples": len(delays),
         "slider_not_shown": sum(s.not_shown for s in stats),
         "server_cpu_cores": (cpu1 - cpu0) / seconds,
+        "server_cpu_ms_per_frame": (cpu1 - cpu0) * 1000.0 / frames if frames else math.nan,
         "server_processes": processes,
         "clients_per_process": spread,
         "server_threads": len(threads1),
@@ -880,6 +881,8 @@ def report(results: dict[str, Any]) -> str:
         f"({m['server_processes']} process(es), clients per process "
         f"{'/'.join(str(n) for n in m['clients_per_process'])}, {m['server_threads']} threads; "
         "busiest " + ", ".join(f"{c:.2f}" for c in m["server_top_thread_cores"][:4]) + ")",
+        f"  server CPU per update frame  {m['server_cpu_ms_per_frame']:.2f} ms (all clients' "
+        "frames; lower is better, less sensitive to other load than frames/s)",
         f"  server RSS                   {m['server_rss_bytes'] / 1e6:.0f} MB",
         f"  slider -> first frame        p95 {delay['p95'] * 1000:.0f} ms  median "
         f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}, {m['slider_samples']} "
