@@ -150,14 +150,21 @@ def running(command: list[str], log: Path, **options) -> Iterator[subprocess.Pop
     try:
         yield proc
     finally:
-        for sig, grace in ((signal.SIGTERM, 10), (signal.SIGKILL, 5)):
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(proc.pid, sig)  # the group holds only what this process started
-            try:
-                proc.wait(timeout=grace)
-                break
-            except subprocess.TimeoutExpired:
-                continue
+        stop(proc)
+
+
+def stop(proc: subprocess.Popen) -> None:
+    """SIGTERM to the process (a server stops its own workers), then SIGKILL to its group."""
+    if proc.poll() is not None:
+        return
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        # Not reaped yet, so the group id is still the one this test created.
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=5)
 
 
 def http_get(url: str, timeout: float = 5.0) -> tuple[int, str]:
@@ -256,9 +263,9 @@ def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
         assert all(proc.poll() is None for proc in procs)
         url, admin = stack.enter_context(proxy_in_front_of(ports, tmp_path))
         _wait_for(
-            lambda: all(r["status"] == "UP" for r in show_stat(admin).values()),
+            lambda: all(r["check_status"] == "L7OK" for r in show_stat(admin).values()),
             30,
-            "HAProxy's health checks to see both servers UP",
+            "HAProxy's health checks (GET /) to pass on both servers",
         )
 
         first, page1 = _open_student(browser, url)
@@ -293,3 +300,18 @@ def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
         page1.locator('[data-readout="bearing_A"]').first.wait_for(timeout=60_000)
         assert _cookie(first) == machine1
         _wait_for(lambda: sessions(admin) == {"s1": 1, "s2": 1}, 30, "the reload to settle")
+
+        # The first machine dies: the health checks take it out, and the first student
+        # gets a new simulation on the other machine (at the latest when reloading).
+        machine2 = _cookie(second)
+        stop(procs[int(machine1[1:]) - 1])
+        _wait_for(
+            lambda: show_stat(admin)[machine1]["status"].startswith("DOWN"),
+            30,
+            f"HAProxy to mark {machine1} down",
+        )
+        page1.reload(timeout=60_000)
+        page1.locator('[data-readout="bearing_A"]').first.wait_for(timeout=60_000)
+        assert _cookie(first) == machine2
+        _wait_for(lambda: sessions(admin) == {machine1: 0, machine2: 2}, 30, "both on one machine")
+        assert _readout(page2, "bearing_A") == pytest.approx(before2, rel=0.01)
