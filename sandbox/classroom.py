@@ -558,7 +558,9 @@ def probe_param(scene: str) -> str | None:
     return params[0].name if params else None
 
 
-async def _wait_first_frames(stats: list[ClientStats], tasks: list[asyncio.Task], limit: float):
+async def _wait_first_frames(
+    stats: list[ClientStats], tasks: list[asyncio.Task[None]], limit: float
+) -> None:
     deadline = time.perf_counter() + limit
     while time.perf_counter() < deadline:
         if all(s.first_frame is not None or t.done() for s, t in zip(stats, tasks, strict=True)):
@@ -697,7 +699,9 @@ async def drop_phase(
     }
 
 
-async def origin_probe(port: int, *, origin: str = FOREIGN_ORIGIN, wait: float = 3.0):
+async def origin_probe(
+    port: int, *, origin: str = FOREIGN_ORIGIN, wait: float = 3.0
+) -> tuple[bool, str]:
     """Whether a page from ``origin`` is refused a session, and how.
 
     Returns:
