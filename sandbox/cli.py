@@ -108,6 +108,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("target", nargs="?", default=None, help="scene, lesson or MJCF file")
     _server_options(s)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    s.add_argument(
+        "--follow",
+        action="store_true",
+        help="one shared simulation driven by the teacher (secret link printed at start), "
+        "watched by every other browser",
+    )
     rp = sub.add_parser("replay", help="replay a recording in the browser, verify or export it")
     rp.add_argument("file", type=Path, help="recording file (sandbox run --record, web app)")
     _server_options(rp, workers=False)
@@ -448,7 +454,12 @@ def _check_port_range(port: int) -> None:
 
 
 def cmd_serve(
-    target: str | None, host: str, port: int, sets: Sequence[str], workers: int | None = None
+    target: str | None,
+    host: str,
+    port: int,
+    sets: Sequence[str],
+    workers: int | None = None,
+    follow: bool = False,
 ) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
     from sandbox.lessons import ANY_SCENE, lessons
@@ -464,7 +475,16 @@ def cmd_serve(
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
     if workers is not None and workers < 1:
         raise BadOption(f"--workers must be 1 or more, got {workers!r}")
-    serve(target, host=host, port=port, values=_pairs(sets), lesson=lesson, workers=workers)
+    options = {"follow": True} if follow else {}
+    serve(
+        target,
+        host=host,
+        port=port,
+        values=_pairs(sets),
+        lesson=lesson,
+        workers=workers,
+        **options,
+    )
     return 0
 
 
@@ -480,6 +500,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "port", 8080),
                 getattr(args, "set", []),
                 getattr(args, "workers", None),
+                getattr(args, "follow", False),
             )
         if args.command == "list":
             return cmd_list()

@@ -222,6 +222,8 @@ def start(
     open_message: bool = True,
     check_port: bool = True,
     max_sessions: int = MAX_SESSIONS,
+    follow: bool = False,
+    token: str | None = None,
 ) -> App:
     """Start the web app in background threads and return at once.
 
@@ -240,6 +242,9 @@ def start(
         check_port: Fail early when the port is taken (worker processes sharing the
             port skip it).
         max_sessions: Browsers served at once by this process.
+        follow: One shared simulation driven by the teacher (link printed at start),
+            watched by every other browser (:mod:`sandbox.web.follow`).
+        token: Secret of the teacher's link (random when None).
 
     Raises:
         SandboxError: bad target, value or option; BadOption when the port is taken.
@@ -250,13 +255,22 @@ def start(
     server = open_server(host, port, "sandbox", check=check_port)
     urls = network.student_urls(host, server.get_port()) if _public(host) else []
 
-    def session(client: viser.ClientHandle) -> Session:
-        controller = Controller(Simulation(target, **options))
-        return Session(controller, WebView(client, controller, lesson=lesson, join_urls=urls))
+    if follow:
+        from sandbox.web.follow import FollowApp
 
-    app = App(server, host, session, max_sessions=max_sessions)
+        app: App = FollowApp(
+            server, host, target, options, lesson=lesson, token=token, join_urls=tuple(urls)
+        )
+    else:
+
+        def session(client: viser.ClientHandle) -> Session:
+            controller = Controller(Simulation(target, **options))
+            view = WebView(client, controller, lesson=lesson, join_urls=urls)
+            return Session(controller, view)
+
+        app = App(server, host, session, max_sessions=max_sessions)
     if open_message:
-        print(banner(target, host, app.port), flush=True)
+        print(banner(target, host, app.port, teacher=getattr(app, "teacher_url", None)), flush=True)
     return app
 
 
@@ -265,7 +279,9 @@ def _public(host: str) -> bool:
     return host not in ("127.0.0.1", "localhost", "::1") and not host.startswith("127.")
 
 
-def banner(target: str | Path, host: str, port: int, *, workers: int = 1) -> str:
+def banner(
+    target: str | Path, host: str, port: int, *, workers: int = 1, teacher: str | None = None
+) -> str:
     """What ``sandbox serve`` prints once it listens: the addresses to open."""
     local = "127.0.0.1" if host in ("0.0.0.0", "", "::") else host
     local = f"[{local}]" if ":" in local else local
@@ -277,6 +293,8 @@ def banner(target: str | Path, host: str, port: int, *, workers: int = 1) -> str
             lines.append("sandbox: students open " + "  or  ".join(urls))
         else:
             lines.append("sandbox: no network address found: students cannot reach this machine")
+    if teacher:
+        lines.append(f"sandbox: teacher link (keep it to yourself) {teacher}")
     return "\n".join(lines)
 
 
@@ -290,6 +308,12 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     """
     from sandbox.web.workers import WorkerSpec, default_workers, serve_pool
 
+    if options.get("follow"):
+        if workers is not None and workers > 1:
+            raise BadOption(
+                "--follow serves one shared simulation from one process; drop --workers"
+            )
+        workers = 1
     count = default_workers() if workers is None else workers
     if count < 1:
         raise BadOption(f"--workers must be 1 or more, got {count!r}")

@@ -30,10 +30,17 @@ class ArrowLayer:
         arrows: The scene's arrows.
         extent: Size of the model [m], sets the shaft thickness.
         units: Unit of each arrow's vector, shown in its label.
+        prefix: Scene-tree folder above ``/arrows`` and ``/arrow_labels``.
     """
 
     def __init__(
-        self, scene: Any, arrows: Sequence[Arrow], *, extent: float, units: Sequence[str] = ()
+        self,
+        scene: Any,
+        arrows: Sequence[Arrow],
+        *,
+        extent: float,
+        units: Sequence[str] = (),
+        prefix: str = "",
     ) -> None:
         self.arrows = tuple(arrows)
         self.units = tuple(units) + ("",) * (len(self.arrows) - len(units))
@@ -41,7 +48,7 @@ class ArrowLayer:
         shaft = 0.01 * extent
         for a in self.arrows:
             node = scene.add_arrows(
-                f"/arrows/{a.name}",
+                f"{prefix}/arrows/{a.name}",
                 points=np.zeros((1, 2, 3), dtype=np.float32),
                 colors=a.color,
                 shaft_radius=shaft,
@@ -50,7 +57,7 @@ class ArrowLayer:
                 visible=False,
             )
             label = scene.add_label(
-                f"/arrow_labels/{a.name}",
+                f"{prefix}/arrow_labels/{a.name}",
                 a.label,
                 visible=False,
                 anchor="bottom-center",

@@ -80,6 +80,20 @@ class LessonPanel:
         if self.progress is not None:
             self.progress.next_hint()
 
+    def go_to(self, lesson: str | None, step: int = 0) -> None:
+        """Open ``lesson`` (None: free exploration) at ``step`` at the next refresh
+        (the teacher sends a step to the class)."""
+        current = self.progress.lesson.name if self.progress is not None else None
+        if lesson != current:
+            self._pending = lesson if lesson in self.available else FREE
+        self._pending_step = step if lesson is not None else None
+
+    def position(self) -> tuple[str | None, int]:
+        """The lesson followed (None: none) and the index of its current step."""
+        if self.progress is None:
+            return None, 0
+        return self.progress.lesson.name, self.progress.index
+
     # -- loop thread ---------------------------------------------------------------------
     def refresh(self, values: Mapping[str, float]) -> None:
         """Apply a pending choice, then show the step and evaluate its check."""
@@ -119,6 +133,9 @@ class LessonPanel:
             handle.remove()
         self._step_handles = []
         self.controller.lesson = lesson.name if lesson else None
+        title = lesson.title if lesson is not None else FREE
+        if self.picker.value != title and title in self._by_title:
+            self.picker.value = title  # the control tells the truth
         if lesson is None:
             self.progress = None
             self.plots = []

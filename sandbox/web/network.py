@@ -16,6 +16,7 @@ add two of them:
 
 from __future__ import annotations
 
+import dataclasses
 import http
 import ipaddress
 import logging
@@ -33,6 +34,7 @@ _DEFAULT_PORTS = {"http": 80, "https": 443, "ws": 80, "wss": 443}
 _lock = threading.Lock()
 _installed = False
 _reuse_port = False
+_aliases: set[str] = set()
 
 
 def origin_refusal(headers: Any) -> str | None:
@@ -100,6 +102,13 @@ def install(*, reuse_port: bool | None = None) -> None:
         _installed = True
 
 
+def page_alias(path: str) -> None:
+    """Serve the sandbox page at ``path`` too (e.g. the teacher's link); its websocket
+    then connects to the same path, which :func:`request_path` tells the app."""
+    with _lock:
+        _aliases.add(path.rstrip("/"))
+
+
 def _guarded(inner: Callable[..., Any] | None) -> Callable[..., Any]:
     def process_request(connection: Any, request: Any) -> Any:
         reason = origin_refusal(request.headers)
@@ -109,9 +118,27 @@ def _guarded(inner: Callable[..., Any] | None) -> Callable[..., Any]:
                 http.HTTPStatus.FORBIDDEN,
                 "Connexion refusée : cette page n'est pas celle du serveur du sandbox.\n",
             )
-        return inner(connection, request) if inner is not None else None
+        if inner is None:
+            return None
+        upgrade = str(request.headers.get("Upgrade", "")).lower() == "websocket"
+        if not upgrade and request.path.partition("?")[0].rstrip("/") in _aliases:
+            request = dataclasses.replace(request, path="/")
+        return inner(connection, request)
 
     return process_request
+
+
+def request_path(server: Any, client_id: int) -> str:
+    """The path the browser's websocket connected to ("" if unknown).
+
+    viser keeps the handshake of each live connection; this is the only place the
+    page's address reaches the server (the teacher's link is a path).
+    """
+    try:
+        connection = server._websock_server._live_connections[client_id]
+        return str(connection.request.path).partition("?")[0].rstrip("/")
+    except (AttributeError, KeyError, TypeError):
+        return ""
 
 
 # -- addresses students can type ---------------------------------------------------------

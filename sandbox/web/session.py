@@ -331,6 +331,9 @@ class Session:
         alive: Returns False once the session's browser has gone (checked every
             :data:`ALIVE_CHECK` seconds; the session then stops by itself).
         scheduler: The loop running the frames (default: the process's own).
+        drive: Step the controller's simulation and own its recording; False for a
+            view of a simulation that another session drives (a class following the
+            teacher, the teacher's own panels).
     """
 
     def __init__(
@@ -341,8 +344,10 @@ class Session:
         fps: float = FPS,
         alive: Callable[[], bool] | None = None,
         scheduler: Scheduler | None = None,
+        drive: bool = True,
     ) -> None:
         self.controller = controller
+        self.drive = drive
         self.view = view
         self.period = 1.0 / fps
         self.alive = alive
@@ -378,7 +383,7 @@ class Session:
                 return
             self._recording_closed = True
         stop_recording = getattr(self.controller, "stop_recording", None)
-        if stop_recording is not None:
+        if stop_recording is not None and self.drive:
             with self.controller.sim.lock:
                 stop_recording()
 
@@ -397,7 +402,7 @@ class Session:
         ctl = self.controller
         now = ctl.clock() if now is None else now
         try:
-            for notice in ctl.frame(now):
+            for notice in ctl.frame(now) if self.drive else ():
                 self.view.notify(notice)
             self.view.render(ctl, now)
         except Exception as exc:  # keep serving: the user sees the problem

@@ -48,6 +48,34 @@ def scene_view(sim: Any) -> tuple[Sequence[float], Sequence[float]]:
     return view if view else ((0.45, -1.0, 0.55), (0.0, 0.0, 1.0))
 
 
+def point_camera(client: Any, sim: Any) -> None:
+    """Aim a browser's camera at the scene, from the scene's preferred side."""
+    model = sim.model
+    direction, up = scene_view(sim)
+    center, extent = model.stat.center, float(model.stat.extent)
+    if sim.scene is not None and sim.scene.look_at is not None:
+        center, extent = np.asarray(sim.scene.look_at[0]), sim.scene.look_at[1]
+    position, look_at = camera_pose(center, extent, direction)
+    client.camera.up_direction = up
+    client.camera.position = position
+    client.camera.look_at = look_at
+
+
+def arrow_layer(scene: Any, sim: Any, *, prefix: str = "") -> ArrowLayer | None:
+    """The scene's force arrows in a viser scene (None when the scene has none)."""
+    spec = sim.scene
+    if spec is None or not spec.arrows:
+        return None
+    units = {i.name: i.unit for i in sim.readout_infos()}
+    return ArrowLayer(
+        scene,
+        spec.arrows,
+        extent=float(sim.model.stat.extent),
+        units=[units.get(a.name, "") for a in spec.arrows],
+        prefix=prefix,
+    )
+
+
 class WebView:
     """Draws a controller's simulation into one viser client (implements ``View``).
 
@@ -59,6 +87,9 @@ class WebView:
         values: Readouts to show; default computed live from the simulation.
         lesson: Lesson to open at once (live sessions only).
         join_urls: Addresses students type to join (folder "Rejoindre" when given).
+        draw: Draw the 3D scene; False when another view draws it for everyone (the
+            teacher's panels in follow mode), whose arrows are then ``shared_arrows``.
+        shared_arrows: The arrows drawn by that other view.
     """
 
     def __init__(
@@ -70,6 +101,8 @@ class WebView:
         values: Callable[[], Mapping[str, float]] | None = None,
         lesson: str | None = None,
         join_urls: Sequence[str] = (),
+        draw: bool = True,
+        shared_arrows: ArrowLayer | None = None,
     ) -> None:
         self.client = client
         self.controller = controller
@@ -77,30 +110,16 @@ class WebView:
         sim = controller.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
-        direction, up = scene_view(sim)
-        center, extent = model.stat.center, float(model.stat.extent)
-        if sim.scene is not None and sim.scene.look_at is not None:
-            center, extent = np.asarray(sim.scene.look_at[0]), sim.scene.look_at[1]
-        position, look_at = camera_pose(center, extent, direction)
-        client.camera.up_direction = up
-        client.camera.position = position
-        client.camera.look_at = look_at
-        self.renderer = SceneRenderer(client.scene)
-        self.arrows: ArrowLayer | None = None
-        scene = sim.scene
-        if scene is not None and scene.arrows:
-            units = {i.name: i.unit for i in sim.readout_infos()}
-            self.arrows = ArrowLayer(
-                client.scene,
-                scene.arrows,
-                extent=float(model.stat.extent),
-                units=[units.get(a.name, "") for a in scene.arrows],
-            )
-        self.trail = (
-            Trail(client.scene, scene.trail, extent=float(model.stat.extent))
-            if scene is not None and scene.trail is not None
-            else None
-        )
+        point_camera(client, sim)
+        self.renderer: SceneRenderer | None = None
+        self.arrows: ArrowLayer | None = shared_arrows
+        self.trail: Trail | None = None
+        if draw:
+            self.renderer = SceneRenderer(client.scene)
+            self.arrows = arrow_layer(client.scene, sim)
+            scene = sim.scene
+            if scene is not None and scene.trail is not None:
+                self.trail = Trail(client.scene, scene.trail, extent=float(model.stat.extent))
         self.controls = (controls or ControlPanel)(client.gui, controller)
         self.join = JoinPanel(client.gui, join_urls) if join_urls else None
         self.lesson = (
@@ -129,7 +148,7 @@ class WebView:
             if controller.diverged:
                 if self.arrows is not None:
                     self.arrows.hide()
-            elif state != self._drawn:
+            elif state != self._drawn and self.renderer is not None:
                 self._drawn = state
                 with sim.lock:
                     self.renderer.sync(sim.model, sim.data)

@@ -1,0 +1,339 @@
+"""Follow mode (``sandbox serve X --follow``): the teacher drives one simulation that
+every other browser watches.
+
+The shared simulation is drawn once into viser's broadcast scene (``server.scene``,
+under ``/prof``), so its cost does not grow with the number of watchers: a follower
+only receives the same pose messages and, a few times a second, a short table of the
+key readouts. The teacher opens a secret link (``/prof/<token>``, printed at start)
+whose page carries the full panels, driving the shared simulation, and two buttons
+that send the teacher's parameters or lesson step to every student's own copy.
+
+A student leaves with "Ma simulation" for a copy of their own (starting from the
+teacher's parameters; the teacher's scene is hidden in that browser only, by a
+client-scoped variant of ``/prof``), and comes back with "Suivre le professeur".
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import secrets
+import threading
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import viser
+
+from sandbox.physics.simulation import Simulation
+from sandbox.web import network
+from sandbox.web.app import App
+from sandbox.web.arrows import ArrowLayer
+from sandbox.web.renderer import SceneRenderer
+from sandbox.web.session import Controller, Notice, Request, Session
+from sandbox.web.tables import fmt
+from sandbox.web.view import SNAPSHOT_NAMES, WebView, arrow_layer, point_camera
+
+log = logging.getLogger(__name__)
+
+SHARED = "/prof"
+"""Scene-tree folder of the shared simulation (hidden per browser in own mode)."""
+
+SUMMARY_RATE = 4.0
+"""Refreshes per second of the followers' readout table [Hz]."""
+
+FOLLOWER_FPS = 8.0
+"""Frame rate of a follower's own (GUI-only) loop [Hz]; the 3D view comes from the
+broadcast at the teacher's frame rate."""
+
+OWN = "Ma simulation"
+FOLLOW = "Suivre le professeur"
+SEND_VALUES = "Envoyer mes réglages aux élèves"
+SEND_STEP = "Envoyer l'étape de leçon aux élèves"
+
+
+def teacher_path(token: str) -> str:
+    """Path of the teacher's link."""
+    return f"{SHARED}/{token}"
+
+
+@dataclass(frozen=True)
+class Setting:
+    """What the teacher sends to the students' own copies."""
+
+    values: Mapping[str, float]
+    integrator: str
+    timestep: float
+    lesson: tuple[str | None, int] | None = None
+
+
+class BroadcastView:
+    """Draws the shared simulation into the broadcast scene and keeps the followers'
+    readout table (implements the session ``View`` protocol)."""
+
+    def __init__(self, server: viser.ViserServer, controller: Controller) -> None:
+        self.server = server
+        sim = controller.sim
+        self.renderer = SceneRenderer(server.scene, prefix=f"{SHARED}/model")
+        self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
+        self.names = [r.name for r in sim.scene.readouts][:8] if sim.scene else ["T", "V"]
+        self.units = {i.name: i.unit for i in sim.readout_infos()}
+        self.summary = ""
+        self.version = 0
+        self.teachers: list[WebView] = []
+        self._drawn: tuple[Any, ...] | None = None
+        self._summary_at = -math.inf
+
+    def render(self, controller: Controller, now: float) -> None:
+        sim = controller.sim
+        state = (id(sim.model), float(sim.data.time), controller.generation)
+        with self.server.atomic():
+            if controller.diverged:
+                if self.arrows is not None:
+                    self.arrows.hide()
+            elif state != self._drawn:
+                self._drawn = state
+                with sim.lock:
+                    self.renderer.sync(sim.model, sim.data)
+                    if self.arrows is not None:
+                        self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
+            if now - self._summary_at >= 1.0 / SUMMARY_RATE:
+                self._summary_at = now
+                self._summarise(controller)
+                if self.arrows is not None:
+                    self.arrows.relabel()
+
+    def _summarise(self, controller: Controller) -> None:
+        sim = controller.sim
+        state = "en pause" if not controller.playing else f"vitesse ×{fmt(controller.speed)}"
+        lines = [f"t = {float(sim.data.time):.2f} s · {state}"]
+        if controller.diverged:
+            lines.append(f"**{controller.diverged}**")
+        else:
+            values = sim.readouts(self.names)
+            rows = [
+                f"| {name} | {fmt(values[name])} {self.units.get(name, '')} |"
+                for name in self.names
+            ]
+            lines.append("| grandeur | valeur |\n|:--|--:|\n" + "\n".join(rows))
+        text = "\n\n".join(lines)
+        if text != self.summary:
+            self.summary = text
+            self.version += 1
+
+    def notify(self, notice: Notice) -> None:
+        """Refusals and divergences of the shared simulation go to the teacher's pages."""
+        for view in list(self.teachers):
+            try:
+                view.notify(notice)
+            except Exception:
+                log.debug("teacher page gone", exc_info=True)
+
+
+class FollowerView:
+    """A student watching the shared simulation: the broadcast 3D view, the key
+    readouts, and the way out to a simulation of their own."""
+
+    def __init__(self, client: Any, broadcast: BroadcastView, on_own: Callable[[], None]) -> None:
+        self.broadcast = broadcast
+        self._seen = -1
+        client.gui.configure_theme(control_width="large", show_share_button=False)
+        with client.gui.add_folder("Simulation du professeur"):
+            self.intro = client.gui.add_markdown(
+                "Vous suivez la simulation que le professeur projette."
+            )
+            self.text = client.gui.add_markdown("")
+            self.own = client.gui.add_button(
+                OWN,
+                hint="Explorer votre propre copie de la scène, avec les réglages actuels "
+                "du professeur",
+            )
+        self.own.on_click(lambda _: on_own())
+
+    def render(self, controller: Controller, now: float) -> None:
+        if self.broadcast.version != self._seen:
+            self._seen = self.broadcast.version
+            self.text.content = self.broadcast.summary
+
+    def notify(self, notice: Notice) -> None:
+        pass
+
+
+class FollowApp(App):
+    """The web app of ``--follow``: one shared simulation, a teacher, followers and
+    students exploring their own copies.
+
+    Args:
+        server: The viser server.
+        host: Interface listened on.
+        target: Scene name or MJCF path.
+        options: Simulation options (values, integrator, timestep).
+        lesson: Lesson opened on the teacher's page and the students' copies.
+        token: Secret of the teacher's link (random when None).
+        join_urls: Addresses students type (folder "Rejoindre" on the teacher's page).
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        host: str,
+        target: Any,
+        options: Mapping[str, Any],
+        *,
+        lesson: str | None = None,
+        token: str | None = None,
+        join_urls: tuple[str, ...] = (),
+        max_sessions: int = 200,
+    ) -> None:
+        self.target = target
+        self.options = dict(options)
+        self.lesson = lesson
+        self.token = token or secrets.token_urlsafe(9)
+        self.join_urls = join_urls
+        self.shared = Controller(Simulation(target, **self.options))
+        self.broadcast = BroadcastView(server, self.shared)
+        self.broadcast_session = Session(self.shared, self.broadcast)
+        self.modes: dict[int, str] = {}
+        self._views: dict[int, WebView] = {}
+        self._switch = threading.Lock()
+        network.page_alias(teacher_path(self.token))
+        super().__init__(server, host, self._open, max_sessions=max_sessions)
+        self.broadcast_session.start()
+
+    @property
+    def teacher_url(self) -> str:
+        """The teacher's link (on this machine)."""
+        return self.url + teacher_path(self.token)
+
+    # -- sessions of each kind -----------------------------------------------------------
+    def _open(self, client: viser.ClientHandle) -> Session:
+        if network.request_path(self.server, client.client_id) == teacher_path(self.token):
+            return self._teacher(client)
+        return self._follower(client)
+
+    def _teacher(self, client: viser.ClientHandle) -> Session:
+        self.modes[client.client_id] = "teacher"
+        with client.gui.add_folder("Classe"):
+            counts = client.gui.add_markdown("")
+            buttons = client.gui.add_button_group("Envoyer", (SEND_VALUES, SEND_STEP))
+        view = WebView(
+            client,
+            self.shared,
+            lesson=self.lesson,
+            join_urls=self.join_urls,
+            draw=False,
+            shared_arrows=self.broadcast.arrows,
+        )
+        self._views[client.client_id] = view
+        self.broadcast.teachers.append(view)
+        buttons.on_click(lambda event: self._send(event.target.value, view))
+        session = _TeacherSession(self, view, counts)
+        return session
+
+    def _follower(self, client: viser.ClientHandle) -> Session:
+        cid = client.client_id
+        self.modes[cid] = "follower"
+        point_camera(client, self.shared.sim)
+        view = FollowerView(client, self.broadcast, lambda: self.switch(client, own=True))
+        return Session(
+            self.shared, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid), drive=False
+        )
+
+    def _own(self, client: viser.ClientHandle) -> Session:
+        cid = client.client_id
+        self.modes[cid] = "own"
+        sim = self.shared.sim
+        options = dict(self.options, values=dict(sim.values))
+        options.update(integrator=sim.integrator, timestep=sim.timestep)
+        controller = Controller(Simulation(self.target, **options))
+        client.scene.add_frame(SHARED, show_axes=False, visible=False)  # this browser only
+        with client.gui.add_folder("Classe"):
+            back = client.gui.add_button(
+                FOLLOW, hint="Revenir à la simulation projetée par le professeur"
+            )
+        back.on_click(lambda _: self.switch(client, own=False))
+        view = WebView(client, controller, lesson=self.lesson)
+        self._views[cid] = view
+        return Session(controller, view, alive=lambda: self.connected(cid))
+
+    def switch(self, client: viser.ClientHandle, *, own: bool) -> None:
+        """Move a student between following and a simulation of their own."""
+        cid = client.client_id
+        with self._switch:
+            with self._lock:
+                old = self.sessions.pop(cid, None)
+            if old is None:  # gone, or being opened
+                return
+            old.stop()
+            self._views.pop(cid, None)
+            client.gui.reset()
+            client.scene.reset()  # own nodes go; the broadcast's show again
+            try:
+                session = self._own(client) if own else self._follower(client)
+            except Exception as exc:
+                log.exception("cannot switch a student's mode")
+                client.add_notification("Erreur", f"Changement impossible : {exc}", color="red")
+                session = self._follower(client)
+            with self._lock:
+                self.sessions[cid] = session
+            session.start()
+
+    def _send(self, what: str, teacher: WebView) -> None:
+        """The teacher's buttons: parameters or lesson step to every own copy."""
+        sim = self.shared.sim
+        lesson = teacher.lesson.position() if teacher.lesson is not None else None
+        setting = Setting(dict(sim.values), sim.integrator, sim.timestep, lesson)
+        count = 0
+        for cid, view in list(self._views.items()):
+            if self.modes.get(cid) != "own":
+                continue
+            count += 1
+            if what == SEND_VALUES:
+                ctl = view.controller
+                for name, value in setting.values.items():
+                    ctl.submit(Request("set_value", value, name=name))
+                ctl.submit(Request("integrator", setting.integrator))
+                ctl.submit(Request("timestep", setting.timestep))
+                ctl.submit(Request("reset"))
+            elif view.lesson is not None and setting.lesson is not None:
+                view.lesson.go_to(*setting.lesson)
+        message = (
+            f"Réglages envoyés à {count} élève(s) en autonomie."
+            if what == SEND_VALUES
+            else f"Étape de leçon envoyée à {count} élève(s) en autonomie."
+        )
+        teacher.notify(Notice("info", "Classe", message))
+
+    def counts(self) -> tuple[int, int, int]:
+        """(teachers, followers, students on their own copy) connected now."""
+        modes = [self.modes.get(cid) for cid in list(self.sessions)]
+        return modes.count("teacher"), modes.count("follower"), modes.count("own")
+
+    def _disconnect(self, client: viser.ClientHandle) -> None:
+        super()._disconnect(client)
+        view = self._views.pop(client.client_id, None)
+        if view is not None and view in self.broadcast.teachers:
+            self.broadcast.teachers.remove(view)
+        self.modes.pop(client.client_id, None)
+
+    def stop(self) -> None:
+        self.broadcast_session.stop()
+        super().stop()
+
+
+class _TeacherSession(Session):
+    """The teacher's panels on the shared simulation (the broadcast steps it)."""
+
+    def __init__(self, app: FollowApp, view: WebView, counts: Any) -> None:
+        cid = view.client.client_id
+        super().__init__(app.shared, view, alive=lambda: app.connected(cid), drive=False)
+        self.app = app
+        self.counts = counts
+        self._shown = ""
+
+    def run_once(self, now: float | None = None) -> None:
+        super().run_once(now)
+        teachers, followers, own = self.app.counts()
+        text = f"Élèves : {followers} suivent la projection, {own} en autonomie."
+        if text != self._shown:
+            self._shown = self.counts.content = text

@@ -1,0 +1,89 @@
+"""Follow mode: the teacher drives one shared simulation; students watch it, leave for
+their own copy and come back; the teacher sends settings to the copies."""
+
+from __future__ import annotations
+
+import time
+import urllib.error
+import urllib.request
+
+import pytest
+
+from sandbox.web.follow import FOLLOW, OWN, SEND_VALUES, FollowApp, teacher_path
+
+
+@pytest.fixture
+def served_follow():
+    from conftest import free_port
+
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), open_message=False, follow=True, token="secret-1")
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+def _wait_for(predicate, timeout: float = 20.0) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def test_the_teacher_link_serves_the_page_and_only_that_path(served_follow):
+    assert served_follow.teacher_url.endswith(teacher_path("secret-1"))
+    with urllib.request.urlopen(served_follow.teacher_url, timeout=10) as page:
+        assert page.status == 200 and b"<html" in page.read(2000).lower()
+    with pytest.raises(urllib.error.HTTPError):
+        urllib.request.urlopen(served_follow.url + teacher_path("guess"), timeout=10)
+
+
+def test_one_shared_simulation_steps_whatever_the_number_of_watchers(served_follow):
+    app: FollowApp = served_follow
+    t0 = app.shared.sim.data.time
+    assert _wait_for(lambda: app.shared.sim.data.time > t0 + 0.2)  # runs with nobody
+
+
+@pytest.mark.browser
+def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
+    open_page, served_follow
+):
+    app: FollowApp = served_follow
+    teacher = open_page(app.teacher_url)
+    teacher.get_by_text("Classe", exact=True).first.wait_for(timeout=30_000)
+    student = open_page(app.url)
+    student.get_by_text("Simulation du professeur", exact=True).first.wait_for(timeout=30_000)
+    assert _wait_for(lambda: app.counts() == (1, 1, 0))
+    drivers = [s for s in app.sessions.values() if s.drive]
+    assert drivers == []  # only the broadcast session steps the shared simulation
+    # the teacher's slider drives the shared simulation
+    row = teacher.locator(
+        "div.mantine-Flex-root", has=teacher.get_by_text("mass1_g [g]", exact=True)
+    ).last
+    box = row.locator("input.mantine-NumberInput-input").first
+    box.fill("40")
+    box.press("Enter")
+    assert _wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(40.0))
+    # a student leaves for an own copy that starts from the teacher's settings
+    student.get_by_role("button", name=OWN).click()
+    student.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
+    assert _wait_for(lambda: app.counts() == (1, 0, 1))
+    (own,) = [s for s in app.sessions.values() if s.drive]
+    assert own.controller.sim is not app.shared.sim
+    assert own.controller.sim.values["mass1_g"] == pytest.approx(40.0)
+    # the teacher changes a setting and sends it to the copies
+    box.fill("70")
+    box.press("Enter")
+    assert _wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(70.0))
+    teacher.get_by_role("button", name=SEND_VALUES).click()
+    assert _wait_for(lambda: own.controller.sim.values["mass1_g"] == pytest.approx(70.0))
+    teacher.get_by_text("1 élève(s) en autonomie", exact=False).first.wait_for(timeout=10_000)
+    # and back to following: the own copy stops
+    student.get_by_role("button", name=FOLLOW).click()
+    student.get_by_role("button", name=OWN).wait_for(timeout=30_000)
+    assert _wait_for(lambda: app.counts() == (1, 1, 0))
+    assert _wait_for(lambda: own.finished)
