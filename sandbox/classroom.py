@@ -528,11 +528,15 @@ class Server:
         raise BadOption(f"the server did not answer on port {self.port} within {self.timeout} s")
 
     def stop(self) -> None:
-        """SIGINT, then SIGTERM, then SIGKILL to the whole group, each with a bounded wait."""
+        """SIGTERM (the server closes its sessions), then SIGKILL, to the whole group.
+
+        Each signal gets a bounded wait; SIGINT is not used because a bench started in
+        the background of a shell inherits it ignored, and so would the server.
+        """
         proc = self.proc
         if proc is None:
             return
-        for sig, wait in ((signal.SIGINT, 5.0), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
+        for sig, wait in ((signal.SIGTERM, 8.0), (signal.SIGKILL, 3.0)):
             if proc.poll() is not None:
                 break
             with contextlib.suppress(ProcessLookupError, PermissionError):
