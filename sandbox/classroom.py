@@ -16,7 +16,8 @@ asserted).
 Definitions:
 
 - **Update frame**: one websocket message from the server that carries at least one
-  scene pose update (``SetPositionMessage`` or ``SetOrientationMessage``). Frames/s of
+  scene pose update (``SetPositionMessage``, ``SetOrientationMessage``, or new
+  ``batched_positions`` / ``batched_wxyzs`` of batched nodes). Frames/s of
   a client = its update frames received in the measurement window / the window [s].
 - **Simulated-time rate**: what the browser shows. The control panel's status line
   ``t = 12.345 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
@@ -80,8 +81,15 @@ PROBE_PERIOD = 5.0
 PROBE_PARAMS = {"rotor": "mass1_g", "compressor": "counterweight_mass"}
 """Parameter slider toggled by the slider-delay probe (other scenes: their first)."""
 
-POSE_MARKERS = (b"\xa4type\xb2SetPositionMessage", b"\xa4type\xb5SetOrientationMessage")
-"""msgpack bytes of ``"type": "SetPositionMessage"`` / ``"SetOrientationMessage"``."""
+POSE_MARKERS = (
+    b"\xa4type\xb2SetPositionMessage",
+    b"\xa4type\xb5SetOrientationMessage",
+    b"\xb1batched_positions",
+    b"\xadbatched_wxyzs",
+)
+"""msgpack bytes of ``"type": "SetPositionMessage"`` / ``"SetOrientationMessage"``, and of
+the ``batched_positions`` / ``batched_wxyzs`` keys (batched meshes or axes moved by a
+``SceneNodeUpdateMessage``), should the server draw the geoms that way."""
 
 TYPE_MARKER = b"\xa4type"
 STATUS_TIME = re.compile(rb"t = (-?[0-9]+(?:\.[0-9]+)?) s \xc2\xb7 vitesse")
@@ -237,7 +245,7 @@ def unpack(raw: bytes) -> bytes:
 
 def is_update_frame(inner: bytes) -> bool:
     """True when the message carries a scene pose update (see module docstring)."""
-    return POSE_MARKERS[0] in inner or POSE_MARKERS[1] in inner
+    return any(marker in inner for marker in POSE_MARKERS)
 
 
 def status_time(inner: bytes) -> float | None:

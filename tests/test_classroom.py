@@ -100,6 +100,11 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
         ),
     )
     assert cr.is_update_frame(cr.unpack(pose)) and not cr.is_update_frame(cr.unpack(panel))
+    batched = vm.SceneNodeUpdateMessage(
+        "/model/batch", {"batched_positions": np.zeros((4, 3), np.float32)}
+    )
+    assert cr.is_update_frame(cr.unpack(wire(batched)))
+    assert not cr.is_update_frame(cr.unpack(wire(vm.SceneNodeUpdateMessage("/a", {"text": "F"}))))
     assert cr.status_time(cr.unpack(panel)) == 2.5
     assert cr.status_time(cr.unpack(pose)) is None
     assert cr.shows_rebuild(cr.unpack(wire(mesh)))  # binary buffers after the zstd part
