@@ -23,15 +23,17 @@ Definitions:
   ``t = 12.345 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
   10 Hz) is read from the wire; the rate of a client = (last t - first t) / (wall time
   between the two messages) inside the window [sim s per wall s].
-- **Slider delay**: during the window each client (only client 0 with ``--follow``,
-  where the simulation is shared) toggles a parameter slider every
+- **Slider delay**: during the window each client toggles a parameter slider every
   :data:`PROBE_PERIOD` s between its initial value and that value plus a quarter of
   its range, as a ``GuiUpdateMessage`` (the browser's own message). It "shows" in the
   first server message received after the send that creates or removes a 3D node under
   ``/model``: the renderer rebuilt the geom the parameter changed (the rotor's
   correction mass ``mass1_g`` and the compressor's ``counterweight_mass`` appear or
-  disappear). Delay = receive time - send time [s]; a change not shown before the next
-  toggle counts as *not shown*. Other scenes probe their first parameter, which may
+  disappear). With ``--follow``, one extra client opens the teacher link the server
+  prints (``/prof/<token>``) and toggles the shared simulation's slider; every one of the
+  N followers waits for the change under ``/prof/model`` (N samples per change). Delay =
+  receive time - send time [s]; a change not shown before the next toggle counts as
+  *not shown*. Other scenes probe their first parameter, which may
   never show this way.
 - **Server CPU**: utime + stime (+ reaped children) from ``/proc`` of the server
   process and all its descendants, over the window [cores]. **RSS**: sum of the
@@ -259,13 +261,14 @@ def messages(inner: bytes) -> list[dict[str, Any]]:
     return msgspec.msgpack.decode(inner)["messages"]
 
 
-def shows_rebuild(inner: bytes, prefix: str = "/model/") -> bool:
-    """True when a node under ``prefix`` is created (has props) or removed."""
-    if prefix.encode() not in inner:
+def shows_rebuild(inner: bytes, prefixes: tuple[str, ...] = ("/model/", "/prof/model/")) -> bool:
+    """True when a node under one of ``prefixes`` (a session's geoms, or the shared ones
+    of ``--follow``) is created (has props) or removed."""
+    if b"/model/" not in inner:
         return False
     for m in messages(inner):
         name = m.get("name")
-        if isinstance(name, str) and name.startswith(prefix):
+        if isinstance(name, str) and name.startswith(prefixes):
             if "props" in m or m.get("type") == "RemoveSceneNodeMessage":
                 return True
     return False
@@ -394,16 +397,18 @@ async def run_client(
     origin: str,
     param: str | None,
     seed: int = 0,
+    watchers: Sequence[ClientStats] | None = None,
 ) -> None:
     """One browser: connect, send the camera, read until cancelled, probe a slider.
 
     Args:
-        url: ``ws://127.0.0.1:P``.
+        url: ``ws://127.0.0.1:P`` (``/prof/<token>`` appended for the teacher).
         stats: Filled in place.
         window: Measurement window (frames and probes count inside it only).
         origin: ``Origin`` header, as a browser on the page would send.
         param: Parameter slider to toggle, or None for no probe.
         seed: Seeds the probe's start offset.
+        watchers: Clients whose view should show the slider change (default this one).
     """
     try:
         async with websockets.connect(
@@ -418,7 +423,8 @@ async def run_client(
             await ws.send(camera_message())
             prober = None
             if param is not None:
-                prober = asyncio.create_task(_probe(ws, stats, window, random.Random(seed)))
+                watch = [stats] if watchers is None else list(watchers)
+                prober = asyncio.create_task(_probe(ws, stats, window, random.Random(seed), watch))
             try:
                 async for raw in ws:
                     assert isinstance(raw, bytes)
@@ -434,7 +440,15 @@ async def run_client(
         stats.error = f"{type(exc).__name__}: {exc}"
 
 
-async def _probe(ws: Any, stats: ClientStats, window: Window, rng: random.Random) -> None:
+async def _probe(
+    ws: Any,
+    stats: ClientStats,
+    window: Window,
+    rng: random.Random,
+    watchers: Sequence[ClientStats],
+) -> None:
+    """Toggle ``stats.slider`` every :data:`PROBE_PERIOD` s; each of ``watchers`` then
+    waits for the change to show (its ``pending`` is the send time)."""
     while not math.isfinite(window.start) or stats.slider is None:
         await asyncio.sleep(0.1)
     slider = stats.slider
@@ -446,16 +460,17 @@ async def _probe(ws: Any, stats: ClientStats, window: Window, rng: random.Random
     next_at = window.start + rng.uniform(0.0, PROBE_PERIOD)
     while next_at < window.end - 0.5:
         await asyncio.sleep(max(0.0, next_at - time.perf_counter()))
-        if stats.pending is not None:
-            stats.not_shown += 1
         on = not on
-        stats.pending = time.perf_counter()
+        sent = time.perf_counter()
+        for w in watchers:
+            w.not_shown += w.pending is not None
+            w.pending = sent
         await ws.send(slider_message(slider["uuid"], high if on else low))
         next_at += PROBE_PERIOD
     await asyncio.sleep(max(0.0, window.end - time.perf_counter()))
-    if stats.pending is not None:
-        stats.not_shown += 1
-        stats.pending = None
+    for w in watchers:
+        w.not_shown += w.pending is not None
+        w.pending = None
 
 
 # -- the server ----------------------------------------------------------------------------
@@ -518,6 +533,16 @@ class Server:
         """What the server printed so far (last 2000 characters)."""
         self.log.seek(0)
         return self.log.read().decode(errors="replace")[-2000:]
+
+    def teacher_path(self, timeout: float = 10.0) -> str | None:
+        """``/prof/<token>`` from the teacher link the server printed (``--follow``)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            found = re.search(r"https?://\S+?(/prof/[A-Za-z0-9_-]+)", self.output())
+            if found:
+                return found.group(1)
+            time.sleep(0.2)
+        return None
 
     def _wait_ready(self) -> None:
         assert self.proc is not None
@@ -587,23 +612,41 @@ async def main_phase(
     seconds: float,
     warmup: float,
     param: str | None,
-    probe_all: bool,
+    teacher: str | None = None,
 ) -> dict[str, Any]:
-    """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS."""
+    """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS.
+
+    Args:
+        server: The running server.
+        clients: Browsers measured.
+        seconds: Measurement window [s].
+        warmup: Wait after every client's first frame [s].
+        param: Slider each client toggles (its own session), or None.
+        teacher: With ``--follow``, the teacher's path (``/prof/<token>``): one more
+            client opens it and toggles ``param`` on the shared simulation, and the
+            delay is measured on every follower; the teacher is not in the statistics.
+    """
     url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
     window = Window()
     stats = [ClientStats(i) for i in range(clients)]
     tasks = []
     connect_start = time.perf_counter()
     for s in stats:
-        probe = param if (probe_all or s.index == 0) else None
+        probe = None if teacher else param
         tasks.append(
             asyncio.create_task(
                 run_client(url, s, window, origin=origin, param=probe, seed=s.index)
             )
         )
+    if teacher is not None:
+        lead = ClientStats(-1)
+        tasks.append(
+            asyncio.create_task(
+                run_client(url + teacher, lead, window, origin=origin, param=param, watchers=stats)
+            )
+        )
     try:
-        await _wait_first_frames(stats, tasks, 30.0 + 0.5 * clients)
+        await _wait_first_frames(stats, tasks[:clients], 30.0 + 0.5 * clients)
         ready = time.perf_counter() - connect_start
         await asyncio.sleep(warmup)
         own0, cpu0, threads0 = time.process_time(), tree_cpu(server.pid), thread_cpu(server.pid)
@@ -766,7 +809,8 @@ def run_classroom(
         clients: Headless browsers in the main phase.
         seconds: Measurement window [s].
         warmup: Wait after every client's first frame [s].
-        follow: Serve with ``--follow`` (one shared simulation; only client 0 probes).
+        follow: Serve with ``--follow``: ``clients`` followers plus one teacher client
+            (the link the server prints) that toggles the slider of the shared simulation.
         workers: Pass ``--workers`` to the server when not None.
         drop_clients: Connect-and-drop clients (0 skips that phase).
         idle_seconds: CPU sampling after the drop [s].
@@ -779,11 +823,20 @@ def run_classroom(
     load = os.getloadavg()
     param = probe_param(scene)
     with Server(scene, follow=follow, workers=workers) as server:
+        teacher = server.teacher_path() if follow else None
+        if follow and teacher is None:
+            say("no teacher link in the server's output: no slider probe")
 
         async def all_phases() -> dict[str, Any]:
-            say(f"{clients} clients on {scene} (port {server.port}) ...")
+            who = " following a teacher" if teacher else ""
+            say(f"{clients} clients{who} on {scene} (port {server.port}) ...")
             main = await main_phase(
-                server, clients, seconds=seconds, warmup=warmup, param=param, probe_all=not follow
+                server,
+                clients,
+                seconds=seconds,
+                warmup=warmup,
+                param=param if (teacher or not follow) else None,
+                teacher=teacher,
             )
             out: dict[str, Any] = {"main": main}
             if drop_clients > 0:
@@ -901,8 +954,8 @@ def report(results: dict[str, Any]) -> str:
         "frames; lower is better, less sensitive to other load than frames/s)",
         f"  server RSS                   {m['server_rss_bytes'] / 1e6:.0f} MB",
         f"  slider -> first frame        p95 {delay['p95'] * 1000:.0f} ms  median "
-        f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}, {m['slider_samples']} "
-        f"changes, {m['slider_not_shown']} not shown)",
+        f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}: {m['slider_samples']} "
+        f"shown, {m['slider_not_shown']} not shown)",
         f"  traffic per client           {m['per_client_ws_messages_per_s']:.1f} messages/s, "
         f"{m['per_client_kbytes_per_s']:.1f} kB/s, {m['bytes_per_ws_message']:.0f} B and "
         f"{m['viser_messages_per_ws_message']:.1f} viser messages per websocket message",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import math
 import subprocess
 import sys
@@ -133,6 +134,34 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
     assert stats.pending == 11.0 and stats.delays == []
     stats.feed(wire(vm.RemoveSceneNodeMessage("/model/g2")), 11.04, window)
     assert stats.pending is None and stats.delays == [pytest.approx(0.04)]
+
+
+def test_follow_mode_pieces(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/prof/model/g2"))))
+
+    server = cr.Server("rotor")  # not started: only its log is read
+    server.log.write(b"sandbox: teacher link (keep it) http://127.0.0.1:8080/prof/Ab_9-x\n")
+    assert server.teacher_path(timeout=0.1) == "/prof/Ab_9-x"
+    server.log.close()
+
+    class FakeSocket:
+        def __init__(self) -> None:
+            self.sent: list[dict] = []
+
+        async def send(self, data: bytes) -> None:
+            self.sent.append(msgspec.msgpack.decode(data))
+
+    monkeypatch.setattr(cr, "PROBE_PERIOD", 0.2)
+    teacher, followers = cr.ClientStats(-1), [cr.ClientStats(0), cr.ClientStats(1)]
+    teacher.slider = {"uuid": "u", "value": 0.0, "props": {"min": 0.0, "max": 200.0}}
+    ws = FakeSocket()
+    now = time.perf_counter()
+    window = cr.Window(start=now, end=now + 1.0)
+    asyncio.run(cr._probe(ws, teacher, window, cr.random.Random(0), followers))
+    values = [m["updates"]["value"] for m in ws.sent]
+    assert len(values) >= 2 and values[:2] == [50.0, 0.0]  # a quarter of the range, back
+    assert all(f.not_shown == len(values) and f.pending is None for f in followers)
+    assert teacher.not_shown == 0
 
 
 def test_find_slider_by_parameter_name() -> None:
