@@ -13,16 +13,19 @@ import json
 import math
 import platform
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
 
-from sandbox.errors import Diverged
+from sandbox.data import data_dir
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
+from sandbox.runner import simulate
+from sandbox.scenes import SCENES
 from sandbox.scenes.base import Accuracy, Scene
 
 SCHEMA = 1
@@ -116,31 +119,16 @@ def run_one(
     run = Run(str(target), integrator, timestep, duration)
     sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
     names = tuple(dict.fromkeys(("time", *acc.readouts)))
-    samples: dict[str, list[float]] = {n: [] for n in names}
-
-    def sample() -> None:
-        for name, value in sim.readouts(names).items():
-            samples[name].append(value)
-
-    total = max(1, int(round(duration / timestep)))
-    per = max(1, int(round(1.0 / (acc.rate * timestep))))
-    sample()
-    done = 0
-    try:
-        while done < total:
-            n = min(per, total - done)
-            sim.step(n)
-            done += n
-            sample()
-    except Diverged as exc:
-        run.diverged, run.detail = True, str(exc)
+    columns, rows, error = simulate(sim, duration, acc.rate, progress=False, names=names)
+    if error is not None:
+        run.diverged, run.detail = True, str(error)
     if not run.diverged:
         cost = stepping_cost(simulation, target, acc, integrator, timestep, duration)
         run.cpu_per_sim_s = cost
         run.realtime_factor = 1.0 / cost if cost > 0 else math.inf
     if run.diverged:
         return run
-    series = _series(samples)
+    series = _series({n: [row[i] for row in rows] for i, n in enumerate(columns)})
     keep = series["time"] >= acc.settle
     if keep.sum() >= 2:
         series = {k: v[keep] for k, v in series.items()}
@@ -436,6 +424,51 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
     return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}
 
 
+def _from_json_number(x: object) -> object:
+    return math.inf if x == "inf" else -math.inf if x == "-inf" else math.nan if x == "nan" else x
+
+
+def scene_from_json(
+    scene: str, entry: Mapping[str, Any], acc: Accuracy | None = None
+) -> SceneResult:
+    """One scene of a results.json document (:func:`to_json`) back as a
+    :class:`SceneResult`, its Pareto front marked again with ``acc``'s limits (the
+    session cost is not read back).
+
+    Raises:
+        KeyError, TypeError: the entry lacks a field (an older or foreign document).
+    """
+    runs = [Run(**{k: _from_json_number(v) for k, v in r.items()}) for r in entry["runs"]]
+    res = SceneResult(
+        scene,
+        entry["key"],
+        entry["invariant"],
+        entry["default"]["integrator"],
+        entry["default"]["timestep"],
+        runs,
+        drift_tol=float(entry.get("drift_tol", math.inf)),
+        constraint_tol=float(entry.get("constraint_tol", math.inf)),
+    )
+    mark_pareto(res.runs, acc)
+    return res
+
+
+def load_results(scene: str, path: Path | None = None) -> SceneResult | None:
+    """The benchmark of ``scene`` in ``path`` (default: the shipped bench/results.json),
+    or None when the file, the scene or a field is missing."""
+    path = data_dir("bench") / "results.json" if path is None else path
+    try:
+        doc = json.loads(path.read_text())
+        entry = doc["scenes"][scene]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    spec = SCENES.get(scene)
+    try:
+        return scene_from_json(scene, entry, spec.accuracy if spec else None)
+    except (KeyError, TypeError):
+        return None
+
+
 CSV_COLUMNS = (
     "scene",
     "integrator",
@@ -604,7 +637,6 @@ class OverheadResult:
 
 def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -> OverheadResult:
     """Time both loops on the same model at the scene's defaults (best of three)."""
-    from sandbox.cli import simulate
 
     def bare() -> float:
         sim = Simulation(scene.name)

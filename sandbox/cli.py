@@ -7,7 +7,6 @@ diverging simulation exits with code 3 after writing what was computed so far.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -16,10 +15,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
-from sandbox.errors import BadOption, BadParameter, Diverged, SandboxError
+from sandbox.errors import BadOption, BadParameter, SandboxError
 from sandbox.physics.model import INTEGRATORS, resolve
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
+from sandbox.runner import simulate, write_rows
 
 
 class _Parser(argparse.ArgumentParser):
@@ -235,75 +235,6 @@ def _check_out(out: Path | None) -> None:
         raise BadOption(f"--out {str(out)!r} is a directory; give a file name such as run.csv")
     if not out.parent.exists():
         raise BadOption(f"folder {str(out.parent)!r} of --out does not exist; create it first")
-
-
-def simulate(
-    sim: Simulation,
-    duration: float,
-    rate: float,
-    progress: bool = True,
-    recorder: Recorder | None = None,
-):
-    """Run ``duration`` seconds, sampling every readout ``rate`` times per second.
-
-    Returns:
-        (columns, rows, error) where error is a :class:`Diverged` or None; rows computed
-        before a divergence are kept.
-    """
-    columns = sim.readout_names()
-    dt = sim.timestep
-    per_row = max(1, round(1.0 / (rate * dt)))
-    total = int(round(duration / dt))
-    rows = []
-
-    def sample() -> None:
-        values = sim.readouts(columns)
-        rows.append(list(values.values()))
-        if recorder is not None:
-            recorder.frame(values)
-
-    sample()
-    done, start, shown = 0, time.perf_counter(), time.perf_counter()
-    try:
-        while done < total:
-            n = min(per_row, total - done)
-            sim.step(n)
-            done += n
-            sample()
-            now = time.perf_counter()
-            if progress and now - shown > 2.0:
-                shown = now
-                pct = 100.0 * done / total
-                rtf = sim.data.time / (now - start)
-                print(
-                    f"  {pct:5.1f}%  t = {sim.data.time:.3f} s  ({rtf:.1f}x real time)",
-                    file=sys.stderr,
-                    flush=True,
-                )
-    except Diverged as exc:
-        return columns, rows, exc
-    return columns, rows, None
-
-
-def write_rows(out: Path, sim: Simulation, columns: list[str], rows: list[list[float]]) -> None:
-    """Write readout rows to CSV (header = column names) or JSON (with units and metadata)."""
-    if out.suffix.lower() == ".csv":
-        with out.open("w", newline="") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(columns)
-            writer.writerows([[f"{v:.10g}" for v in row] for row in rows])
-        return
-    units = {r.name: r.unit for r in sim.readout_infos()}
-    doc = {
-        "scene": sim.label,
-        "params": sim.values,
-        "integrator": sim.integrator,
-        "timestep": sim.timestep,
-        "columns": columns,
-        "units": units,
-        "rows": [[v if math.isfinite(v) else None for v in row] for row in rows],
-    }
-    out.write_text(json.dumps(doc))
 
 
 def cmd_run(args: argparse.Namespace) -> int:
