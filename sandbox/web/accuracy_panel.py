@@ -3,7 +3,6 @@ where the current integrator and timestep sit on the scene's work-precision char
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import threading
@@ -14,8 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from sandbox.bench import Run, SceneResult, mark_pareto
-from sandbox.data import data_dir
+from sandbox.bench import Run, SceneResult, load_results
 from sandbox.physics.simulation import Simulation
 from sandbox.web import charts
 from sandbox.web.tables import fmt
@@ -28,37 +26,6 @@ costs the session loop a few tenths of a second; a new integrator or dt redraws 
 
 WINDOW = 300
 """Samples kept for the live error and drift (30 s at the panel rate)."""
-
-
-def load_results(scene: str) -> SceneResult | None:
-    """The shipped benchmark of ``scene`` (bench/results.json), if any."""
-    path = data_dir("bench") / "results.json"
-    try:
-        doc = json.loads(path.read_text())
-        entry = doc["scenes"][scene]
-    except (OSError, ValueError, KeyError):
-        return None
-    runs = []
-    for r in entry["runs"]:
-        fields = {
-            k: (math.inf if v == "inf" else math.nan if v == "nan" else v) for k, v in r.items()
-        }
-        runs.append(Run(**fields))
-    res = SceneResult(
-        scene,
-        entry["key"],
-        entry["invariant"],
-        entry["default"]["integrator"],
-        entry["default"]["timestep"],
-        runs,
-        drift_tol=float(entry.get("drift_tol", math.inf)),
-        constraint_tol=float(entry.get("constraint_tol", math.inf)),
-    )
-    from sandbox.scenes import SCENES
-
-    scene_spec = SCENES.get(scene)
-    mark_pareto(res.runs, scene_spec.accuracy if scene_spec else None)
-    return res
 
 
 _BASES: dict[int, tuple[np.ndarray, tuple[float, ...]]] = {}
