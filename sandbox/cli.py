@@ -355,7 +355,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if args.export is not None:
         if args.export.exists() and not args.export.is_dir():
             raise BadOption(f"--export {str(args.export)!r} is a file; give a folder")
-        from sandbox.replay import export_static
+        from sandbox.web.export import export_static
 
         index = export_static(rec, args.export)
         print(f"static replay written to {index} (open it in a browser; no Python needed)")

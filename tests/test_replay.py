@@ -12,7 +12,8 @@ import pytest
 from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
-from sandbox.replay import export_static, resimulate
+from sandbox.replay import resimulate
+from sandbox.web.export import export_static
 from sandbox.web.player import ReplayController
 from sandbox.web.session import Request
 

@@ -1,0 +1,119 @@
+"""Static export of a recording: one ``index.html`` made by viser's own scene serializer.
+
+The 3D motion, the scene's arrows and a readout overlay play in any browser, from a
+static web host or straight from a USB stick (``file://``), with no Python. The export
+draws with the web layer's renderer and arrows; rebuilding the recorded simulation is
+:func:`sandbox.replay.open_simulation`'s job.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import socket
+from pathlib import Path
+
+import numpy as np
+import viser
+
+from sandbox.recording import Recording, set_state, write_csv
+from sandbox.replay import open_simulation
+from sandbox.web.arrows import ArrowLayer
+from sandbox.web.renderer import SceneRenderer
+from sandbox.web.view import camera_pose, scene_view
+
+EXPORT_FPS = 30.0
+"""Frames per second of a static export (recordings are thinned to this rate)."""
+
+
+def overlay_text(rec: Recording, values: dict[str, float], names: list[str]) -> str:
+    """Readout overlay of a static export: time, then one line per readout."""
+    units = dict(zip(rec.names, rec.header.get("units", [""] * len(rec.names)), strict=False))
+    lines = [f"t = {values.get('time', math.nan):.3f} s"]
+    for name in names:
+        v = values.get(name, math.nan)
+        lines.append(f"{name} = {v:.4g} {units.get(name, '')}".rstrip())
+    return "\n".join(lines)
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS) -> Path:
+    """Write ``folder/index.html`` (3D replay + readout overlay) and ``readouts.csv``.
+
+    Returns:
+        The path of ``index.html``.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    sim = open_simulation(rec)
+    with contextlib.redirect_stdout(io.StringIO()):  # no server banner for an export
+        server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
+    try:
+        scene = server.scene
+        direction, up = scene_view(sim)
+        extent = float(sim.model.stat.extent)
+        position, look_at = camera_pose(sim.model.stat.center, extent, direction)
+        server.initial_camera.position = position
+        server.initial_camera.look_at = look_at
+        server.initial_camera.up = up
+        renderer = SceneRenderer(scene)
+        arrows = None
+        if sim.scene is not None and sim.scene.arrows:
+            arrows = ArrowLayer(scene, sim.scene.arrows, extent=float(sim.model.stat.extent))
+        names = [r.name for r in sim.scene.readouts] if sim.scene else ["T", "V", "P_acc"]
+        names = [n for n in names if n in rec.names][:8]
+        overlay = scene.add_label(
+            "/overlay",
+            "",
+            position=tuple(
+                np.asarray(sim.model.stat.center) + [0, 0, 0.45 * sim.model.stat.extent]
+            ),
+            font_screen_scale=1.0,
+        )
+        serializer = server.get_scene_serializer()
+        last_t = None
+        values = sim.values
+        clock = rec.timeline
+        for i in _thin(clock, fps):
+            wanted = rec.values_at(i)
+            for name, value in wanted.items():
+                if values.get(name) != value:
+                    sim.set_value(name, value)
+            set_state(sim.model, sim.data, rec.states[i])
+            renderer.sync(sim.model, sim.data)
+            if arrows is not None:
+                arrows.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
+                arrows.relabel()
+            t = float(clock[i])
+            shown = rec.readouts_of_frame(i) or {"time": float(rec.times[i])}
+            overlay.text = overlay_text(rec, shown, names)
+            if last_t is not None:
+                serializer.insert_sleep(max(0.0, t - last_t))
+            last_t = t
+        html = serializer.as_html()
+    finally:
+        with contextlib.redirect_stdout(io.StringIO()):
+            server.stop()
+    index = folder / "index.html"
+    index.write_text(html)
+    write_csv(rec, folder / "readouts.csv")
+    return index
+
+
+def _thin(times: np.ndarray, fps: float) -> list[int]:
+    """Frame indices at most ``fps`` per simulated second, first and last kept."""
+    keep: list[int] = []
+    next_t = -math.inf
+    for i, t in enumerate(times):
+        if t >= next_t or t < (times[keep[-1]] if keep else -math.inf):
+            keep.append(i)
+            next_t = t + 1.0 / fps - 1e-9
+    if keep and keep[-1] != len(times) - 1:
+        keep.append(len(times) - 1)
+    return keep
