@@ -25,6 +25,10 @@ from sandbox.physics.model import (
 )
 from sandbox.physics.snapshot import Snapshot
 
+SETTLE_STEPS = 50
+"""Steps at the fine timestep before a state-dependent default may grow again (ten of
+the compressor's closure time constants)."""
+
 _BAD_WARNINGS = (
     (mujoco.mjtWarning.mjWARN_BADQACC, "bad acceleration (BADQACC)"),
     (mujoco.mjtWarning.mjWARN_BADQVEL, "bad velocity (BADQVEL)"),
@@ -69,6 +73,7 @@ class Simulation:
         self._integrator = None if integrator is None else check_integrator(integrator)
         self._timestep = None if timestep is None else self._check_dt(timestep)
         self.lock = threading.RLock()
+        self._settled_at: float | None = None  # see _follow_state
         self.observers: list[Callable[[str, dict[str, Any]], None]] = []
         """Called with (kind, fields) after a reset or a change (recordings use it)."""
         self.model = self._compile()
@@ -153,7 +158,7 @@ class Simulation:
             old, old_dt = self.values[name], self.timestep
             self.values[name] = number
             if self.scene is not None and self.scene.param(name).live:
-                self.model.opt.timestep = self._default_dt()
+                self.model.opt.timestep = self._next_dt(old_dt)
                 self._apply_drive()  # after the timestep: a drive may tune gains to it
             else:
                 try:
@@ -162,18 +167,48 @@ class Simulation:
                     self.values[name] = old
                     raise
                 self._swap_model(model)
+                if self._next_dt(old_dt) != self.timestep:  # the running motion's step
+                    self.model.opt.timestep = self._next_dt(old_dt)
+                    self._apply_drive()
         self._emit("set", name=name, value=number)
         if self.timestep != old_dt:
             self._emit("timestep", value=self.timestep)
         return number
 
-    def _default_dt(self) -> float:
-        """The user's timestep if any, else the scene's default for the current values."""
+    def _next_dt(self, old_dt: float) -> float:
+        """Timestep after a parameter change: the user's if any; else a scene default that
+        follows the parameters shrinks at once and grows only later, in :meth:`step`, once
+        the motion has settled (:meth:`_follow_state`); else the model's own."""
         if self._timestep is not None:
             return self._timestep
-        if self.scene is None:
-            return self.timestep  # a file keeps its own option
-        return self.scene.default_timestep(self.values)
+        if self.scene is None or self.scene.timestep_for is None:
+            return self.timestep
+        return min(old_dt, self.scene.default_timestep(self.values, self.data))
+
+    def _follow_state(self) -> None:
+        """Re-apply a state-dependent default timestep after stepping: it shrinks as soon as
+        the motion needs it, and grows back only once the motion has been the one the
+        parameters ask for during :data:`SETTLE_STEPS` steps (a crank braked to a lower set
+        point within a few steps leaves a loop violation behind: a step growing at once
+        lets it open 6x wider than at the fine step)."""
+        if self._timestep is not None or self.scene is None or self.scene.timestep_for is None:
+            return
+        now = float(self.model.opt.timestep)
+        dt = self.scene.default_timestep(self.values, self.data)
+        if dt > now:
+            t = float(self.data.time)
+            if dt != self.scene.default_timestep(self.values):
+                self._settled_at = None  # still faster than asked
+                return
+            if self._settled_at is None:
+                self._settled_at = t
+            if t - self._settled_at < SETTLE_STEPS * now * (1 - 1e-9):
+                return
+        self._settled_at = None
+        if dt != now:
+            self.model.opt.timestep = dt
+            self._apply_drive()
+            self._emit("timestep", value=dt)
 
     def _swap_model(self, model: mujoco.MjModel) -> None:
         old_model, old = self.model, self.data
@@ -236,6 +271,7 @@ class Simulation:
         with self.lock:
             mujoco.mj_step(self.model, self.data, nstep)
             self._guard()
+            self._follow_state()
 
     def _guard(self) -> None:
         d = self.data

@@ -245,11 +245,15 @@ class Scene:
         integrator: Default integrator name.
         timestep: Default timestep [s] (at the default parameters when ``timestep_for``
             is given).
-        timestep_for: Default timestep [s] as a function of the parameters, for scenes
-            whose accuracy is set per revolution (e.g. the compressor: dt shrinks as the
-            speed grows). A :class:`~sandbox.physics.simulation.Simulation` applies it at
-            construction and again after every parameter change, unless the user chose a
-            timestep (``--timestep``, the web app's field), which always overrides it.
+        timestep_for: Default timestep [s] as a function of the parameters and, when
+            given, of the current state (``data``; None: the state the parameters start
+            from), for scenes whose accuracy is set per revolution (e.g. the compressor:
+            dt shrinks as the speed grows, and stays small while a crank still turning
+            faster than a new, lower set point slows down). A
+            :class:`~sandbox.physics.simulation.Simulation` applies it at construction,
+            after every parameter change and after every call of ``step`` (a smaller step
+            at once, a larger one after 50 steps of settled motion), unless the user chose
+            a timestep (``--timestep``, the web app's field), which always overrides it.
         plots: Readout names plotted by default in the web app.
         arrows: Arrows drawn in the 3D view.
         body_frame: Body whose frame gives the basis B1 of the readout panel.
@@ -279,7 +283,7 @@ class Scene:
     reference: Callable[[Values], dict[str, float]] | None = None
     integrator: str = "rk4"
     timestep: float = 1e-3
-    timestep_for: Callable[[Values], float] | None = None
+    timestep_for: Callable[[Values, mujoco.MjData | None], float] | None = None
     plots: tuple[str, ...] = ()
     arrows: tuple[Arrow, ...] = ()
     body_frame: str | None = None
@@ -313,8 +317,11 @@ class Scene:
         """Default value of every parameter."""
         return {p.name: p.default for p in self.params}
 
-    def default_timestep(self, values: Values | None = None) -> float:
-        """Default timestep [s] for ``values`` (missing ones at their defaults)."""
+    def default_timestep(
+        self, values: Values | None = None, data: mujoco.MjData | None = None
+    ) -> float:
+        """Default timestep [s] for ``values`` (missing ones at their defaults) and, if
+        given, the current state ``data``."""
         if self.timestep_for is None:
             return self.timestep
-        return float(self.timestep_for({**self.defaults(), **(values or {})}))
+        return float(self.timestep_for({**self.defaults(), **(values or {})}, data))

@@ -136,9 +136,10 @@ LARGEST_TIMESTEP = 2e-4
 cannot grow as 1/r below 22,500 rpm the way it shrinks above."""
 
 
-def default_timestep(v: Values) -> float:
+def default_timestep(v: Values, data: mujoco.MjData | None = None) -> float:
     """RK4 timestep [s]: at most :data:`SPIN_ANGLE` of spin per step, at most
-    :data:`LARGEST_TIMESTEP` (0.2 ms up to 22,500 rpm, 0.15 ms at 30,000 rpm)."""
+    :data:`LARGEST_TIMESTEP` (0.2 ms up to 22,500 rpm, 0.15 ms at 30,000 rpm). A new spin
+    relaunches the top at once, so the state adds nothing."""
     return per_revolution_timestep(SPIN_ANGLE, v["spin_rpm"] * RPM, largest=LARGEST_TIMESTEP)
 
 

@@ -105,7 +105,7 @@ def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
 
 def test_the_timestep_follows_the_spin_above_22500_rpm():
     """At most 0.47 rad of spin per step (RK4's 6e-4 on Ω at 30,000 rpm and 0.15 ms),
-    at most 0.2 ms; a user's timestep stays."""
+    at most 0.2 ms; smaller at once, larger after 50 steps; a user's timestep stays."""
     assert [SCENE.default_timestep({"spin_rpm": r}) for r in (0, 3000, 22500, 25000, 30000)] == [
         2e-4,
         2e-4,
@@ -117,6 +117,9 @@ def test_the_timestep_follows_the_spin_above_22500_rpm():
     sim.set_value("spin_rpm", 30000.0)
     assert sim.timestep == 1.5e-4
     sim.set_value("spin_rpm", 3000.0)
+    assert sim.timestep == 1.5e-4  # a step grows back only after 50 steps of the new motion
+    for _ in range(52):  # (checked after each call of step)
+        sim.step(1)
     assert sim.timestep == 2e-4
     assert Simulation("heavy_gyroscope", values={"spin_rpm": 30000.0}).timestep == 1.5e-4
     user = Simulation("heavy_gyroscope", timestep=5e-5)
