@@ -48,9 +48,12 @@ class Snapshot:
         return readouts.torsor(self.model, self.data, "sup", self.cache)
 
     def _names(self) -> dict[tuple[str, str], int]:
-        names = _NAMES.get(self.model)
+        names = self.__dict__.get("_ids")
         if names is None:
-            names = _NAMES[self.model] = {}
+            names = _NAMES.get(self.model)
+            if names is None:
+                names = _NAMES[self.model] = {}
+            self._ids = names
         return names
 
     def body_id(self, name: str) -> int:
