@@ -16,10 +16,11 @@ from pathlib import Path
 from typing import NoReturn
 
 from sandbox.errors import BadOption, BadParameter, SandboxError
-from sandbox.physics.model import INTEGRATORS, resolve
+from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
 from sandbox.runner import simulate, write_rows
+from sandbox.scenes import resolve
 
 
 class _Parser(argparse.ArgumentParser):

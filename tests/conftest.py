@@ -10,6 +10,10 @@ from pathlib import Path
 
 import pytest
 
+# Tests name scenes at every layer: load the registry, which passes itself down to
+# physics for Simulation("rotor").
+import sandbox.scenes  # noqa: F401
+
 DIVERGING = """
 <mujoco>
   <option timestep="0.05" integrator="Euler"/>

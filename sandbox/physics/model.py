@@ -1,17 +1,22 @@
-"""Build an MjModel from a scene spec or an MJCF file, with only the scene's effects on."""
+"""Build an MjModel from a scene spec or an MJCF file, with only the scene's effects on.
+
+Physics never imports the scenes: a scene spec reaches it as a :class:`SceneSpec` in a
+:class:`Source`, and scene *names* are resolved through the registry that
+:mod:`sandbox.scenes` passes down when it is imported (:func:`register_scenes`).
+"""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Protocol
 
 import mujoco
 
 from sandbox.data import data_dir
 from sandbox.errors import BadModel, BadOption, UnknownScene, choices
-from sandbox.scenes.base import Scene
 
 INTEGRATORS: dict[str, int] = {
     "euler": int(mujoco.mjtIntegrator.mjINT_EULER),
@@ -50,12 +55,68 @@ def check_timestep(value: float) -> float:
     return float(value)
 
 
+class SceneSpec(Protocol):
+    """What physics reads from a scene spec (:class:`sandbox.scenes.base.Scene` is one).
+
+    Callables take the parameter values by name (``Mapping[str, float]``)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def mjcf(self) -> str: ...  # file name under the scenes folder
+    @property
+    def effects(self) -> Any: ...  # has disable_flags() -> int
+    @property
+    def integrator(self) -> str: ...
+    @property
+    def timestep(self) -> float: ...
+    @property
+    def max_timestep(self) -> float: ...
+    @property
+    def timestep_for(self) -> Callable[..., float] | None: ...
+    @property
+    def readouts(self) -> Sequence[Any]: ...  # name, unit, doc, fn(snapshot) -> float
+    @property
+    def edit(self) -> Callable[[mujoco.MjSpec, Mapping[str, float]], None] | None: ...
+    @property
+    def drive(self) -> Callable[..., None] | None: ...  # (model, data, values)
+    @property
+    def initial_state(self) -> Callable[..., None] | None: ...  # (model, data, values)
+    @property
+    def reference(self) -> Callable[[Mapping[str, float]], dict[str, float]] | None: ...
+    def defaults(self) -> dict[str, float]: ...
+    def param(self, name: str) -> Any: ...  # has check(value) -> float and live
+    def default_timestep(
+        self, values: Mapping[str, float] | None = None, data: Any = None
+    ) -> float: ...
+
+
+_SCENES: Mapping[str, SceneSpec] = {}
+"""The registry :func:`resolve` looks names up in (empty until one is registered)."""
+
+
+def register_scenes(scenes: Mapping[str, SceneSpec]) -> None:
+    """Let :func:`resolve` (and ``Simulation(name)``) find scenes by name.
+
+    :mod:`sandbox.scenes` passes its registry down when it is imported, so that physics
+    never imports the layer above it; the entry points (cli, bench, replay, the web
+    package) import it.
+    """
+    global _SCENES
+    _SCENES = scenes
+
+
 @dataclass(frozen=True)
 class Source:
     """Where a model comes from: a registered scene or a user's MJCF file."""
 
-    scene: Scene | None
+    scene: SceneSpec | None
     path: Path
+
+    @classmethod
+    def of_scene(cls, scene: SceneSpec) -> Source:
+        """The source of a scene spec: its MJCF file in the scenes folder."""
+        return cls(scene, data_dir("scenes") / scene.mjcf)
 
     @property
     def label(self) -> str:
@@ -66,25 +127,31 @@ class Source:
 def resolve(target: str | Path) -> Source:
     """Turn ``X`` of the CLI into a source: a registered scene name or an MJCF path.
 
+    Scene names are those of the registry passed to :func:`register_scenes` (importing
+    :mod:`sandbox.scenes` does it).
+
     Raises:
         UnknownScene: neither a scene nor an existing file (lists the scenes).
         BadModel: a directory was given instead of a file.
     """
-    from sandbox.scenes import SCENES
-
+    scenes = _SCENES
     text = str(target)
-    if text in SCENES:
-        scene = SCENES[text]
-        return Source(scene, data_dir("scenes") / scene.mjcf)
+    if text in scenes:
+        return Source.of_scene(scenes[text])
     path = Path(text)
     if path.is_dir():
         raise BadModel(
-            f"{text!r} is a directory; give an MJCF file (.xml) or a scene name: {choices(SCENES)}"
+            f"{text!r} is a directory; give an MJCF file (.xml) or a scene name: {choices(scenes)}"
         )
     if path.is_file():
         return Source(None, path)
+    if not scenes:
+        raise UnknownScene(
+            f"unknown scene or file {text!r}: no scene registry is loaded (import "
+            "sandbox.scenes first), or give the path of an MJCF file"
+        )
     raise UnknownScene(
-        f"unknown scene or file {text!r}; scenes: {choices(SCENES)}, "
+        f"unknown scene or file {text!r}; scenes: {choices(scenes)}, "
         "or give the path of an MJCF file"
     )
 

@@ -1,8 +1,13 @@
-"""Registry of the course's scenes (frozen :class:`~sandbox.scenes.base.Scene` specs)."""
+"""Registry of the course's scenes (frozen :class:`~sandbox.scenes.base.Scene` specs).
+
+Importing it passes the registry down to physics (:func:`sandbox.physics.model.register_scenes`),
+so that ``Simulation("rotor")`` and :func:`resolve` know the scene names.
+"""
 
 from __future__ import annotations
 
 from sandbox.errors import UnknownScene, choices
+from sandbox.physics.model import Source, register_scenes, resolve
 from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.gyroscope import SCENE as GYROSCOPE
@@ -17,6 +22,8 @@ SCENES: dict[str, Scene] = {
 
 DEFAULT_SCENE = "rotor"
 
+register_scenes(SCENES)
+
 
 def get_scene(name: str) -> Scene:
     """The scene called ``name`` (UnknownScene listing the valid names)."""
@@ -30,6 +37,8 @@ __all__ = [
     "SCENES",
     "DEFAULT_SCENE",
     "get_scene",
+    "resolve",
+    "Source",
     "Scene",
     "Param",
     "Effects",

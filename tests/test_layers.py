@@ -1,0 +1,252 @@
+"""design.md's layer rules, checked on the source with ``ast`` (no import is executed).
+
+Layers, lowest first; a module may import its own layer and the layers below, never
+one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
+``importlib.import_module("sandbox...")`` with a literal name):
+
+0. base:      ``sandbox/__init__.py``, ``errors.py`` (the SandboxError hierarchy),
+               ``data.py`` (where the MJCF, lesson and benchmark files are)
+1. mechanics: ``sandbox/mechanics/`` (numpy only)
+2. physics:   ``sandbox/physics/`` (MuJoCo: models, stepping, readouts)
+3. scenes:    ``sandbox/scenes/`` (the registry and the scene specs)
+4. runner:    ``sandbox/runner.py`` (the sampling loop of cli and bench)
+5. tools:     ``recording.py``, ``bench.py``, ``bench_plot.py``, ``classroom.py`` (the
+               classroom load benchmark), ``lessons.py``, ``replay.py``
+6. web:       ``sandbox/web/`` (viser)
+7. cli:       ``sandbox/cli.py``
+
+Plus: mechanics imports neither MuJoCo nor viser; physics never imports viser.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import subprocess
+import sys
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "sandbox"
+
+LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("base", ("sandbox", "sandbox.errors", "sandbox.data")),
+    ("mechanics", ("sandbox.mechanics",)),
+    ("physics", ("sandbox.physics",)),
+    ("scenes", ("sandbox.scenes",)),
+    ("runner", ("sandbox.runner",)),
+    (
+        "tools",
+        (
+            "sandbox.recording",
+            "sandbox.bench",
+            "sandbox.bench_plot",
+            "sandbox.classroom",
+            "sandbox.lessons",
+            "sandbox.replay",
+        ),
+    ),
+    ("web", ("sandbox.web",)),
+    ("cli", ("sandbox.cli",)),
+)
+"""(layer, module prefixes), lowest first. A module belongs to its longest prefix."""
+
+ORDER = " -> ".join(name for name, _ in LAYERS)
+
+FORBIDDEN: dict[str, tuple[str, ...]] = {
+    "mechanics": ("mujoco", "viser"),
+    "physics": ("viser",),
+}
+"""Third-party packages a layer never imports (design.md's rules)."""
+
+
+@dataclass(frozen=True)
+class Import:
+    """One import statement: where it is and the module it names."""
+
+    path: Path
+    line: int
+    target: str
+
+
+def module_name(path: Path, root: Path) -> str:
+    """Dotted name of a source file under ``root`` (the package folder)."""
+    parts = [root.name, *path.relative_to(root).with_suffix("").parts]
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def layer_of(module: str) -> int | None:
+    """Index in :data:`LAYERS` of a dotted module name (None: no layer)."""
+    best, found = -1, None
+    for index, (_, prefixes) in enumerate(LAYERS):
+        for prefix in prefixes:
+            if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
+                best, found = len(prefix), index
+    return found
+
+
+def _resolve(name: str, root: Path) -> str:
+    """``from a.b import c``: ``a.b.c`` when it is a module of the package, else ``a.b``."""
+    rel = Path(*name.split(".")[1:])
+    if (root / rel).with_suffix(".py").is_file() or (root / rel / "__init__.py").is_file():
+        return name
+    return name.rsplit(".", 1)[0]
+
+
+def imports(path: Path, root: Path) -> Iterator[Import]:
+    """Every import in the file, at any depth (functions, ``if TYPE_CHECKING``, ...)."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    here = module_name(path, root)
+    package = here if path.name == "__init__.py" else here.rpartition(".")[0]
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield Import(path, node.lineno, alias.name)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")
+                parts = parts[: len(parts) - (node.level - 1)]
+                base = ".".join([*parts, base] if base else parts)
+            for alias in node.names:
+                full = f"{base}.{alias.name}"
+                target = _resolve(full, root) if base.startswith(root.name) else base
+                yield Import(path, node.lineno, target)
+        elif isinstance(node, ast.Call):
+            func = node.func
+            called = getattr(func, "attr", None) or getattr(func, "id", None)
+            if called in ("import_module", "__import__") and node.args:
+                arg = node.args[0]
+                if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+                    yield Import(path, node.lineno, arg.value)
+
+
+def sources(root: Path) -> list[Path]:
+    return sorted(root.rglob("*.py"))
+
+
+def upward_imports(root: Path) -> list[str]:
+    """One message per import of a higher layer (file:line, the rule)."""
+    out = []
+    for path in sources(root):
+        here = module_name(path, root)
+        mine = layer_of(here)
+        if mine is None:
+            continue
+        for imp in dict.fromkeys(imports(path, root)):  # one per line and target
+            if imp.target.split(".")[0] != root.name:
+                continue
+            theirs = layer_of(imp.target)
+            if theirs is not None and theirs > mine:
+                out.append(
+                    f"{path.relative_to(root.parent)}:{imp.line}: {here} ({LAYERS[mine][0]}) "
+                    f"imports {imp.target} ({LAYERS[theirs][0]}); imports go only downward: "
+                    f"{ORDER}"
+                )
+    return out
+
+
+def forbidden_imports(root: Path) -> list[str]:
+    """One message per import of a third-party package the layer must not use."""
+    out = []
+    for path in sources(root):
+        here = module_name(path, root)
+        mine = layer_of(here)
+        if mine is None:
+            continue
+        banned = FORBIDDEN.get(LAYERS[mine][0], ())
+        for imp in imports(path, root):
+            if imp.target.split(".")[0] in banned:
+                out.append(
+                    f"{path.relative_to(root.parent)}:{imp.line}: {here} imports "
+                    f"{imp.target}; {LAYERS[mine][0]} never imports {' nor '.join(banned)}"
+                )
+    return out
+
+
+def test_every_module_has_a_layer():
+    missing = [str(p) for p in sources(PACKAGE) if layer_of(module_name(p, PACKAGE)) is None]
+    assert not missing, f"give these modules a layer in tests/test_layers.py LAYERS: {missing}"
+
+
+def test_imports_go_only_downward():
+    bad = upward_imports(PACKAGE)
+    assert not bad, "\n".join(bad)
+
+
+def test_mechanics_imports_neither_mujoco_nor_viser_and_physics_never_viser():
+    bad = forbidden_imports(PACKAGE)
+    assert not bad, "\n".join(bad)
+
+
+@pytest.fixture
+def toy(tmp_path: Path) -> Path:
+    """A small ``sandbox`` tree with one hidden upward import of each kind."""
+    root = tmp_path / "sandbox"
+    files = {
+        "__init__.py": "",
+        "errors.py": "",
+        "mechanics/__init__.py": "",
+        "mechanics/torsor.py": "def f():\n    import mujoco\n",
+        "physics/__init__.py": "",
+        "physics/model.py": (
+            "from typing import TYPE_CHECKING\n"
+            "if TYPE_CHECKING:\n    from sandbox.scenes.base import Scene\n"
+            "def resolve():\n    from sandbox.scenes import SCENES\n"
+        ),
+        "physics/readouts.py": "from . import model\nfrom .model import resolve\n",
+        "scenes/__init__.py": "from sandbox.physics import readouts\n",
+        "scenes/base.py": "",
+        "web/__init__.py": "",
+        "web/view.py": "import viser\nfrom sandbox.cli import main\n",
+        "cli.py": "import importlib\nimportlib.import_module('sandbox.web.view')\n",
+    }
+    for name, text in files.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_text(text)
+    return root
+
+
+def test_the_checker_finds_hidden_upward_imports(toy: Path):
+    bad = upward_imports(toy)
+    assert [b.split(": ")[0] for b in bad] == [
+        "sandbox/physics/model.py:3",  # TYPE_CHECKING
+        "sandbox/physics/model.py:5",  # function-local
+        "sandbox/web/view.py:2",
+    ]
+    assert "sandbox.scenes.base (scenes)" in bad[0] and "imports go only downward" in bad[0]
+    assert forbidden_imports(toy) == [
+        "sandbox/mechanics/torsor.py:2: sandbox.mechanics.torsor imports mujoco; "
+        "mechanics never imports mujoco nor viser"
+    ]
+
+
+@pytest.mark.parametrize("index", range(len(LAYERS) - 1), ids=[n for n, _ in LAYERS[:-1]])
+def test_importing_a_layer_loads_nothing_above_it(index: int):
+    """At run time too (dynamic imports, registries): import every module of the layers
+    up to ``index`` in a fresh interpreter; no module of a higher layer gets loaded."""
+    mine = [
+        module_name(p, PACKAGE)
+        for p in sources(PACKAGE)
+        if (layer_of(module_name(p, PACKAGE)) or 0) <= index
+    ]
+    script = (
+        "import importlib, json, sys\n"
+        f"for m in {mine!r}: importlib.import_module(m)\n"
+        "print(json.dumps(sorted(sys.modules)))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, check=True
+    ).stdout
+    loaded = json.loads(out.splitlines()[-1])
+    above = [m for m in loaded if m.startswith("sandbox") and (layer_of(m) or 0) > index]
+    assert not above, f"importing {LAYERS[index][0]} loads {above}"
+    if LAYERS[index][0] == "mechanics":
+        assert not [m for m in loaded if m.split(".")[0] in ("mujoco", "viser")]
+    if LAYERS[index][0] == "physics":
+        assert "viser" not in loaded
