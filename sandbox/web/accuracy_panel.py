@@ -111,12 +111,16 @@ class AccuracyPanel:
         self._chart_at = -math.inf
         self._charted: tuple | None = None
         self._drawing: Future[np.ndarray] | None = None
-        with gui.add_folder("Précision et coût"):
+        with gui.add_folder("Précision et coût") as self.folder:
             self.text = gui.add_markdown("")
             self.image = None
             if self.results is not None:
                 blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
                 self.image = gui.add_image(blank, label="Erreur / coût", format="png")
+
+    def names(self) -> tuple[str, ...]:
+        """Readouts the live error and drift need (sampled whether shown or not)."""
+        return ("time", *self.acc.readouts) if self.acc is not None else ()
 
     def _settings(self, sim: Simulation, generation: int) -> tuple:
         return (sim.integrator, sim.timestep, tuple(sorted(sim.values.items())), generation)

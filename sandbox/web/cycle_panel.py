@@ -30,9 +30,10 @@ class CyclePanel:
         self.charts: list[tuple[tuple[str, ...], Any]] = []
         self._shown: object = None
         self._at = -math.inf
+        self.folder: Any = None
         if self.fn is None:
             return
-        with gui.add_folder("Sur un tour"):
+        with gui.add_folder("Sur un tour") as self.folder:
             for names, unit in GROUPS:
                 series: list[dict[str, Any]] = [{"label": "θ [°]"}]
                 for n in names:

@@ -30,7 +30,7 @@ from sandbox.web import network
 from sandbox.web.app import App
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import Controller, Notice, Request, Session
+from sandbox.web.session import Controller, Frame, Notice, Request, Session
 from sandbox.web.tables import fmt
 from sandbox.web.view import SNAPSHOT_NAMES, WebView, arrow_layer, point_camera
 
@@ -73,6 +73,7 @@ class BroadcastView:
 
     def __init__(self, server: viser.ViserServer, controller: Controller) -> None:
         self.server = server
+        self.controller = controller
         sim = controller.sim
         self.renderer = SceneRenderer(server.scene, prefix=f"{SHARED}/model")
         self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
@@ -84,33 +85,38 @@ class BroadcastView:
         self._drawn: tuple[Any, ...] | None = None
         self._summary_at = -math.inf
 
-    def render(self, controller: Controller, now: float) -> None:
-        sim = controller.sim
-        state = (id(sim.model), float(sim.data.time), controller.generation)
+    def wants(self, now: float) -> list[str] | None:
+        """The followers' table readouts, :data:`SUMMARY_RATE` times a second."""
+        if now - self._summary_at < 1.0 / SUMMARY_RATE:
+            return None
+        self._summary_at = now
+        return self.names
+
+    def render(self, frame: Frame) -> None:
+        sim = self.controller.sim
         with self.server.atomic():
-            if controller.diverged:
+            if frame.diverged:
                 if self.arrows is not None:
                     self.arrows.hide()
-            elif state != self._drawn:
-                self._drawn = state
+            elif frame.key != self._drawn:
+                self._drawn = frame.key
                 with sim.lock:
                     self.renderer.sync(sim.model, sim.data)
                     if self.arrows is not None:
                         self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
-            if now - self._summary_at >= 1.0 / SUMMARY_RATE:
-                self._summary_at = now
-                self._summarise(controller)
+            if frame.readouts is not None or frame.diverged:
+                self._summarise(frame)
                 if self.arrows is not None:
                     self.arrows.relabel()
 
-    def _summarise(self, controller: Controller) -> None:
-        sim = controller.sim
-        state = "en pause" if not controller.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"t = {float(sim.data.time):.2f} s · {state}"]
-        if controller.diverged:
-            lines.append(f"**{controller.diverged}**")
-        else:
-            values = sim.readouts(self.names)
+    def _summarise(self, frame: Frame) -> None:
+        controller = self.controller
+        state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
+        lines = [f"t = {frame.time:.2f} s · {state}"]
+        if frame.diverged:
+            lines.append(f"**{frame.diverged}**")
+        elif frame.readouts is not None:
+            values = frame.readouts
             rows = [
                 f"| {name} | {fmt(values[name])} {self.units.get(name, '')} |"
                 for name in self.names
@@ -150,7 +156,10 @@ class FollowerView:
             )
         self.own.on_click(lambda _: on_own())
 
-    def render(self, controller: Controller, now: float) -> None:
+    def wants(self, now: float) -> None:
+        return None  # the broadcast computes the table once for every follower
+
+    def render(self, frame: Frame) -> None:
         if self.broadcast.version != self._seen:
             self._seen = self.broadcast.version
             self.text.content = self.broadcast.summary

@@ -30,9 +30,10 @@ class IsolatePanel:
             raw = mujoco.mj_id2name(sim.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"corps {body}"
             self.choices[str(names.get(raw, raw))] = raw
         self.text = None
+        self.folder: Any = None
         if not self.choices:
             return
-        with gui.add_folder("Isoler un solide", expand_by_default=False):
+        with gui.add_folder("Isoler un solide") as self.folder:
             self.picker = gui.add_dropdown("Solide", tuple(self.choices))
             self.text = gui.add_markdown("")
 

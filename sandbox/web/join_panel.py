@@ -55,5 +55,5 @@ class JoinPanel:
     """
 
     def __init__(self, gui: Any, urls: Sequence[str], *, expand: bool = False) -> None:
-        with gui.add_folder("Rejoindre", expand_by_default=expand):
+        with gui.add_folder("Rejoindre", expand_by_default=expand) as self.folder:
             self.html = gui.add_html(join_html(urls))

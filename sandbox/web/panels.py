@@ -179,7 +179,7 @@ class HypothesesPanel:
 
     def __init__(self, gui: Any, sim: Simulation) -> None:
         self.sim = sim
-        with gui.add_folder("Hypothèses de modélisation"):
+        with gui.add_folder("Hypothèses de modélisation") as self.folder:
             self.text = gui.add_markdown(self._content())
 
     def _content(self) -> str:

@@ -8,6 +8,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from sandbox.physics.readouts import GENERIC_NAMES
 from sandbox.physics.simulation import Simulation
 from sandbox.web import tables
 from sandbox.web.arrows import ArrowLayer
@@ -16,6 +17,17 @@ from sandbox.web.plots import Plot, group_by_unit
 POINT_O = "O (origine)"
 POINT_P = "P (saisi)"
 BASIS_0 = "B0 (monde)"
+
+SCENE_FOLDER = "Grandeurs de la scène"
+PLOTS_FOLDER = "Courbes"
+TORSORS_FOLDER = "Torseurs"
+ENERGY_FOLDER = "Énergie et puissances"
+
+ENERGY_NAMES = ("T", "V", "P_ext", "P_int", "P_acc")
+"""Readouts of the energy table."""
+
+TORSOR_NAMES = tuple(n for n in GENERIC_NAMES if n[:4] in ("kin_", "dyn_", "sup_"))
+"""Readouts of the torsor table."""
 
 
 def short_name(label: str) -> str:
@@ -41,8 +53,9 @@ class ReadoutPanel:
         self._ref_key: tuple | None = None
         self._ref: dict[str, float] = {}
         self.scene_text = None
+        self.folders: dict[str, Any] = {}
         if self.scene_rows:
-            with gui.add_folder("Grandeurs de la scène"):
+            with gui.add_folder(SCENE_FOLDER) as self.folders[SCENE_FOLDER]:
                 self.scene_text = gui.add_markdown("")
         names = list(scene.plots) if scene and scene.plots else ["T", "V"]
         names = [n for n in names if n in infos]
@@ -50,14 +63,14 @@ class ReadoutPanel:
         colors = {n: a.color for n, a in arrow_of.items()}
         self.plots: list[Plot] = group_by_unit(names, {n: infos[n].unit for n in names}, colors)
         if self.plots:
-            with gui.add_folder("Courbes"):
+            with gui.add_folder(PLOTS_FOLDER) as self.folders[PLOTS_FOLDER]:
                 for plot in self.plots:
                     shown = ", ".join(arrow_of[n].label if n in arrow_of else n for n in plot.names)
                     plot.attach(gui, title=f"{shown} [{plot.unit}] en fonction de t")
         self.body = -1
         if scene is not None and scene.body_frame:
             self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
-        with gui.add_folder("Torseurs"):
+        with gui.add_folder(TORSORS_FOLDER) as self.folders[TORSORS_FOLDER]:
             labels = [a.label for a in (arrows.arrows if arrows else ())]
             self.point = gui.add_dropdown(
                 "Point",
@@ -81,7 +94,7 @@ class ReadoutPanel:
                 hint="Base de projection des composantes",
             )
             self.torsor_text = gui.add_markdown("")
-        with gui.add_folder("Énergie et puissances"):
+        with gui.add_folder(ENERGY_FOLDER) as self.folders[ENERGY_FOLDER]:
             self.energy_text = gui.add_markdown("")
 
     # -- choices of the user -------------------------------------------------------------
@@ -114,32 +127,51 @@ class ReadoutPanel:
             self._ref, self._ref_key = sim.reference(), key
         return self._ref
 
-    def sample(self, values: Mapping[str, float]) -> None:
-        """Add the current readouts to the plots and send them."""
+    def plot_names(self) -> list[str]:
+        """Readouts drawn by the plots."""
+        return [n for plot in self.plots for n in plot.names]
+
+    def names(self, folder: str | None) -> list[str]:
+        """Readouts a folder shows (none for other folders)."""
+        if folder == SCENE_FOLDER:
+            return [name for name, _, _ in self.scene_rows]
+        if folder == TORSORS_FOLDER:
+            return list(TORSOR_NAMES)
+        if folder == ENERGY_FOLDER:
+            return list(ENERGY_NAMES)
+        return []
+
+    def sample(self, values: Mapping[str, float], *, push: bool = True) -> None:
+        """Add the current readouts to the plots; send them when ``push``."""
         for plot in self.plots:
             plot.append(values)
-            plot.push()
+            if push:
+                plot.push()
 
-    def refresh(self, sim: Simulation, values: Mapping[str, float]) -> None:
-        """Rewrite every table from ``values`` (readouts at the same instant)."""
-        if self.scene_text is not None:
+    def refresh(
+        self, sim: Simulation, values: Mapping[str, float], folder: str | None = None
+    ) -> None:
+        """Rewrite the table of ``folder`` (every table when None) from ``values``."""
+        if self.scene_text is not None and folder in (None, SCENE_FOLDER):
             _set(
                 self.scene_text, tables.scene_markdown(self.scene_rows, values, self.reference(sim))
             )
-        point, point_name = self.chosen_point()
-        basis, basis_name, axes = self.chosen_basis(sim)
-        _set(
-            self.torsor_text,
-            tables.torsors_markdown(
-                values,
-                point=point,
-                point_name=point_name,
-                basis=basis,
-                basis_name=basis_name,
-                axes=axes,
-            ),
-        )
-        _set(self.energy_text, tables.energy_markdown(values))
+        if folder in (None, TORSORS_FOLDER):
+            point, point_name = self.chosen_point()
+            basis, basis_name, axes = self.chosen_basis(sim)
+            _set(
+                self.torsor_text,
+                tables.torsors_markdown(
+                    values,
+                    point=point,
+                    point_name=point_name,
+                    basis=basis,
+                    basis_name=basis_name,
+                    axes=axes,
+                ),
+            )
+        if folder in (None, ENERGY_FOLDER):
+            _set(self.energy_text, tables.energy_markdown(values))
 
 
 def _set(handle: Any, content: str) -> None:

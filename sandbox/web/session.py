@@ -14,7 +14,7 @@ import math
 import queue
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -70,11 +70,51 @@ class Notice:
     text: str
 
 
+EVERY = frozenset({"*"})
+"""What a view wants when it needs every readout (an open lesson may check any)."""
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What one display tick shows, built once by the session loop and handed to every
+    consumer (the browser's view, the recorder).
+
+    Attributes:
+        now: Wall clock of the tick [s].
+        time: Simulated time [s].
+        generation: Bumped on every reset (plots restart).
+        model_id: Identity of the compiled model (a new one rebuilds the 3D nodes).
+        playing: The simulation runs.
+        diverged: The divergence message, or None.
+        notices: Messages raised since the previous tick.
+        readouts: Values of the readouts asked for this tick (computed once, only the
+            names a consumer needs); None on ticks that refresh no panel.
+    """
+
+    now: float
+    time: float
+    generation: int
+    model_id: int
+    playing: bool
+    diverged: str | None
+    notices: tuple[Notice, ...] = ()
+    readouts: Mapping[str, float] | None = None
+
+    @property
+    def key(self) -> tuple[int, float, int]:
+        """Changes whenever the drawn state changes (model, time, reset)."""
+        return (self.model_id, self.time, self.generation)
+
+
 class View(Protocol):
     """What the loop needs from a display (the viser panels implement it)."""
 
-    def render(self, controller: Controller, now: float) -> None:
-        """Draw the current state (called at up to :data:`FPS`)."""
+    def wants(self, now: float) -> Collection[str] | None:
+        """Readouts needed at this tick: names, :data:`EVERY`, or None (no panel
+        refresh now)."""
+
+    def render(self, frame: Frame) -> None:
+        """Draw the tick (called at up to :data:`FPS`)."""
 
     def notify(self, notice: Notice) -> None:
         """Show a message to the user."""
@@ -117,31 +157,53 @@ class Controller:
         self.requests.put(request)
 
     # -- called from the loop thread -----------------------------------------------------
-    def frame(self, now: float | None = None) -> list[Notice]:
+    def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
         """Step to catch up with the wall clock, then apply the queued requests.
 
         Stepping first means a request (which re-syncs the pacing) never swallows the
         time elapsed since the previous frame.
+
+        Args:
+            now: Wall clock [s].
+            record: Also record the new state (the session loop records itself, with
+                the readouts of its frame).
         """
         now = self.clock() if now is None else now
         notices = self.advance(now)
         notices += self.drain(now)
-        self.record()
+        if record:
+            self.record()
         return notices
 
     # -- recording -----------------------------------------------------------------------
-    def record(self) -> None:
-        """Add the current state (and, at :data:`RECORD_READOUTS` Hz, readouts) if new."""
+    def record(self, values: Mapping[str, float] | None = None) -> None:
+        """Add the current state (and, at :data:`RECORD_READOUTS` Hz, readouts) if new.
+
+        Args:
+            values: Every readout at the current state, when the loop already computed
+                them for this tick (see :meth:`readouts_due`); else computed here.
+        """
         rec, sim = self.recorder, self.sim
         t = float(sim.data.time)
         if rec is None or t == self._recorded_t or self.diverged:
             return
-        values = None
-        if not t - 1.0 / RECORD_READOUTS < self._readouts_t <= t:
-            values = sim.readouts()
+        row = None
+        if self.readouts_due():
+            row = dict(values) if values is not None else sim.readouts()
             self._readouts_t = t
-        rec.frame(values)
+        rec.frame(row)
         self._recorded_t = t
+
+    def readouts_due(self) -> bool:
+        """True when the recorder wants a row of every readout at the current state."""
+        if self.recorder is None or self.diverged:
+            return False
+        t = float(self.sim.data.time)
+        return t != self._recorded_t and not t - 1.0 / RECORD_READOUTS < self._readouts_t <= t
+
+    def readouts(self, names: Collection[str]) -> dict[str, float]:
+        """Readouts of the current state (every readout when ``names`` is empty)."""
+        return self.sim.readouts(list(names) if names else None)
 
     def start_recording(self, lesson: str | None = None) -> Path:
         """Start writing a recording in :attr:`record_dir`; returns its path."""
@@ -398,13 +460,15 @@ class Session:
         return self._started and self._ended.is_set()
 
     def run_once(self, now: float | None = None) -> None:
-        """One frame: requests, stepping, drawing; any error is shown, never raised."""
+        """One frame: requests, stepping, one :class:`Frame`, drawing and recording; any
+        error is shown, never raised."""
         ctl = self.controller
         now = ctl.clock() if now is None else now
         try:
-            for notice in ctl.frame(now) if self.drive else ():
+            frame = self.build_frame(now)
+            for notice in frame.notices:
                 self.view.notify(notice)
-            self.view.render(ctl, now)
+            self.view.render(frame)
         except Exception as exc:  # keep serving: the user sees the problem
             if self._stop.is_set():
                 return
@@ -413,6 +477,36 @@ class Session:
                 self.view.notify(Notice("error", "Erreur interne", f"{type(exc).__name__}: {exc}"))
             except Exception:
                 pass
+
+    def build_frame(self, now: float) -> Frame:
+        """Step (when driving), then compute once the readouts that the view and the
+        recorder need at this tick, and record."""
+        ctl = self.controller
+        notices: list[Notice] = []
+        if self.drive:
+            notices = ctl.frame(now, record=False) if _records(ctl) else ctl.frame(now)
+        wanted = self.view.wants(now)
+        every = wanted is not None and "*" in wanted
+        names = set() if wanted is None or every else set(wanted)
+        recording = self.drive and _records(ctl) and ctl.readouts_due()
+        values: Mapping[str, float] | None = None
+        if (every or names or recording) and not ctl.diverged:
+            values = _readouts(ctl, () if recording or every else names)
+        if recording:
+            ctl.record(values)
+        elif self.drive and _records(ctl):
+            ctl.record()
+        sim = ctl.sim
+        return Frame(
+            now=now,
+            time=float(sim.data.time),
+            generation=int(getattr(ctl, "generation", 0)),
+            model_id=id(sim.model),
+            playing=bool(ctl.playing),
+            diverged=ctl.diverged,
+            notices=tuple(notices),
+            readouts=values if wanted is not None else None,
+        )
 
     def _turn(self, now: float) -> bool:
         """The scheduler's call: one frame unless the session must end; False to drop it."""
@@ -528,3 +622,14 @@ class Scheduler:
                 following = after
             with self._cond:
                 heapq.heappush(self._heap, (following, seq, session))
+
+
+def _records(ctl: Any) -> bool:
+    """True for a live controller (it records); a replay's controller does not."""
+    return hasattr(ctl, "readouts_due")
+
+
+def _readouts(ctl: Any, names: Collection[str]) -> Mapping[str, float]:
+    """The controller's readouts (a replay's come from its recording, all at once)."""
+    fn = getattr(ctl, "readouts", None)
+    return fn(names) if fn is not None else ctl.values()

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -16,13 +16,19 @@ from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
-from sandbox.web.readout_panel import ReadoutPanel
+from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import Controller, Notice
+from sandbox.web.session import EVERY, Controller, Frame, Notice
 from sandbox.web.trail import Trail
 
 PANEL_RATE = 10.0
 """Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
+
+ALL_FOLDERS = "Tous les panneaux"
+CYCLE_FOLDER = "Sur un tour"
+ISOLATE_FOLDER = "Isoler un solide"
+ACCURACY_FOLDER = "Précision et coût"
+HYPOTHESES_FOLDER = "Hypothèses de modélisation"
 
 SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
 """Readouts brought up to date before the scene's arrows are evaluated."""
@@ -84,7 +90,8 @@ class WebView:
         controller: The session's controller (or a replay's, with the same attributes).
         controls: Builds the top panel from ``(gui, controller)``; default the live
             :class:`ControlPanel` (a replay passes its timeline).
-        values: Readouts to show; default computed live from the simulation.
+        values: Unused (readouts come with each frame, from the controller); kept for
+            callers.
         lesson: Lesson to open at once (live sessions only).
         join_urls: Addresses students type to join (folder "Rejoindre" when given).
         draw: Draw the 3D scene; False when another view draws it for everyone (the
@@ -106,7 +113,6 @@ class WebView:
     ) -> None:
         self.client = client
         self.controller = controller
-        self._values = values or (lambda: controller.sim.readouts())
         sim = controller.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
@@ -127,6 +133,12 @@ class WebView:
             if controls is None
             else None
         )
+        self.picker = client.gui.add_dropdown(
+            "Panneau affiché",
+            (ALL_FOLDERS,),
+            hint="Un seul panneau de mesures à la fois : il reste lisible au projecteur et "
+            "seules ses grandeurs sont calculées",
+        )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.cycle = CyclePanel(client.gui, sim)
         self.isolate = IsolatePanel(client.gui, sim)
@@ -135,49 +147,106 @@ class WebView:
         self._drawn: tuple[Any, ...] | None = None
         self._last_panel = -math.inf
         self._resync_controls = False
+        self._add_picker(client.gui)
+
+    # -- which folder is shown -----------------------------------------------------------
+    def _add_picker(self, gui: Any) -> None:
+        """One readout folder shown at a time (only it is computed and sent)."""
+        groups: dict[str, Any] = dict(self.readouts.folders)
+        for panel in (self.cycle, self.isolate, self.accuracy, self.hypotheses, self.join):
+            folder = getattr(panel, "folder", None) if panel is not None else None
+            if folder is not None:
+                groups[folder.label] = folder
+        self.groups = groups
+        default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
+        self.shown = default
+        self.picker.options = (*groups, ALL_FOLDERS)
+        self.picker.value = default
+
+        @self.picker.on_update
+        def _(event: Any) -> None:
+            if event.client is not None:
+                self._pending_folder = str(event.target.value)
+
+        self._pending_folder: str | None = default
+
+    def _apply_folder(self) -> None:
+        choice, self._pending_folder = self._pending_folder, None
+        if choice is None:
+            return
+        self.shown = choice if choice in self.groups or choice == ALL_FOLDERS else self.shown
+        for label, folder in self.groups.items():
+            folder.visible = self.shown in (label, ALL_FOLDERS)
+        self._last_panel = -math.inf  # fill the folder just shown at once
+
+    def _showing(self, folder: str) -> bool:
+        return self.shown in (folder, ALL_FOLDERS)
 
     # -- View protocol -------------------------------------------------------------------
-    def render(self, controller: Controller, now: float) -> None:
-        """Poses and arrows when the state changed; tables and plots at :data:`PANEL_RATE`."""
-        sim = controller.sim
+    def wants(self, now: float) -> Collection[str] | None:
+        """Readouts this tick needs: those of the shown folder, the plots, the live
+        accuracy and an open lesson, at :data:`PANEL_RATE`; None between refreshes."""
+        if self._pending_folder is not None:
+            self._apply_folder()
+        if now - self._last_panel < 1.0 / PANEL_RATE:
+            return None
+        if self.lesson is not None and self.lesson.progress is not None:
+            return EVERY  # the lesson's checks may use any readout
+        if self.shown == ALL_FOLDERS:
+            return EVERY
+        names = {"time", *self.readouts.plot_names(), *self.accuracy.names()}
+        names.update(self.readouts.names(self.shown))
+        return names
+
+    def render(self, frame: Frame) -> None:
+        """Poses and arrows when the state changed; the shown folder, plots and lesson
+        when the frame brings readouts (:data:`PANEL_RATE`)."""
+        sim = self.controller.sim
         with self.client.atomic():
             if self._resync_controls:
                 self._resync_controls = False
                 self.controls.sync()
-            state = (id(sim.model), float(sim.data.time), controller.generation)
-            if controller.diverged:
+            if frame.diverged:
                 if self.arrows is not None:
                     self.arrows.hide()
-            elif state != self._drawn and self.renderer is not None:
-                self._drawn = state
+            elif frame.key != self._drawn and self.renderer is not None:
+                self._drawn = frame.key
                 with sim.lock:
                     self.renderer.sync(sim.model, sim.data)
                     if self.arrows is not None:
                         self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
-            if now - self._last_panel >= 1.0 / PANEL_RATE:
-                self._last_panel = now
-                self._refresh_panels(controller, now)
+            if frame.readouts is not None or (
+                frame.diverged and frame.now - self._last_panel >= 1.0 / PANEL_RATE
+            ):
+                self._last_panel = frame.now
+                self._refresh_panels(frame)
 
-    def _refresh_panels(self, controller: Controller, now: float) -> None:
+    def _refresh_panels(self, frame: Frame) -> None:
+        controller, now = self.controller, frame.now
         sim = controller.sim
         self.controls.refresh()
-        self.hypotheses.refresh()
-        if controller.diverged:
+        if self._showing(HYPOTHESES_FOLDER):
+            self.hypotheses.refresh()
+        if frame.diverged or frame.readouts is None:
             return
-        values = self._values()
-        self.readouts.sample(values)
-        self.readouts.refresh(sim, values)
+        values = frame.readouts
+        self.readouts.sample(values, push=self._showing(PLOTS_FOLDER))
+        if self.shown != PLOTS_FOLDER:
+            self.readouts.refresh(sim, values, None if self.shown == ALL_FOLDERS else self.shown)
         if self.lesson is not None:
             self.lesson.refresh(values)
-        self.cycle.refresh(sim, now)
+        if self._showing(CYCLE_FOLDER):
+            self.cycle.refresh(sim, now)
         if self.trail is not None:
             with sim.lock:
                 self.trail.update(sim.snapshot(()))
-        self.isolate.refresh(sim)
+        if self._showing(ISOLATE_FOLDER):
+            self.isolate.refresh(sim)
         cost = getattr(controller, "cost", None)
         if cost is not None:
-            self.accuracy.sample(sim, values, controller.generation)
-            self.accuracy.refresh(sim, cost, now)
+            self.accuracy.sample(sim, values, frame.generation)
+            if self._showing(ACCURACY_FOLDER):
+                self.accuracy.refresh(sim, cost, now)
         if self.arrows is not None:
             self.arrows.relabel()
 

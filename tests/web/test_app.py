@@ -56,7 +56,10 @@ class FakeServer:
 
 
 class NullView:
-    def render(self, controller, now) -> None:
+    def wants(self, now) -> None:
+        return None
+
+    def render(self, frame) -> None:
         pass
 
     def notify(self, notice) -> None:

@@ -37,13 +37,30 @@ def _wait_for(predicate, timeout: float = 15.0) -> bool:
     return False
 
 
-def test_page_shows_canvas_panels_and_bearing_forces(open_page, served_rotor):
+def _show_folder(page, label: str) -> None:
+    """Pick ``label`` in the "Panneau affiché" dropdown."""
+    row = page.locator(
+        "div.mantine-Flex-root", has=page.get_by_text("Panneau affiché", exact=True)
+    ).last
+    row.locator("input").first.click()
+    page.get_by_role("option", name=label, exact=True).click()
+
+
+def test_page_shows_canvas_one_folder_at_a_time_and_bearing_forces(open_page, served_rotor):
     page = _open(open_page, served_rotor)
     assert page.locator("canvas").first.is_visible()
-    for title in ("Grandeurs de la scène", "Torseurs", "Hypothèses de modélisation", "Courbes"):
-        assert page.get_by_text(title, exact=True).first.is_visible(), title
-    assert page.get_by_text("Poids négligé").first.is_visible()
+    assert page.get_by_text("Grandeurs de la scène", exact=True).first.is_visible()
     assert _readout(page, "bearing_A") > 1.0
+    for title in ("Torseurs", "Hypothèses de modélisation", "Courbes"):
+        assert not page.get_by_text(title, exact=True).first.is_visible(), title
+    (session,) = served_rotor.sessions.values()
+    assert session.view.shown == "Grandeurs de la scène"
+    _show_folder(page, "Hypothèses de modélisation")
+    page.get_by_text("Poids négligé").first.wait_for(timeout=10_000)
+    assert not page.get_by_text("Grandeurs de la scène", exact=True).first.is_visible()
+    _show_folder(page, "Tous les panneaux")
+    for title in ("Grandeurs de la scène", "Torseurs", "Hypothèses de modélisation", "Courbes"):
+        page.get_by_text(title, exact=True).first.wait_for(timeout=10_000)
 
 
 def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):

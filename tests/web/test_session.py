@@ -23,7 +23,10 @@ class Recorder:
         self.frames = 0
         self.notices: list[Notice] = []
 
-    def render(self, controller, now):
+    def wants(self, now):
+        return None
+
+    def render(self, frame):
         self.frames += 1
 
     def notify(self, notice):
@@ -123,8 +126,8 @@ def test_divergence_pauses_with_an_explanation_and_reset_recovers(diverging_xml)
 
 def test_session_survives_a_view_that_fails():
     class Broken(Recorder):
-        def render(self, controller, now):
-            super().render(controller, now)
+        def render(self, frame):
+            super().render(frame)
             if self.frames == 1:
                 raise RuntimeError("boom")
 
@@ -191,3 +194,84 @@ def test_a_recording_notes_the_lesson_and_its_steps(tmp_path):
     rec = load(ctl.frame()[0].text)
     assert rec.header["lesson"] == "equilibrage"
     assert [e["step"] for e in rec.events if e["k"] == "lesson"] == [2]
+
+
+class Wanting(Recorder):
+    """A view that asks for a few readouts at every tick and keeps the frames."""
+
+    def __init__(self, names):
+        super().__init__()
+        self.names = names
+        self.seen = []
+
+    def wants(self, now):
+        return self.names
+
+    def render(self, frame):
+        super().render(frame)
+        self.seen.append(frame)
+
+
+def test_a_frame_computes_readouts_once_and_only_those_asked(tmp_path, monkeypatch):
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    view = Wanting({"bearing_A", "time"})
+    session = Session(ctl, view)
+    calls = []
+    real = ctl.sim.readouts
+
+    def counting(names=None):
+        calls.append(None if names is None else tuple(sorted(names)))
+        return real(names)
+
+    monkeypatch.setattr(ctl.sim, "readouts", counting)
+    ctl.clock.now += 1 / 60
+    session.run_once()
+    assert calls == [("bearing_A", "time")]
+    frame = view.seen[-1]
+    assert set(frame.readouts) == {"bearing_A", "time"} and frame.readouts["bearing_A"] > 1.0
+    # recording: one computation of every readout serves the recorder and the view
+    ctl.submit(Request("record"))
+    ctl.clock.now += 1 / 60
+    session.run_once()
+    full = 0
+    for _ in range(24):
+        calls.clear()
+        ctl.clock.now += 1 / 60
+        session.run_once()
+        assert len(calls) == 1, calls  # one computation a tick, whoever consumes it
+        if calls == [None]:
+            full += 1
+            assert "T" in view.seen[-1].readouts  # the view got the recorder's full row
+    assert full >= 3  # readouts recorded at 10 Hz of simulated time
+    ctl.stop_recording()
+
+
+def test_a_view_that_wants_nothing_costs_no_readout(monkeypatch):
+    ctl = Controller(Simulation("rotor"), clock=Clock())
+    view = Recorder()  # wants() -> None
+    session = Session(ctl, view)
+    monkeypatch.setattr(ctl.sim, "readouts", lambda names=None: pytest.fail("computed"))
+    for _ in range(5):
+        ctl.clock.now += 1 / 60
+        session.run_once()
+    assert view.frames == 5 and not view.notices
+
+
+def test_one_scheduler_thread_serves_many_sessions():
+    import threading
+    import time
+
+    sessions = [Session(Controller(Simulation("rotor")), Recorder(), fps=50) for _ in range(12)]
+    before = threading.active_count()
+    for s in sessions:
+        s.start()
+    try:
+        time.sleep(0.5)
+        assert threading.active_count() <= before + 1
+        assert all(s.view.frames >= 5 for s in sessions), [s.view.frames for s in sessions]
+    finally:
+        for s in sessions:
+            s.request_stop()
+        for s in sessions:
+            s.stop()
+    assert not any(s.running for s in sessions)
