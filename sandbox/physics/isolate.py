@@ -3,7 +3,8 @@
 A *solid* is a group of bodies welded together (one ``body_weldid``). The actions on it
 are: the joint to its parent (motor torque shown apart), the joints to its children,
 contacts and equality constraints (loop closures), and weight. Their sum equals the
-solid's dynamic torsor {D} (PFD), which the web panel shows as a check.
+solid's dynamic torsor {D} (PFD): :func:`balance` gives them all at the solid's centre
+of mass with the PFD's residual, for the web panel to show.
 Requires ``mj_forward`` and ``mj_rnePostConstraint`` at the current state.
 """
 
@@ -14,6 +15,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from sandbox.mechanics import Torsor
 from sandbox.physics.readouts import (
     Kinematics,
     _cross,
@@ -92,3 +94,48 @@ def actions(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> list[Acti
         w = model.body_mass[b][:, None] * g
         out.append(Action("poids", w.sum(0), _cross(data.xipos[b], w).sum(0)))
     return out
+
+
+def centre_of_mass(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> np.ndarray:
+    """G of the solid (its welded bodies), world coordinates [m], shape (3,)."""
+    b = members(model, solid)
+    mass = model.body_mass[b]
+    return (mass[:, None] * data.xipos[b]).sum(0) / max(float(mass.sum()), 1e-300)
+
+
+def moved(action: Action, point: np.ndarray) -> Action:
+    """The same action with its moment at ``point`` (M_P = M_O + R ∧ OP) [N·m]."""
+    t = Torsor(action.resultant, action.moment, np.zeros(3)).at(point)
+    return Action(action.label, t.resultant, t.moment)
+
+
+def pfd_residual(dynamic: Action, acts: list[Action]) -> float:
+    """|Σ R(actions) − R({D})| / |R({D})|: 0 when the PFD's resultant equation closes."""
+    total = np.sum([a.resultant for a in acts], axis=0) if acts else np.zeros(3)
+    gap = float(np.linalg.norm(total - dynamic.resultant))
+    return gap / max(float(np.linalg.norm(dynamic.resultant)), 1e-300)
+
+
+@dataclass(frozen=True)
+class Balance:
+    """The PFD of one isolated solid, every torsor reduced at its centre of mass G.
+
+    Attributes:
+        centre: G, world coordinates [m], shape (3,).
+        dynamic: {D} of the solid (moment at G).
+        actions: Every action on it, as :func:`actions` lists them (moments at G).
+        residual: :func:`pfd_residual` (relative, 0 when the PFD closes).
+    """
+
+    centre: np.ndarray
+    dynamic: Action
+    actions: list[Action]
+    residual: float
+
+
+def balance(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> Balance:
+    """{D} of the solid and the actions on it at G, with the PFD's residual."""
+    g = centre_of_mass(model, data, solid)
+    d = dynamic_torsor(model, data, solid)
+    acts = actions(model, data, solid)
+    return Balance(g, moved(d, g), [moved(a, g) for a in acts], pfd_residual(d, acts))

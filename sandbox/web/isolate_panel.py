@@ -8,7 +8,6 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from sandbox.mechanics import Torsor
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
 from sandbox.web.tables import fmt
@@ -54,32 +53,21 @@ class IsolatePanel:
             if body < 0:
                 return
             sim.snapshot(("sup_R_x", "dyn_R_x"))
-            d = isolate.dynamic_torsor(model, sim.data, body)
-            acts = isolate.actions(model, sim.data, body)
-            b = isolate.members(model, body)
-            mass = model.body_mass[b]
-            g = (mass[:, None] * sim.data.xipos[b]).sum(0) / max(mass.sum(), 1e-300)
+            pfd = isolate.balance(model, sim.data, body)
         rows = ["| | R<sub>x</sub> | R<sub>y</sub> | M<sub>G,z</sub> [N·m] | ‖M<sub>G</sub>‖ |",
                 "|:--|--:|--:|--:|--:|"]  # fmt: skip
-        total = Torsor(np.zeros(3), np.zeros(3), np.zeros(3))
-        for a in [*acts, None, d]:
-            if a is None:
-                continue
-            t = Torsor(a.resultant, a.moment, np.zeros(3)).at(g)
-            if a is not d:
-                total = total + Torsor(a.resultant, a.moment, np.zeros(3))
+        d = pfd.dynamic
+        for a in [*pfd.actions, d]:
             label = "**{𝒟} (PFD : somme des actions)**" if a is d else self._label(a.label)
             rows.append(
-                f"| {label} | {fmt(t.resultant[0])} | {fmt(t.resultant[1])} | "
-                f"{fmt(t.moment[2])} | {fmt(float(np.linalg.norm(t.moment)))} |"
+                f"| {label} | {fmt(a.resultant[0])} | {fmt(a.resultant[1])} | "
+                f"{fmt(a.moment[2])} | {fmt(float(np.linalg.norm(a.moment)))} |"
             )
-        gap = float(np.linalg.norm(total.resultant - d.resultant))
-        relative = gap / max(float(np.linalg.norm(d.resultant)), 1e-300)
         text = (
-            f"Moments en G = ({', '.join(fmt(float(x), digits=3) for x in g)}) m, "
+            f"Moments en G = ({', '.join(fmt(float(x), digits=3) for x in pfd.centre)}) m, "
             f"composantes dans B0, forces en N.\n\n"
             + "\n".join(rows)
-            + f"\n\nÉcart PFD (Σ actions − {{𝒟}}) : {fmt(relative, digits=2)} relatif."
+            + f"\n\nÉcart PFD (Σ actions − {{𝒟}}) : {fmt(pfd.residual, digits=2)} relatif."
         )
         if self.text.content != text:
             self.text.content = text

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sandbox.mechanics import Torsor
+from sandbox.physics.energy import frame_power
 
 
 def fmt(value: float, *, digits: int = 4, floor: float = 0.0) -> str:
@@ -141,11 +142,7 @@ def energy_markdown(values: Mapping[str, float]) -> str:
     for name, symbol, unit, doc in ENERGY_ROWS:
         v = values.get(name, math.nan)
         lines.append(f"| {symbol} [{unit}] | {_span(name, fmt(v, floor=floor))} | {doc} |")
-    frame = (
-        values.get("P_acc", math.nan)
-        - values.get("P_ext", math.nan)
-        - values.get("P_int", math.nan)
-    )
+    frame = frame_power(values)
     lines.append(
         f"| dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W] | "
         f"{_span('P_frame', fmt(frame, floor=floor))} | puissance des liaisons "

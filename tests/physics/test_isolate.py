@@ -36,3 +36,33 @@ def test_piston_sees_the_frame_and_the_rod():
     assert labels == ["0 (bâti) → solide (glissière)", "rod → solide"]
     slide = isolate.actions(sim.model, sim.data, piston)[0]
     assert abs(slide.resultant[1]) < 1e-9 * np.abs(slide.resultant).max()  # no force along y0
+
+
+def test_balance_reduces_everything_at_g_and_closes_the_pfd():
+    """The panel's numbers: G, {D} and the actions moved to G (M_G = M_O + R ∧ OG), and
+    the PFD's relative residual."""
+    sim = Simulation("compressor")
+    sim.advance(0.002)
+    sim.snapshot(["sup_R_x"])
+    for solid in isolate.solids(sim.model):
+        b = isolate.balance(sim.model, sim.data, solid)
+        members = isolate.members(sim.model, solid)
+        mass = sim.model.body_mass[members]
+        g = (mass[:, None] * sim.data.xipos[members]).sum(0) / mass.sum()
+        assert np.allclose(b.centre, g)
+        d = isolate.dynamic_torsor(sim.model, sim.data, solid)
+        assert np.allclose(b.dynamic.moment, d.moment + np.cross(d.resultant, g))
+        acts = isolate.actions(sim.model, sim.data, solid)
+        assert [a.label for a in b.actions] == [a.label for a in acts]
+        assert np.allclose(b.actions[0].moment, acts[0].moment + np.cross(acts[0].resultant, g))
+        assert b.residual < 1e-9
+
+
+def test_pfd_residual_by_hand():
+    d = isolate.Action("{D}", np.array([3.0, 4.0, 0.0]), np.zeros(3))
+    acts = [
+        isolate.Action("a", np.array([1.0, 0.0, 0.0]), np.zeros(3)),
+        isolate.Action("b", np.array([2.0, 4.0, 5.0]), np.zeros(3)),
+    ]
+    assert isolate.pfd_residual(d, acts) == pytest.approx(1.0)  # |(0, 0, 5)| / |(3, 4, 0)|
+    assert isolate.pfd_residual(d, []) == pytest.approx(1.0)
