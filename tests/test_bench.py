@@ -181,3 +181,27 @@ def test_a_speed_dependent_default_is_marked_at_the_benchmarks_speed():
     res = bench_scene(SCENES["compressor"], quick=True, integrators=("rk4",))
     assert res.default is not None and res.default.timestep == 1e-4
     assert res.default_timestep == 1e-4 and res.session.timestep == 5e-4
+
+
+def test_results_json_decodes_back_with_its_front(tmp_path, diverging_xml):
+    """to_json -> load_results: the same runs (inf and nan restored), the front marked
+    again with the scene's limits; a missing file, scene or field gives None."""
+    from sandbox.bench import SceneResult, load_results
+
+    runs = [
+        Run("osc", "a", 1e-3, 1, error=1e-6, drift=0.0, cpu_per_sim_s=1.0),
+        Run("osc", "b", 1e-3, 1, error=1e-3, drift=0.0, cpu_per_sim_s=0.1, default=True),
+        run_one(str(diverging_xml), ACC, "euler", 0.05, 5.0),
+    ]
+    res = SceneResult("osc", "p", "T+V", "euler", 1e-3, runs, drift_tol=1e-3)
+    path = tmp_path / "results.json"
+    path.write_text(json.dumps(to_json([res], quick=True)))
+    back = load_results("osc", path)
+    assert back is not None and back.default is not None and back.default.integrator == "b"
+    assert [r.pareto for r in back.runs] == [True, True, False]
+    assert math.isinf(back.runs[2].error) and back.runs[2].diverged
+    assert math.isnan(back.runs[2].cpu_per_sim_s) and back.drift_tol == 1e-3
+    assert load_results("other", path) is None
+    assert load_results("osc", tmp_path / "none.json") is None
+    path.write_text(json.dumps({"scenes": {"osc": {"runs": [{"nope": 1}]}}}))
+    assert load_results("osc", path) is None
