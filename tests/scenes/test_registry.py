@@ -63,3 +63,24 @@ def test_default_timestep_is_declared_once_and_admitted(name):
         for value in (p.min, p.max):
             dt = scene.default_timestep({p.name: value})
             assert 0 < dt <= min(scene.max_timestep, 0.1), (p.name, value)
+
+
+def test_the_registry_passes_itself_down_to_physics():
+    """Physics never imports the scenes: it takes a spec, and knows the names only once
+    the registry is loaded (every entry point loads it); without it the error says so."""
+    import subprocess
+    import sys
+
+    script = (
+        "import sys\n"
+        "from sandbox.errors import UnknownScene\n"
+        "from sandbox.physics.simulation import Simulation\n"
+        "try:\n    Simulation('rotor')\nexcept UnknownScene as exc:\n    print(exc)\n"
+        "assert 'sandbox.scenes' not in sys.modules\n"
+        "from sandbox.scenes import SCENES, Source, resolve\n"
+        "assert Simulation(Source.of_scene(SCENES['rotor'])).label == 'rotor'\n"
+        "assert resolve('rotor').scene is SCENES['rotor'] and Simulation('rotor').scene\n"
+    )
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert "import sandbox.scenes" in out.stdout
