@@ -80,6 +80,9 @@ from sandbox.errors import BadOption
 PROBE_PERIOD = 5.0
 """Seconds between two slider changes of one client."""
 
+PANEL_PICKER = "Panneau affiché"
+"""Label of the dropdown choosing the one readout folder shown (``panel=`` option)."""
+
 PROBE_PARAMS = {"rotor": "mass1_g", "compressor": "counterweight_mass"}
 """Parameter slider toggled by the slider-delay probe (other scenes: their first)."""
 
@@ -274,16 +277,21 @@ def shows_rebuild(inner: bytes, prefixes: tuple[str, ...] = ("/model/", "/prof/m
     return False
 
 
-def find_slider(inner: bytes, param: str) -> dict[str, Any] | None:
-    """The ``GuiSliderMessage`` labelled ``param`` or ``"param [unit]"``, if present."""
-    if b"GuiSliderMessage" not in inner:
+def find_gui(inner: bytes, kind: str, name: str) -> dict[str, Any] | None:
+    """The ``Gui<kind>Message`` labelled ``name`` or ``"name [unit]"``, if present."""
+    if f"Gui{kind}Message".encode() not in inner:
         return None
     for m in messages(inner):
-        if m.get("type") == "GuiSliderMessage":
+        if m.get("type") == f"Gui{kind}Message":
             label = str(m["props"]["label"])
-            if label == param or label.startswith(f"{param} ["):
+            if label == name or label.startswith(f"{name} ["):
                 return m
     return None
+
+
+def find_slider(inner: bytes, param: str) -> dict[str, Any] | None:
+    """The slider of parameter ``param`` (labelled ``param`` or ``"param [unit]"``)."""
+    return find_gui(inner, "Slider", param)
 
 
 def camera_message() -> bytes:
@@ -304,11 +312,16 @@ def camera_message() -> bytes:
     )
 
 
+def gui_message(uuid: str, value: Any) -> bytes:
+    """The browser's message when the user sets an input (slider, dropdown) to ``value``."""
+    return msgspec.msgpack.encode(
+        {"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}
+    )
+
+
 def slider_message(uuid: str, value: float) -> bytes:
     """The browser's message when a slider is moved to ``value``."""
-    return msgspec.msgpack.encode(
-        {"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": float(value)}}
-    )
+    return gui_message(uuid, float(value))
 
 
 # -- one headless client -------------------------------------------------------------------
@@ -345,6 +358,7 @@ class ClientStats:
     delays: list[float] = field(default_factory=list)  # slider -> frame [s]
     not_shown: int = 0
     slider: dict[str, Any] | None = None
+    picker: dict[str, Any] | None = None  # the panel dropdown, once chosen
     pending: float | None = None  # perf_counter of the unshown slider change
 
     def feed(self, raw: bytes, now: float, window: Window) -> None:
@@ -398,6 +412,7 @@ async def run_client(
     param: str | None,
     seed: int = 0,
     watchers: Sequence[ClientStats] | None = None,
+    panel: str | None = None,
 ) -> None:
     """One browser: connect, send the camera, read until cancelled, probe a slider.
 
@@ -409,6 +424,8 @@ async def run_client(
         param: Parameter slider to toggle, or None for no probe.
         seed: Seeds the probe's start offset.
         watchers: Clients whose view should show the slider change (default this one).
+        panel: Readout folder to pick in the :data:`PANEL_PICKER` dropdown, as a
+            student would (None: the page's default).
     """
     try:
         async with websockets.connect(
@@ -428,8 +445,13 @@ async def run_client(
             try:
                 async for raw in ws:
                     assert isinstance(raw, bytes)
-                    if param is not None and stats.slider is None and stats.received < 200:
-                        stats.slider = find_slider(unpack(raw), param)
+                    if stats.received < 200:
+                        if param is not None and stats.slider is None:
+                            stats.slider = find_slider(unpack(raw), param)
+                        if panel is not None and stats.picker is None:
+                            stats.picker = find_gui(unpack(raw), "Dropdown", PANEL_PICKER)
+                            if stats.picker is not None:
+                                await ws.send(gui_message(stats.picker["uuid"], panel))
                     stats.feed(raw, time.perf_counter(), window)
             finally:
                 if prober is not None:
@@ -613,6 +635,7 @@ async def main_phase(
     warmup: float,
     param: str | None,
     teacher: str | None = None,
+    panel: str | None = None,
 ) -> dict[str, Any]:
     """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS.
 
@@ -625,6 +648,7 @@ async def main_phase(
         teacher: With ``--follow``, the teacher's path (``/prof/<token>``): one more
             client opens it and toggles ``param`` on the shared simulation, and the
             delay is measured on every follower; the teacher is not in the statistics.
+        panel: Readout folder every client picks (None: the default one).
     """
     url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
     window = Window()
@@ -635,7 +659,7 @@ async def main_phase(
         probe = None if teacher else param
         tasks.append(
             asyncio.create_task(
-                run_client(url, s, window, origin=origin, param=probe, seed=s.index)
+                run_client(url, s, window, origin=origin, param=probe, seed=s.index, panel=panel)
             )
         )
     if teacher is not None:
@@ -675,6 +699,8 @@ async def main_phase(
     wire = sum(s.wire_bytes for s in stats)
     return {
         "clients": clients,
+        "panel": panel,
+        "panel_picked": sum(s.picker is not None for s in stats),
         "connected": sum(s.first_frame is not None for s in stats),
         "errors": sorted({s.error for s in stats if s.error}),
         "ready_s": ready,
@@ -800,6 +826,7 @@ def run_classroom(
     workers: int | None = None,
     drop_clients: int = 20,
     idle_seconds: float = 10.0,
+    panel: str | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> dict[str, Any]:
     """Start a server, run the main phase, the connect-and-drop phase and the Origin probe.
@@ -814,6 +841,8 @@ def run_classroom(
         workers: Pass ``--workers`` to the server when not None.
         drop_clients: Connect-and-drop clients (0 skips that phase).
         idle_seconds: CPU sampling after the drop [s].
+        panel: Readout folder every client picks in :data:`PANEL_PICKER` (e.g.
+            ``"Tous les panneaux"``, ``"Précision et coût"``); None keeps the default.
         progress: Called with one line per phase.
 
     Returns:
@@ -837,6 +866,7 @@ def run_classroom(
                 warmup=warmup,
                 param=param if (teacher or not follow) else None,
                 teacher=teacher,
+                panel=panel,
             )
             out: dict[str, Any] = {"main": main}
             if drop_clients > 0:
@@ -941,7 +971,12 @@ def report(results: dict[str, Any]) -> str:
     lines = [
         f"classroom: {results['scene']}{mode}, {m['clients']} clients "
         f"({m['connected']} got frames, ready after {m['ready_s']:.1f} s), "
-        f"{m['seconds']:g} s measured after {m['warmup_s']:g} s warm-up, {results['date']}",
+        f"{m['seconds']:g} s measured after {m['warmup_s']:g} s warm-up, {results['date']}"
+        + (
+            f"; panel {m['panel']!r} picked by {m['panel_picked']}"
+            if m.get("panel") is not None
+            else ""
+        ),
         f"  update frames/s per client   min {fps['min']:.1f}  median {fps['median']:.1f}"
         f"  max {fps['max']:.1f}",
         f"  simulated s per wall s       min {rate['min']:.3f}  median {rate['median']:.3f}"

@@ -181,6 +181,24 @@ def test_find_slider_by_parameter_name() -> None:
     found = cr.find_slider(inner, "mass1_g")
     assert found is not None and found["uuid"] == "u1" and found["props"]["max"] == 200.0
     assert cr.find_slider(inner, "mass1") is None
+    dropdown = vm.GuiDropdownMessage(
+        "d1",
+        value="A",
+        container_uuid="c",
+        props=vm.GuiDropdownProps(
+            order=1.0,
+            label=cr.PANEL_PICKER,
+            hint=None,
+            visible=True,
+            disabled=False,
+            options=("A",),
+        ),
+    )
+    picker = cr.find_gui(cr.unpack(wire(dropdown)), "Dropdown", cr.PANEL_PICKER)
+    assert picker is not None and picker["uuid"] == "d1"
+    choice = vm.Message.deserialize(cr.gui_message("d1", "Tous les panneaux"))
+    assert isinstance(choice, vm.GuiUpdateMessage)
+    assert choice.updates == {"value": "Tous les panneaux"}
 
 
 def _results(fps: float, idle: float, refused: bool) -> dict:
