@@ -551,16 +551,19 @@ class Server:
     def __exit__(self, *exc: object) -> None:
         self.stop()
 
-    def output(self) -> str:
-        """What the server printed so far (last 2000 characters)."""
+    def output(self, *, head: bool = False) -> str:
+        """What the server printed so far: its last 2000 characters (first 20,000 with
+        ``head``, where the banner is)."""
         self.log.seek(0)
+        if head:
+            return self.log.read(20_000).decode(errors="replace")
         return self.log.read().decode(errors="replace")[-2000:]
 
     def teacher_path(self, timeout: float = 10.0) -> str | None:
         """``/prof/<token>`` from the teacher link the server printed (``--follow``)."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            found = re.search(r"https?://\S+?(/prof/[A-Za-z0-9_-]+)", self.output())
+            found = re.search(r"https?://\S+?(/prof/[A-Za-z0-9_-]+)", self.output(head=True))
             if found:
                 return found.group(1)
             time.sleep(0.2)
