@@ -9,6 +9,7 @@ from __future__ import annotations
 import logging
 import signal
 import socket
+import sys
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -44,6 +45,11 @@ def _check_port(host: str, port: int) -> None:
 
 MAX_SESSIONS = 60
 """Browsers one server process accepts; the next one is told the machine is full."""
+
+SWITCH_INTERVAL = 0.0005
+"""Seconds a thread may hold the interpreter lock while another waits (Python's
+default 5 ms). The sessions' loop releases the lock inside every MuJoCo call; with
+the default, each release could cost it 5 ms behind viser's sending thread."""
 
 MAX_TOMBSTONES = 1000
 """Browsers remembered as gone before their connect callback ran (client ids grow)."""
@@ -250,6 +256,7 @@ def start(
         SandboxError: bad target, value or option; BadOption when the port is taken.
     """
     network.install()
+    sys.setswitchinterval(SWITCH_INTERVAL)
     options = {"values": dict(values or {}), "integrator": integrator, "timestep": timestep}
     Simulation(target, **options)
     server = open_server(host, port, "sandbox", check=check_port)
