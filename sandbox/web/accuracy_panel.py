@@ -28,7 +28,7 @@ WINDOW = 300
 """Samples kept for the live error and drift (30 s at the panel rate)."""
 
 
-_BASES: dict[int, tuple[np.ndarray, tuple[float, ...]]] = {}
+_BASES: dict[tuple[str, int], tuple[np.ndarray, tuple[float, ...]]] = {}
 _BASES_LOCK = threading.Lock()
 CHART_DPI = 60
 
@@ -37,7 +37,8 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
     """The scene's chart without the live point, drawn once per process, and the map
     from (log10 cost, log10 error) to pixels: ``(ax, bx, ay, by, x0, x1, y0, y1)``."""
     with _BASES_LOCK:
-        cached = _BASES.get(id(res))
+        key = (res.scene, len(res.runs))  # every session loads its own copy
+        cached = _BASES.get(key)
         if cached is not None:
             return cached
         import io
@@ -71,7 +72,7 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
             float(height - box.y1),
             float(height - box.y0),
         )
-        _BASES[id(res)] = (image, mapping)
+        _BASES[key] = (image, mapping)
         return image, mapping
 
 

@@ -87,12 +87,15 @@ class BroadcastView:
 
     def wants(self, now: float) -> list[str] | None:
         """The followers' table readouts, :data:`SUMMARY_RATE` times a second."""
-        if now - self._summary_at < 1.0 / SUMMARY_RATE:
+        if now - self._summary_at < 1.0 / SUMMARY_RATE or not self.server.get_clients():
             return None
         self._summary_at = now
         return self.names
 
     def render(self, frame: Frame) -> None:
+        if not self.server.get_clients():  # nobody watches: no drawing, no messages
+            self._drawn = None
+            return
         sim = self.controller.sim
         with self.server.atomic():
             if frame.diverged:

@@ -80,3 +80,12 @@ def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
     panel.refresh(sim, cost=2e-3, now=100.1)
     assert panel.image.image is not blank and panel.image.image.shape[2] == 3
     assert panel._drawing is None
+
+
+def test_the_chart_base_is_drawn_once_per_scene_not_per_session():
+    from sandbox.web.accuracy_panel import _BASES, chart_base
+
+    first = chart_base(load_results("rotor"))
+    count = len(_BASES)
+    again = chart_base(load_results("rotor"))  # a second session loads its own results
+    assert again[0] is first[0] and len(_BASES) == count
