@@ -80,6 +80,7 @@ class ControlPanel:
 
     def __init__(self, gui: Any, controller: Controller) -> None:
         self.controller = controller
+        self._shown: dict[str, float] = {}
         sim = controller.sim
         submit = controller.submit
         with gui.add_folder("Alerte", visible=False) as self.alert:
@@ -155,6 +156,22 @@ class ControlPanel:
         if bool(ctl.diverged) != self.alert.visible:
             self.alert.visible = bool(ctl.diverged)
             self.alert_text.content = ctl.diverged or ""
+        self._follow_simulation()
+
+    def _follow_simulation(self) -> None:
+        """Controls show what the simulation really uses, whoever changed it (a lesson
+        preset, the teacher's settings, a timestep that follows the speed)."""
+        sim = self.controller.sim
+        for name, slider in self.sliders.items():
+            value = sim.values.get(name)
+            if value is not None and self._shown.get(name) != value:
+                self._shown[name] = value
+                if slider.value != value:
+                    slider.value = value
+        if self._shown.get("<dt>") != sim.timestep:
+            self._shown["<dt>"] = sim.timestep
+            if self.timestep.value != sim.timestep:
+                self.timestep.value = sim.timestep
 
     def sync(self) -> None:
         """Put every control back to the simulation's actual values (after a refusal)."""

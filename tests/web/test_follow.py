@@ -82,6 +82,13 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     teacher.get_by_role("button", name=SEND_VALUES).click()
     assert _wait_for(lambda: own.controller.sim.values["mass1_g"] == pytest.approx(70.0))
     teacher.get_by_text("1 élève(s) en autonomie", exact=False).first.wait_for(timeout=10_000)
+    # the student's own slider tells the truth: it shows the value the teacher sent
+    own_box = (
+        student.locator("div.mantine-Flex-root", has=student.get_by_text("mass1_g [g]", exact=True))
+        .last.locator("input.mantine-NumberInput-input")
+        .first
+    )
+    assert _wait_for(lambda: own_box.input_value() == "70"), own_box.input_value()
     # and back to following: the own copy stops
     student.get_by_role("button", name=FOLLOW).click()
     student.get_by_role("button", name=OWN).wait_for(timeout=30_000)
