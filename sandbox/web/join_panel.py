@@ -51,9 +51,9 @@ class JoinPanel:
     Args:
         gui: A viser GUI API (a client's).
         urls: Addresses students can type, the preferred one first.
-        expand: Open the folder at load (the teacher projects it).
+        expand: Open the folder (it shows once picked in "Panneau affiché").
     """
 
-    def __init__(self, gui: Any, urls: Sequence[str], *, expand: bool = False) -> None:
+    def __init__(self, gui: Any, urls: Sequence[str], *, expand: bool = True) -> None:
         with gui.add_folder("Rejoindre", expand_by_default=expand) as self.folder:
             self.html = gui.add_html(join_html(urls))
