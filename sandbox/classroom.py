@@ -63,6 +63,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import urllib.request
 from collections.abc import Callable, Sequence
@@ -819,6 +820,25 @@ async def origin_probe(
         return True, f"handshake failed ({type(exc).__name__}: {exc})"
 
 
+def run_async(coro: Any) -> Any:
+    """``asyncio.run(coro)`` in a thread of its own: the caller's thread may already run
+    an event loop (Playwright's sync API does, in the test suite)."""
+    out: dict[str, Any] = {}
+
+    def body() -> None:
+        try:
+            out["value"] = asyncio.run(coro)
+        except BaseException as exc:  # re-raised in the caller's thread
+            out["error"] = exc
+
+    worker = threading.Thread(target=body, name="classroom-bench")
+    worker.start()
+    worker.join()
+    if "error" in out:
+        raise out["error"]
+    return out.get("value")
+
+
 def run_classroom(
     scene: str,
     clients: int,
@@ -879,7 +899,7 @@ def run_classroom(
             out["origin"] = {"origin": FOREIGN_ORIGIN, "refused": refused, "detail": detail}
             return out
 
-        results = asyncio.run(all_phases())
+        results = run_async(all_phases())
     results.update(
         scene=scene,
         follow=follow,

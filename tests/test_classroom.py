@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import math
 import subprocess
 import sys
@@ -157,7 +156,7 @@ def test_follow_mode_pieces(monkeypatch: pytest.MonkeyPatch) -> None:
     ws = FakeSocket()
     now = time.perf_counter()
     window = cr.Window(start=now, end=now + 1.0)
-    asyncio.run(cr._probe(ws, teacher, window, cr.random.Random(0), followers))
+    cr.run_async(cr._probe(ws, teacher, window, cr.random.Random(0), followers))
     values = [m["updates"]["value"] for m in ws.sent]
     assert len(values) >= 2 and values[:2] == [50.0, 0.0]  # a quarter of the range, back
     assert all(f.not_shown == len(values) and f.pending is None for f in followers)

@@ -232,7 +232,7 @@ def _open_student(browser, url: str):
     page.goto(url, timeout=60_000)
     page.locator('[data-readout="bearing_A"]').first.wait_for(timeout=60_000)
     assert page.locator("canvas").first.is_visible()
-    for title in ("Simulation", "Grandeurs de la scène", "Torseurs"):
+    for title in ("Simulation", "Grandeurs de la scène", "Panneau affiché"):
         assert page.get_by_text(title, exact=True).first.is_visible(), title
     return context, page
 
