@@ -8,6 +8,7 @@ import threading
 import time
 
 import pytest
+from conftest import wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.app import App
@@ -78,15 +79,6 @@ def _served() -> int:
     return Scheduler.shared().sessions
 
 
-def _wait(predicate, timeout: float = 5.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.02)
-    return predicate()
-
-
 def _factory(pendulum, gate: threading.Event | None = None):
     def make(client) -> Session:
         if gate is not None:
@@ -110,7 +102,7 @@ def test_disconnect_during_a_slow_connect_leaves_no_session(pendulum):
     gate.set()
     connecting.join(5.0)
     assert app.sessions == {}
-    assert _wait(lambda: _served() == 0)
+    assert wait_for(lambda: _served() == 0)
 
 
 def test_a_session_whose_browser_vanished_stops_by_itself(pendulum):
@@ -120,10 +112,10 @@ def test_a_session_whose_browser_vanished_stops_by_itself(pendulum):
     server.clients[7] = client
     server.connect_cb(client)
     session = app.sessions[7]
-    assert _wait(lambda: session.running)
+    assert wait_for(lambda: session.running)
     del server.clients[7]  # gone without a disconnect callback
     start = time.monotonic()
-    assert _wait(lambda: not session.running, timeout=3.0)
+    assert wait_for(lambda: not session.running, timeout=3.0)
     assert time.monotonic() - start < 2.0
     assert app.reap() == 0
 
@@ -158,7 +150,7 @@ def test_connect_and_drop_storm_returns_to_idle(pendulum):
             pair[0].join()
     for t in threads:
         t.join(10.0)
-    assert _wait(lambda: _served() == 0, timeout=4.0), _served()
+    assert wait_for(lambda: _served() == 0, timeout=4.0), _served()
     assert app.reap() == 0
 
 
@@ -176,7 +168,7 @@ def test_a_full_server_says_so_in_french(pendulum):
     finally:
         app.stop()
     assert server.stopped and not app.sessions
-    assert _wait(lambda: _served() == 0)
+    assert wait_for(lambda: _served() == 0)
 
 
 def test_a_failing_factory_tells_the_browser_and_keeps_serving(pendulum):

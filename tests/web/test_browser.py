@@ -6,6 +6,7 @@ import re
 import time
 
 import pytest
+from conftest import wait_for
 
 pytestmark = pytest.mark.browser
 
@@ -26,15 +27,6 @@ def _open(open_page, app):
     page = open_page(app.url)
     page.locator('[data-readout="bearing_A"]').first.wait_for(timeout=30_000)
     return page
-
-
-def _wait_for(predicate, timeout: float = 15.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.2)
-    return False
 
 
 def _show_folder(page, label: str) -> None:
@@ -69,7 +61,7 @@ def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):
     box = _slider_input(page, "mass1_g [g]")
     box.fill("60")
     box.press("Enter")
-    assert _wait_for(lambda: abs(_readout(page, "bearing_A") - before) > 0.05 * before), (
+    assert wait_for(lambda: abs(_readout(page, "bearing_A") - before) > 0.05 * before), (
         f"bearing_A stayed at {before} N after mass1_g = 60 g"
     )
     session = next(iter(served_rotor.sessions.values()))
@@ -86,20 +78,20 @@ def test_bad_timestep_is_refused_and_the_server_keeps_running(open_page, served_
     session = next(iter(served_rotor.sessions.values()))
     assert session.controller.sim.timestep == pytest.approx(session.controller.sim.scene.timestep)
     t0 = session.controller.sim.data.time
-    assert _wait_for(lambda: session.controller.sim.data.time > t0 + 0.2)
+    assert wait_for(lambda: session.controller.sim.data.time > t0 + 0.2)
 
 
 def test_each_browser_has_its_own_simulation(open_page, served_rotor):
     first = _open(open_page, served_rotor)
     second = _open(open_page, served_rotor)
-    assert _wait_for(lambda: len(served_rotor.sessions) == 2)
+    assert wait_for(lambda: len(served_rotor.sessions) == 2)
     sims = [s.controller.sim for s in served_rotor.sessions.values()]
     assert sims[0] is not sims[1]
     _slider_input(first, "mass1_g [g]").fill("80")
     _slider_input(first, "mass1_g [g]").press("Enter")
-    assert _wait_for(lambda: sorted(s.values["mass1_g"] for s in sims) == [0.0, 80.0])
+    assert wait_for(lambda: sorted(s.values["mass1_g"] for s in sims) == [0.0, 80.0])
     second.close()
-    assert _wait_for(lambda: len(served_rotor.sessions) == 1)
+    assert wait_for(lambda: len(served_rotor.sessions) == 1)
 
 
 def test_replay_server_shows_the_timeline_to_several_browsers(open_page, tmp_path):
@@ -114,12 +106,12 @@ def test_replay_server_shows_the_timeline_to_several_browsers(open_page, tmp_pat
     app = start_replay(load(path), port=free_port(), open_message=False)
     try:
         pages = [_open(open_page, app) for _ in range(2)]
-        assert _wait_for(lambda: len(app.sessions) == 2)
+        assert wait_for(lambda: len(app.sessions) == 2)
         for page in pages:
             assert page.get_by_text("Relecture", exact=True).first.is_visible()
             assert _readout(page, "bearing_A") > 1.0
         ctl = next(iter(app.sessions.values())).controller
-        assert _wait_for(lambda: not ctl.playing)  # a 1 s recording plays to its end
+        assert wait_for(lambda: not ctl.playing)  # a 1 s recording plays to its end
         assert ctl.index == len(ctl.rec.times) - 1
     finally:
         app.stop()
@@ -142,7 +134,7 @@ def test_a_student_walks_the_balancing_lesson_to_success(open_page):
             time.sleep(0.5)
         page.get_by_text("étape 4/4", exact=False).first.wait_for(timeout=10_000)
         session = next(iter(app.sessions.values()))
-        assert _wait_for(lambda: session.controller.sim.values["mass1_g"] == 0.0)
+        assert wait_for(lambda: session.controller.sim.values["mass1_g"] == 0.0)
         time.sleep(0.5)  # the step records the unbalanced forces as its start values
         solution = balancing_solution(session.controller.sim.values)
         for name in ("mass1_g", "angle1_deg", "mass2_g", "angle2_deg"):

@@ -3,11 +3,11 @@ their own copy and come back; the teacher sends settings to the copies."""
 
 from __future__ import annotations
 
-import time
 import urllib.error
 import urllib.request
 
 import pytest
+from conftest import wait_for
 
 from sandbox.web.follow import FOLLOW, OWN, SEND_VALUES, FollowApp, teacher_path
 
@@ -25,15 +25,6 @@ def served_follow():
         app.stop()
 
 
-def _wait_for(predicate, timeout: float = 20.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.1)
-    return False
-
-
 def test_the_teacher_link_serves_the_page_and_only_that_path(served_follow):
     assert served_follow.teacher_url.endswith(teacher_path("secret-1"))
     with urllib.request.urlopen(served_follow.teacher_url, timeout=10) as page:
@@ -45,7 +36,7 @@ def test_the_teacher_link_serves_the_page_and_only_that_path(served_follow):
 def test_one_shared_simulation_steps_whatever_the_number_of_watchers(served_follow):
     app: FollowApp = served_follow
     t0 = app.shared.sim.data.time
-    assert _wait_for(lambda: app.shared.sim.data.time > t0 + 0.2)  # runs with nobody
+    assert wait_for(lambda: app.shared.sim.data.time > t0 + 0.2)  # runs with nobody
 
 
 @pytest.mark.browser
@@ -57,7 +48,7 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     teacher.get_by_text("Classe", exact=True).first.wait_for(timeout=30_000)
     student = open_page(app.url)
     student.get_by_text("Simulation du professeur", exact=True).first.wait_for(timeout=30_000)
-    assert _wait_for(lambda: app.counts() == (1, 1, 0))
+    assert wait_for(lambda: app.counts() == (1, 1, 0))
     drivers = [s for s in app.sessions.values() if s.drive]
     assert drivers == []  # only the broadcast session steps the shared simulation
     # the teacher's slider drives the shared simulation
@@ -67,20 +58,20 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     box = row.locator("input.mantine-NumberInput-input").first
     box.fill("40")
     box.press("Enter")
-    assert _wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(40.0))
+    assert wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(40.0))
     # a student leaves for an own copy that starts from the teacher's settings
     student.get_by_role("button", name=OWN).click()
     student.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
-    assert _wait_for(lambda: app.counts() == (1, 0, 1))
+    assert wait_for(lambda: app.counts() == (1, 0, 1))
     (own,) = [s for s in app.sessions.values() if s.drive]
     assert own.controller.sim is not app.shared.sim
     assert own.controller.sim.values["mass1_g"] == pytest.approx(40.0)
     # the teacher changes a setting and sends it to the copies
     box.fill("70")
     box.press("Enter")
-    assert _wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(70.0))
+    assert wait_for(lambda: app.shared.sim.values["mass1_g"] == pytest.approx(70.0))
     teacher.get_by_role("button", name=SEND_VALUES).click()
-    assert _wait_for(lambda: own.controller.sim.values["mass1_g"] == pytest.approx(70.0))
+    assert wait_for(lambda: own.controller.sim.values["mass1_g"] == pytest.approx(70.0))
     teacher.get_by_text("1 élève(s) en autonomie", exact=False).first.wait_for(timeout=10_000)
     # the student's own slider tells the truth: it shows the value the teacher sent
     own_box = (
@@ -88,9 +79,9 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
         .last.locator("input.mantine-NumberInput-input")
         .first
     )
-    assert _wait_for(lambda: own_box.input_value() == "70"), own_box.input_value()
+    assert wait_for(lambda: own_box.input_value() == "70"), own_box.input_value()
     # and back to following: the own copy stops
     student.get_by_role("button", name=FOLLOW).click()
     student.get_by_role("button", name=OWN).wait_for(timeout=30_000)
-    assert _wait_for(lambda: app.counts() == (1, 1, 0))
-    assert _wait_for(lambda: own.finished)
+    assert wait_for(lambda: app.counts() == (1, 1, 0))
+    assert wait_for(lambda: own.finished)
