@@ -115,6 +115,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="one shared simulation driven by the teacher (secret link printed at start), "
         "watched by every other browser",
     )
+    s.add_argument(
+        "--public-url",
+        metavar="URL",
+        help="address students type when they come through a proxy (shown in 'Rejoindre')",
+    )
     rp = sub.add_parser("replay", help="replay a recording in the browser, verify or export it")
     rp.add_argument("file", type=Path, help="recording file (sandbox run --record, web app)")
     _server_options(rp, workers=False)
@@ -392,6 +397,7 @@ def cmd_serve(
     sets: Sequence[str],
     workers: int | None = None,
     follow: bool = False,
+    public_url: str | None = None,
 ) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
     from sandbox.lessons import ANY_SCENE, lessons
@@ -407,7 +413,14 @@ def cmd_serve(
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
     if workers is not None and workers < 1:
         raise BadOption(f"--workers must be 1 or more, got {workers!r}")
-    options = {"follow": True} if follow else {}
+    options: dict[str, object] = {"follow": True} if follow else {}
+    if public_url:
+        if not public_url.startswith(("http://", "https://")) or len(public_url) > 200:
+            raise BadOption(
+                f"--public-url must be an http:// or https:// address, got {public_url[:80]!r}; "
+                "e.g. --public-url http://sandbox.lycee.fr"
+            )
+        options["public_url"] = public_url
     serve(
         target,
         host=host,
@@ -433,6 +446,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "set", []),
                 getattr(args, "workers", None),
                 getattr(args, "follow", False),
+                getattr(args, "public_url", None),
             )
         if args.command == "list":
             return cmd_list()

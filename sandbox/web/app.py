@@ -230,6 +230,7 @@ def start(
     max_sessions: int = MAX_SESSIONS,
     follow: bool = False,
     token: str | None = None,
+    public_url: str | None = None,
 ) -> App:
     """Start the web app in background threads and return at once.
 
@@ -251,6 +252,8 @@ def start(
         follow: One shared simulation driven by the teacher (link printed at start),
             watched by every other browser (:mod:`sandbox.web.follow`).
         token: Secret of the teacher's link (random when None).
+        public_url: The address students type when they come through a proxy (shown
+            in "Rejoindre" and printed instead of this machine's addresses).
 
     Raises:
         SandboxError: bad target, value or option; BadOption when the port is taken.
@@ -260,7 +263,7 @@ def start(
     options = {"values": dict(values or {}), "integrator": integrator, "timestep": timestep}
     Simulation(target, **options)
     server = open_server(host, port, "sandbox", check=check_port)
-    urls = network.student_urls(host, server.get_port()) if _public(host) else []
+    urls = join_urls(host, server.get_port(), public_url)
 
     if follow:
         from sandbox.web.follow import FollowApp
@@ -277,7 +280,8 @@ def start(
 
         app = App(server, host, session, max_sessions=max_sessions)
     if open_message:
-        print(banner(target, host, app.port, teacher=getattr(app, "teacher_url", None)), flush=True)
+        teacher = getattr(app, "teacher_url", None)
+        print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)
     return app
 
 
@@ -286,16 +290,30 @@ def _public(host: str) -> bool:
     return host not in ("127.0.0.1", "localhost", "::1") and not host.startswith("127.")
 
 
+def join_urls(host: str, port: int, public_url: str | None = None) -> list[str]:
+    """Addresses students type: ``public_url`` (a proxy's) when given, else this machine's
+    LAN addresses when it listens beyond loopback, else none."""
+    if public_url:
+        return [public_url]
+    return network.student_urls(host, port) if _public(host) else []
+
+
 def banner(
-    target: str | Path, host: str, port: int, *, workers: int = 1, teacher: str | None = None
+    target: str | Path,
+    host: str,
+    port: int,
+    *,
+    workers: int = 1,
+    teacher: str | None = None,
+    public_url: str | None = None,
 ) -> str:
     """What ``sandbox serve`` prints once it listens: the addresses to open."""
     local = "127.0.0.1" if host in ("0.0.0.0", "", "::") else host
     local = f"[{local}]" if ":" in local else local
     how = f" by {workers} worker processes" if workers > 1 else ""
     lines = [f"sandbox: {target} served at http://{local}:{port}{how} (Ctrl-C to stop)"]
-    if _public(host):
-        urls = network.student_urls(host, port)
+    if _public(host) or public_url:
+        urls = join_urls(host, port, public_url)
         if urls:
             lines.append("sandbox: students open " + "  or  ".join(urls))
         else:
@@ -341,7 +359,8 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     if port == 0:
         port = _free_port(host)
     spec = WorkerSpec(str(target), host, port, options)
-    serve_pool(spec, count, banner=banner(target, host, port, workers=count))
+    text = banner(target, host, port, workers=count, public_url=options.get("public_url"))
+    serve_pool(spec, count, banner=text)
 
 
 def _free_port(host: str) -> int:

@@ -196,3 +196,23 @@ def _children(pid: int) -> list[int]:
         if int(fields[1]) == pid:
             out.append(int(stat.parent.name))
     return out
+
+
+def test_a_proxys_address_replaces_the_machines_own(monkeypatch):
+    from sandbox.web.app import join_urls
+
+    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20"])
+    assert join_urls("0.0.0.0", 8080, "http://sandbox.lycee.fr") == ["http://sandbox.lycee.fr"]
+    assert join_urls("0.0.0.0", 8080) == ["http://192.168.1.20:8080"]
+    assert join_urls("127.0.0.1", 8080) == []
+    text = banner("rotor", "127.0.0.1", 8080, public_url="http://sandbox.lycee.fr")
+    assert "students open http://sandbox.lycee.fr" in text
+
+
+def test_a_bad_public_url_is_refused_in_one_line(monkeypatch, capsys):
+    from sandbox import cli
+    from sandbox.web import app
+
+    monkeypatch.setattr(app, "serve", lambda target, **kw: pytest.fail("served"))
+    assert cli.main(["serve", "rotor", "--public-url", "javascript:alert(1)"]) == 2
+    assert "--public-url must be an http" in capsys.readouterr().err
