@@ -404,6 +404,20 @@ class ClientStats:
         return (t1 - t0) / (w1 - w0)
 
 
+def connect_as_browser(url: str, origin: str, *, open_timeout: float) -> Any:
+    """A websocket connection opened as the browser opens it (viser's subprotocol, the
+    page's Origin, no compression, no message size limit)."""
+    return websockets.connect(
+        url,
+        subprotocols=[websockets.Subprotocol(_subprotocol())],
+        origin=websockets.Origin(origin),
+        max_size=None,
+        compression=None,
+        open_timeout=open_timeout,
+        close_timeout=1,
+    )
+
+
 async def run_client(
     url: str,
     stats: ClientStats,
@@ -429,15 +443,7 @@ async def run_client(
             student would (None: the page's default).
     """
     try:
-        async with websockets.connect(
-            url,
-            subprotocols=[websockets.Subprotocol(_subprotocol())],
-            origin=websockets.Origin(origin),
-            max_size=None,
-            compression=None,
-            open_timeout=30,
-            close_timeout=1,
-        ) as ws:
+        async with connect_as_browser(url, origin, open_timeout=30) as ws:
             await ws.send(camera_message())
             prober = None
             if param is not None:
@@ -755,14 +761,7 @@ async def drop_phase(
 
     async def one() -> bool:
         try:
-            async with websockets.connect(
-                url,
-                subprotocols=[websockets.Subprotocol(_subprotocol())],
-                origin=websockets.Origin(origin),
-                max_size=None,
-                open_timeout=10,
-                close_timeout=1,
-            ) as ws:
+            async with connect_as_browser(url, origin, open_timeout=10) as ws:
                 await ws.send(camera)
             return True
         except Exception:
@@ -793,14 +792,7 @@ async def origin_probe(
         (refused, detail): refused is True when no update frame arrived.
     """
     try:
-        async with websockets.connect(
-            f"ws://127.0.0.1:{port}",
-            subprotocols=[websockets.Subprotocol(_subprotocol())],
-            origin=websockets.Origin(origin),
-            max_size=None,
-            open_timeout=10,
-            close_timeout=1,
-        ) as ws:
+        async with connect_as_browser(f"ws://127.0.0.1:{port}", origin, open_timeout=10) as ws:
             await ws.send(camera_message())
             deadline = time.perf_counter() + wait
             while (left := deadline - time.perf_counter()) > 0:
