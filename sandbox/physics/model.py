@@ -44,14 +44,28 @@ def check_integrator(name: str) -> int:
     return INTEGRATORS[name]
 
 
+MIN_TIMESTEP = 1e-6
+"""Smallest timestep accepted [s]: below it a second of motion costs over a million steps
+(minutes of CPU) and rounding, not the integrator, limits the accuracy."""
+
+MAX_TIMESTEP = 0.1
+"""Largest timestep accepted [s] (a scene may set a smaller ``max_timestep``)."""
+
+
 def check_timestep(value: float) -> float:
-    """Validate a timestep [s]: finite, > 0 and at most 0.1 s."""
-    if not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+    """Validate a timestep [s]: finite, between :data:`MIN_TIMESTEP` and :data:`MAX_TIMESTEP`."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise BadOption(
             f"timestep must be a positive number of seconds, got {value!r}; try --timestep 0.001"
         )
-    if value > 0.1:
-        raise BadOption(f"timestep {value!r} s is too large (max 0.1 s); try --timestep 0.001")
+    if value < MIN_TIMESTEP:
+        raise BadOption(
+            f"timestep {value!r} s is too small (min {MIN_TIMESTEP:g} s); try --timestep 0.001"
+        )
+    if value > MAX_TIMESTEP:
+        raise BadOption(
+            f"timestep {value!r} s is too large (max {MAX_TIMESTEP:g} s); try --timestep 0.001"
+        )
     return float(value)
 
 
