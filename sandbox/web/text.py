@@ -13,7 +13,7 @@ import re
 MAX_SHOWN = 200
 """Longest untrusted value shown [characters]; the rest is cut with an ellipsis."""
 
-_MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+\-.!|~>])")
+_MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+\-.!|~])")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 
