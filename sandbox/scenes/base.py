@@ -325,3 +325,16 @@ class Scene:
         if self.timestep_for is None:
             return self.timestep
         return float(self.timestep_for({**self.defaults(), **(values or {})}, data))
+
+
+def as_scene(spec: object) -> Scene | None:
+    """The :class:`Scene` behind ``Simulation.scene`` (typed by physics as a bare
+    ``SceneSpec``), with everything the layers above read (title, params, arrows,
+    camera...); None for a user's MJCF file.
+
+    Raises:
+        TypeError: if ``spec`` is neither None nor a :class:`Scene` (a registry bug).
+    """
+    if spec is None or isinstance(spec, Scene):
+        return spec
+    raise TypeError(f"scene spec {spec!r} is not a sandbox.scenes.base.Scene")
