@@ -172,6 +172,6 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     mass = sum(p.mass for p in items)
     if mass == 0:
         return MassProperties(0.0, np.zeros(3), np.zeros((3, 3)))
-    com = sum(p.mass * p.com for p in items) / mass
+    com = sum((p.mass * p.com for p in items), np.zeros(3)) / mass
     inertia_o = sum(p.inertia_at(com) for p in items)
     return MassProperties(mass, com, np.asarray(inertia_o))

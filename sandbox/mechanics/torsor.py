@@ -8,7 +8,7 @@ M_B = M_A + R ∧ AB, and the power of {T} in the motion {V} is their comoment.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -21,9 +21,11 @@ def _vec(value: ArrayLike, what: str) -> np.ndarray:
     return arr.copy()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Torsor:
     """A torsor reduced at ``point``.
+
+    Any 3-vectors (lists, tuples, arrays) are accepted; they are stored as float copies.
 
     Attributes:
         resultant: Resultant R, shape (3,).
@@ -33,12 +35,14 @@ class Torsor:
 
     resultant: np.ndarray
     moment: np.ndarray
-    point: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    point: np.ndarray
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "resultant", _vec(self.resultant, "resultant"))
-        object.__setattr__(self, "moment", _vec(self.moment, "moment"))
-        object.__setattr__(self, "point", _vec(self.point, "point"))
+    def __init__(
+        self, resultant: ArrayLike, moment: ArrayLike, point: ArrayLike = (0.0, 0.0, 0.0)
+    ) -> None:
+        object.__setattr__(self, "resultant", _vec(resultant, "resultant"))
+        object.__setattr__(self, "moment", _vec(moment, "moment"))
+        object.__setattr__(self, "point", _vec(point, "point"))
 
     @classmethod
     def zero(cls, point: ArrayLike = (0.0, 0.0, 0.0)) -> Torsor:

@@ -290,7 +290,11 @@ def _select(k: Kinematics, bodies: Iterable[int] | None) -> np.ndarray:
 
 
 def kinetic_torsor(
-    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    bodies: Iterable[int] | None = None,
+    *,
+    kin: Kinematics | None = None,
 ) -> Pair:
     """{C} at O: (Σ m v_G, Σ I_G ω + OG ∧ m v_G)."""
     k = _kin(model, data, kin)
@@ -303,7 +307,11 @@ def kinetic_torsor(
 
 
 def dynamic_torsor(
-    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    bodies: Iterable[int] | None = None,
+    *,
+    kin: Kinematics | None = None,
 ) -> Pair:
     """{D} at O: (Σ m a_G, Σ I_G α + ω ∧ I_G ω + OG ∧ m a_G)."""
     k = _kin(model, data, kin)
@@ -315,7 +323,9 @@ def dynamic_torsor(
     return ma.sum(0), (k.delta_g[b] + _cross(data.xipos[b], ma)).sum(0)
 
 
-def gravity_torsor(model: mujoco.MjModel, data: mujoco.MjData, bodies=None) -> Pair:
+def gravity_torsor(
+    model: mujoco.MjModel, data: mujoco.MjData, bodies: Iterable[int] | None = None
+) -> Pair:
     """Weight of the mechanism at O (zero when weight is neglected)."""
     b = mechanism_bodies(model) if bodies is None else np.asarray(list(bodies), dtype=int)
     w = model.body_mass[b][:, None] * _gravity(model)
@@ -418,7 +428,11 @@ def support_torsor(model: mujoco.MjModel, data: mujoco.MjData) -> Pair:
 
 
 def kinetic_energy(
-    model: mujoco.MjModel, data: mujoco.MjData, bodies=None, *, kin: Kinematics | None = None
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    bodies: Iterable[int] | None = None,
+    *,
+    kin: Kinematics | None = None,
 ) -> float:
     """T = Σ ½ m v_G² + ½ ω·I_G ω, plus ½ Σ armature q̇² (motor rotors, whole mechanism)."""
     k = _kin(model, data, kin)
@@ -478,7 +492,7 @@ def acceleration_power(
     )
 
 
-_TORSORS = {"kin": kinetic_torsor, "dyn": dynamic_torsor, "sup": support_torsor}
+_TORSORS = ("kin", "dyn", "sup")
 
 
 def torsor(
@@ -487,10 +501,13 @@ def torsor(
     """The mechanism's torsor ``prefix`` ("kin", "dyn" or "sup") at O, memoised in cache."""
     if cache is not None and prefix in cache:
         return cache[prefix]
-    fn = _TORSORS[prefix]
-    value = (
-        fn(model, data) if prefix == "sup" else fn(model, data, kin=_cached_kin(model, data, cache))
-    )
+    if prefix == "sup":
+        value = support_torsor(model, data)
+    elif prefix in ("kin", "dyn"):
+        fn = kinetic_torsor if prefix == "kin" else dynamic_torsor
+        value = fn(model, data, kin=_cached_kin(model, data, cache))
+    else:
+        raise KeyError(f"unknown torsor {prefix!r}; valid: {', '.join(_TORSORS)}")
     if cache is not None:
         cache[prefix] = value
     return value
