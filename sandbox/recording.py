@@ -17,25 +17,35 @@ Floats are written with ``repr`` so states round-trip exactly (``--verify`` expe
 The writer flushes the gzip stream (``Z_SYNC_FLUSH``) at least every :data:`FLUSH_EVERY`
 seconds, so a crash loses at most that much; such a file lacks the end line and is
 replayed with ``--salvage``.
+
+Recordings are files students exchange: :func:`load` treats them as untrusted. It reads
+regular files only, inflates in bounded chunks under size, line and record caps, checks
+the header and every record against the schema above (types, finite numbers, sizes,
+times in order, timesteps within the model's bounds, nothing after the end), and names
+the problem and the fix in one :class:`BadRecording` line.
 """
 
 from __future__ import annotations
 
+import array
 import datetime as _dt
 import gzip
 import json
 import math
+import os
+import re
+import stat
 import time
 import zlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 import mujoco
 import numpy as np
 
-from sandbox.errors import SandboxError
+from sandbox.errors import SandboxError, choices
 
 FORMAT = "sandbox-recording"
 VERSION = 1
@@ -69,6 +79,41 @@ def _number(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
+def create_unique(folder: str | Path, stem: str, *, suffix: str = ".sbx") -> Path:
+    """Create an empty file ``folder/stem.sbx`` that no one else can have taken, and
+    return its path; if the name exists, ``stem-2.sbx``, ``stem-3.sbx``... (the file is
+    created with ``O_CREAT | O_EXCL``, so two browsers recording in the same second get
+    two files). :class:`Recorder` then writes into it.
+
+    Args:
+        folder: An existing folder.
+        stem: Name without suffix; characters other than letters, digits, ``_``, ``-``
+            and ``.`` become ``_`` and it is cut to 100 characters.
+        suffix: File suffix.
+
+    Raises:
+        BadRecording: the folder cannot be written (the message names it and the fix).
+    """
+    folder = Path(folder)
+    clean = re.sub(r"[^A-Za-z0-9_.-]", "_", stem)[:100].strip(".") or "recording"
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    for n in range(1, 10_000):
+        path = folder / (f"{clean}{suffix}" if n == 1 else f"{clean}-{n}{suffix}")
+        try:
+            os.close(os.open(path, flags, 0o644))
+        except FileExistsError:
+            continue
+        except OSError as exc:
+            raise BadRecording(
+                f"cannot write a recording in {str(folder)!r} ({exc.strerror or exc}); "
+                "choose a writable folder"
+            ) from None
+        return path
+    raise BadRecording(
+        f"{str(folder)!r} already holds 10000 recordings named {clean!r}; empty the folder"
+    )
+
+
 class Recorder:
     """Writes a recording of one simulation as it runs.
 
@@ -76,7 +121,8 @@ class Recorder:
     simulation; frames and readouts are added by the caller at its own rate.
 
     Args:
-        path: File to write (created or overwritten).
+        path: File to write (created or overwritten; :func:`create_unique` gives a name
+            no other recording has).
         sim: The simulation being recorded (a :class:`~sandbox.physics.simulation.Simulation`).
         lesson: Name of the lesson being followed, if any.
         clock: Wall clock used for the flush period.
@@ -234,28 +280,394 @@ class Recording:
         return values
 
 
-def _decompress(path: Path, raw: bytes) -> tuple[bytes, bool]:
-    """Decompressed bytes and whether the gzip stream ended properly."""
-    if raw[:2] != b"\x1f\x8b":
-        head = raw[:40].decode("utf-8", "replace").strip().splitlines()
-        raise BadRecording(
-            f"{str(path)!r} is not a sandbox recording (it starts with "
-            f"{(head[0] if head else '')[:30]!r}, not a gzip stream); give a file written "
-            "by 'sandbox run --record' or the web app's record button"
-        )
-    dec = zlib.decompressobj(wbits=31)
+MAX_FILE_BYTES = 256 * 2**20
+"""Largest recording file read [bytes] (10 minutes of a web session take under 50 MB)."""
+
+MAX_TEXT_BYTES = 512 * 2**20
+"""Largest decompressed text [bytes]: a gzip bomb is refused when it passes this size."""
+
+MAX_LINE_BYTES = 8 * 2**20
+"""Longest line [bytes] (the header holds the model's MJCF text)."""
+
+MAX_RECORDS = 1_000_000
+"""Most lines in a recording (4 hours of a web session at 60 frames per second)."""
+
+MAX_NUMBERS = 2**25
+"""Most state and readout numbers in all (256 MiB once read)."""
+
+MAX_EVENTS = 100_000
+"""Most parameter, integrator, timestep, reset and lesson records."""
+
+MAX_STATE_SIZE = 1_000_000
+"""Largest ``state_size`` in a header."""
+
+MAX_READOUTS = 1_000
+MAX_VALUES = 1_000
+MAX_TEXT = 256
+"""Longest name, unit, date or label in a header [characters]."""
+
+MAX_TIME = 1e7
+"""Largest simulated time in a recording [s] (about 4 months)."""
+
+_CHUNK = 1 << 16
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}")
+_FIX = "the file was altered or damaged after it was written: use the original file"
+
+
+class _Refused(ValueError):
+    """A line that breaks the schema (becomes a :class:`BadRecording` with its number)."""
+
+
+def _open(path: Path) -> BinaryIO:
+    """Open a regular file for reading (never blocks on a FIFO, never reads a device)."""
+    if path.is_dir():
+        raise BadRecording(f"{str(path)!r} is a directory; give a recording file (.sbx)")
     try:
-        out = dec.decompress(raw) + dec.flush()
-    except zlib.error as exc:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
         raise BadRecording(
-            f"recording {str(path)!r} is corrupted ({exc}); the file was damaged after it "
-            "was written: use another copy"
+            f"cannot read recording {str(path)!r} ({exc.strerror or exc}); check the path"
         ) from None
-    return out, dec.eof
+    try:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise BadRecording(f"{str(path)!r} is a directory; give a recording file (.sbx)")
+        if not stat.S_ISREG(info.st_mode):
+            raise BadRecording(
+                f"{str(path)!r} is not a regular file (a device, pipe or socket); give a "
+                "recording file (.sbx) written by 'sandbox run --record' or the web app"
+            )
+        if info.st_size > MAX_FILE_BYTES:
+            raise BadRecording(
+                f"recording {str(path)!r} is {info.st_size / 2**20:.0f} MiB, more than the "
+                f"{MAX_FILE_BYTES // 2**20} MiB a recording may take; record shorter sessions"
+            )
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+class _Lines:
+    """Complete lines of a gzip stream (numbered from 1), read and inflated in bounded
+    chunks. After iterating, :attr:`ended` tells whether the stream ended properly and
+    its last line was complete (a partial last line is never yielded)."""
+
+    def __init__(self, path: Path, fh: BinaryIO) -> None:
+        self.path = path
+        self.fh = fh
+        self.ended = False
+
+    def _refuse(self, problem: str, fix: str = _FIX) -> BadRecording:
+        return BadRecording(f"recording {str(self.path)!r} {problem}; {fix}")
+
+    def __iter__(self) -> Iterator[tuple[int, bytes]]:
+        path, fh = self.path, self.fh
+        head = fh.read(2)
+        if head != b"\x1f\x8b":
+            rest = (head + fh.read(38)).decode("utf-8", "replace").strip().splitlines()
+            raise BadRecording(
+                f"{str(path)!r} is not a sandbox recording (it starts with "
+                f"{(rest[0] if rest else '')[:30]!r}, not a gzip stream); give a file written "
+                "by 'sandbox run --record' or the web app's record button"
+            )
+        dec = zlib.decompressobj(wbits=31)
+        pending = b""
+        total = number = 0
+        data = head
+        while not dec.eof:
+            if not data:
+                data = fh.read(_CHUNK)
+                if not data:
+                    return  # the stream stops short: truncated
+            try:
+                out = dec.decompress(data, _CHUNK)  # at most _CHUNK bytes out at a time
+            except zlib.error as exc:
+                raise self._refuse(f"is corrupted ({exc})") from None
+            data = dec.unconsumed_tail
+            total += len(out)
+            if total > MAX_TEXT_BYTES:
+                raise self._refuse(
+                    f"expands to more than {MAX_TEXT_BYTES // 2**20} MiB (a compression bomb, "
+                    "or not a recording)",
+                    "give a file written by 'sandbox run --record' or the web app",
+                )
+            parts = out.split(b"\n")
+            parts[0] = pending + parts[0]
+            pending = parts.pop()
+            for line in parts:
+                number += 1
+                if len(line) > MAX_LINE_BYTES:
+                    raise self._too_long(number)
+                yield number, line
+            if len(pending) > MAX_LINE_BYTES:
+                raise self._too_long(number + 1)
+        if dec.unused_data or data or fh.read(1):
+            raise self._refuse("has data after the end of its gzip stream (trailing garbage)")
+        self.ended = not pending
+
+    def _too_long(self, number: int) -> BadRecording:
+        what = "its first line" if number == 1 else f"its line {number}"
+        return self._refuse(
+            f"is not usable: {what} is longer than {MAX_LINE_BYTES // 2**20} MiB (a "
+            "compression bomb, or not a recording)",
+            "give a file written by 'sandbox run --record' or the web app",
+        )
+
+
+def _refuse_constant(name: str) -> float:
+    raise _Refused(f"{name} is not a number a recording holds")
+
+
+def _json(line: bytes) -> Any:
+    try:
+        return json.loads(line.decode("utf-8"), parse_constant=_refuse_constant)
+    except UnicodeDecodeError:
+        raise _Refused("not UTF-8 text") from None
+    except RecursionError:
+        raise _Refused("nested too deeply") from None
+    except json.JSONDecodeError as exc:
+        raise _Refused(f"not JSON: {exc.msg} at column {exc.colno}") from None
+    except ValueError as exc:  # an integer of more than 4300 digits
+        raise _Refused(f"not a usable number ({str(exc)[:60]})") from None
+
+
+def _is_number(v: object) -> bool:
+    return type(v) is float or type(v) is int
+
+
+def _finite(value: object, what: str, *, low: float = -math.inf, high: float = math.inf) -> float:
+    if not _is_number(value):
+        raise _Refused(f"{what} is {_short(value)}, not a number")
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except OverflowError:
+        raise _Refused(f"{what} is too large") from None
+    if not math.isfinite(number):
+        raise _Refused(f"{what} is not finite")
+    if not low <= number <= high:
+        raise _Refused(f"{what} = {number!r} lies outside {low:g}..{high:g}")
+    return number
+
+
+def _text(value: object, what: str, *, none: bool = False, limit: int = MAX_TEXT) -> str | None:
+    if value is None and none:
+        return None
+    if not isinstance(value, str):
+        raise _Refused(f"{what} is {_short(value)}, not a text")
+    if len(value) > limit:
+        raise _Refused(f"{what} is {len(value)} characters long (at most {limit})")
+    if limit <= MAX_TEXT and not value.isprintable():
+        raise _Refused(f"{what} holds control characters")
+    return value
+
+
+def _name(value: object, what: str) -> str:
+    if not isinstance(value, str) or not _NAME.fullmatch(value):
+        raise _Refused(f"{what} {_short(value)} is not a name (letters, digits, _)")
+    return value
+
+
+def _short(value: object) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _timestep(value: object, what: str) -> float:
+    from sandbox.physics.model import MAX_TIMESTEP, MIN_TIMESTEP
+
+    return _finite(value, what, low=MIN_TIMESTEP, high=MAX_TIMESTEP)
+
+
+_HEADER_KEYS = (
+    "format", "version", "created", "target", "scene", "mjcf", "values", "integrator",
+    "timestep", "state_spec", "state_size", "readouts", "units", "lesson",
+)  # fmt: skip
+
+
+def _header(path: Path, line: bytes) -> dict[str, Any]:
+    """The validated header (only the keys of :data:`_HEADER_KEYS`)."""
+    from sandbox.physics.model import INTEGRATORS
+
+    try:
+        head = _json(line)
+    except _Refused:
+        head = None
+    if not isinstance(head, dict) or head.get("format") != FORMAT:
+        raise BadRecording(
+            f"{str(path)!r} is not a sandbox recording (no '{FORMAT}' header); give a file "
+            "written by 'sandbox run --record' or the web app's record button"
+        )
+    version = head.get("version")
+    if type(version) is int and version > VERSION:
+        raise BadRecording(
+            f"recording {str(path)!r} has format version {version}, newer than this sandbox "
+            f"reads (version {VERSION}); upgrade sandbox (pip install -U .) to replay it"
+        )
+    if type(version) is not int or version != VERSION:
+        raise BadRecording(
+            f"recording {str(path)!r} has an invalid format version {_short(version)} (this "
+            f"sandbox writes and reads version {VERSION}); {_FIX}"
+        )
+    missing = [k for k in _HEADER_KEYS if k not in head]
+    if missing:
+        raise BadRecording(
+            f"recording {str(path)!r} has an incomplete header (missing "
+            f"{', '.join(missing)}); {_FIX}"
+        )
+    try:
+        _text(head["created"], "'created'")
+        _text(head["target"], "'target'")
+        _text(head["scene"], "'scene'", none=True)
+        _text(head["lesson"], "'lesson'", none=True)
+        _text(head["mjcf"], "'mjcf'", limit=MAX_LINE_BYTES)
+        values = head["values"]
+        if not isinstance(values, dict) or len(values) > MAX_VALUES:
+            raise _Refused(f"'values' is {_short(values)}, not a table of parameters")
+        for key, value in values.items():
+            _finite(value, f"parameter {_name(key, 'parameter')}")
+        if not isinstance(head["integrator"], str) or head["integrator"] not in INTEGRATORS:
+            raise _Refused(
+                f"'integrator' is {_short(head['integrator'])}, not one of {choices(INTEGRATORS)}"
+            )
+        _timestep(head["timestep"], "'timestep'")
+        if head["state_spec"] != STATE_SPEC or type(head["state_spec"]) is not int:
+            raise _Refused(f"'state_spec' is {_short(head['state_spec'])}, not {STATE_SPEC}")
+        size = head["state_size"]
+        if type(size) is not int or not 0 < size <= MAX_STATE_SIZE:
+            raise _Refused(f"'state_size' is {_short(size)}, not a count of numbers")
+        names, units = head["readouts"], head["units"]
+        if not isinstance(names, list) or len(names) > MAX_READOUTS:
+            raise _Refused(f"'readouts' is {_short(names)}, not a list of names")
+        for name in names:
+            _name(name, "readout")
+        if len(set(names)) != len(names):
+            raise _Refused("'readouts' names a readout twice")
+        if not isinstance(units, list) or len(units) != len(names):
+            raise _Refused("'units' does not give one unit per readout")
+        for unit in units:
+            _text(unit, "unit", limit=32)
+    except _Refused as exc:
+        raise BadRecording(f"recording {str(path)!r} has a bad header ({exc}); {_FIX}") from None
+    return {k: head[k] for k in _HEADER_KEYS}
+
+
+class _Reader:
+    """Accumulates the validated records of one recording in compact arrays."""
+
+    def __init__(self, header: dict[str, Any]) -> None:
+        self.size: int = header["state_size"]
+        self.names: list[str] = header["readouts"]
+        self.params = set(header["values"])
+        self.times = array.array("d")
+        self.states = array.array("d")
+        self.rtimes = array.array("d")
+        self.rows = array.array("d")
+        self.rframes = array.array("q")
+        self.events: list[dict[str, Any]] = []
+        self.last_t = -math.inf
+        self.end: int | None = None
+
+    def add(self, line: bytes) -> None:
+        if self.end is not None:
+            raise _Refused("a record after the end line")
+        rec = _json(line)
+        if not isinstance(rec, dict):
+            raise _Refused(f"{_short(rec)} is not a record")
+        kind = rec.get("k")
+        t = _finite(rec.get("t"), "time 't'", low=-MAX_TIME, high=MAX_TIME)
+        if t < self.last_t and kind != "reset":
+            raise _Refused(f"time goes back from {self.last_t!r} s to {t!r} s")
+        self.last_t = t
+        if kind == "frame":
+            self._frame(rec, t)
+        elif kind == "readouts":
+            self._readouts(rec, t)
+        elif kind == "end":
+            frames = rec.get("frames")
+            if type(frames) is not int or frames != len(self.times):
+                raise _Refused(
+                    f"the end line counts {_short(frames)} frames, not {len(self.times)}"
+                )
+            self.end = frames
+        elif kind in EVENT_KINDS:
+            if len(self.events) >= MAX_EVENTS:
+                raise _Refused(f"more than {MAX_EVENTS} events")
+            self.events.append(
+                {**self._event(kind, rec), "k": kind, "t": t, "index": len(self.times)}
+            )
+        else:
+            raise _Refused(f"unknown record kind {_short(kind)}")
+
+    def _frame(self, rec: dict[str, Any], t: float) -> None:
+        s = rec.get("s")
+        if type(s) is not list or len(s) != self.size or None in s:
+            what = f"{len(s)} numbers" if type(s) is list else _short(s)
+            raise _Refused(f"the state 's' is {what}, not {self.size} numbers")
+        if len(self.states) + self.size > MAX_NUMBERS:
+            raise _Refused(f"more than {MAX_NUMBERS} state and readout numbers")
+        self._numbers(self.states, s, "the state 's'")
+        self.times.append(t)
+
+    def _readouts(self, rec: dict[str, Any], t: float) -> None:
+        r = rec.get("r")
+        if type(r) is not list or len(r) != len(self.names):
+            what = f"{len(r)} values" if type(r) is list else _short(r)
+            raise _Refused(f"the readouts 'r' are {what}, not {len(self.names)}")
+        if not self.times:
+            raise _Refused("readouts before the first frame")
+        if len(self.states) + len(self.rows) + len(r) > MAX_NUMBERS:
+            raise _Refused(f"more than {MAX_NUMBERS} state and readout numbers")
+        self._numbers(self.rows, r, "the readouts 'r'")
+        self.rtimes.append(t)
+        self.rframes.append(len(self.times) - 1)
+
+    @staticmethod
+    def _numbers(store: array.array[float], values: list[Any], what: str) -> None:
+        """Append ``values`` (numbers; None for a readout that was not finite) to ``store``."""
+        if any(v is True or v is False for v in values):
+            raise _Refused(f"{what} holds true/false, not numbers")
+        n = len(store)
+        try:
+            store.extend([math.nan if v is None else v for v in values])
+        except (TypeError, OverflowError):
+            del store[n:]
+            raise _Refused(f"{what} holds something else than numbers") from None
+        if not all(v is None or math.isfinite(v) for v in values):
+            del store[n:]
+            raise _Refused(f"{what} holds a number that is not finite")
+
+    def _event(self, kind: str, rec: dict[str, Any]) -> dict[str, Any]:
+        from sandbox.physics.model import INTEGRATORS
+
+        if kind == "set":
+            name = rec.get("name")
+            if not isinstance(name, str) or name not in self.params:
+                raise _Refused(f"'set' of {_short(name)}, a parameter the header does not list")
+            return {"name": name, "value": _finite(rec.get("value"), f"the value of {name}")}
+        if kind == "integrator":
+            if not isinstance(rec.get("value"), str) or rec["value"] not in INTEGRATORS:
+                raise _Refused(f"integrator {_short(rec.get('value'))} is not one MuJoCo has")
+            return {"value": rec["value"]}
+        if kind == "timestep":
+            return {"value": _timestep(rec.get("value"), "the timestep")}
+        if kind == "lesson":
+            step = rec.get("step")
+            if type(step) is not int or not 0 <= step <= 10_000:
+                raise _Refused(f"lesson step {_short(step)} is not a step number")
+            return {"step": step}
+        return {}  # reset
 
 
 def load(path: str | Path, *, salvage: bool = False) -> Recording:
     """Read and check a recording.
+
+    The file is read in bounded chunks and every record is checked against the format
+    (module doc) before anything uses it; the limits (:data:`MAX_TEXT_BYTES`,
+    :data:`MAX_LINE_BYTES`, :data:`MAX_RECORDS`, :data:`MAX_NUMBERS`...) keep a crafted
+    file under a few hundred MB of memory and a few seconds.
 
     Args:
         path: The file.
@@ -263,92 +675,54 @@ def load(path: str | Path, *, salvage: bool = False) -> Recording:
             every complete line it holds.
 
     Raises:
-        BadRecording: missing, foreign, corrupted, truncated (unless ``salvage``),
-            or written by a newer format version; the message names the problem and the fix.
+        BadRecording: missing, not a regular file, foreign, corrupted, crafted (a bad
+            value, a compression bomb), truncated (unless ``salvage``), or written by a
+            newer format version; the message names the problem and the fix.
     """
     path = Path(path)
-    if path.is_dir():
-        raise BadRecording(f"{str(path)!r} is a directory; give a recording file")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise BadRecording(
-            f"cannot read recording {str(path)!r} ({exc.strerror or exc}); check the path"
-        ) from None
-    text, ended = _decompress(path, raw)
-    lines = text.decode("utf-8", "replace").split("\n")
-    partial_tail = lines[-1] != ""
-    lines = lines[:-1]
-    if not lines:
+    header: dict[str, Any] | None = None
+    reader: _Reader | None = None
+    with _open(path) as fh:
+        lines = _Lines(path, fh)
+        for number, line in lines:
+            if reader is None:
+                header = _header(path, line)
+                reader = _Reader(header)
+                continue
+            if number > MAX_RECORDS:
+                raise BadRecording(
+                    f"recording {str(path)!r} has more than {MAX_RECORDS} lines (the most a "
+                    "recording holds); record shorter sessions"
+                )
+            try:
+                reader.add(line)
+            except _Refused as exc:
+                raise BadRecording(
+                    f"recording {str(path)!r} is corrupted at line {number} ({exc}); {_FIX}"
+                ) from None
+    if header is None or reader is None:
         raise BadRecording(f"recording {str(path)!r} is empty or truncated before its header")
-    try:
-        header = json.loads(lines[0])
-    except json.JSONDecodeError:
-        header = None
-    if not isinstance(header, dict) or header.get("format") != FORMAT:
-        raise BadRecording(
-            f"{str(path)!r} is not a sandbox recording (no '{FORMAT}' header); give a file "
-            "written by 'sandbox run --record' or the web app's record button"
-        )
-    version = header.get("version")
-    if not isinstance(version, int) or version > VERSION:
-        raise BadRecording(
-            f"recording {str(path)!r} has format version {version}, newer than this sandbox "
-            f"reads (version {VERSION}); upgrade sandbox (pip install -U .) to replay it"
-        )
-    size = int(header["state_size"])
-    names = header["readouts"]
-    times: list[float] = []
-    states: list[list[float]] = []
-    rtimes: list[float] = []
-    rows: list[list[float]] = []
-    rframes: list[int] = []
-    events: list[dict[str, Any]] = []
-    complete = False
-    for number, line in enumerate(lines[1:], start=2):
-        try:
-            rec = json.loads(line)
-            kind = rec["k"]
-            t = float(rec["t"])
-            if kind == "frame":
-                if len(rec["s"]) != size:
-                    raise ValueError("state size")
-                states.append(rec["s"])
-                times.append(t)
-            elif kind == "readouts":
-                if len(rec["r"]) != len(names):
-                    raise ValueError("readout count")
-                rows.append([math.nan if v is None else float(v) for v in rec["r"]])
-                rtimes.append(t)
-                rframes.append(len(times) - 1)
-            elif kind == "end":
-                complete = True
-            elif kind in EVENT_KINDS:
-                events.append({**rec, "index": len(times)})
-            else:
-                raise ValueError(f"kind {kind!r}")
-        except (ValueError, KeyError, TypeError) as exc:
-            raise BadRecording(
-                f"recording {str(path)!r} is corrupted at line {number} ({exc}); use another copy"
-            ) from None
-    if not (complete and ended and not partial_tail) and not salvage:
-        last = f"t = {times[-1]:.3f} s" if times else "no frame"
+    complete = lines.ended and reader.end is not None
+    times = np.array(reader.times, dtype=float)
+    if not complete and not salvage:
+        last = f"t = {times[-1]:.3f} s" if len(times) else "no frame"
         raise BadRecording(
             f"recording {str(path)!r} is truncated (it was not closed; last complete frame "
             f"{last}); add --salvage to replay what it holds"
         )
-    if not times:
+    if not len(times):
         raise BadRecording(f"recording {str(path)!r} holds no frame; record for longer")
+    names = reader.names
     return Recording(
         path=path,
         header=header,
-        times=np.asarray(times, dtype=float),
-        states=np.asarray(states, dtype=float),
-        readout_times=np.asarray(rtimes, dtype=float),
-        readouts=np.asarray(rows, dtype=float).reshape(len(rows), len(names)),
-        readout_frames=np.asarray(rframes, dtype=int),
-        events=events,
-        complete=complete and ended and not partial_tail,
+        times=times,
+        states=np.array(reader.states, dtype=float).reshape(len(times), reader.size),
+        readout_times=np.array(reader.rtimes, dtype=float),
+        readouts=np.array(reader.rows, dtype=float).reshape(len(reader.rtimes), len(names)),
+        readout_frames=np.array(reader.rframes, dtype=int),
+        events=reader.events,
+        complete=complete,
     )
 
 
