@@ -105,7 +105,7 @@ Text $\\omega$.
         (lambda s: s.replace("## Step", "Step"), 6, "at least one step"),
         (lambda s: s.replace("show:", "shwo:"), 9, "unknown directive 'shwo'"),
         (lambda s: s.replace("mass1_g=10", "mass1_g"), 8, "NAME=VALUE"),
-        (lambda s: s.replace("< 2 *", "< __import__('os') or"), 10, "can be called"),
+        (lambda s: s.replace("< 2 *", "< os.system(1) or"), 10, "can be called"),
         (lambda s: s.replace("< 2 *", "< bearing_A.real or"), 10, "not allowed"),
         (lambda s: s.replace("$\\omega$", "$\\omegaa$"), 7, "omegaa"),
     ],

@@ -3,21 +3,43 @@
 Free exploration stays possible: every other control keeps working during a lesson, and
 "Exploration libre" leaves it. Presets go through the session's request queue like any
 slider move; the check is evaluated on the readouts the panels show.
+
+Lesson files are untrusted: titles are escaped with :func:`sandbox.web.text.plain`, step
+texts come out of :func:`sandbox.lessons.render_text` (no raw HTML), a refused file is named
+in the folder (the other lessons stay available), and a check that cannot be computed with
+the live values is reported once in the status line, in French with ``file:line``: the
+student reads "vérification impossible : … (fichier:ligne)" and is told to go on with
+"Suivant ▶" (the navigation never depends on the check).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import Protocol
 
-from sandbox.lessons import Lesson, Progress, lessons
+import viser
+
+from sandbox.lessons import Lesson, Progress, catalogue
+from sandbox.web.arrows import ArrowLayer
+from sandbox.web.panels import set_value
 from sandbox.web.plots import Plot, group_by_unit
-from sandbox.web.session import Request
+from sandbox.web.session import Controller, Request
 from sandbox.web.tables import fmt
+from sandbox.web.text import plain
 
 FREE = "Exploration libre"
 NAV = ("◀ Précédent", "Suivant ▶")
+SHOWN_ERROR = 400
+"""Longest refusal or check error shown in the folder [characters]."""
+
+
+class _Removable(Protocol):
+    def remove(self) -> None: ...
+
+
+class _Content(Protocol):
+    content: str
 
 
 class LessonPanel:
@@ -31,26 +53,32 @@ class LessonPanel:
     """
 
     def __init__(
-        self, gui: Any, controller: Any, *, lesson: str | None = None, arrows: Any = None
+        self,
+        gui: viser.GuiApi,
+        controller: Controller,
+        *,
+        lesson: str | None = None,
+        arrows: ArrowLayer | None = None,
     ) -> None:
         self.gui = gui
         self.controller = controller
         self.arrows = arrows
         sim = controller.sim
         scene = sim.scene.name if sim.scene is not None else None
+        found, refused = catalogue()
         self.available: dict[str, Lesson] = {
-            name: les for name, les in lessons().items() if scene and les.for_scene(scene)
+            name: les for name, les in found.items() if scene and les.for_scene(scene)
         }
         self.progress: Progress | None = None
         self.plots: list[Plot] = []
-        self._step_handles: list[Any] = []
+        self._step_handles: list[_Removable] = []
         self._pending: str | None = lesson if lesson in self.available else None
         self._pending_step: int | None = None
         self.folder = gui.add_folder("Leçon", expand_by_default=bool(self.available))
         with self.folder:
             titles = {FREE: FREE} | {les.title: name for name, les in self.available.items()}
             self._by_title = titles
-            start = self.available[lesson].title if self._pending else FREE
+            start = self.available[self._pending].title if self._pending else FREE
             self.picker = gui.add_dropdown("Leçon", tuple(titles), initial_value=start)
             self.header = gui.add_markdown("")
             self.nav = gui.add_button_group("Étapes", NAV, visible=False)
@@ -59,16 +87,22 @@ class LessonPanel:
             self.status = gui.add_markdown("")
             self.hint_button = gui.add_button("Indice", visible=False)
             self.hints = gui.add_markdown("")
+            self.refused = gui.add_markdown(_refusals(refused))
         if not self.available:
             self.header.content = "Aucune leçon pour ce modèle : exploration libre."
 
         @self.picker.on_update
-        def _(event: Any) -> None:
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
             if event.client is not None:
                 self._pending = self._by_title.get(event.target.value, FREE)
 
-        self.nav.on_click(lambda event: self._nav(event.target.value))
-        self.hint_button.on_click(lambda _: self._hint())
+        @self.nav.on_click
+        def _(event: viser.GuiEvent[viser.GuiButtonGroupHandle]) -> None:
+            self._nav(event.target.value)
+
+        @self.hint_button.on_click
+        def _(_: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+            self._hint()
 
     # -- callbacks (any thread): only remember what to do --------------------------------
     def _nav(self, label: str) -> None:
@@ -115,15 +149,7 @@ class LessonPanel:
         rows = [f"| {n} | {fmt(values.get(n, math.nan))} |" for n in step.show]
         table = ("| grandeur | valeur |\n|:--|--:|\n" + "\n".join(rows)) if rows else ""
         _set(self.table, table)
-        if step.check is None:
-            status = ""
-        elif ok:
-            status = f"✅ **Réussi.** {step.success}"
-        elif progress.index in progress.passed:
-            status = "✅ Étape déjà réussie ; la condition n'est plus remplie."
-        else:
-            status = f"⏳ Objectif : `{step.check.source}`"
-        _set(self.status, status)
+        _set(self.status, status_text(progress, ok))
         shown = step.hints[: progress.hints_shown]
         _set(self.hints, "\n\n".join(f"💡 {h}" for h in shown))
         self.hint_button.visible = progress.hints_shown < len(step.hints)
@@ -135,7 +161,7 @@ class LessonPanel:
         self.controller.lesson = lesson.name if lesson else None
         title = lesson.title if lesson is not None else FREE
         if self.picker.value != title and title in self._by_title:
-            self.picker.value = title  # the control tells the truth
+            set_value(self.picker, title)  # the control tells the truth
         if lesson is None:
             self.progress = None
             self.plots = []
@@ -156,13 +182,13 @@ class LessonPanel:
         step = progress.go(index)
         for name, value in step.preset:
             self.controller.submit(Request("set_value", value, name=name))
-        recorder = getattr(self.controller, "recorder", None)
+        recorder = self.controller.recorder
         if recorder is not None:
             recorder.event("lesson", step=index)
         n = len(progress.lesson.steps)
         _set(
             self.header,
-            f"**{progress.lesson.title}** — étape {index + 1}/{n} : **{step.title}**",
+            f"**{plain(progress.lesson.title)}** — étape {index + 1}/{n} : **{plain(step.title)}**",
         )
         _set(self.text, step.text)
         for handle in self._step_handles:
@@ -180,12 +206,52 @@ class LessonPanel:
                 q = self.gui.add_markdown(f"❓ {question}")
                 button = self.gui.add_button("Voir la réponse", color="gray")
                 reply = self.gui.add_markdown("")
-                button.on_click(lambda _, r=reply, a=answer: setattr(r, "content", f"➜ {a}"))
+                button.on_click(_reveal(reply, answer))
                 self._step_handles += [q, button, reply]
         if self.arrows is not None:
             self.arrows.only(step.arrows or None)
 
 
-def _set(handle: Any, content: str) -> None:
+def status_text(progress: Progress, ok: bool | None) -> str:
+    """The status line of the current step (Markdown), given the check's last result.
+
+    A check that cannot be computed is said once, with its ``file:line``, and the student
+    is told to go on: a broken check never blocks silently.
+    """
+    step = progress.step
+    if step.check is None:
+        return ""
+    if ok:
+        return f"✅ **Réussi.** {step.success}"
+    if progress.index in progress.passed:
+        return "✅ Étape déjà réussie ; la condition n'est plus remplie."
+    if progress.error is not None:
+        return (
+            f"⚠️ Vérification impossible : {plain(progress.error, SHOWN_ERROR)}. "
+            "Observez le phénomène, puis passez à la suite avec « Suivant ▶ »."
+        )
+    return f"⏳ Objectif : `{step.check.source}`"
+
+
+def _reveal(
+    reply: viser.GuiMarkdownHandle, answer: str
+) -> Callable[[viser.GuiEvent[viser.GuiButtonHandle]], None]:
+    """The click callback of a "Voir la réponse" button (the answer is rendered Markdown)."""
+
+    def show(_: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
+        reply.content = f"➜ {answer}"
+
+    return show
+
+
+def _refusals(refused: tuple[Exception, ...]) -> str:
+    """The lesson files refused at load time, for their author (one line each)."""
+    return "\n\n".join(
+        f"⚠️ Fichier de leçon refusé (à corriger par son auteur) : {plain(exc, SHOWN_ERROR)}"
+        for exc in refused
+    )
+
+
+def _set(handle: _Content, content: str) -> None:
     if handle.content != content:
         handle.content = content
