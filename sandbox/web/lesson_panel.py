@@ -22,7 +22,6 @@ import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.web.arrows import ArrowLayer
-from sandbox.web.panels import set_value
 from sandbox.web.plots import Plot, group_by_unit
 from sandbox.web.session import Controller, Request
 from sandbox.web.tables import fmt
@@ -161,7 +160,8 @@ class LessonPanel:
         self.controller.lesson = lesson.name if lesson else None
         title = lesson.title if lesson is not None else FREE
         if self.picker.value != title and title in self._by_title:
-            set_value(self.picker, title)  # the control tells the truth
+            # the control tells the truth; viser's value setter reads as read-only to mypy
+            self.picker.value = title  # type: ignore[misc]
         if lesson is None:
             self.progress = None
             self.plots = []
