@@ -14,7 +14,7 @@ import math
 import platform
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -424,8 +424,64 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
     return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}
 
 
-def _from_json_number(x: object) -> object:
-    return math.inf if x == "inf" else -math.inf if x == "-inf" else math.nan if x == "nan" else x
+def _from_json_number(x: object) -> float:
+    """Inverse of :func:`_json_number` for a number that is there.
+
+    Raises:
+        TypeError, ValueError: ``x`` is neither a number nor "inf", "-inf" or "nan".
+    """
+    if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+        raise TypeError(f"expected a number, got {x!r}")
+    if isinstance(x, str) and x not in ("inf", "-inf", "nan"):
+        raise ValueError(f"expected a number, got {x!r}")
+    return float(x)
+
+
+def _run_from_json(r: object) -> Run:
+    """One run of a results.json document, each field checked against its type.
+
+    Raises:
+        KeyError: a required field is missing.
+        TypeError, ValueError: ``r`` is not an object, or a field is unknown or of the
+            wrong type.
+    """
+    if not isinstance(r, Mapping):
+        raise TypeError(f"a run must be a JSON object, got {r!r}")
+    unknown = set(r) - {f.name for f in fields(Run)}
+    if unknown:
+        raise TypeError(f"unknown run fields {sorted(unknown)!r}")
+
+    def text(key: str, default: str | None = None) -> str:
+        value = r[key] if default is None else r.get(key, default)
+        if not isinstance(value, str):
+            raise TypeError(f"run field {key!r} must be a string, got {value!r}")
+        return value
+
+    def flag(key: str) -> bool:
+        value = r.get(key, False)
+        if not isinstance(value, bool):
+            raise TypeError(f"run field {key!r} must be true or false, got {value!r}")
+        return value
+
+    def number(key: str, default: float) -> float:
+        return _from_json_number(r.get(key, default))
+
+    constraint = r.get("constraint")
+    return Run(
+        scene=text("scene"),
+        integrator=text("integrator"),
+        timestep=_from_json_number(r["timestep"]),
+        duration=_from_json_number(r["duration"]),
+        error=number("error", math.inf),
+        drift=number("drift", math.inf),
+        constraint=None if constraint is None else _from_json_number(constraint),
+        cpu_per_sim_s=number("cpu_per_sim_s", math.nan),
+        realtime_factor=number("realtime_factor", math.nan),
+        diverged=flag("diverged"),
+        detail=text("detail", ""),
+        pareto=flag("pareto"),
+        default=flag("default"),
+    )
 
 
 def scene_from_json(
@@ -436,9 +492,10 @@ def scene_from_json(
     session cost is not read back).
 
     Raises:
-        KeyError, TypeError: the entry lacks a field (an older or foreign document).
+        KeyError, TypeError, ValueError: the entry lacks a field or has one of the wrong
+            type (an older or foreign document).
     """
-    runs = [Run(**{k: _from_json_number(v) for k, v in r.items()}) for r in entry["runs"]]
+    runs = [_run_from_json(r) for r in entry["runs"]]
     res = SceneResult(
         scene,
         entry["key"],
@@ -465,7 +522,7 @@ def load_results(scene: str, path: Path | None = None) -> SceneResult | None:
     spec = SCENES.get(scene)
     try:
         return scene_from_json(scene, entry, spec.accuracy if spec else None)
-    except (KeyError, TypeError):
+    except (KeyError, TypeError, ValueError):
         return None
 
 

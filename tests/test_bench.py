@@ -205,3 +205,36 @@ def test_results_json_decodes_back_with_its_front(tmp_path, diverging_xml):
     assert load_results("osc", tmp_path / "none.json") is None
     path.write_text(json.dumps({"scenes": {"osc": {"runs": [{"nope": 1}]}}}))
     assert load_results("osc", path) is None
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        {"timestep": "fast"},
+        {"error": "big"},
+        {"error": [1.0]},
+        {"constraint": {}},
+        {"diverged": "yes"},
+        {"pareto": 1},
+        {"scene": 5},
+        {"detail": None},
+    ],
+    ids=lambda c: next(iter(c)),
+)
+def test_a_run_field_of_the_wrong_type_gives_none(tmp_path, change):
+    """A foreign results.json (a field of the wrong type) is not loaded: None, no crash,
+    where the same document with the right types loads."""
+    from sandbox.bench import SceneResult, load_results
+
+    run = Run("osc", "rk4", 1e-3, 1.0, error=1e-6, drift=0.0, cpu_per_sim_s=1.0)
+    doc = to_json([SceneResult("osc", "p", "T+V", "rk4", 1e-3, [run])], quick=True)
+    path = tmp_path / "results.json"
+    path.write_text(json.dumps(doc))
+    back = load_results("osc", path)
+    assert back is not None and back.runs[0].timestep == 1e-3 and back.runs[0].error == 1e-6
+    doc["scenes"]["osc"]["runs"][0].update(change)
+    path.write_text(json.dumps(doc))
+    assert load_results("osc", path) is None
+    doc["scenes"]["osc"]["runs"] = [3]
+    path.write_text(json.dumps(doc))
+    assert load_results("osc", path) is None

@@ -24,9 +24,19 @@ import socket
 import struct
 import sys
 import threading
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Awaitable, Callable, Mapping
+from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
+
+if TYPE_CHECKING:
+    import viser
+    from websockets.asyncio.server import ServerConnection
+    from websockets.http11 import Request, Response
+
+    ProcessRequest = Callable[
+        [ServerConnection, Request], Awaitable[Response | None] | Response | None
+    ]
+    """websockets' ``process_request`` hook (viser's serves the page over HTTP)."""
 
 log = logging.getLogger(__name__)
 
@@ -37,7 +47,7 @@ _reuse_port = False
 _aliases: set[str] = set()
 
 
-def origin_refusal(headers: Any) -> str | None:
+def origin_refusal(headers: Mapping[str, str]) -> str | None:
     """Why a handshake with these request headers is refused, or None to accept it.
 
     Only websocket upgrades are judged; plain HTTP requests (the page, its scripts)
@@ -45,7 +55,7 @@ def origin_refusal(headers: Any) -> str | None:
     the browser sent (that is how the page reached this server, through a proxy too).
 
     Args:
-        headers: The request headers (a mapping with ``get``).
+        headers: The request headers (websockets' ``Headers``, or any mapping).
     """
     if str(headers.get("Upgrade", "")).lower() != "websocket":
         return None
@@ -92,12 +102,16 @@ def install(*, reuse_port: bool | None = None) -> None:
             return
         original = ws_server.serve
 
-        def serve(handler: Any, *args: Any, **kwargs: Any) -> Any:
+        def serve(
+            handler: Callable[[ServerConnection], Awaitable[None]], *args: Any, **kwargs: Any
+        ) -> ws_server.serve:  # viser's arguments, passed through
             kwargs["process_request"] = _guarded(kwargs.get("process_request"))
             if _reuse_port:
                 kwargs["reuse_port"] = True
             return original(handler, *args, **kwargs)
 
+        # serve is a class in websockets; a function returning its instance does the same
+        # job for viser's single call (mypy sees a class replaced by a function).
         ws_server.serve = serve  # type: ignore[assignment,misc]
         _installed = True
 
@@ -109,8 +123,10 @@ def page_alias(path: str) -> None:
         _aliases.add(path.rstrip("/"))
 
 
-def _guarded(inner: Callable[..., Any] | None) -> Callable[..., Any]:
-    def process_request(connection: Any, request: Any) -> Any:
+def _guarded(inner: ProcessRequest | None) -> ProcessRequest:
+    def process_request(
+        connection: ServerConnection, request: Request
+    ) -> Awaitable[Response | None] | Response | None:
         reason = origin_refusal(request.headers)
         if reason is not None:
             log.warning("refused a websocket handshake: %s", reason)
@@ -128,17 +144,18 @@ def _guarded(inner: Callable[..., Any] | None) -> Callable[..., Any]:
     return process_request
 
 
-def request_path(server: Any, client_id: int) -> str:
+def request_path(server: viser.ViserServer, client_id: int) -> str:
     """The path the browser's websocket connected to ("" if unknown).
 
     viser keeps the handshake of each live connection; this is the only place the
     page's address reaches the server (the teacher's link is a path).
     """
-    try:
-        connection = server._websock_server._live_connections[client_id]
-        return str(connection.request.path).partition("?")[0].rstrip("/")
-    except (AttributeError, KeyError, TypeError):
+    try:  # viser's private attributes: a later viser may rename them
+        connection = server._websock_server._live_connections.get(client_id)
+    except AttributeError:
         return ""
+    request = connection.request if connection is not None else None
+    return "" if request is None else request.path.partition("?")[0].rstrip("/")
 
 
 # -- addresses students can type ---------------------------------------------------------
@@ -151,7 +168,8 @@ def lan_addresses() -> list[str]:
     found.update(_interface_addresses())
     try:
         found.update(
-            info[4][0] for info in socket.getaddrinfo(socket.gethostname(), None, socket.AF_INET)
+            str(info[4][0])  # AF_INET: (host, port)
+            for info in socket.getaddrinfo(socket.gethostname(), None, socket.AF_INET)
         )
     except OSError:
         pass
