@@ -18,10 +18,17 @@ import pytest
 
 from sandbox.mechanics import huygens
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.compressor import RPM, SCENE, fit_orders, frame_force, kinematics
+from sandbox.scenes.compressor import (
+    RPM,
+    SCENE,
+    fit_orders,
+    frame_force,
+    kinematics,
+    motor_torque,
+)
 
 NAMES = ("pilon", "pilon_ref", "tamis", "tamis_ref", "motor_torque", "motor_torque_ref",
-         "closure_error", "P_int", "P_ext", "omega")  # fmt: skip
+         "closure_error", "P_int", "P_ext", "omega", "theta")  # fmt: skip
 
 
 def _sample(sim, duration, every):
@@ -179,11 +186,66 @@ def test_orders_fit_recovers_known_amplitudes():
     assert amp[:3] == pytest.approx([3, 2, 0.5])
 
 
-def test_frame_force_peaks_at_top_dead_centre():
+# -- the closed forms against hand computations --------------------------------------------
+# Default parameters: R = 0.015, L = 0.055, d1 = 0.003, d2 = 0.02 (w = d2/L = 4/11),
+# m1 = 0.35, m2 = 0.06, m3 = 0.08, C1 = 2.2e-4, C2 = 6.5e-5, no counterweight; the crank at
+# ω = 100 rad/s speeding up at α = 1000 rad/s². Crank point at unit distance on x1:
+# Γ = −ω² x1 + α y1. Σ m d along x1 = m1 d1 = 1.05e-3 kg·m; for the rod's share of A,
+# m2 (1 − w) R = 0.06 × 7/11 × 0.015 = 5.72727e-4 kg·m (sum 1.622727e-3); the masses
+# moving with B: m2 w + m3 = 0.06 × 4/11 + 0.08 = 0.1018182 kg.
+
+
+def test_frame_force_and_motor_torque_by_hand_at_theta_0():
+    """θ = 0 (x1 = x0, y1 = y0): q = √(L² − R²) = √0.0028 = 0.0529150 m, λ_θ = R = 0.015 m,
+    λ_θθ = R²/q = 4.252100e-3 m, so λ'' = 4.252100e-3 × 1e4 + 0.015 × 1000 = 57.52100 m/s²
+    (15 of them from α). Γ(crank unit point) = (−1e4, 1000).
+    tamis = −Σ m Γx = 1.622727e-3 × 1e4 = 16.22727 N;
+    pilon = −(1.622727e-3 × 1000 + 0.1018182 × 57.52100) = −(1.622727 + 5.856684) = −7.479411 N.
+    C_mot: crank C1 α = 0.22; ∂G2/∂θ = (1 − w) R y1 + w λ_θ y0 = (0, 0.015);
+    Γ(G2)·y0 = (7/11)(0.015)(1000) + (4/11)(57.52100) = 9.545455 + 20.91673 = 30.46218;
+    m2 × 30.46218 × 0.015 = 0.02741596; m3 λ'' λ_θ = 0.08 × 57.52100 × 0.015 = 0.06902520;
+    the rod's spin term I_G2 φ'' φ_θ is 0 (φ_θ = −R sin θ/(L cos φ) = 0):
+    C_mot = 0.22 + 0.02741596 + 0.06902520 = 0.3164412 N·m."""
     v = SCENE.defaults()
-    w = 3000 * RPM
-    f_tdc = frame_force(math.pi / 2, w, v)
-    assert abs(f_tdc[1]) > abs(frame_force(0.0, w, v)[1])
+    assert frame_force(0.0, 100.0, v, alpha=1000.0) == pytest.approx(
+        [16.22727, -7.479411], rel=1e-6
+    )
+    assert motor_torque(0.0, 100.0, v, alpha=1000.0) == pytest.approx(0.3164412, rel=1e-6)
+    # at constant speed the θ'' parts vanish: pilon −0.1018182 × 42.52100 = −4.329411 N
+    assert frame_force(0.0, 100.0, v)[1] == pytest.approx(-4.329411, rel=1e-6)
+
+
+def test_frame_force_and_motor_torque_by_hand_at_top_dead_centre():
+    """θ = π/2 (x1 = y0, y1 = −x0): λ_θ = 0, λ'' = −(R + R²/L) ω² = −190.9091 m/s² (no α
+    term); φ = 0, φ_θ = −R/L = −3/11, φ'' = φ_θ α. Γ(crank unit point) = (−α, −ω²).
+    tamis = α × 1.622727e-3 = 1.622727 N (α alone: 0 at constant speed);
+    pilon = ω² [1.622727e-3 + 0.1018182 × R (1 + R/L)] = 1e4 × (1.622727e-3 + 1.943802e-3)
+    = 35.66529 N, the course's peak. C_mot is the inertia the motor sees at TDC times α:
+    ∂G2/∂θ = −(1 − w) R x0, so m2 Γ(G2)·∂G2/∂θ = m2 (1 − w)² R² α = 5.466942e-6 α;
+    I_G2 = C2 − m2 d2² = 4.1e-5, I_G2 φ'' φ_θ = 4.1e-5 × 9/121 α = 3.049587e-6 α; the
+    piston has λ_θ = 0: C_mot = (2.2e-4 + 5.466942e-6 + 3.049587e-6) × 1000 = 0.2285165."""
+    v = SCENE.defaults()
+    top = math.pi / 2
+    assert frame_force(top, 100.0, v, alpha=1000.0) == pytest.approx([1.622727, 35.66529], rel=1e-6)
+    assert motor_torque(top, 100.0, v, alpha=1000.0) == pytest.approx(0.2285165, rel=1e-6)
+    assert motor_torque(top, 100.0, v) == pytest.approx(0.0, abs=1e-15)
+    assert abs(frame_force(top, 100.0, v)[1]) > abs(frame_force(0.0, 100.0, v)[1])
+
+
+@pytest.mark.parametrize("values", [{}, {"counterweight_mass": 0.1}, {"speed_rpm": 17000.0}])
+def test_references_follow_a_speed_ramp_within_a_percent_of_the_peak(values):
+    """Start from rest, set point rising with ramp_s = 0.2 s (0.05 s at 17,000 rpm), every
+    step for 1 s: pilon_ref, tamis_ref and motor_torque_ref (exact slider-crank with the
+    θ'' terms) match the simulation within 1 % of each one's peak (measured 1.5e-4 to
+    3.3e-4). The constant-speed formulas miss the motor torque by 19 to 29 % of its peak."""
+    values = {"ramp_s": 0.05 if values.get("speed_rpm") else 0.2, **values}
+    sim = Simulation("compressor", values=values)
+    s = _sample(sim, 1.0, sim.timestep)
+    for name in ("pilon", "tamis", "motor_torque"):
+        assert _peak_error(s, name) < 1e-2, name
+    steady = [motor_torque(th, w, sim.values) for th, w in zip(s["theta"], s["omega"], strict=True)]
+    assert np.max(np.abs(s["motor_torque"] - steady)) > 0.15 * np.max(np.abs(s["motor_torque"]))
+    assert s["omega"][-1] == pytest.approx(sim.values["speed_rpm"] * RPM, rel=1e-2)
 
 
 def test_rod_shorter_than_crank_is_refused():
