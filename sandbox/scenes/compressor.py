@@ -10,8 +10,8 @@ Closed forms: λ = R sin θ + √(L² − R² cos² θ); every centre of mass mo
 curve, so the force the moving parts transmit to the frame is −Σ m_i Γ(G_i), and the
 kinetic-energy theorem gives the motor torque C_mot ω = dT/dt (course, constant ω). The
 readouts' references use the exact slider-crank at the current θ, θ' and θ'' (the
-simulated crank acceleration): during a ramp (ramp_s = 0.2 s) the θ'' terms reach 27 % of the torque's
-peak, and the constant-speed formulas would blame the simulation for them.
+simulated crank acceleration): during a ramp (ramp_s = 0.2 s) the θ'' terms reach 27 % of
+the torque's peak, and the constant-speed formulas would blame the simulation for them.
 """
 
 from __future__ import annotations
