@@ -4,10 +4,17 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.rotor import SCENE, balancing_solution, mass_properties, reference
+from sandbox.scenes.rotor import (
+    SCENE,
+    balancing_solution,
+    bearing_split,
+    mass_properties,
+    reference,
+)
 
 KEYS = ("F_rot", "M_rot", "bearing_A", "bearing_B", "static_unbalance", "products_EF", "omega")
 
@@ -33,6 +40,42 @@ def test_rotating_torsor_matches_course_within_half_percent(values):
     ref = reference(sim.values)
     for key in KEYS:
         assert got[key] == pytest.approx(ref[key], rel=5e-3), key
+
+
+def test_bearing_split_by_hand():
+    """Frame's action R = (7, 10, −4) N, M_O = (3, 1.5, 3) N·m; bearings A at x = −a and B
+    at x = +a, a = 0.15 m, carrying forces across the axis x only.
+    Resultant: F_A + F_B = (0, 10, −4) (the axial 7 N goes to A's ball joint's axial stop
+    and is not a bearing force across the axis).
+    Moment at O: OA ∧ F_A + OB ∧ F_B with x ∧ (0, Fy, Fz) = (0, −Fz, Fy) x:
+    a (0, F_Az − F_Bz, F_By − F_Ay) = (0, 1.5, 3) (the axial 3 N·m is the motor's), so
+    F_Az − F_Bz = 10 and F_By − F_Ay = 20. With F_Ay + F_By = 10 and F_Az + F_Bz = −4:
+    F_A = (0, −5, 3) N, F_B = (0, 15, −7) N."""
+    f_a, f_b = bearing_split(np.array([7.0, 10.0, -4.0]), np.array([3.0, 1.5, 3.0]))
+    assert f_a == pytest.approx([0.0, -5.0, 3.0], abs=1e-12)
+    assert f_b == pytest.approx([0.0, 15.0, -7.0], abs=1e-12)
+
+
+def test_bearing_split_of_a_force_off_centre_is_the_lever_rule():
+    """A rotating force F = 10 N along y0 applied at x = 0.05 m (M_O = 0.05 x0 ∧ 10 y0 =
+    0.5 z0 N·m): lever rule on the span 2a = 0.3 m, F_A = 10 × (0.15 − 0.05)/0.3 = 3.333 N
+    and F_B = 10 × (0.15 + 0.05)/0.3 = 6.667 N, both along y0."""
+    f_a, f_b = bearing_split(np.array([0.0, 10.0, 0.0]), np.array([0.0, 0.0, 0.5]))
+    assert f_a == pytest.approx([0.0, 10.0 / 3.0, 0.0], abs=1e-12)
+    assert f_b == pytest.approx([0.0, 20.0 / 3.0, 0.0], abs=1e-12)
+
+
+def test_bearing_forces_of_two_point_masses_by_hand():
+    """Disk square to the axis (skew 0): only the point masses unbalance the rotor, both at
+    angle 0 (along y1). ω = 1500 rpm = 157.0796 rad/s, ω² = 24674.01 s⁻². Defect 20 g at
+    80 mm, x = 0: m r ω² = 0.0016 × 24674.01 = 39.4784 N; correction 30 g at 50 mm in plane
+    x = −0.12 m: 0.0015 × 24674.01 = 37.0110 N. Lever rule on A (x = −0.15) and B (x = +0.15):
+    F_A = 39.4784 × 0.15/0.30 + 37.0110 × 0.27/0.30 = 19.7392 + 33.3099 = 53.0491 N,
+    F_B = 19.7392 + 37.0110 × 0.03/0.30 = 23.4403 N (simulated, within 0.5 %)."""
+    sim = _settled({"skew_deg": 0.0, "mass1_g": 30.0, "angle1_deg": 0.0})
+    got = sim.readouts(["bearing_A", "bearing_B"])
+    assert got["bearing_A"] == pytest.approx(53.0491, rel=5e-3)
+    assert got["bearing_B"] == pytest.approx(23.4403, rel=5e-3)
 
 
 def test_bearing_forces_scale_with_speed_squared():
