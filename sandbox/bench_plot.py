@@ -1,12 +1,25 @@
-"""Work-precision charts (PNG) of ``sandbox bench``: error against cost, log-log."""
+"""Work-precision charts (PNG) of ``sandbox bench``: error against cost, log-log.
+
+Charts are matplotlib :class:`~matplotlib.figure.Figure` objects on their own Agg
+canvas (no pyplot: no global figure list, no backend switch), and every drawing holds
+:data:`LOCK`: matplotlib's text layout and mathtext parser keep module-level state that
+two threads drawing at once corrupt (a web server draws from several sessions).
+"""
 
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from sandbox.bench import Run, SceneResult
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+LOCK = threading.RLock()
+"""Held while a chart is drawn or saved (reentrant: a caller may draw then save)."""
 
 COLORS = {
     "euler": "#d62728",
@@ -23,24 +36,34 @@ def _ok(r: Run) -> bool:
 
 def plot_scene(res: SceneResult, path: Path) -> Path:
     """Write the chart of :func:`draw` as a PNG."""
-    import matplotlib.pyplot as plt
-
-    fig = draw(res)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    with LOCK:
+        fig = draw(res)
+        fig.savefig(path, dpi=150)
     return path
 
 
-def draw(res: SceneResult, live: Run | None = None) -> Any:
+def new_figure(width: float, height: float) -> Figure:
+    """A figure of ``width`` x ``height`` inches on its own Agg canvas (no pyplot)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height))
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def draw(res: SceneResult, live: Run | None = None) -> Figure:
     """Error of the key quantity vs CPU cost: one curve per integrator (small to large
     timestep), the Pareto front as a thick grey band, the default as a star, and the
-    live setting of a web session as a black diamond. Returns the matplotlib figure."""
-    import matplotlib
+    live setting of a web session as a black diamond. Returns the matplotlib figure
+    (drawn under :data:`LOCK`; hold it too to save or render the figure)."""
+    with LOCK:
+        return _draw(res, live)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8, 5.4))
+def _draw(res: SceneResult, live: Run | None) -> Figure:
+    fig = new_figure(8, 5.4)
+    ax = fig.add_subplot()
     floor = 1e-16
     by_integrator: dict[str, list[Run]] = {}
     for r in res.runs:

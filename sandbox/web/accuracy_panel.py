@@ -9,12 +9,13 @@ import threading
 from collections import deque
 from collections.abc import Mapping
 from concurrent.futures import Future
-from typing import Any
 
 import numpy as np
+import viser
 
 from sandbox.bench import Run, SceneResult, load_results
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
 from sandbox.web import charts
 from sandbox.web.tables import fmt
 
@@ -36,32 +37,26 @@ CHART_DPI = 60
 def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
     """The scene's chart without the live point, drawn once per process, and the map
     from (log10 cost, log10 error) to pixels: ``(ax, bx, ay, by, x0, x1, y0, y1)``."""
-    with _BASES_LOCK:
+    with _BASES_LOCK, charts.LOCK:
         key = (res.scene, len(res.runs))  # every session loads its own copy
         cached = _BASES.get(key)
         if cached is not None:
             return cached
-        import io
-
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.image
-        import matplotlib.pyplot as plt
-
         from sandbox.bench_plot import draw
 
-        fig = draw(res, None)
+        fig = draw(res, None)  # a Figure on its own Agg canvas: no pyplot state
         fig.set_dpi(CHART_DPI)
-        buffer = io.BytesIO()
-        fig.savefig(buffer, format="png", dpi=CHART_DPI)
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = fig.canvas
+        assert isinstance(canvas, FigureCanvasAgg)
+        canvas.draw()
+        rgba = np.asarray(canvas.buffer_rgba())
+        image = np.ascontiguousarray(rgba[..., :3])
         axes = fig.axes[0]
         height = fig.bbox.height
         (px0, py0), (px1, py1) = axes.transData.transform([(1.0, 1.0), (10.0, 10.0)])
         box = axes.get_window_extent()
-        plt.close(fig)
-        buffer.seek(0)
-        image = (matplotlib.image.imread(buffer, format="png")[..., :3] * 255).astype(np.uint8)
         mapping = (
             float(px0),
             float(px1 - px0),
@@ -103,8 +98,8 @@ class AccuracyPanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: Any, sim: Simulation) -> None:
-        scene = sim.scene
+    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+        scene = as_scene(sim.scene)
         self.acc = scene.accuracy if scene is not None else None
         self.results = load_results(scene.name) if scene is not None else None
         self.samples: deque[dict[str, float]] = deque(maxlen=WINDOW)
@@ -182,7 +177,7 @@ class AccuracyPanel:
                 self.image.image = drawing.result()
             except Exception:  # a chart is a bonus: the table stays
                 log.exception("work-precision chart failed")
-        if self._drawing is not None or not math.isfinite(cost):
+        if self._drawing is not None or not math.isfinite(cost) or self.results is None:
             return
         point = (sim.integrator, sim.timestep, _round(cost), _round(error))
         changed = self._charted is None or point[:2] != self._charted[:2]

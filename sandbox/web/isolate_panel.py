@@ -3,14 +3,18 @@ when the course isolates the piston, the crank or the rod and writes the PFD."""
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
 
 import mujoco
 import numpy as np
+import viser
 
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+from sandbox.web.panels import set_value
 from sandbox.web.tables import fmt
+from sandbox.web.text import MAX_SHOWN, plain
 
 
 class IsolatePanel:
@@ -21,35 +25,54 @@ class IsolatePanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: Any, sim: Simulation) -> None:
-        names = dict(sim.scene.extra.get("solid_names", {})) if sim.scene else {}
+    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+        scene = as_scene(sim.scene)
+        given = scene.extra.get("solid_names") if scene else None
+        names = {str(k): str(v) for k, v in given.items()} if isinstance(given, Mapping) else {}
         self.names = names
         self.choices: dict[str, str] = {}
         for body in isolate.solids(sim.model):
             raw = mujoco.mj_id2name(sim.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"corps {body}"
-            self.choices[str(names.get(raw, raw))] = raw
-        self.text = None
-        self.folder: Any = None
+            # Options are shown as text by the browser (never as HTML); a body name from
+            # a file is only made one line and cut to a readable length.
+            shown = _one_line(str(names.get(raw, raw)))
+            while shown in self.choices:  # two bodies whose names agree once cut
+                shown += "′"
+            self.choices[shown] = raw
+        self.text: viser.GuiMarkdownHandle | None = None
+        self.folder: viser.GuiFolderHandle | None = None
+        self.refused: str | None = None  # the last value refused (shown in the panel)
         if not self.choices:
             return
         with gui.add_folder("Isoler un solide") as self.folder:
             self.picker = gui.add_dropdown("Solide", tuple(self.choices))
             self.text = gui.add_markdown("")
+        self._good = self.picker.value
 
     def _label(self, text: str) -> str:
         for raw, shown in self.names.items():
             text = text.replace(raw, str(shown))
         return text
 
+    def chosen(self) -> str:
+        """The MJCF name of the solid picked; a value that is not an option (only a crafted
+        message sends one) is refused once: the picker goes back to the last good choice."""
+        value = self.picker.value
+        if isinstance(value, str) and value in self.choices:
+            self._good = value
+            return self.choices[value]
+        self.refused = value if isinstance(value, str) else repr(value)
+        set_value(self.picker, self._good)
+        return self.choices[self._good]
+
     def refresh(self, sim: Simulation) -> None:
         """Recompute at the current state (the caller holds the panel rate)."""
         if self.text is None:
             return
         model = sim.model
+        name = self.chosen()
         with sim.lock:
-            body = mujoco.mj_name2id(
-                model, mujoco.mjtObj.mjOBJ_BODY, self.choices[self.picker.value]
-            )
+            body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
             if body < 0:
                 return
             sim.snapshot(("sup_R_x", "dyn_R_x"))
@@ -58,7 +81,7 @@ class IsolatePanel:
                 "|:--|--:|--:|--:|--:|"]  # fmt: skip
         d = pfd.dynamic
         for a in [*pfd.actions, d]:
-            label = "**{𝒟} (PFD : somme des actions)**" if a is d else self._label(a.label)
+            label = "**{𝒟} (PFD : somme des actions)**" if a is d else plain(self._label(a.label))
             rows.append(
                 f"| {label} | {fmt(a.resultant[0])} | {fmt(a.resultant[1])} | "
                 f"{fmt(a.moment[2])} | {fmt(float(np.linalg.norm(a.moment)))} |"
@@ -69,5 +92,14 @@ class IsolatePanel:
             + "\n".join(rows)
             + f"\n\nÉcart PFD (Σ actions − {{𝒟}}) : {fmt(pfd.residual, digits=2)} relatif."
         )
+        if self.refused is not None:
+            text = f"*Solide « {plain(self.refused, 40)} » inconnu : choix refusé.*\n\n" + text
+            self.refused = None
         if self.text.content != text:
             self.text.content = text
+
+
+def _one_line(text: str) -> str:
+    """``text`` on one line, at most :data:`~sandbox.web.text.MAX_SHOWN` characters."""
+    text = "".join(c if c.isprintable() else " " for c in text)
+    return text if len(text) <= MAX_SHOWN else text[: MAX_SHOWN - 1] + "…"

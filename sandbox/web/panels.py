@@ -12,12 +12,14 @@ from typing import Any
 
 import mujoco
 import numpy as np
+import viser
 
-from sandbox.physics.model import INTEGRATORS
+from sandbox.physics.model import INTEGRATORS, MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import Param
+from sandbox.scenes.base import Param, as_scene
 from sandbox.web import tables
-from sandbox.web.session import SPEEDS, Controller, Request
+from sandbox.web.session import SPEEDS, Controller, Request, max_timestep
+from sandbox.web.text import plain
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
 COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
@@ -29,13 +31,29 @@ RECORD_BUSY = ("■ Arrêter l'enregistrement",)
 RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
 
 
-def _on_user(handle: Any, action: Callable[[Any], None]) -> None:
+def _on_user(handle: viser.GuiInputHandle[Any], action: Callable[[Any], None]) -> None:
     """Run ``action(value)`` when the user (not the server) changes ``handle``."""
 
     @handle.on_update
-    def _(event: Any) -> None:
+    def _(event: viser.GuiEvent[Any]) -> None:
         if event.client is not None:
             action(event.target.value)
+
+
+def set_value(handle: viser.GuiInputHandle[Any], value: object) -> None:
+    """Show ``value`` in an input (sent to the browser).
+
+    viser declares ``value`` as a property on one base class and as a plain field on
+    the props class it also inherits, which mypy reads as read-only: assigned here once.
+    """
+    handle.value = value  # type: ignore[misc]
+
+
+def command(kinds: dict[str, str], label: object) -> Request:
+    """The request of a button labelled ``label`` (a browser may send any label: an
+    unknown one becomes a request that the loop refuses once, in French)."""
+    kind = kinds.get(label) if isinstance(label, str) else None
+    return Request(kind) if kind is not None else Request("button", label)
 
 
 def param_label(p: Param) -> str:
@@ -50,8 +68,9 @@ def param_step(p: Param) -> float:
 
 def hypotheses(sim: Simulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
-    if sim.scene is not None:
-        return sim.scene.effects.hypotheses()
+    scene = as_scene(sim.scene)
+    if scene is not None:
+        return tuple(scene.effects.hypotheses())
     flags = int(sim.model.opt.disableflags)
     dsbl = mujoco.mjtDisableBit
     g = float(np.linalg.norm(sim.model.opt.gravity))
@@ -78,22 +97,24 @@ class ControlPanel:
         controller: The session's controller (requests go to its queue).
     """
 
-    def __init__(self, gui: Any, controller: Controller) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
         self.controller = controller
         self._shown: dict[str, float] = {}
+        self._refusals = 0
         sim = controller.sim
+        scene = as_scene(sim.scene)
         submit = controller.submit
         with gui.add_folder("Alerte", visible=False) as self.alert:
             self.alert_text = gui.add_markdown("")
             reset2 = gui.add_button("Réinitialiser", color="red")
         reset2.on_click(lambda _: submit(Request("reset")))
         with gui.add_folder("Simulation"):
-            self.title = gui.add_markdown(f"**{sim.scene.title if sim.scene else sim.label}**")
+            self.title = gui.add_markdown(f"**{plain(scene.title if scene else sim.label)}**")
             self.status = gui.add_markdown("")
             self.commands = gui.add_button_group(
                 "Temps", COMMANDS_PLAYING, hint="Pause/Lecture, un pas dt, état initial"
             )
-            self.commands.on_click(lambda event: submit(Request(COMMAND_KINDS[event.target.value])))
+            self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
             self.speed = gui.add_slider(
                 "Vitesse ×",
                 min=SPEEDS[0],
@@ -111,7 +132,7 @@ class ControlPanel:
                 "dt [s]",
                 initial_value=sim.timestep,
                 step=1e-5,
-                hint="Pas de temps de l'intégrateur (≤ 0,1 s)",
+                hint=f"Pas de temps (de {MIN_TIMESTEP:g} s à {max_timestep(sim):g} s)",
             )
             _on_user(self.timestep, lambda v: submit(Request("timestep", v)))
             self.record = gui.add_button_group(
@@ -119,11 +140,11 @@ class ControlPanel:
                 RECORD_IDLE,
                 hint="Enregistre la séance pour « sandbox replay » (fichier .sbx)",
             )
-            self.record.on_click(lambda event: submit(Request(RECORD_KINDS[event.target.value])))
-        self.sliders: dict[str, Any] = {}
-        if sim.scene is not None and sim.scene.params:
+            self.record.on_click(lambda event: submit(command(RECORD_KINDS, event.target.value)))
+        self.sliders: dict[str, viser.GuiSliderHandle[float]] = {}
+        if scene is not None and scene.params:
             with gui.add_folder("Paramètres"):
-                for p in sim.scene.params:
+                for p in scene.params:
                     slider = gui.add_slider(
                         param_label(p),
                         min=p.min,
@@ -141,12 +162,18 @@ class ControlPanel:
         """Status line and play/pause label."""
         ctl = self.controller
         state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
-        self.status.content = (
-            f"t = {ctl.sim.data.time:.3f} s · vitesse ×{ctl.speed:g} · **{state}**"
-        )
-        recording = getattr(ctl, "recorder", None) is not None
-        if recording:
-            self.status.content += f" · ● enregistrement ({ctl.recorder.frames} images)"
+        status = f"t = {ctl.sim.data.time:.3f} s · vitesse ×{ctl.speed:g} · **{state}**"
+        if ctl.playing and not ctl.diverged and ctl.slowed():
+            status += " · plus lent que le temps réel (pas de temps trop petit pour ce poste)"
+        recorder = ctl.recorder
+        recording = recorder is not None
+        if recorder is not None:
+            status += f" · ● enregistrement ({recorder.frames} images)"
+        if self.status.content != status:
+            self.status.content = status
+        if ctl.refusals != self._refusals:  # a refused value: the controls show the real ones
+            self._refusals = ctl.refusals
+            self.sync()
         if recording != self._recording:
             self.record.options = RECORD_BUSY if recording else RECORD_IDLE
             self._recording = recording
@@ -167,20 +194,20 @@ class ControlPanel:
             if value is not None and self._shown.get(name) != value:
                 self._shown[name] = value
                 if slider.value != value:
-                    slider.value = value
+                    set_value(slider, value)
         if self._shown.get("<dt>") != sim.timestep:
             self._shown["<dt>"] = sim.timestep
             if self.timestep.value != sim.timestep:
-                self.timestep.value = sim.timestep
+                set_value(self.timestep, sim.timestep)
 
     def sync(self) -> None:
         """Put every control back to the simulation's actual values (after a refusal)."""
         sim = self.controller.sim
         for name, slider in self.sliders.items():
-            slider.value = sim.values[name]
-        self.speed.value = self.controller.speed
-        self.integrator.value = _known(sim.integrator)
-        self.timestep.value = sim.timestep
+            set_value(slider, sim.values[name])
+        set_value(self.speed, self.controller.speed)
+        set_value(self.integrator, _known(sim.integrator))
+        set_value(self.timestep, sim.timestep)
 
 
 def _known(name: str) -> str:
@@ -194,7 +221,7 @@ def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], Non
 class HypothesesPanel:
     """Folder "Hypothèses de modélisation": effects simulated and numerical method."""
 
-    def __init__(self, gui: Any, sim: Simulation) -> None:
+    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
         self.sim = sim
         with gui.add_folder("Hypothèses de modélisation") as self.folder:
             self.text = gui.add_markdown(self._content())

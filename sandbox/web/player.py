@@ -16,10 +16,27 @@ from typing import Any
 import numpy as np
 import viser
 
+from sandbox.errors import SandboxError
 from sandbox.recording import Recording, set_state
 from sandbox.replay import open_simulation
+from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
-from sandbox.web.session import SPEEDS, Notice, Request, Session, _number, pending
+from sandbox.web.panels import command, set_value
+from sandbox.web.session import (
+    SPEEDS,
+    Notice,
+    Refused,
+    Request,
+    Session,
+    _number,
+    check_speed,
+    french_message,
+    merged,
+    pending,
+    shown_value,
+    step_count,
+)
+from sandbox.web.text import plain
 from sandbox.web.view import WebView
 
 
@@ -58,11 +75,21 @@ class ReplayController:
         """Apply requests, move along the timeline, load the frame's state."""
         now = self.clock() if now is None else now
         notices: list[Notice] = []
-        for request in pending(self.requests):
+        for request in merged(list(pending(self.requests))):
             try:
                 self._apply(request)
-            except Exception as exc:  # a bad value never stops the replay
-                notices.append(Notice("error", "Valeur refusée", str(exc)))
+            except SandboxError as exc:  # a bad value never stops the replay
+                notice = Notice("error", "Valeur refusée", french_message(exc))
+                if notice not in notices:
+                    notices.append(notice)
+            except Exception as exc:
+                notice = Notice(
+                    "error",
+                    "Erreur interne",
+                    f"La commande « {shown_value(request.kind)} » a échoué ({type(exc).__name__}).",
+                )
+                if notice not in notices:
+                    notices.append(notice)
         if self.playing:
             self.position += (now - self._last) * self.speed
             if self.position >= self.timeline[-1]:
@@ -79,17 +106,18 @@ class ReplayController:
             if self.playing and self.index >= len(self.rec.times) - 1:
                 self._seek_index(0)
         elif kind == "step":
+            back = isinstance(value, int | float) and not isinstance(value, bool) and value < 0
+            count = step_count(-value if back else value)
             self.playing = False
-            self._seek_index(self.index + int(value or 1))
+            self._seek_index(self.index - count if back else self.index + count)
         elif kind == "seek":
-            self._seek_index(self._index_at(_number(value, "time")))
+            self._seek_index(self._index_at(_number(value, "Temps")))
         elif kind == "speed":
-            speed = _number(value, "speed")
-            if not SPEEDS[0] <= speed <= SPEEDS[1]:
-                raise ValueError(f"speed {value!r} is out of range; allowed: 0.1 to 4")
-            self.speed = speed
+            self.speed = check_speed(value)
         else:
-            raise ValueError(f"a replay cannot {kind!r}; use the timeline")
+            raise Refused(
+                f"Une relecture ne peut pas « {shown_value(kind)} » : utilisez la ligne de temps."
+            )
 
     # -- timeline ------------------------------------------------------------------------
     def _index_at(self, t: float) -> int:
@@ -124,17 +152,19 @@ class ReplayPanel:
 
     COMMANDS = ("Lecture/Pause", "◀ image", "image ▶", "Début")
 
-    def __init__(self, gui: Any, controller: ReplayController) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: ReplayController) -> None:
         self.controller = controller
         rec = controller.rec
         submit = controller.submit
         t1 = float(controller.timeline[-1])
         step = t1 / max(len(rec.times) - 1, 1) or 0.01
         with gui.add_folder("Relecture"):
+            # The header comes from a file students exchange: shown as text, never HTML.
             lesson = rec.header.get("lesson")
             self.title = gui.add_markdown(
-                f"**{rec.header.get('target')}** · enregistré le {rec.header.get('created')}"
-                + (f" · leçon {lesson}" if lesson else "")
+                f"**{plain(rec.header.get('target'))}** · enregistré le "
+                f"{plain(rec.header.get('created'))}"
+                + (f" · leçon {plain(lesson)}" if lesson else "")
             )
             self.status = gui.add_markdown("")
             self.commands = gui.add_button_group("Commandes", self.COMMANDS)
@@ -145,31 +175,37 @@ class ReplayPanel:
             self.speed = gui.add_slider(
                 "Vitesse ×", min=SPEEDS[0], max=SPEEDS[1], step=0.1, initial_value=1.0
             )
-        self.params = None
-        if controller.sim.scene is not None and controller.sim.scene.params:
+        self.params: viser.GuiMarkdownHandle | None = None
+        scene = as_scene(controller.sim.scene)
+        self.scene_params = scene.params if scene is not None else ()
+        if self.scene_params:
             with gui.add_folder("Paramètres enregistrés"):
                 self.params = gui.add_markdown("")
 
         @self.time.on_update
-        def _(event: Any) -> None:
+        def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
             if event.client is not None:
                 submit(Request("seek", event.target.value))
 
         @self.speed.on_update
-        def _(event: Any) -> None:
+        def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
             if event.client is not None:
                 submit(Request("speed", event.target.value))
 
-    def _command(self, label: str) -> None:
-        submit = self.controller.submit
-        if label == "Lecture/Pause":
-            submit(Request("toggle"))
-        elif label == "◀ image":
-            submit(Request("step", -1))
-        elif label == "image ▶":
-            submit(Request("step", 1))
-        else:
-            submit(Request("seek", 0.0))
+    COMMAND_KINDS = {
+        "Lecture/Pause": "toggle",
+        "◀ image": "back",
+        "image ▶": "step",
+        "Début": "start",
+    }
+
+    def _command(self, label: object) -> None:
+        request = command(self.COMMAND_KINDS, label)
+        if request.kind == "back":
+            request = Request("step", -1)
+        elif request.kind == "start":
+            request = Request("seek", 0.0)
+        self.controller.submit(request)
 
     def refresh(self) -> None:
         """Follow the timeline (the scrubber moves while playing)."""
@@ -181,11 +217,14 @@ class ReplayPanel:
             f"t = {t:.3f} s · {pos:.2f} s / {float(ctl.timeline[-1]):.2f} s lus · image "
             f"{ctl.index + 1}/{len(ctl.rec.times)} · ×{ctl.speed:g} · **{state}**"
         )
-        if abs(self.time.value - pos) > 1e-9:
-            self.time.value = pos
+        if not abs(self.time.value - pos) <= 1e-9:  # also a NaN a browser sent
+            set_value(self.time, pos)
         if self.params is not None:
             sim = ctl.sim
-            rows = [f"| {p.name} | {sim.values[p.name]:g} {p.unit} |" for p in sim.scene.params]
+            rows = [
+                f"| {plain(p.name)} | {sim.values[p.name]:g} {plain(p.unit)} |"
+                for p in self.scene_params
+            ]
             content = "| paramètre | valeur |\n|:--|--:|\n" + "\n".join(rows)
             if self.params.content != content:
                 self.params.content = content

@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Mapping, Sequence
-from typing import Any
 
 import numpy as np
+import viser
+from viser import uplot
 
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
 """Line colours when a readout has no arrow colour of its own."""
@@ -50,8 +51,8 @@ class Plot:
         self.window = window
         self.t: deque[float] = deque(maxlen=maxlen)
         self.y: list[deque[float]] = [deque(maxlen=maxlen) for _ in self.names]
-        self.handle: Any = None
-        self._sent_scales: dict[str, Any] | None = None
+        self.handle: viser.GuiUplotHandle | None = None
+        self._sent_scales: dict[str, uplot.Scale] | None = None
 
     def append(self, values: Mapping[str, float]) -> None:
         """Add one sample (needs ``time`` and every name); time going back clears the plot."""
@@ -80,16 +81,16 @@ class Plot:
             return (t, *(np.zeros(2) for _ in self.names))
         return (np.array(self.t), *(np.array(s) for s in self.y))
 
-    def series(self) -> tuple[dict[str, Any], ...]:
+    def series(self) -> tuple[uplot.Series, ...]:
         """uPlot series options: time first, then one coloured line per readout."""
-        out: list[dict[str, Any]] = [{"label": "t [s]"}]
+        out: list[uplot.Series] = [uplot.Series(label="t [s]")]
         for name, (r, g, b) in zip(self.names, self.colors, strict=True):
             out.append(
-                {"label": f"{name} [{self.unit}]", "stroke": f"rgb({r},{g},{b})", "width": 2}
+                uplot.Series(label=f"{name} [{self.unit}]", stroke=f"rgb({r},{g},{b})", width=2)
             )
         return tuple(out)
 
-    def attach(self, gui: Any, *, title: str) -> None:
+    def attach(self, gui: viser.GuiApi, *, title: str) -> None:
         """Create the chart in ``gui`` (a viser ``GuiApi``)."""
         self._sent_scales = self.scales()
         self.handle = gui.add_uplot(
@@ -97,7 +98,7 @@ class Plot:
             series=self.series(),
             title=title,
             scales=self._sent_scales or self.scales(),
-            axes=({"label": "t [s]"}, {"label": self.unit, "size": 60}),
+            axes=(uplot.Axis(label="t [s]"), uplot.Axis(label=self.unit, size=60)),
             aspect=1.6,
         )
 
@@ -110,9 +111,9 @@ class Plot:
         pad = 0.1 * (hi - lo) or 1.0
         return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
 
-    def scales(self) -> dict[str, Any]:
+    def scales(self) -> dict[str, uplot.Scale]:
         """uPlot scales: linear time axis and :meth:`y_range`."""
-        return {"x": {"time": False}, "y": {"auto": False, "range": self.y_range()}}
+        return {"x": uplot.Scale(time=False), "y": uplot.Scale(auto=False, range=self.y_range())}
 
     def push(self) -> None:
         """Send the current samples, and the vertical range when it changed.

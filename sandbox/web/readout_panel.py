@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
 
 import mujoco
 import numpy as np
+import viser
 
 from sandbox.physics.readouts import GENERIC_NAMES
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
 from sandbox.web import tables
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.panels import set_value
 from sandbox.web.plots import Plot, group_by_unit
 
 POINT_O = "O (origine)"
@@ -45,15 +47,17 @@ class ReadoutPanel:
         arrows: The arrow layer, whose origins are offered as reduction points.
     """
 
-    def __init__(self, gui: Any, sim: Simulation, *, arrows: ArrowLayer | None = None) -> None:
+    def __init__(
+        self, gui: viser.GuiApi, sim: Simulation, *, arrows: ArrowLayer | None = None
+    ) -> None:
         self.arrows = arrows
-        scene = sim.scene
+        scene = as_scene(sim.scene)
         infos = {i.name: i for i in sim.readout_infos()}
         self.scene_rows = [(r.name, r.unit, r.doc) for r in scene.readouts] if scene else []
-        self._ref_key: tuple | None = None
+        self._ref_key: tuple[tuple[str, float], ...] | None = None
         self._ref: dict[str, float] = {}
-        self.scene_text = None
-        self.folders: dict[str, Any] = {}
+        self.scene_text: viser.GuiMarkdownHandle | None = None
+        self.folders: dict[str, viser.GuiFolderHandle] = {}
         if self.scene_rows:
             with gui.add_folder(SCENE_FOLDER) as self.folders[SCENE_FOLDER]:
                 self.scene_text = gui.add_markdown("")
@@ -85,8 +89,8 @@ class ReadoutPanel:
                 hint="Coordonnées de P dans R0 (choisir P saisi)",
             )
             bases = [BASIS_0]
-            if self.body > 0:
-                bases.append(f"B1 ({scene.body_frame})")  # type: ignore[union-attr]
+            if self.body > 0 and scene is not None:
+                bases.append(f"B1 ({scene.body_frame})")
             self.basis = gui.add_dropdown(
                 "Base",
                 tuple(bases),
@@ -102,7 +106,14 @@ class ReadoutPanel:
         """Reduction point in world coordinates [m] and its short name."""
         choice = self.point.value
         if choice == POINT_P:
-            return np.asarray(self.point_xyz.value, dtype=float), "P"
+            try:
+                xyz = np.asarray(self.point_xyz.value, dtype=float)
+            except (TypeError, ValueError):
+                xyz = np.zeros(0)
+            if xyz.shape == (3,) and np.isfinite(xyz).all() and np.abs(xyz).max() < 1e6:
+                return xyz, "P"
+            set_value(self.point_xyz, (0.0, 0.0, 0.0))  # a crafted point: back to O
+            return np.zeros(3), "P"
         if self.arrows is not None:
             for arrow, origin in zip(self.arrows.arrows, self.arrows.origins, strict=True):
                 if arrow.label == choice:
@@ -174,6 +185,6 @@ class ReadoutPanel:
             _set(self.energy_text, tables.energy_markdown(values))
 
 
-def _set(handle: Any, content: str) -> None:
+def _set(handle: viser.GuiMarkdownHandle, content: str) -> None:
     if handle.content != content:
         handle.content = content

@@ -13,6 +13,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+import viser
 
 _T = mujoco.mjtGeom
 KINDS: dict[int, str] = {
@@ -197,18 +198,22 @@ def capsule_mesh(
     return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32)
 
 
-def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
+def add_node(
+    scene: viser.SceneApi, model: mujoco.MjModel, shape: GeomShape
+) -> viser.SceneNodeHandle:
     """Create the viser node of one geom in ``scene`` (a viser ``SceneApi``)."""
     color, opacity, name = shape.rgb255, shape.opacity, shape.name
     common: dict[str, Any] = {"opacity": opacity} if opacity is not None else {}
     if shape.moving:
         common.update(position=shape.local[:3], wxyz=shape.local[3:])
     if shape.kind == "box":
-        return scene.add_box(name, color=color, dimensions=shape.size, **common)
+        return scene.add_box(name, color=color, dimensions=_triple(shape.size), **common)
     if shape.kind == "sphere":
         return scene.add_icosphere(name, radius=shape.size[0], color=color, **common)
     if shape.kind == "ellipsoid":
-        return scene.add_icosphere(name, radius=1.0, color=color, scale=shape.size, **common)
+        return scene.add_icosphere(
+            name, radius=1.0, color=color, scale=_triple(shape.size), **common
+        )
     if shape.kind == "cylinder":
         r, h = shape.size
         return scene.add_cylinder(name, radius=r, height=h, color=color, **common)
@@ -234,6 +239,11 @@ def add_node(scene: Any, model: mujoco.MjModel, shape: GeomShape) -> Any:
     raise ValueError(f"cannot draw geom kind {shape.kind!r}")
 
 
+def _triple(size: tuple[float, ...]) -> tuple[float, float, float]:
+    x, y, z = size
+    return (x, y, z)
+
+
 class SceneRenderer:
     """Keeps one client's scene nodes in step with a model and its data.
 
@@ -245,12 +255,12 @@ class SceneRenderer:
         prefix: Scene-tree folder of the nodes.
     """
 
-    def __init__(self, scene: Any, *, prefix: str = "/model") -> None:
+    def __init__(self, scene: viser.SceneApi, *, prefix: str = "/model") -> None:
         self.scene = scene
         self.prefix = prefix
         self.model: mujoco.MjModel | None = None
-        self.nodes: dict[int, tuple[GeomShape, Any]] = {}
-        self.bodies: dict[int, Any] = {}
+        self.nodes: dict[int, tuple[GeomShape, viser.SceneNodeHandle]] = {}
+        self.bodies: dict[int, viser.FrameHandle] = {}
 
     def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Rebuild changed nodes when the model object changed, then pose the moving bodies."""

@@ -20,8 +20,10 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from sandbox.errors import Diverged, SandboxError
+from sandbox.physics.model import INTEGRATORS, MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder
+from sandbox.scenes.base import as_scene
 
 log = logging.getLogger(__name__)
 
@@ -43,6 +45,26 @@ ALIVE_CHECK = 0.5
 
 SPEEDS = (0.1, 4.0)
 """Allowed speed factors (slowest, fastest)."""
+
+STEP_BUDGET = 0.005
+"""CPU seconds of stepping one frame may spend (5 ms: 30 % of a core at 60 frames/s).
+A timestep too small for real time on this machine then makes the motion run slower
+than real time (the status line says so) instead of taking a whole core."""
+
+MAX_FRAME_STEPS = 5000
+"""Most timesteps one frame runs, whatever the measured cost (the budget before any
+measure, and a bound the clock cannot move)."""
+
+MAX_STEP_REQUEST = 1000
+"""Most timesteps one "Pas" request may ask for."""
+
+MAX_REQUESTS = 64
+"""Requests applied in one frame once repeated settings are merged (the last value of a
+slider, the timestep, the speed or the integrator wins); the rest are dropped."""
+
+NOTICE_QUIET = 5.0
+"""Seconds a message must stay away before it is shown again: a value refused on every
+frame, or a failure that repeats, is shown once."""
 
 
 @dataclass(frozen=True)
@@ -121,6 +143,10 @@ class View(Protocol):
         """Show a message to the user."""
 
 
+class Refused(SandboxError):
+    """A value or command from the browser that the session refuses (French message)."""
+
+
 class Controller:
     """The simulation of one session and the requests waiting for it.
 
@@ -145,11 +171,15 @@ class Controller:
         self._readouts_t = -math.inf
         self.step_cpu = 0.0  # CPU seconds spent stepping (this thread), decayed
         self.step_sim = 0.0  # simulated seconds stepped, decayed alike
+        self.step_count = 0.0  # timesteps run, decayed alike
         self.requests: queue.Queue[Request] = queue.Queue()
-        self.playing = not (sim.scene is not None and sim.scene.start_paused)
+        scene = as_scene(sim.scene)
+        self.playing = not (scene is not None and scene.start_paused)
         self.speed = 1.0
         self.diverged: str | None = None
         self.generation = 0  # bumped on reset: plots restart
+        self.refusals = 0  # requests refused so far (the panels then show the real values)
+        self.slow_until = -math.inf  # wall clock until which the status says "slower"
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -234,20 +264,42 @@ class Controller:
             rec.close()
 
     def drain(self, now: float | None = None) -> list[Notice]:
-        """Apply every queued request; a refused one becomes an ``error`` notice."""
+        """Apply the queued requests; a refused one becomes one French ``error`` notice.
+
+        Repeated settings are merged first (only the last value of each slider, of the
+        speed, timestep and integrator is applied), at most :data:`MAX_REQUESTS` are
+        applied, and identical notices are given once.
+        """
         now = self.clock() if now is None else now
         notices: list[Notice] = []
-        for request in pending(self.requests):
+        requests = merged(list(pending(self.requests)))
+        if len(requests) > MAX_REQUESTS:
+            dropped = len(requests) - MAX_REQUESTS
+            requests = requests[:MAX_REQUESTS]
+            self.refusals += 1
+            notices.append(
+                Notice(
+                    "error", "Trop de commandes", f"{dropped} commandes ignorées : une à la fois."
+                )
+            )
+        for request in requests:
             try:
                 notice = self._apply(request)
             except Diverged as exc:
                 notice = self._diverge(exc)
             except SandboxError as exc:
-                notice = Notice("error", "Valeur refusée", str(exc))
+                self.refusals += 1
+                notice = Notice("error", "Valeur refusée", french_message(exc))
             except Exception as exc:  # a bug must not kill the session
-                log.exception("request %r failed", request)
-                notice = Notice("error", "Erreur interne", f"{type(exc).__name__}: {exc}")
-            if notice is not None:
+                self.refusals += 1
+                log.warning("request %s failed: %s: %s", request.kind, type(exc).__name__, exc)
+                notice = Notice(
+                    "error",
+                    "Erreur interne",
+                    f"La commande « {shown_value(request.kind)} » a échoué "
+                    f"({type(exc).__name__}) ; rien n'a été modifié.",
+                )
+            if notice is not None and notice not in notices:
                 notices.append(notice)
             self._resync(now)
         return notices
@@ -263,30 +315,61 @@ class Controller:
             self._resync(now)
             return []
         dt = self.sim.timestep
+        if not (math.isfinite(dt) and dt > 0):  # e.g. a file with timestep="0"
+            self.playing = False
+            self.refusals += 1
+            return [Notice("error", "Pas de temps invalide", _timestep_range(self.sim, dt))]
         target = self._sync_sim + (now - self._sync_wall) * self.speed
         behind = target - float(self.sim.data.time)
         if behind < -MAX_LAG * self.speed:
             self._resync(now)
             return []
-        steps = int(behind / dt) if behind > 0 else 0
-        cap = max(1, int(math.ceil(MAX_LAG * self.speed / dt)))
-        n = min(steps, cap)
+        steps = int(min(behind / dt, 1e9)) if behind > 0 else 0
+        cap = max(1, int(math.ceil(min(MAX_LAG * self.speed / dt, 1e9))))
+        budget = self.frame_steps()
+        n = min(steps, cap, budget)
         start = time.thread_time()
         try:
             self.sim.step(n)
         except Diverged as exc:
             return [self._diverge(exc)]
+        except Exception as exc:  # stepping again would fail again: pause, say it once
+            self.playing = False
+            log.warning("stepping failed: %s: %s", type(exc).__name__, exc)
+            return [
+                Notice(
+                    "error",
+                    "Calcul impossible",
+                    f"Le calcul du mouvement a échoué ({type(exc).__name__}) : simulation "
+                    "en pause. Changez le réglage puis cliquez sur « Réinitialiser ».",
+                )
+            ]
         finally:
-            self._count(time.thread_time() - start, n * dt)
-        if steps > cap:
+            self._count(time.thread_time() - start, n * dt, n)
+        if n < steps <= cap:  # the budget, not a stall, held it back
+            self.slow_until = now + 1.0
+        if steps > n:
             self._resync(now)
         return []
 
-    def _count(self, cpu: float, simulated: float) -> None:
+    def frame_steps(self) -> int:
+        """Timesteps one frame may run: :data:`STEP_BUDGET` at the measured cost of a
+        step, at most :data:`MAX_FRAME_STEPS`."""
+        if self.step_count > 0 and self.step_cpu > 0:
+            per_step = self.step_cpu / self.step_count
+            return max(1, min(MAX_FRAME_STEPS, int(STEP_BUDGET / per_step)))
+        return MAX_FRAME_STEPS
+
+    def slowed(self, now: float | None = None) -> bool:
+        """True while the step budget keeps the motion slower than real time × speed."""
+        return (self.clock() if now is None else now) < self.slow_until
+
+    def _count(self, cpu: float, simulated: float, steps: int = 0) -> None:
         """Keep a running cost of stepping (the last few seconds weigh most)."""
         keep = 0.98
         self.step_cpu = keep * self.step_cpu + cpu
         self.step_sim = keep * self.step_sim + simulated
+        self.step_count = keep * self.step_count + steps
 
     @property
     def cost(self) -> float:
@@ -324,35 +407,33 @@ class Controller:
         if kind == "step":
             if self.diverged:
                 return _reset_first()
+            count = step_count(value)
             self.playing = False
-            sim.step(max(1, int(value or 1)))
+            sim.step(count)
             return None
         if kind == "speed":
-            speed = _number(value, "speed")
-            if not SPEEDS[0] <= speed <= SPEEDS[1]:
-                raise _bad(
-                    f"speed {value!r} is out of range; allowed: {SPEEDS[0]:g} to {SPEEDS[1]:g}"
-                )
-            self.speed = speed
+            self.speed = check_speed(value)
             return None
         if kind == "set_value":
-            sim.set_value(request.name, value)
+            sim.set_value(request.name, check_value(sim, request.name, value))
             return None
         if kind == "record":
             path = self.start_recording()
             return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path}")
         if kind == "stop_record":
-            path = self.stop_recording()
-            if path is None:
+            closed = self.stop_recording()
+            if closed is None:
                 return None
-            return Notice("file", "Enregistrement terminé", str(path))
+            return Notice("file", "Enregistrement terminé", str(closed))
         if kind == "integrator":
-            sim.set_integrator(str(value))
+            sim.set_integrator(check_integrator(value))
             return None
         if kind == "timestep":
-            sim.set_timestep(_number(value, "timestep"))
+            sim.set_timestep(check_timestep(sim, value))
             return None
-        raise _bad(f"unknown request {kind!r}")
+        if kind == "button":  # a label no button has (only a crafted message sends it)
+            raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
+        raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
 
 
 def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
@@ -364,24 +445,146 @@ def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
             return
 
 
+def merged(requests: list[Request]) -> list[Request]:
+    """``requests`` with repeated settings merged: of several values of one slider, of
+    the speed, the timestep or the integrator, only the last is kept (at its place)."""
+    settings = ("set_value", "speed", "timestep", "integrator", "seek")
+    last = {(r.kind, r.name): i for i, r in enumerate(requests) if r.kind in settings}
+    return [
+        r for i, r in enumerate(requests) if r.kind not in settings or last[(r.kind, r.name)] == i
+    ]
+
+
 def _reset_first() -> Notice:
     return Notice("error", "Simulation divergée", "Réinitialisez d'abord la simulation.")
 
 
-def _bad(message: str) -> SandboxError:
-    from sandbox.errors import BadOption
+def shown_value(value: object, limit: int = 40) -> str:
+    """A short, one-line picture of a value from a browser (it may be 1 MB long)."""
+    text = value if isinstance(value, str) else repr(value)
+    text = "".join(c if c.isprintable() else " " for c in text[: limit + 1])
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
-    return BadOption(message)
+
+def french_number(x: float) -> str:
+    """``x`` with 3 significant digits and a decimal comma (``0,001``, ``1e-06``)."""
+    return f"{x:.3g}".replace(".", ",")
 
 
-def _number(value: Any, what: str) -> float:
+def _number(value: object, what: str) -> float:
+    """``value`` as a finite float (numbers and numeric strings; not bool or None).
+
+    Raises:
+        Refused: naming ``what``.
+    """
+    if isinstance(value, bool) or value is None:
+        raise Refused(f"{what} : un nombre est attendu, reçu « {shown_value(value)} ».")
+    if isinstance(value, str) and len(value) > 64:
+        raise Refused(f"{what} : un nombre est attendu, reçu « {shown_value(value)} ».")
     try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise _bad(f"{what} needs a number, got {value!r}") from None
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError, OverflowError):
+        raise Refused(f"{what} : un nombre est attendu, reçu « {shown_value(value)} ».") from None
     if not math.isfinite(number):
-        raise _bad(f"{what} needs a finite number, got {value!r}")
+        raise Refused(f"{what} : un nombre fini est attendu, reçu « {shown_value(value)} ».")
     return number
+
+
+def max_timestep(sim: Simulation) -> float:
+    """Largest timestep [s] the simulation accepts (the scene's own bound, if any)."""
+    scene = as_scene(sim.scene)
+    return min(MAX_TIMESTEP, scene.max_timestep) if scene is not None else MAX_TIMESTEP
+
+
+def _timestep_range(sim: Simulation, value: object) -> str:
+    shown = french_number(value) if isinstance(value, float) else shown_value(value)
+    return (
+        f"Pas de temps dt = {shown} s refusé : choisissez un pas entre "
+        f"{french_number(MIN_TIMESTEP)} s et {french_number(max_timestep(sim))} s."
+    )
+
+
+def check_timestep(sim: Simulation, value: object) -> float:
+    """A timestep [s] typed in the browser, between :data:`MIN_TIMESTEP` and the scene's
+    maximum (Refused, giving the range, otherwise)."""
+    try:
+        dt = _number(value, "Pas de temps")
+    except Refused:
+        raise Refused(_timestep_range(sim, value)) from None
+    if not MIN_TIMESTEP <= dt <= max_timestep(sim):
+        raise Refused(_timestep_range(sim, dt))
+    return dt
+
+
+def check_speed(value: object) -> float:
+    """A speed factor within :data:`SPEEDS` (Refused otherwise)."""
+    low, high = SPEEDS
+    refusal = (
+        f"Vitesse ×{shown_value(value)} refusée : choisissez entre ×{french_number(low)} "
+        f"et ×{french_number(high)}."
+    )
+    try:
+        speed = _number(value, "Vitesse")
+    except Refused:
+        raise Refused(refusal) from None
+    if not low <= speed <= high:
+        raise Refused(refusal)
+    return speed
+
+
+def check_integrator(value: object) -> str:
+    """An integrator name (Refused listing the valid ones otherwise)."""
+    if not isinstance(value, str) or value not in INTEGRATORS:
+        raise Refused(
+            f"Intégrateur « {shown_value(value)} » inconnu : choisissez parmi "
+            f"{', '.join(INTEGRATORS)}."
+        )
+    return value
+
+
+def check_value(sim: Simulation, name: object, value: object) -> float:
+    """A parameter value within its range (French refusals: unknown name, not a number,
+    out of range)."""
+    scene = as_scene(sim.scene)
+    known = {p.name: p for p in scene.params} if scene is not None else {}
+    if not isinstance(name, str) or name not in known:
+        where = f"parmi {', '.join(known)}" if known else "aucun pour un fichier MJCF"
+        raise Refused(f"Paramètre « {shown_value(name)} » inconnu ({where}).")
+    p = known[name]
+    unit = f" {p.unit}" if p.unit else ""
+    refusal = (
+        f"{p.name} = {shown_value(value)} refusé : choisissez entre {french_number(p.min)} et "
+        f"{french_number(p.max)}{unit}."
+    )
+    try:
+        number = _number(value, p.name)
+    except Refused:
+        raise Refused(refusal) from None
+    if not p.min <= number <= p.max:
+        raise Refused(refusal)
+    return number
+
+
+def step_count(value: object) -> int:
+    """Timesteps asked by a "Pas" request: 1 by default, at most :data:`MAX_STEP_REQUEST`."""
+    if value is None:
+        return 1
+    refusal = f"Nombre de pas « {shown_value(value)} » refusé : entre 1 et {MAX_STEP_REQUEST}."
+    try:
+        number = _number(value, "Pas")
+    except Refused:
+        raise Refused(refusal) from None
+    if number != int(number) or not 1 <= number <= MAX_STEP_REQUEST:
+        raise Refused(refusal)
+    return int(number)
+
+
+def french_message(exc: SandboxError) -> str:
+    """The message of a refusal for a French page (a :class:`Refused` is French already;
+    an English one from a lower layer gets a French lead)."""
+    if isinstance(exc, Refused):
+        return str(exc)
+    return f"Modification refusée, rien n'a changé : {shown_value(str(exc), 300)}"
 
 
 class Session:
@@ -421,6 +624,8 @@ class Session:
         self._closed = threading.Lock()
         self._recording_closed = False
         self._next_check = 0.0
+        self._seen: dict[tuple[str, str, str], float] = {}  # error notices: last seen
+        self._faults: dict[tuple[str, str, str], float] = {}  # frame failures: last seen
 
     def start(self) -> None:
         """Hand the session to the scheduler: its frames start at once."""
@@ -436,6 +641,8 @@ class Session:
         """Drop the session, wait for a frame in progress, then close any recording."""
         self.request_stop()
         if self._started and not self.scheduler.in_loop():
+            if not self.scheduler.threaded:
+                self.scheduler.run_due()  # the caller runs the frames: drop it now
             self._ended.wait(timeout)
         self._close_recording()
 
@@ -467,17 +674,54 @@ class Session:
         now = ctl.clock() if now is None else now
         try:
             frame = self.build_frame(now)
-            for notice in frame.notices:
-                self.view.notify(notice)
+        except Exception as exc:  # keep serving: the user sees the problem, once
+            self._fault(exc, now, "frame")
+            return
+        for notice in frame.notices:
+            self.notify(notice, now)
+        try:
             self.view.render(frame)
-        except Exception as exc:  # keep serving: the user sees the problem
-            if self._stop.is_set():
+        except Exception as exc:
+            self._fault(exc, now, "render")
+
+    def notify(self, notice: Notice, now: float) -> None:
+        """Show ``notice`` unless the same error was seen less than :data:`NOTICE_QUIET`
+        seconds ago (a value refused on every frame is shown once)."""
+        if notice.level in ("error", "diverged"):
+            key = (notice.level, notice.title, notice.text)
+            last = self._seen.get(key)
+            self._seen[key] = now
+            if len(self._seen) > 64:  # forget the quiet ones
+                self._seen = {k: t for k, t in self._seen.items() if now - t < NOTICE_QUIET}
+            if last is not None and now - last < NOTICE_QUIET:
                 return
-            log.exception("session frame failed")
-            try:
-                self.view.notify(Notice("error", "Erreur interne", f"{type(exc).__name__}: {exc}"))
-            except Exception:
-                pass
+        try:
+            self.view.notify(notice)
+        except Exception as exc:  # the browser may be gone
+            if not self._stop.is_set():
+                log.warning("cannot show a message: %s: %s", type(exc).__name__, exc)
+
+    def _fault(self, exc: Exception, now: float, where: str) -> None:
+        """A failed frame: logged (with its traceback) and shown once while it repeats."""
+        if self._stop.is_set():
+            return
+        if isinstance(exc, SandboxError):
+            notice = Notice("error", "Valeur refusée", french_message(exc))
+        else:
+            key = (where, type(exc).__name__, str(exc)[:200])
+            last = self._faults.get(key)
+            self._faults[key] = now
+            if len(self._faults) > 64:
+                self._faults = {k: t for k, t in self._faults.items() if now - t < NOTICE_QUIET}
+            if last is None or now - last >= NOTICE_QUIET:
+                log.error("session %s failed", where, exc_info=exc)
+            notice = Notice(
+                "error",
+                "Erreur interne",
+                f"L'image n'a pas pu être calculée ({type(exc).__name__}) ; la simulation "
+                "continue. Si cela se répète, signalez-le à l'enseignant.",
+            )
+        self.notify(notice, now)
 
     def build_frame(self, now: float) -> Frame:
         """Step (when driving), then compute once the readouts that the view and the
@@ -543,12 +787,21 @@ class Scheduler:
     sixty times a second spend more time handing the interpreter lock to each other
     than drawing. When the frames cost more than the machine has, every session slows
     down evenly (each is served in turn), and none starves.
+
+    Args:
+        clock: Wall clock [s] (monotonic) deciding when frames are due.
+        threaded: Run the frames in the scheduler's own thread; False leaves it to
+            :meth:`run_due` (tests drive it with a fake clock, without sleeping).
     """
 
     _shared: Scheduler | None = None
     _shared_lock = threading.Lock()
 
-    def __init__(self) -> None:
+    def __init__(
+        self, *, clock: Callable[[], float] = time.perf_counter, threaded: bool = True
+    ) -> None:
+        self.clock = clock
+        self.threaded = threaded
         self._cond = threading.Condition()
         self._heap: list[tuple[float, int, Session]] = []
         self._seq = 0
@@ -566,7 +819,9 @@ class Scheduler:
         """Run ``session``'s frames from now on."""
         with self._cond:
             self._seq += 1
-            heapq.heappush(self._heap, (time.perf_counter(), self._seq, session))
+            heapq.heappush(self._heap, (self.clock(), self._seq, session))
+            if not self.threaded:
+                return
             if self._thread is None or not self._thread.is_alive():
                 self._thread = threading.Thread(
                     target=self._run, name="sandbox-sessions", daemon=True
@@ -593,6 +848,19 @@ class Scheduler:
         with self._cond:
             return len(self._heap)
 
+    def run_due(self) -> int:
+        """Run, in the calling thread, every frame due by :attr:`clock` (each session at
+        most once); returns how many ran. For a scheduler made with ``threaded=False``."""
+        ran = 0
+        with self._cond:
+            due_now = []
+            while self._heap and self._heap[0][0] <= self.clock():
+                due_now.append(heapq.heappop(self._heap))
+        for due, seq, session in due_now:
+            self._serve(due, seq, session)
+            ran += 1
+        return ran
+
     def _run(self) -> None:
         while True:
             with self._cond:
@@ -603,26 +871,30 @@ class Scheduler:
                             return
                         continue
                     due, seq, session = self._heap[0]
-                    delay = due - time.perf_counter()
+                    delay = due - self.clock()
                     if delay <= 0:
                         heapq.heappop(self._heap)
                         break
                     self._cond.wait(delay)
-            now = time.perf_counter()
-            try:
-                keep = session._turn(now)
-            except Exception:  # never lose the loop to one session
-                log.exception("session turn failed")
-                keep = True
-            if not keep:
-                session._end()
-                continue
-            after = time.perf_counter()
-            following = due + session.period
-            if following < after:  # late: fresh schedule, behind those already waiting
-                following = after
-            with self._cond:
-                heapq.heappush(self._heap, (following, seq, session))
+            self._serve(due, seq, session)
+
+    def _serve(self, due: float, seq: int, session: Session) -> None:
+        """One turn of ``session``, then its next frame is due one period later."""
+        now = self.clock()
+        try:
+            keep = session._turn(now)
+        except Exception:  # never lose the loop to one session
+            log.exception("session turn failed")
+            keep = True
+        if not keep:
+            session._end()
+            return
+        after = self.clock()
+        following = due + session.period
+        if following < after:  # late: fresh schedule, behind those already waiting
+            following = after
+        with self._cond:
+            heapq.heappush(self._heap, (following, seq, session))
 
 
 def _records(ctl: Any) -> bool:

@@ -3,7 +3,8 @@
 Values come from :meth:`Simulation.readouts`; torsors are moved to the chosen point
 and basis with :class:`sandbox.mechanics.Torsor` (the web layer computes no physics).
 Each simulated value sits in ``<span data-readout="NAME">`` so that tests and
-scripts can find it in the page.
+scripts can find it in the page. Names, units, docs and labels are escaped
+(:func:`~sandbox.web.text.html_text`): a user's file may name a body ``<img onerror=…>``.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
+from sandbox.web.text import html_text
 
 
 def fmt(value: float, *, digits: int = 4, floor: float = 0.0) -> str:
@@ -32,7 +34,7 @@ def fmt(value: float, *, digits: int = 4, floor: float = 0.0) -> str:
 
 
 def _span(name: str, text: str) -> str:
-    return f'<span data-readout="{name}">{text}</span>'
+    return f'<span data-readout="{html_text(name)}">{text}</span>'
 
 
 @dataclass(frozen=True)
@@ -63,8 +65,8 @@ TORSORS = (
 
 def torsor_at_o(values: Mapping[str, float], prefix: str) -> Torsor:
     """The generic torsor ``prefix`` (readouts at O, world axes) as a :class:`Torsor`."""
-    r = [values[f"{prefix}_R_{c}"] for c in "xyz"]
-    m = [values[f"{prefix}_M_{c}"] for c in "xyz"]
+    r = np.array([values[f"{prefix}_R_{c}"] for c in "xyz"], dtype=float)
+    m = np.array([values[f"{prefix}_M_{c}"] for c in "xyz"], dtype=float)
     return Torsor(r, m, np.zeros(3))
 
 
@@ -112,6 +114,7 @@ def torsors_markdown(
         axes: Axis names of the basis.
     """
     p = ", ".join(fmt(float(x), digits=3, floor=1e-12) for x in point)
+    point_name, basis_name = html_text(point_name, 40), html_text(basis_name, 40)
     out = [f"Réduits en **{point_name}** = ({p}) m, composantes dans **{basis_name}**.\n"]
     for spec in TORSORS:
         t = torsor_at_o(values, spec.prefix).at(point)
@@ -178,8 +181,8 @@ def scene_markdown(
     for name, unit, doc in rows:
         v = values.get(name, math.nan)
         ref = reference.get(name)
-        unit_text = f" [{unit}]" if unit else ""
-        label = f'<span title="{doc}">{name}</span>{unit_text}'
+        unit_text = f" [{html_text(unit)}]" if unit else ""
+        label = f'<span title="{html_text(doc)}">{html_text(name)}</span>{unit_text}'
         lines.append(
             f"| {label} | {_span(name, fmt(v))} | {fmt(ref) if ref is not None else '—'} | "
             f"{gap(v, ref) if ref is not None else '—'} |"
@@ -190,6 +193,8 @@ def scene_markdown(
 
 def hypotheses_markdown(lines: Sequence[str], *, integrator: str, timestep: float) -> str:
     """Bulleted modelling hypotheses followed by the numerical method."""
-    items = [f"- {line}" for line in lines]
-    items.append(f"- Intégrateur **{integrator}**, pas de temps dt = {fmt(timestep * 1e3)} ms")
+    items = [f"- {html_text(line)}" for line in lines]
+    items.append(
+        f"- Intégrateur **{html_text(integrator)}**, pas de temps dt = {fmt(timestep * 1e3)} ms"
+    )
     return "\n".join(items)
