@@ -172,6 +172,12 @@ _COMPARE = {
 }  # fmt: skip
 _ARITHMETIC = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
 _FUNCTIONS = ("abs", "min", "max", "initial")
+_NAMED: dict[type, str] = {
+    ast.Attribute: "'.' (attribute access)", ast.Starred: "'*' (unpacking)",
+    ast.FloorDiv: "'//'", ast.IfExp: "'if ... else'", ast.Invert: "'~'",
+    ast.BitAnd: "'&'", ast.BitOr: "'|'", ast.BitXor: "'^'", ast.LShift: "'<<'",
+    ast.RShift: "'>>'", ast.Subscript: "indexing",
+}  # fmt: skip
 
 
 class CheckError(ArithmeticError):
@@ -197,7 +203,7 @@ def _arity(node: ast.Call, name: str) -> None:
         raise _refuse(f"{name}() takes no keyword arguments; write {name}(a, b)")
     if name == "initial":
         if n != 1 or not isinstance(node.args[0], ast.Name):
-            raise _refuse("initial() takes one readout name, e.g. initial(bearing_A)")
+            raise _refuse("initial() takes one readout name; write e.g. initial(bearing_A)")
     elif name == "abs":
         if n != 1:
             raise _refuse(f"abs() takes one number, got {n}; write abs(x)")
@@ -217,19 +223,21 @@ def _typed(node: ast.AST, depth: int, count: list[int]) -> bool:
 
     def number(child: ast.AST, what: str) -> None:
         if _typed(child, depth + 1, count):
-            raise _refuse(f"{what} needs a number, not a condition")
+            raise _refuse(f"{what} needs a number, not a condition; compare numbers, e.g. x < 1")
 
     def condition(child: ast.AST, what: str) -> None:
         if not _typed(child, depth + 1, count):
-            raise _refuse(f"{what} combines conditions (comparisons), not numbers")
+            raise _refuse(
+                f"{what} combines conditions, not numbers; compare the numbers first, e.g. x < 1"
+            )
 
     if isinstance(node, ast.Constant):
         value = node.value
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise _refuse(f"only numbers are allowed, not {value!r}")
+            raise _refuse(f"only numbers are allowed, not {value!r}; write a number such as 0.5")
         if abs(value) > MAX_LITERAL or not math.isfinite(value):
             raise _refuse(
-                f"the number {value!r} is too large; numbers stay within ±{MAX_LITERAL:g}"
+                f"the number {float(value):.6g} is too large; write numbers within ±{MAX_LITERAL:g}"
             )
         return False
     if isinstance(node, ast.Name):
@@ -253,21 +261,21 @@ def _typed(node: ast.AST, depth: int, count: list[int]) -> bool:
         return False
     elif isinstance(node, ast.Compare):
         if not all(type(op) in _COMPARE for op in node.ops):
-            raise _refuse("only <, <=, >, >=, == and != compare numbers")
+            raise _refuse("use <, <=, >, >=, == or != to compare numbers")
         for part in (node.left, *node.comparators):
             number(part, "a comparison")
         return True
     elif isinstance(node, ast.Call):
         fn = node.func
         if not isinstance(fn, ast.Name) or fn.id not in _FUNCTIONS:
-            raise _refuse("only abs, min, max and initial(name) can be called")
+            raise _refuse("only abs, min, max and initial(name) can be called; use one of them")
         _arity(node, fn.id)
         if fn.id != "initial":
             for arg in node.args:
                 number(arg, f"{fn.id}()")
         return False
-    what = type(node.op).__name__ if isinstance(node, (ast.BinOp, ast.UnaryOp)) else None
-    what = what or type(node).__name__
+    kind = type(node.op) if isinstance(node, (ast.BinOp, ast.UnaryOp)) else type(node)
+    what = _NAMED.get(kind, kind.__name__)
     raise _refuse(
         f"{what} is not allowed in a check; use numbers, readout names, + - * / **, "
         "comparisons, and/or/not, abs, min, max, initial(name)"
@@ -312,7 +320,9 @@ def compile_check(source: str, where: str = "") -> Check:
         ValueError: what is wrong and how to write it (SyntaxError for bad syntax).
     """
     if len(source) > MAX_CHECK_CHARS:
-        raise _refuse(f"{len(source)} characters; a check has at most {MAX_CHECK_CHARS}")
+        raise _refuse(
+            f"{len(source)} characters; a check has at most {MAX_CHECK_CHARS}: shorten it"
+        )
     if not source.strip():
         raise _refuse("empty condition; write e.g. 'x < 0.5 * initial(x)'")
     bad = _CHECK_CHARS.sub("", source)
@@ -327,7 +337,7 @@ def compile_check(source: str, where: str = "") -> Check:
     except SyntaxError as exc:
         raise _refuse(f"invalid syntax ({exc.msg}); write e.g. 'x < 0.5 * initial(x)'") from None
     if not _typed(tree.body, 0, [0]):
-        raise _refuse("a check is a condition such as 'x < 0.5 * initial(x)', not a number")
+        raise _refuse("a check is a condition, not a number; write e.g. 'x < 0.5 * initial(x)'")
     for node in ast.walk(tree.body):
         try:
             if isinstance(node, (ast.BinOp, ast.UnaryOp, ast.Call)) and _constant(node):
@@ -339,7 +349,9 @@ def compile_check(source: str, where: str = "") -> Check:
                 if isinstance(node.op, ast.Pow):
                     _power(1.0, right)
         except CheckError as exc:
-            raise _refuse(f"{ast.unparse(node)!r}: {exc}") from None
+            raise _refuse(
+                f"{ast.unparse(node)!r} cannot be computed: {exc}; change the numbers written"
+            ) from None
     names: set[str] = set()
     initial: set[str] = set()
     _reads(tree.body, names, initial)
@@ -789,7 +801,6 @@ def catalogue() -> Catalogue:
             lesson = parse(path)
             validate(lesson)
         except BadLesson as exc:
-            log.warning("lesson file refused: %s", exc)
             errors.append(exc)
             continue
         found.append(lesson)

@@ -14,6 +14,7 @@ student reads "vérification impossible : … (fichier:ligne)" and is told to go
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Callable, Mapping
 from typing import Protocol
@@ -31,6 +32,9 @@ FREE = "Exploration libre"
 NAV = ("◀ Précédent", "Suivant ▶")
 SHOWN_ERROR = 400
 """Longest refusal or check error shown in the folder [characters]."""
+
+log = logging.getLogger(__name__)
+_LOGGED: set[str] = set()
 
 
 class _Removable(Protocol):
@@ -65,6 +69,10 @@ class LessonPanel:
         sim = controller.sim
         scene = sim.scene.name if sim.scene is not None else None
         found, refused = catalogue()
+        for exc in refused:
+            if str(exc) not in _LOGGED:  # once per process, for the teacher's console
+                _LOGGED.add(str(exc))
+                log.warning("lesson file refused: %s", exc)
         self.available: dict[str, Lesson] = {
             name: les for name, les in found.items() if scene and les.for_scene(scene)
         }
@@ -201,7 +209,8 @@ class LessonPanel:
                 for plot in group_by_unit(step.plots, units, {}):
                     plot.attach(self.gui, title=f"{', '.join(plot.names)} [{plot.unit}]")
                     self.plots.append(plot)
-                    self._step_handles.append(plot.handle)
+                    if plot.handle is not None:
+                        self._step_handles.append(plot.handle)
             for question, answer in step.questions:
                 q = self.gui.add_markdown(f"❓ {question}")
                 button = self.gui.add_button("Voir la réponse", color="gray")
