@@ -4,8 +4,19 @@ from __future__ import annotations
 
 import pytest
 
+from sandbox.physics.model import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
-from sandbox.web.session import MAX_LAG, Controller, Notice, Request, Session
+from sandbox.web.session import (
+    MAX_FRAME_STEPS,
+    MAX_LAG,
+    NOTICE_QUIET,
+    STEP_BUDGET,
+    Controller,
+    Notice,
+    Request,
+    Scheduler,
+    Session,
+)
 
 
 class Clock:
@@ -77,14 +88,14 @@ def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
 @pytest.mark.parametrize(
     "request_, needle",
     [
-        (Request("set_value", "abc", name="mass1_g"), "needs a number"),
-        (Request("set_value", 1e6, name="mass1_g"), "out of range"),
-        (Request("set_value", 1, name="nope"), "nope"),
-        (Request("timestep", 0), "timestep"),
-        (Request("timestep", "nan"), "finite"),
-        (Request("integrator", "leapfrog"), "rk4"),
-        (Request("speed", 100), "speed"),
-        (Request("launch_missiles"), "unknown request"),
+        (Request("set_value", "abc", name="mass1_g"), "mass1_g = abc refusé : choisissez entre"),
+        (Request("set_value", 1e6, name="mass1_g"), "mass1_g = 1000000.0 refusé"),
+        (Request("set_value", 1, name="nope"), "Paramètre « nope » inconnu (parmi "),
+        (Request("timestep", 0), "dt = 0 s refusé : choisissez un pas entre 1e-06 s et"),
+        (Request("timestep", "nan"), "dt = nan s refusé"),
+        (Request("integrator", "leapfrog"), "Intégrateur « leapfrog » inconnu : choisissez parmi"),
+        (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,1 et ×4."),
+        (Request("launch_missiles"), "Commande inconnue « launch_missiles »."),
     ],
 )
 def test_bad_requests_are_refused_with_a_message(ctl, request_, needle):
@@ -124,7 +135,21 @@ def test_divergence_pauses_with_an_explanation_and_reset_recovers(diverging_xml)
     assert _run(ctl, 0.2) == []
 
 
-def test_session_survives_a_view_that_fails():
+def _scheduled(ctl: Controller, view, fps: float = 60.0) -> tuple[Session, Scheduler]:
+    """A session on a scheduler that the test drives with the controller's fake clock."""
+    scheduler = Scheduler(clock=ctl.clock, threaded=False)
+    session = Session(ctl, view, fps=fps, scheduler=scheduler)
+    session.start()
+    return session, scheduler
+
+
+def _tick(ctl: Controller, scheduler: Scheduler, seconds: float, fps: float = 60.0) -> None:
+    for _ in range(round(seconds * fps)):
+        ctl.clock.now += 1.0 / fps
+        scheduler.run_due()
+
+
+def test_session_survives_a_view_that_fails(caplog):
     class Broken(Recorder):
         def render(self, frame):
             super().render(frame)
@@ -132,19 +157,116 @@ def test_session_survives_a_view_that_fails():
                 raise RuntimeError("boom")
 
     view = Broken()
-    session = Session(Controller(Simulation("rotor")), view, fps=200)
-    session.start()
-    try:
-        session.controller.submit(Request("set_value", "x", name="mass1_g"))
-        import time
+    ctl = Controller(Simulation("rotor"), clock=Clock())
+    session, scheduler = _scheduled(ctl, view, fps=200)
+    session.controller.submit(Request("set_value", "x", name="mass1_g"))
+    _tick(ctl, scheduler, 0.3, fps=200)
+    assert session.running and view.frames == 60
+    assert [n.title for n in view.notices] == ["Valeur refusée", "Erreur interne"]
+    assert "RuntimeError" in view.notices[1].text and "mass1_g = x refusé" in view.notices[0].text
+    assert len([r for r in caplog.records if r.levelname == "ERROR"]) == 1  # logged once
+    session.stop()
+    assert session.finished and not session.running
 
-        time.sleep(0.3)
-        assert session.running and view.frames > 5
-        texts = [n.text for n in view.notices]
-        assert any("boom" in t for t in texts) and any("needs a number" in t for t in texts)
-    finally:
-        session.stop()
-    assert not session.running
+
+def test_a_failure_on_every_frame_is_shown_and_logged_once(caplog):
+    class AlwaysBroken(Recorder):
+        def render(self, frame):
+            super().render(frame)
+            raise KeyError("Solide inconnu")
+
+    view = AlwaysBroken()
+    ctl = Controller(Simulation("rotor"), clock=Clock())
+    session, scheduler = _scheduled(ctl, view)
+    _tick(ctl, scheduler, 2.0)
+    assert view.frames == 120 and len(view.notices) == 1
+    assert view.notices[0].title == "Erreur interne" and "KeyError" in view.notices[0].text
+    assert sum(r.exc_info is not None for r in caplog.records) == 1
+    assert ctl.sim.data.time == pytest.approx(2.0, abs=0.02)  # the motion goes on
+    ctl.clock.now += NOTICE_QUIET + 1  # a failure back after a quiet spell is shown again
+    session.run_once()
+    assert view.frames == 121 and len(view.notices) == 2
+    session.stop()
+
+
+def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
+    for dt in (1e-9, 1e-12, 5e-324, -0.01, 1.0, "1e-9", None, True):
+        ctl.submit(Request("timestep", dt))
+    notices = ctl.frame()
+    # merged: only the last value typed counts, refused once with the range
+    assert len(notices) == 1
+    assert (
+        notices[0].text == "Pas de temps dt = True s refusé : choisissez un pas entre "
+        "1e-06 s et 0,1 s."
+    )
+    assert ctl.sim.timestep == 0.01 and ctl.refusals == 1
+    ctl.submit(Request("timestep", 1e-9))
+    (notice,) = ctl.frame()
+    assert (
+        notice.text
+        == "Pas de temps dt = 1e-09 s refusé : choisissez un pas entre 1e-06 s et 0,1 s."
+    )
+
+
+def test_the_timestep_range_is_the_scene_maximum():
+    ctl = Controller(Simulation("rolling_cylinder"), clock=Clock())
+    ctl.submit(Request("timestep", 0.05))
+    (notice,) = ctl.frame()
+    assert notice.text.endswith("entre 1e-06 s et 0,02 s.")
+    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    assert ctl.frame() == [] and ctl.sim.timestep == MIN_TIMESTEP
+
+
+def test_a_tiny_allowed_timestep_runs_slower_than_real_time_within_the_budget(ctl):
+    import time
+
+    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    ctl.frame()
+    cpu = time.thread_time()
+    for _ in range(30):
+        ctl.clock.now += 1 / 60
+        ctl.frame()
+        assert ctl.frame_steps() <= MAX_FRAME_STEPS
+    spent = time.thread_time() - cpu
+    # 0.5 s of real time would need 500,000 steps; the budget allows a few thousand a frame
+    assert ctl.sim.data.time <= 30 * MAX_FRAME_STEPS * MIN_TIMESTEP + 1e-9
+    assert ctl.sim.data.time < 0.25
+    assert spent < 30 * STEP_BUDGET * 3 + 0.1  # about the budget, never a whole core
+    assert ctl.slowed()
+    ctl.submit(Request("timestep", 0.01))
+    for _ in range(120):
+        ctl.clock.now += 1 / 60
+        ctl.frame()
+    assert not ctl.slowed()  # back to real time: the status stops saying it
+
+
+def test_a_file_with_a_zero_timestep_pauses_once(tmp_path, ctl):
+    import mujoco
+
+    ctl.sim.model.opt.timestep = 0.0  # what a file with timestep="0" would give
+    notices = _run(ctl, 1.0)
+    assert [n.title for n in notices] == ["Pas de temps invalide"]
+    assert "choisissez un pas entre 1e-06 s" in notices[0].text
+    assert not ctl.playing and ctl.sim.data.time == 0.0
+    assert isinstance(ctl.sim.model, mujoco.MjModel)
+
+
+def test_repeated_settings_are_merged_and_the_last_one_wins(ctl):
+    for v in range(10, 60):
+        ctl.submit(Request("set_value", v, name="mass1_g"))
+    ctl.submit(Request("speed", 2))
+    ctl.submit(Request("speed", 0.5))
+    assert ctl.frame() == []
+    assert ctl.sim.values["mass1_g"] == 59 and ctl.speed == 0.5
+
+
+def test_a_flood_of_commands_is_cut_with_one_message(ctl):
+    for _ in range(500):
+        ctl.submit(Request("step"))
+    notices = ctl.frame()
+    assert [n.title for n in notices] == ["Trop de commandes"]
+    assert notices[0].text == "436 commandes ignorées : une à la fois."
+    assert ctl.sim.data.time == pytest.approx(64 * ctl.sim.timestep)
 
 
 def test_recording_from_the_web_session_replays_identically(tmp_path):
@@ -169,13 +291,10 @@ def test_recording_from_the_web_session_replays_identically(tmp_path):
 def test_leaving_the_page_closes_the_recording(tmp_path):
     from sandbox.recording import load
 
-    ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
-    session = Session(ctl, Recorder(), fps=100)
-    session.start()
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    session, scheduler = _scheduled(ctl, Recorder(), fps=100)
     ctl.submit(Request("record"))
-    import time
-
-    time.sleep(0.4)
+    _tick(ctl, scheduler, 0.4, fps=100)
     session.stop()  # what the app does when the browser disconnects
     (path,) = tmp_path.glob("*.sbx")
     assert load(path).complete
@@ -257,21 +376,61 @@ def test_a_view_that_wants_nothing_costs_no_readout(monkeypatch):
     assert view.frames == 5 and not view.notices
 
 
+def test_one_scheduler_serves_many_sessions_in_turn():
+    clock = Clock()
+    scheduler = Scheduler(clock=clock, threaded=False)
+    sessions = [
+        Session(
+            Controller(Simulation("rotor"), clock=clock), Recorder(), fps=50, scheduler=scheduler
+        )
+        for _ in range(12)
+    ]
+    for s in sessions:
+        s.start()
+    for _ in range(25):  # 0.5 s
+        clock.now += 0.02
+        assert scheduler.run_due() == 12
+    assert [s.view.frames for s in sessions] == [25] * 12
+    for s in sessions:
+        s.request_stop()
+    assert scheduler.run_due() == 12 and scheduler.sessions == 0
+    assert all(s.finished for s in sessions)
+
+
 def test_one_scheduler_thread_serves_many_sessions():
     import threading
-    import time
+
+    from conftest import wait_for
 
     sessions = [Session(Controller(Simulation("rotor")), Recorder(), fps=50) for _ in range(12)]
     before = threading.active_count()
     for s in sessions:
         s.start()
     try:
-        time.sleep(0.5)
+        assert wait_for(lambda: all(s.view.frames >= 5 for s in sessions), timeout=5.0)
         assert threading.active_count() <= before + 1
-        assert all(s.view.frames >= 5 for s in sessions), [s.view.frames for s in sessions]
     finally:
         for s in sessions:
             s.request_stop()
         for s in sessions:
             s.stop()
     assert not any(s.running for s in sessions)
+
+
+def test_a_session_whose_browser_left_stops_within_a_second_even_at_a_tiny_timestep():
+    clock = Clock()
+    here = [True]
+    ctl = Controller(Simulation("rotor"), clock=clock)
+    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    scheduler = Scheduler(clock=clock, threaded=False)
+    session = Session(ctl, Recorder(), alive=lambda: here[0], scheduler=scheduler)
+    session.start()
+    for _ in range(30):
+        clock.now += 1 / 60
+        scheduler.run_due()
+    here[0] = False  # the browser left
+    left = clock.now
+    while session.running and clock.now - left < 5:
+        clock.now += 1 / 60
+        scheduler.run_due()
+    assert session.finished and clock.now - left <= 1.0
