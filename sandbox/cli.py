@@ -1,7 +1,15 @@
 """Command line: ``sandbox list | describe | run | serve | replay`` (bare ``sandbox`` serves).
 
 Every user error prints one line ``sandbox: error: ...`` and exits with code 2; a
-diverging simulation exits with code 3 after writing what was computed so far.
+diverging simulation exits with code 3 after writing what was computed so far. Any other
+exception (a bug) prints one line ``sandbox: error: internal error: <type>: <message> —
+please report it (...)`` and exits with code 1; set the environment variable
+``SANDBOX_DEBUG=1`` to get the traceback instead. Ctrl-C exits with code 130, quietly.
+
+``sandbox run`` validates everything before simulating: the output file is created (under
+a temporary name, renamed at the end) before the first step, and a run is bounded by
+:data:`sandbox.runner.MAX_STEPS` steps and :data:`sandbox.runner.MAX_ROWS` rows; MJCF
+files are bounded by the limits of :mod:`sandbox.physics.model`.
 """
 
 from __future__ import annotations
@@ -9,18 +17,29 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import NoReturn
 
-from sandbox.errors import BadOption, BadParameter, SandboxError
+from sandbox.errors import BadOption, BadParameter, SandboxError, one_line, shown
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
-from sandbox.runner import simulate, write_rows
+from sandbox.runner import RowWriter, check_out, check_run, simulate
 from sandbox.scenes import resolve
+from sandbox.scenes.base import Scene
+
+DEBUG_ENV = "SANDBOX_DEBUG"
+"""Environment variable: ``1`` re-raises unexpected exceptions (a traceback for developers)."""
+
+MAX_WORKERS = 64
+"""Most server processes ``--workers`` may start."""
+
+MAX_NAME_CHARS = 200
+"""Longest ``--set`` name or value accepted."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -34,15 +53,15 @@ class _Parser(argparse.ArgumentParser):
         )
 
 
-def _positive_float(kind: str, *, allow_zero: bool = False):
+def _positive_float(kind: str, *, allow_zero: bool = False) -> Callable[[str], float]:
     def parse(text: str) -> float:
         try:
             value = float(text)
         except ValueError:
-            raise BadOption(f"{kind} must be a number, got {text!r}") from None
+            raise BadOption(f"{kind} must be a number, got {shown(text)}") from None
         if not math.isfinite(value) or value < 0 or (value == 0 and not allow_zero):
             need = "zero or positive" if allow_zero else "positive"
-            raise BadOption(f"{kind} must be {need}, got {text!r}")
+            raise BadOption(f"{kind} must be a finite {need} number, got {shown(text)}")
         return value
 
     return parse
@@ -53,7 +72,14 @@ def _pairs(items: Sequence[str]) -> dict[str, str]:
     for item in items:
         name, sep, value = item.partition("=")
         if not sep or not name:
-            raise BadParameter(f"--set expects NAME=VALUE, got {item!r}; e.g. --set speed_rpm=3000")
+            raise BadParameter(
+                f"--set expects NAME=VALUE, got {shown(item)}; e.g. --set speed_rpm=3000"
+            )
+        if len(name) > MAX_NAME_CHARS or len(value) > MAX_NAME_CHARS or "\x00" in item:
+            raise BadParameter(
+                f"--set {shown(item)} is not a parameter name and a number; "
+                "see 'sandbox describe SCENE' for the names"
+            )
         out[name.strip()] = value.strip()
     return out
 
@@ -186,7 +212,7 @@ def cmd_list() -> int:
 def describe(target: str) -> dict:
     """JSON-able description of a scene or MJCF file."""
     sim = Simulation(resolve(target))
-    scene = sim.scene
+    scene = sim.scene if isinstance(sim.scene, Scene) else None
     params = [
         {
             "name": p.name,
@@ -232,37 +258,60 @@ def cmd_describe(target: str, as_json: bool) -> int:
     return 0
 
 
-def _check_out(out: Path | None) -> None:
-    if out is None:
-        return
-    if out.suffix.lower() not in (".csv", ".json"):
-        raise BadOption(f"--out {str(out)!r} must end in .csv or .json")
-    if out.is_dir():
-        raise BadOption(f"--out {str(out)!r} is a directory; give a file name such as run.csv")
-    if not out.parent.exists():
-        raise BadOption(f"folder {str(out.parent)!r} of --out does not exist; create it first")
+class _Sinks:
+    """Every row to the output file and the recording (both opened before the run)."""
+
+    def __init__(self, *sinks: RowWriter | Recorder | None) -> None:
+        self.sinks = [s for s in sinks if s is not None]
+
+    def frame(self, values: Mapping[str, float]) -> None:
+        for sink in self.sinks:
+            sink.frame(values)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    """``sandbox run``: simulate, write readouts, summarise."""
-    _check_out(args.out)
+    """``sandbox run``: simulate, write readouts, summarise.
+
+    Everything is checked (target, parameters, timestep, duration and rate within the
+    step budget, output and recording paths) and the output file created before the
+    first step: a refusal costs no simulation and leaves no file behind.
+    """
+    if args.out is not None:
+        check_out(args.out)
+    if args.record is not None:
+        _check_record(args.record)
     sim = Simulation(
         resolve(args.target),
         values=_pairs(args.set),
         integrator=args.integrator,
         timestep=args.timestep,
     )
+    check_run(args.duration, args.rate, sim.timestep)
+    columns = sim.readout_names()
+    writer = None if args.out is None else RowWriter(args.out, sim, columns)
     recorder = None
-    if args.record is not None:
-        _check_record(args.record)
-        recorder = Recorder(args.record, sim)
     try:
-        columns, rows, error = simulate(sim, args.duration, args.rate, recorder=recorder)
-    finally:
-        if recorder is not None:
-            recorder.close()
-    if args.out is not None:
-        write_rows(args.out, sim, columns, rows)
+        if args.record is not None:
+            try:
+                recorder = Recorder(args.record, sim)
+            except OSError as exc:
+                raise BadOption(
+                    f"cannot create --record {shown(str(args.record))}: {exc.strerror}; "
+                    "give another path"
+                ) from None
+        try:
+            columns, rows, error = simulate(
+                sim, args.duration, args.rate, recorder=_Sinks(writer, recorder), keep=False
+            )
+        finally:
+            if recorder is not None:
+                recorder.close()
+    except BaseException:
+        if writer is not None:
+            writer.discard()
+        raise
+    if writer is not None:
+        writer.close()
     if error is not None:
         print(f"sandbox: error: {error}", file=sys.stderr)
         return error.exit_code
@@ -270,7 +319,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     units = {r.name: r.unit for r in sim.readout_infos()}
     print(
         f"{sim.label}: {args.duration:g} s simulated ({sim.integrator}, dt = {sim.timestep:g} s)"
-        + (f", {len(rows)} rows written to {args.out}" if args.out else "")
+        + (f", {writer.count} rows written to {args.out}" if writer is not None else "")
     )
     scene_names = [r.name for r in sim.scene.readouts] if sim.scene else ["T", "V", "P_acc"]
     for name in scene_names:
@@ -325,12 +374,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
         results.append(bench.bench_scene(scene, quick=args.quick, progress=say))
     paths = bench.write_results(results, args.out, quick=args.quick)
     print(bench.markdown(results))
-    for res in results:
-        d = res.default
+    for result in results:
+        d = result.default
         if d is not None:
             mark = "on" if d.pareto else "NOT on"
             print(
-                f"{res.scene}: default {d.integrator} dt = {d.timestep:g} s, error "
+                f"{result.scene}: default {d.integrator} dt = {d.timestep:g} s, error "
                 f"{d.error:.2e}, {mark} the Pareto front"
             )
     print(f"written: {', '.join(str(p) for p in paths)} ({time.perf_counter() - start:.0f} s)")
@@ -338,10 +387,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _check_record(path: Path) -> None:
-    if path.is_dir():
-        raise BadOption(f"--record {str(path)!r} is a directory; give a file name such as r.sbx")
-    if not path.parent.exists():
-        raise BadOption(f"folder {str(path.parent)!r} of --record does not exist; create it first")
+    name = shown(str(path))
+    try:
+        if path.is_dir():
+            raise BadOption(f"--record {name} is a directory; give a file name such as r.sbx")
+        if not path.parent.exists():
+            raise BadOption(
+                f"folder {shown(str(path.parent))} of --record does not exist; create it first"
+            )
+        if not path.parent.is_dir():
+            raise BadOption(
+                f"--record {name}: {shown(str(path.parent))} is a file, not a folder; "
+                "give a path in an existing folder"
+            )
+    except OSError as exc:
+        raise BadOption(f"--record {name}: {exc.strerror}; give another path") from None
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise BadOption(f"--record {name} cannot be written (permission denied); give another path")
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
@@ -411,8 +473,8 @@ def cmd_serve(
         lesson = target
         scene = lessons()[lesson].scene
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
-    if workers is not None and workers < 1:
-        raise BadOption(f"--workers must be 1 or more, got {workers!r}")
+    if workers is not None and not 1 <= workers <= MAX_WORKERS:
+        raise BadOption(f"--workers must be between 1 and {MAX_WORKERS}, got {workers!r}")
     options: dict[str, object] = {"follow": True} if follow else {}
     if public_url:
         if not public_url.startswith(("http://", "https://")) or len(public_url) > 200:
@@ -458,13 +520,29 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_bench(args)
         return cmd_run(args)
     except SandboxError as exc:
-        print(f"sandbox: error: {exc}", file=sys.stderr)
+        print(f"sandbox: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:  # output piped into e.g. `head`
         sys.stderr.close()
         return 0
+    except Exception as exc:  # a bug: one line, never a traceback (SANDBOX_DEBUG=1 shows it)
+        if os.environ.get(DEBUG_ENV) == "1":
+            raise
+        return _internal_error(exc)
+
+
+def _internal_error(exc: BaseException) -> int:
+    """Print the last-resort line for an unexpected exception; exit code 1."""
+    text = one_line(str(exc))
+    text = text if len(text) <= 300 else text[:297] + "..."
+    print(
+        f"sandbox: error: internal error: {type(exc).__name__}: {text} — please report it "
+        f"(with the command; {DEBUG_ENV}=1 shows the traceback)",
+        file=sys.stderr,
+    )
+    return 1
 
 
 if __name__ == "__main__":

@@ -47,3 +47,25 @@ class Diverged(SandboxError):
 def choices(names: Iterable[str]) -> str:
     """Format valid names for an error message: 'a, b, c'."""
     return ", ".join(sorted(names))
+
+
+SHOWN_CHARS = 60
+"""Longest repr of a user's value quoted in a message (a 5,000-character name is cut)."""
+
+
+def shown(value: object, limit: int = SHOWN_CHARS) -> str:
+    """``repr`` of a user's text (str of anything else, e.g. a Path) for a one-line message.
+
+    Control characters come out escaped ('\\n', '\\x00'); beyond ``limit`` characters
+    the repr is cut and says how long the text was: ``'aaaa...' (5000 characters)``.
+    """
+    text = value if isinstance(value, str) else str(value)
+    quoted = repr(text)
+    if len(quoted) <= limit:
+        return quoted
+    return f"{quoted[: limit - 4]}...{quoted[0]} ({len(text)} characters)"
+
+
+def one_line(message: str) -> str:
+    """A message on one line: line breaks become spaces, blank lines vanish."""
+    return " ".join(part.strip() for part in message.splitlines() if part.strip())

@@ -11,20 +11,71 @@ Layer: above physics and scenes, below recording, bench, lessons, replay, web an
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import math
+import os
+import secrets
 import sys
 import time
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Protocol
+from typing import IO, Protocol
 
-from sandbox.errors import Diverged
+from sandbox.errors import BadOption, Diverged, shown
 from sandbox.physics.simulation import Simulation
 
 PROGRESS_PERIOD = 2.0
 """Wall seconds between two progress lines on stderr."""
+
+MAX_STEPS = 10_000_000
+"""Most timesteps one run may take (duration / timestep): 10 to 100 s of CPU for the
+scenes (1 to 10 µs a step); beyond, a typo such as ``--duration 1e300`` would run for
+ever. The web app may use it as a budget too."""
+
+MAX_ROWS = 1_000_000
+"""Most rows one run may write (duration x rate + 1): about 400 MB of CSV."""
+
+MIN_RATE = 1e-3
+"""Slowest sampling rate [rows per simulated second]."""
+
+MAX_RATE = 1e6
+"""Fastest sampling rate [rows per simulated second] (a rate above 1 / timestep takes a
+row every step anyway)."""
+
+
+def check_run(duration: float, rate: float, timestep: float) -> tuple[int, int]:
+    """Validate a run and return :func:`chunks` (steps in all, steps between rows).
+
+    Raises:
+        BadOption: a duration or rate that is not a finite number in range, or a run
+            over :data:`MAX_STEPS` steps or :data:`MAX_ROWS` rows (the message says the
+            longest duration that fits).
+    """
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration >= 0):
+        raise BadOption(f"--duration must be zero or a positive number, got {duration!r}")
+    if not (isinstance(rate, (int, float)) and math.isfinite(rate)) or not (
+        MIN_RATE <= rate <= MAX_RATE
+    ):
+        raise BadOption(
+            f"--rate {rate!r} is outside [{MIN_RATE:g}, {MAX_RATE:g}] rows per second; "
+            "e.g. --rate 100"
+        )
+    steps = duration / timestep
+    if steps > MAX_STEPS:
+        raise BadOption(
+            f"--duration {duration:g} s at dt = {timestep:g} s takes {steps:.3g} steps "
+            f"(max {MAX_STEPS:g}); simulate at most {MAX_STEPS * timestep:g} s, or give a "
+            "larger --timestep"
+        )
+    rows = min(duration * rate, steps) + 1
+    if rows > MAX_ROWS:
+        raise BadOption(
+            f"--duration {duration:g} s at --rate {rate:g} writes {rows:.3g} rows "
+            f"(max {MAX_ROWS:g}); give a smaller --rate"
+        )
+    return chunks(duration, rate, timestep)
 
 
 class FrameSink(Protocol):
@@ -49,6 +100,7 @@ def simulate(
     recorder: FrameSink | None = None,
     *,
     names: Iterable[str] | None = None,
+    keep: bool = True,
 ) -> tuple[list[str], list[list[float]], Diverged | None]:
     """Run ``duration`` seconds, sampling the readouts ``rate`` times per second.
 
@@ -59,18 +111,25 @@ def simulate(
         progress: Print a progress line on stderr every :data:`PROGRESS_PERIOD` s.
         recorder: Also given every row (``frame(values)``).
         names: Readouts sampled (default: every readout, in column order).
+        keep: Keep every row (False: only the last one; the recorder, e.g. a
+            :class:`RowWriter`, has them all, and memory stays bounded).
 
     Returns:
         (columns, rows, error): the readout names, one row of values per sample
         (shape (n, len(columns))), and the :class:`~sandbox.errors.Diverged` that
         stopped the run or None; rows computed before a divergence are kept.
+
+    Raises:
+        BadOption: see :func:`check_run` (nothing is simulated).
     """
     columns = sim.readout_names() if names is None else list(names)
-    total, per_row = chunks(duration, rate, sim.timestep)
+    total, per_row = check_run(duration, rate, sim.timestep)
     rows: list[list[float]] = []
 
     def sample() -> None:
         values = sim.readouts(columns)
+        if not keep:
+            rows.clear()
         rows.append(list(values.values()))
         if recorder is not None:
             recorder.frame(values)
@@ -98,26 +157,117 @@ def simulate(
     return columns, rows, None
 
 
-def write_rows(out: Path, sim: Simulation, columns: list[str], rows: list[list[float]]) -> None:
-    """Write readout rows to CSV (header = column names) or JSON (with units and metadata).
+def check_out(out: Path, option: str = "--out") -> None:
+    """Refuse an output path that cannot be written, before anything is simulated.
+
+    Raises:
+        BadOption: not .csv/.json, a directory, a missing or non-folder parent, or a
+            folder (or file) that cannot be written.
+    """
+    name = shown(str(out))
+    if out.suffix.lower() not in (".csv", ".json"):
+        raise BadOption(f"{option} {name} must end in .csv or .json")
+    folder = out.parent
+    try:
+        if out.is_dir():
+            raise BadOption(f"{option} {name} is a directory; give a file name such as run.csv")
+        if not folder.exists():
+            raise BadOption(
+                f"folder {shown(str(folder))} of {option} does not exist; create it first"
+            )
+        if not folder.is_dir():
+            raise BadOption(
+                f"{option} {name}: {shown(str(folder))} is a file, not a folder; "
+                "give a path in an existing folder"
+            )
+    except OSError as exc:  # a name too long, a loop of links
+        raise BadOption(f"{option} {name}: {exc.strerror}; give another path") from None
+    if not os.access(folder, os.W_OK | os.X_OK) or (out.exists() and not os.access(out, os.W_OK)):
+        raise BadOption(f"{option} {name} cannot be written (permission denied); give another path")
+
+
+class RowWriter:
+    """Rows streamed to CSV (header = column names) or JSON (with units and metadata).
+
+    The file is written under a temporary name in the output's folder, opened before
+    the run (so a folder that refuses it is known before anything is simulated), and
+    renamed to ``out`` by :meth:`close`; :meth:`discard` removes it (nothing
+    half-written is left behind). It is a :class:`FrameSink` for :func:`simulate`.
 
     The JSON document has ``scene``, ``params``, ``integrator``, ``timestep``,
     ``columns``, ``units`` and ``rows`` (non-finite values as null).
+
+    Raises:
+        BadOption: the file cannot be created (see :func:`check_out`).
     """
-    if out.suffix.lower() == ".csv":
-        with out.open("w", newline="") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(columns)
-            writer.writerows([[f"{v:.10g}" for v in row] for row in rows])
-        return
-    units = {r.name: r.unit for r in sim.readout_infos()}
-    doc = {
-        "scene": sim.label,
-        "params": sim.values,
-        "integrator": sim.integrator,
-        "timestep": sim.timestep,
-        "columns": columns,
-        "units": units,
-        "rows": [[v if math.isfinite(v) else None for v in row] for row in rows],
-    }
-    out.write_text(json.dumps(doc))
+
+    def __init__(self, out: Path, sim: Simulation, columns: list[str]) -> None:
+        check_out(out)
+        self.out, self.columns, self.count = out, list(columns), 0
+        self._json = out.suffix.lower() == ".json"
+        tmp = out.parent / f".{out.name[:100]}.{os.getpid()}.{secrets.token_hex(4)}.part"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except OSError as exc:
+            raise BadOption(
+                f"cannot create --out {shown(str(out))}: {exc.strerror}; give another path"
+            ) from None
+        self._tmp = Path(tmp)
+        self._fh: IO[str] = os.fdopen(fd, "w", newline="", encoding="utf-8")
+        if self._json:
+            units = {r.name: r.unit for r in sim.readout_infos()}
+            head = {
+                "scene": sim.label,
+                "params": sim.values,
+                "integrator": sim.integrator,
+                "timestep": sim.timestep,
+                "columns": self.columns,
+                "units": units,
+            }
+            self._fh.write(json.dumps(head)[:-1] + ', "rows": [')
+        else:
+            self._csv = csv.writer(self._fh)
+            self._csv.writerow(self.columns)
+
+    def row(self, values: Iterable[float]) -> None:
+        """Append one row (in column order)."""
+        if self._json:
+            clean = [v if math.isfinite(v) else None for v in values]
+            self._fh.write(("," if self.count else "") + json.dumps(clean))
+        else:
+            self._csv.writerow([f"{v:.10g}" for v in values])
+        self.count += 1
+
+    def frame(self, values: Mapping[str, float]) -> None:
+        """:class:`FrameSink`: the row of ``values`` taken in column order."""
+        self.row(values[c] for c in self.columns)
+
+    def close(self) -> None:
+        """Finish the file and give it its name."""
+        try:
+            if self._json:
+                self._fh.write("]}")
+            self._fh.close()
+            os.replace(self._tmp, self.out)
+        except BaseException:
+            self.discard()
+            raise
+
+    def discard(self) -> None:
+        """Remove the unfinished file."""
+        with contextlib.suppress(OSError):
+            self._fh.close()
+        with contextlib.suppress(OSError):
+            self._tmp.unlink()
+
+
+def write_rows(out: Path, sim: Simulation, columns: list[str], rows: list[list[float]]) -> None:
+    """Write readout rows to CSV or JSON at once (see :class:`RowWriter`)."""
+    writer = RowWriter(out, sim, columns)
+    try:
+        for row in rows:
+            writer.row(row)
+    except BaseException:
+        writer.discard()
+        raise
+    writer.close()

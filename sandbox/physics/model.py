@@ -7,16 +7,20 @@ Physics never imports the scenes: a scene spec reaches it as a :class:`SceneSpec
 
 from __future__ import annotations
 
+import errno
 import math
+import os
+import stat
+import xml.etree.ElementTree as ET
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
 import mujoco
 
 from sandbox.data import data_dir
-from sandbox.errors import BadModel, BadOption, UnknownScene, choices
+from sandbox.errors import BadModel, BadOption, UnknownScene, choices, one_line, shown
 
 INTEGRATORS: dict[str, int] = {
     "euler": int(mujoco.mjtIntegrator.mjINT_EULER),
@@ -50,6 +54,38 @@ MIN_TIMESTEP = 1e-6
 
 MAX_TIMESTEP = 0.1
 """Largest timestep accepted [s] (a scene may set a smaller ``max_timestep``)."""
+
+
+MAX_MJCF_BYTES = 16 * 2**20
+"""Largest MJCF file read, and largest total of the files it includes [bytes]: a model of a
+mechanism is kilobytes; the cap bounds what a wrong path (``/dev/zero``, a video) costs
+before it is refused."""
+
+MAX_ASSET_BYTES = 256 * 2**20
+"""Largest total size of the files a user's model loads (meshes, textures, height fields)
+[bytes]."""
+
+MAX_MODEL_BYTES = 256 * 2**20
+"""Largest estimated size of what MuJoCo allocates for a user's model before it steps
+[bytes]: height fields (4 bytes a point), textures (a byte a channel and pixel), the arena
+(``<size memory>``, ``njmax``, ``nconmax``, ``nstack``), user data and keyframes. Checked
+on the MjSpec before compiling (an hfield of 100000 x 100000 would take 40 GB); MuJoCo
+makes a few copies while compiling, so an accepted model stays under 1 GB."""
+
+MAX_ELEMENTS = 100_000
+"""Largest number of elements of a user's model once ``<replicate>``, ``<composite>`` and
+``<flexcomp>`` are expanded (checked on the XML text, before MuJoCo parses it: three
+nested replicates of 1000 would make 10⁹ bodies)."""
+
+MAX_BUILTIN_PARAM = 200
+"""Largest value of a built-in mesh's ``params`` (resolutions, edges: ``builtin="plate"
+params="10000 10000"`` alone takes 5 GB while MuJoCo parses it)."""
+
+MAX_KEYS = 10_000
+"""Most keyframes (``<size nkey>``) a user's model may ask for."""
+
+MAX_USER_FIELDS = 10_000
+"""Most user numbers per element (``<size nuser_body ...>``) or in all (``nuserdata``)."""
 
 
 def check_timestep(value: float) -> float:
@@ -152,56 +188,332 @@ def resolve(target: str | Path) -> Source:
     text = str(target)
     if text in scenes:
         return Source.of_scene(scenes[text])
-    path = Path(text)
-    if path.is_dir():
-        raise BadModel(
-            f"{text!r} is a directory; give an MJCF file (.xml) or a scene name: {choices(scenes)}"
-        )
-    if path.is_file():
-        return Source(None, path)
+    name = shown(text)
     if not scenes:
-        raise UnknownScene(
-            f"unknown scene or file {text!r}: no scene registry is loaded (import "
+        unknown = (
+            f"unknown scene or file {name}: no scene registry is loaded (import "
             "sandbox.scenes first), or give the path of an MJCF file"
         )
-    raise UnknownScene(
-        f"unknown scene or file {text!r}; scenes: {choices(scenes)}, "
-        "or give the path of an MJCF file"
-    )
+    else:
+        unknown = (
+            f"unknown scene or file {name}; scenes: {choices(scenes)}, "
+            "or give the path of an MJCF file"
+        )
+    if not text or "\x00" in text:
+        raise UnknownScene(unknown)
+    try:
+        mode = os.stat(text).st_mode
+    except OSError as exc:
+        if exc.errno == errno.ENAMETOOLONG:
+            raise UnknownScene(
+                f"{name} is too long for a file name; give a scene name ({choices(scenes)}) "
+                "or the path of an MJCF file"
+            ) from None
+        if exc.errno in (errno.EACCES, errno.EPERM):
+            raise BadModel(
+                f"cannot read {name}: permission denied; check its permissions"
+            ) from None
+        raise UnknownScene(unknown) from None
+    if stat.S_ISDIR(mode):
+        raise BadModel(
+            f"{name} is a directory; give an MJCF file (.xml) or a scene name: {choices(scenes)}"
+        )
+    if not stat.S_ISREG(mode):
+        raise BadModel(
+            f"{name} is not a regular file (a device or a pipe?); give an MJCF file (.xml)"
+        )
+    return Source(None, Path(text))
+
+
+def read_mjcf(path: Path, limit: int = MAX_MJCF_BYTES) -> str:
+    """Text of an MJCF file, reading at most ``limit`` bytes (a device never ends).
+
+    Raises:
+        BadModel: not a regular file, unreadable, larger than ``limit``, or not UTF-8.
+    """
+    name = shown(str(path))
+    try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            raise BadModel(f"{name} is not a regular file; give an MJCF file (.xml)")
+        with open(path, "rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise BadModel(
+            f"cannot read {name}: {reason}; check the path and its permissions"
+        ) from None
+    if len(data) > limit:
+        raise BadModel(
+            f"{name} is larger than {limit // 2**20} MB; an MJCF file is text of a few "
+            "kilobytes: check the path"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise BadModel(f"{name} is not a text MJCF file; give an .xml file") from None
+
+
+@dataclass
+class _Scan:
+    """What :func:`_prescan` counted so far."""
+
+    root: Path
+    elements: int = 0
+    read: int = 0
+    files: int = 0
+    seen: set[str] = field(default_factory=set)
+
+
+def _numbers(text: str | None) -> list[float]:
+    values = []
+    for word in (text or "").split():
+        try:
+            value = float(word)
+        except ValueError:
+            continue
+        if math.isfinite(value):
+            values.append(value)
+    return values
+
+
+def _product(text: str | None) -> float:
+    out = 1.0
+    for value in _numbers(text):
+        out *= max(1.0, value)
+    return out
+
+
+def _prescan(path: Path) -> None:
+    """Refuse before MuJoCo parses it an MJCF whose parsing alone would take gigabytes.
+
+    MuJoCo expands ``<replicate>``, ``<composite>``, ``<flexcomp>`` and built-in meshes
+    while parsing; this counts them (following ``<include>``) on the bounded text.
+    """
+    scan = _Scan(root=path.parent)
+    _scan_file(path, scan, 1.0, path)
+
+
+def _scan_file(path: Path, scan: _Scan, mult: float, top: Path) -> None:
+    scan.files += 1
+    if scan.files > 100:
+        raise BadModel(f"{shown(str(top))} includes more than 100 files; fix the <include>s")
+    text = read_mjcf(path, MAX_MJCF_BYTES - scan.read)
+    scan.read += len(text.encode("utf-8"))
+    if "<!ENTITY" in text:
+        raise BadModel(f"{shown(str(path))} declares XML entities; MJCF does not use them")
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise BadModel(
+            f"cannot load MJCF {shown(str(path))}: malformed XML ({one_line(str(exc))}); "
+            "fix the file (see MuJoCo's XML reference)"
+        ) from None
+    _scan_element(root, scan, mult, top)
+
+
+def _scan_element(elem: ET.Element, scan: _Scan, mult: float, top: Path) -> None:
+    tag = elem.tag
+    if tag == "replicate":
+        mult *= _product(elem.get("count"))
+    elif tag in ("composite", "flexcomp"):
+        mult *= _product(elem.get("count"))
+    elif tag == "mesh" and elem.get("builtin"):
+        big = [v for v in _numbers(elem.get("params")) if abs(v) > MAX_BUILTIN_PARAM]
+        if big:
+            raise BadModel(
+                f"{shown(str(top))}: built-in mesh {shown(elem.get('name') or '')} has "
+                f"params {big[0]:g} (max {MAX_BUILTIN_PARAM}); use a smaller resolution"
+            )
+    elif tag in ("hfield", "texture"):  # MuJoCo allocates an hfield's points on parsing
+        dims = (elem.get("nrow"), elem.get("ncol"))
+        if tag == "texture":
+            dims = (elem.get("width"), elem.get("height") or elem.get("width"))
+        area = _product(dims[0]) * _product(dims[1])
+        if 4.0 * area * (6 if tag == "texture" else 1) > MAX_MODEL_BYTES:
+            raise BadModel(
+                f"{shown(str(top))}: {tag} {shown(elem.get('name') or '')} of "
+                f"{' x '.join(d or '?' for d in dims)} would take more than "
+                f"{MAX_MODEL_BYTES // 2**20} MB; make it smaller"
+            )
+    elif tag == "include" and elem.get("file"):
+        target = scan.root / str(elem.get("file"))
+        key = str(target.resolve()) if target.exists() else str(target)
+        if key in scan.seen:
+            raise BadModel(
+                f"{shown(str(top))} includes {shown(str(target))} twice; fix the <include>s"
+            )
+        scan.seen.add(key)
+        if target.exists():
+            _scan_file(target, scan, mult, top)
+    scan.elements += int(min(mult, 1e18))
+    if scan.elements > MAX_ELEMENTS:
+        raise BadModel(
+            f"{shown(str(top))} expands to more than {MAX_ELEMENTS} elements (<replicate>, "
+            "<composite> or <flexcomp> counts); use smaller counts"
+        )
+    for child in elem:
+        _scan_element(child, scan, mult, top)
+
+
+def _png_pixels(data: bytes) -> int:
+    """width x height of a PNG header (0 if the bytes are not a PNG)."""
+    if len(data) >= 24 and data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR":
+        return int.from_bytes(data[16:20], "big") * int.from_bytes(data[20:24], "big")
+    return 0
+
+
+def _asset(spec: mujoco.MjSpec, name: str, folder: str, top: Path) -> tuple[int, int]:
+    """(bytes, PNG pixels) of an asset file a model names (0, 0 when MuJoCo will not find
+    it and says so itself)."""
+    base = Path(spec.modelfiledir or top.parent)
+    for candidate in (base / folder / name, base / name, Path(name)):
+        try:
+            info = os.stat(candidate)
+        except (OSError, ValueError):
+            continue
+        if not stat.S_ISREG(info.st_mode):
+            raise BadModel(f"{shown(str(top))}: asset {shown(name)} is not a regular file")
+        with open(candidate, "rb") as fh:
+            head = fh.read(24)
+        return info.st_size, _png_pixels(head)
+    return 0, 0
+
+
+def check_spec(spec: mujoco.MjSpec, path: Path, *, timestep: bool = True) -> None:
+    """Refuse a user's parsed model that MuJoCo could not run sensibly, before compiling.
+
+    Checks the file's own timestep (unless ``timestep`` is False: the caller overrides it)
+    and bounds what compiling would allocate (:data:`MAX_MODEL_BYTES`,
+    :data:`MAX_ASSET_BYTES`, :data:`MAX_KEYS`, :data:`MAX_USER_FIELDS`).
+
+    Raises:
+        BadModel: naming the element, its value and the limit.
+    """
+    name = shown(str(path))
+    if timestep:
+        dt = float(spec.option.timestep)
+        if not (math.isfinite(dt) and MIN_TIMESTEP <= dt <= MAX_TIMESTEP):
+            raise BadModel(
+                f'{name} sets <option timestep="{dt:g}">, outside [{MIN_TIMESTEP:g}, '
+                f'{MAX_TIMESTEP:g}] s; write e.g. timestep="0.001" in the file '
+                "(or give --timestep to 'sandbox run')"
+            )
+    if spec.nkey > MAX_KEYS:
+        raise BadModel(f"{name} asks for <size nkey={spec.nkey}> (max {MAX_KEYS}); lower it")
+    users = {
+        "nuserdata": (spec.nuserdata, 1),
+        "nuser_body": (spec.nuser_body, len(spec.bodies)),
+        "nuser_jnt": (spec.nuser_jnt, len(spec.joints)),
+        "nuser_geom": (spec.nuser_geom, len(spec.geoms)),
+        "nuser_site": (spec.nuser_site, len(spec.sites)),
+        "nuser_cam": (spec.nuser_cam, len(spec.cameras)),
+        "nuser_tendon": (spec.nuser_tendon, len(spec.tendons)),
+        "nuser_actuator": (spec.nuser_actuator, len(spec.actuators)),
+        "nuser_sensor": (spec.nuser_sensor, len(spec.sensors)),
+    }
+    total = 0.0
+    for key, (count, elements) in users.items():
+        if count > MAX_USER_FIELDS:
+            raise BadModel(
+                f"{name} asks for <size {key}={count}> (max {MAX_USER_FIELDS}); lower it"
+            )
+        total += 8.0 * max(count, 0) * elements
+    parts: list[tuple[str, float]] = [("user numbers", total)]
+    parts.append(("<size memory>", max(float(spec.memory), 0.0)))
+    parts.append(("<size njmax>", 1024.0 * max(spec.njmax, 0)))
+    parts.append(("<size nconmax>", 1024.0 * max(spec.nconmax, 0)))
+    parts.append(("<size nstack>", 8.0 * max(spec.nstack, 0)))
+    per_key = 8.0 * 16 * (len(spec.joints) + len(spec.bodies) + len(spec.actuators) + 1)
+    parts.append(("keyframes", per_key * max(spec.nkey, 0)))
+    files = 0
+    for h in spec.hfields:
+        size, pixels = _asset(spec, h.file, spec.texturedir, path) if h.file else (0, 0)
+        files += size
+        points = max(float(h.nrow) * float(h.ncol), float(pixels), size / 4.0)
+        parts.append((f"hfield {shown(h.name)} ({h.nrow} x {h.ncol})", 4.0 * points))
+    for t in spec.textures:
+        size, pixels = 0, 0
+        for file in [t.file, *list(t.cubefiles)]:
+            if file:
+                more, px = _asset(spec, file, spec.texturedir, path)
+                size, pixels = size + more, pixels + px
+        files += size
+        faces = 6.0 if t.type != mujoco.mjtTexture.mjTEXTURE_2D else 1.0
+        area = max(float(t.width) * float(t.height) * faces, float(t.width) ** 2 * faces)
+        channels = max(int(t.nchannel), 4)
+        parts.append(
+            (f"texture {shown(t.name)} ({t.width} x {t.height})", channels * max(area, pixels))
+        )
+    for m in spec.meshes:
+        size = _asset(spec, m.file, spec.meshdir, path)[0] if m.file else 0
+        files += size
+        parts.append((f"mesh {shown(m.name)}", 8.0 * size + 4.0 * len(m.uservert)))
+    if files > MAX_ASSET_BYTES:
+        raise BadModel(
+            f"{name} loads {files / 2**20:.0f} MB of asset files (max "
+            f"{MAX_ASSET_BYTES // 2**20} MB); use smaller meshes and textures"
+        )
+    what, biggest = max(parts, key=lambda p: p[1])
+    estimate = sum(p[1] for p in parts)
+    if estimate > MAX_MODEL_BYTES:
+        raise BadModel(
+            f"{name} would take about {estimate / 2**20:,.0f} MB to compile, mostly "
+            f"{what} (max {MAX_MODEL_BYTES // 2**20} MB); make it smaller"
+        )
 
 
 def model_xml(source: Source, values: Mapping[str, float]) -> str:
     """MJCF text of the model: a file's own text, or the scene's file with the edits."""
     if source.scene is None or source.scene.edit is None:
-        return source.path.read_text()
+        return read_mjcf(source.path)
     spec = mujoco.MjSpec.from_file(str(source.path))
     source.scene.edit(spec, values)
     spec.compile()
     return spec.to_xml()
 
 
-def build(source: Source, values: Mapping[str, float]) -> mujoco.MjModel:
+def build(
+    source: Source, values: Mapping[str, float], *, own_timestep: bool = True
+) -> mujoco.MjModel:
     """Compile the model with the parameter values applied and the scene's effects only.
 
     A user's file keeps its own options; autoreset is always disabled so that a
-    divergence stays visible (MuJoCo would otherwise reset silently).
+    divergence stays visible (MuJoCo would otherwise reset silently). A user's file is
+    read at most :data:`MAX_MJCF_BYTES`, its expansion counted (:func:`_prescan`) and its
+    parsed spec bounded (:func:`check_spec`) before MuJoCo compiles it.
+
+    Args:
+        source: Scene or file.
+        values: Parameter values of a scene.
+        own_timestep: A user's file will run at its own timestep, which must then lie
+            within [:data:`MIN_TIMESTEP`, :data:`MAX_TIMESTEP`] (False: the caller sets
+            another one).
 
     Raises:
-        BadModel: the file cannot be parsed or compiled (MuJoCo's message included).
+        BadModel: the file cannot be read, parsed or compiled (MuJoCo's message
+            included), or it exceeds a limit.
     """
     try:
+        if source.scene is None:
+            _prescan(source.path)
         spec = mujoco.MjSpec.from_file(str(source.path))
+        if source.scene is None:
+            check_spec(spec, source.path, timestep=own_timestep)
         if source.scene is not None and source.scene.edit is not None:
             source.scene.edit(spec, values)
         model = spec.compile()
-    except (ValueError, mujoco.FatalError) as exc:  # MuJoCo reports XML/compile errors so
-        text = " ".join(line.strip() for line in str(exc).splitlines() if line.strip())
+    except (ValueError, RuntimeError, mujoco.FatalError) as exc:  # MuJoCo's XML/compile
+        text = one_line(str(exc))
+        text = text if len(text) <= 300 else text[:297] + "..."
         raise BadModel(
-            f"cannot load MJCF {str(source.path)!r}: {text or type(exc).__name__}; "
+            f"cannot load MJCF {shown(str(source.path))}: {text or type(exc).__name__}; "
             "fix the file (see MuJoCo's XML reference)"
         ) from None
     except UnicodeDecodeError:
-        raise BadModel(f"{str(source.path)!r} is not a text MJCF file; give an .xml file") from None
+        raise BadModel(
+            f"{shown(str(source.path))} is not a text MJCF file; give an .xml file"
+        ) from None
     if source.scene is not None:
         model.opt.disableflags = source.scene.effects.disable_flags()
         model.opt.integrator = check_integrator(source.scene.integrator)

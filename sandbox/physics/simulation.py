@@ -92,7 +92,7 @@ class Simulation:
         return self.scene.param(name).check(value)
 
     def _compile(self) -> mujoco.MjModel:
-        model = build(self.source, self.values)
+        model = build(self.source, self.values, own_timestep=self._timestep is None)
         if self._integrator is not None:
             model.opt.integrator = self._integrator
         if self._timestep is not None:
