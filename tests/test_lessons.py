@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Callable
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
 import pytest
 
 from sandbox.lessons import (
     BadLesson,
     Progress,
+    compile_check,
     formula_html,
     get_lesson,
     lessons,
@@ -137,3 +144,167 @@ def test_unknown_lesson_lists_the_valid_ones():
 
     with pytest.raises(UnknownLesson, match="equilibrage"):
         get_lesson("nope")
+
+
+# -- fakes of viser's GuiApi and of a session's controller, for the panel -------------------
+class Handle:
+    """A viser handle: content, value, visibility, callbacks; counts content changes."""
+
+    def __init__(self, content: str = "", value: str = "") -> None:
+        self._content = content
+        self.changes = 0
+        self.value = value
+        self.visible = True
+        self.removed = False
+        self.callbacks: list[Callable[[Any], None]] = []
+
+    @property
+    def content(self) -> str:
+        return self._content
+
+    @content.setter
+    def content(self, text: str) -> None:
+        self._content = text
+        self.changes += 1
+
+    def on_click(self, fn: Callable[[Any], None]) -> Callable[[Any], None]:
+        self.callbacks.append(fn)
+        return fn
+
+    on_update = on_click
+
+    def remove(self) -> None:
+        self.removed = True
+
+
+class Gui:
+    """Just enough of viser's GuiApi for the lesson panel."""
+
+    def __init__(self) -> None:
+        self.markdowns: list[Handle] = []
+
+    def add_folder(self, label: str, **_: object) -> contextlib.nullcontext[None]:
+        return contextlib.nullcontext()
+
+    def add_markdown(self, content: str) -> Handle:
+        handle = Handle(content)
+        self.markdowns.append(handle)
+        return handle
+
+    def add_dropdown(self, label: str, options: tuple[str, ...], **kw: Any) -> Handle:
+        return Handle(value=kw.get("initial_value", options[0]))
+
+    def add_button_group(self, label: str, options: tuple[str, ...], **_: object) -> Handle:
+        return Handle()
+
+    def add_button(self, label: str, **_: object) -> Handle:
+        return Handle()
+
+
+class FakeController:
+    def __init__(self, values: dict[str, float]) -> None:
+        self.sim = SimpleNamespace(
+            scene=SimpleNamespace(name="rotor"), values=values, readout_infos=lambda: []
+        )
+        self.submitted: list[Any] = []
+        self.lesson: str | None = None
+        self.recorder = None
+
+    def submit(self, request: Any) -> None:
+        self.submitted.append(request)
+
+
+# -- the evaluator ----------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("source", "expected"),
+    [
+        ("x + y == 5", True),  # 2 + 3
+        ("x - y == -1", True),
+        ("x * y == 6", True),
+        ("x / y > 0.66 and x / y < 0.67", True),  # 2/3 = 0.667
+        ("x ** y == 8", True),
+        ("y ** 0.5 > 1.73 and y ** 0.5 < 1.74", True),  # √3 = 1.732
+        ("-x < -y", False),  # -2 < -3 is false
+        ("x < y < 4", True),
+        ("x < y < 3", False),
+        ("abs(x - y) == 1", True),
+        ("min(x, y, 7) == 2 and max(x, y, 7) == 7", True),
+        ("not x > y", True),
+        ("x > y or y == 3", True),
+        ("x == 2 and y != 3", False),
+        ("2 * x + y ** 2 / 3 == 7", True),  # precedence: 4 + 9/3
+        ("y < 1.5 * initial(y)", True),  # initial y = 2.5: 3 < 3.75
+        ("y < initial(y)", False),
+    ],
+)
+def test_a_check_computes_what_is_written(source, expected):
+    assert compile_check(source).evaluate({"x": 2.0, "y": 3.0}, {"y": 2.5}) is expected
+
+
+def test_a_check_lists_live_and_initial_readouts_apart():
+    check = compile_check(
+        "pilon_h1 < 0.6 * initial(pilon_h1) and abs(pilon_h2) > initial(speed)", "p.md:3"
+    )
+    assert check.names == ("pilon_h1", "pilon_h2")
+    assert check.initial == ("pilon_h1", "speed")
+    assert check.where == "p.md:3"
+
+
+def test_the_start_values_wait_for_a_frame_with_every_readout_the_check_needs():
+    """The first frame after a lesson opens may carry only the shown folder's readouts."""
+    lesson = parse(Path("t.md"), GOOD)
+    progress = Progress(lesson)
+    params = {"mass1_g": 10.0}
+    assert progress.observe({"time": 0.1}, params) is None and progress.initial is None
+    assert progress.observe({"bearing_A": 1.0}, params) is True  # 1 < 2 * 1
+    assert progress.initial == {"bearing_A": 1.0}
+    assert progress.error is None
+
+
+def test_a_passing_check_is_remembered_and_the_error_cleared_on_a_new_step():
+    lesson = parse(Path("t.md"), GOOD.replace("< 2 *", "< 0.5 *"))
+    progress = Progress(lesson)
+    params = {"mass1_g": 10.0}
+    assert progress.observe({"bearing_A": 1.0}, params) is False
+    assert progress.observe({"bearing_A": 0.4}, params) is True and progress.passed == {0}
+    progress.error = "x"
+    progress.go(0)
+    assert progress.error is None and progress.initial is None
+
+
+def test_the_course_lessons_have_no_raw_html_beyond_formulas():
+    import re
+
+    for name in ALL:
+        for step in get_lesson(name).steps:
+            for text in (step.text, step.success, *step.hints, *sum(step.questions, ())):
+                tags = set(re.findall(r"</?([a-zA-Z]+)", text))
+                assert tags <= {"i", "sub", "sup"}, (name, step.title, tags)
+
+
+def test_the_panel_walks_a_lesson_with_presets_questions_and_success(monkeypatch, tmp_path):
+    from sandbox.lessons import Catalogue
+    from sandbox.web import lesson_panel
+    from sandbox.web.lesson_panel import LessonPanel
+
+    text = GOOD.replace("show:", "question: Pourquoi ? | answer: Parce que $\\omega$.\nshow:")
+    lesson = parse(tmp_path / "good.md", text)
+    monkeypatch.setattr(lesson_panel, "catalogue", lambda: Catalogue({"good": lesson}, ()))
+    gui = Gui()
+    controller = FakeController({"mass1_g": 0.0})
+    panel = LessonPanel(gui, controller, lesson="good")  # type: ignore[arg-type]
+    panel.refresh({"bearing_A": 1.0})
+    assert [(r.kind, r.name, r.value) for r in controller.submitted] == [
+        ("set_value", "mass1_g", 10.0)
+    ]
+    assert controller.lesson == "good" and "étape 1/1" in panel.header.content
+    assert panel.status.content == "⏳ Objectif : `bearing_A < 2 * initial(bearing_A)`"
+    assert panel.progress is not None and panel.progress.initial is None  # preset not in force
+    controller.sim.values["mass1_g"] = 10.0
+    panel.refresh({"bearing_A": 1.0})  # start value: 1
+    panel.refresh({"bearing_A": 1.5})
+    assert panel.status.content.startswith("✅ **Réussi.**")
+    question, button, reply = panel._step_handles
+    assert question.content == "❓ Pourquoi ?"
+    button.callbacks[0](None)
+    assert reply.content == "➜ Parce que <i>ω</i>."
