@@ -4,11 +4,16 @@ course's curves (e.g. pilon, tamis and motor torque over a crank revolution)."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+
+if TYPE_CHECKING:
+    import viser
+    from viser import uplot
 
 PERIOD = 2.0
 """Seconds between two looks at the cycle (redrawn only when it changed)."""
@@ -25,21 +30,22 @@ class CyclePanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: Any, sim: Simulation) -> None:
-        self.fn = sim.scene.cycle if sim.scene is not None else None
-        self.charts: list[tuple[tuple[str, ...], Any]] = []
+    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+        scene = as_scene(sim.scene)
+        self.fn = scene.cycle if scene is not None else None
+        self.charts: list[tuple[tuple[str, ...], viser.GuiUplotHandle]] = []
         self._shown: object = None
         self._at = -math.inf
-        self.folder: Any = None
+        self.folder: viser.GuiFolderHandle | None = None
         if self.fn is None:
             return
         with gui.add_folder("Sur un tour") as self.folder:
             for names, unit in GROUPS:
-                series: list[dict[str, Any]] = [{"label": "θ [°]"}]
+                series: list[uplot.Series] = [{"label": "θ [°]"}]
                 for n in names:
                     color = COLORS.get(n, "black")
                     series.append({"label": f"{n} [{unit}]", "stroke": color, "width": 2})
-                    series.append({"label": f"{n} (cours)", "stroke": color, "dash": [6, 4]})
+                    series.append({"label": f"{n} (cours)", "stroke": color, "dash": (6.0, 4.0)})
                 empty = tuple(np.zeros(2) for _ in series)
                 chart = gui.add_uplot(
                     data=empty,

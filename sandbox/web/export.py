@@ -19,6 +19,7 @@ import viser
 
 from sandbox.recording import Recording, set_state, write_csv
 from sandbox.replay import open_simulation
+from sandbox.scenes.base import as_scene
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.view import camera_pose, scene_view
@@ -63,17 +64,17 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         server.initial_camera.look_at = look_at
         server.initial_camera.up = up
         renderer = SceneRenderer(scene)
+        spec = as_scene(sim.scene)
         arrows = None
-        if sim.scene is not None and sim.scene.arrows:
-            arrows = ArrowLayer(scene, sim.scene.arrows, extent=float(sim.model.stat.extent))
-        names = [r.name for r in sim.scene.readouts] if sim.scene else ["T", "V", "P_acc"]
+        if spec is not None and spec.arrows:
+            arrows = ArrowLayer(scene, spec.arrows, extent=float(sim.model.stat.extent))
+        names = [r.name for r in spec.readouts] if spec else ["T", "V", "P_acc"]
         names = [n for n in names if n in rec.names][:8]
         overlay = scene.add_label(
             "/overlay",
             "",
-            position=tuple(
-                np.asarray(sim.model.stat.center) + [0, 0, 0.45 * sim.model.stat.extent]
-            ),
+            position=np.asarray(sim.model.stat.center, dtype=float)
+            + [0.0, 0.0, 0.45 * sim.model.stat.extent],
             font_screen_scale=1.0,
         )
         serializer = server.get_scene_serializer()

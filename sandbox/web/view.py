@@ -5,10 +5,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from sandbox.scenes.base import as_scene
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.cycle_panel import CyclePanel
@@ -20,6 +22,11 @@ from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import EVERY, Controller, Frame, Notice
 from sandbox.web.trail import Trail
+
+if TYPE_CHECKING:
+    import viser
+
+    from sandbox.physics.simulation import Simulation
 
 PANEL_RATE = 10.0
 """Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
@@ -33,9 +40,29 @@ HYPOTHESES_FOLDER = "Hypothèses de modélisation"
 SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
 """Readouts brought up to date before the scene's arrows are evaluated."""
 
+Vec3 = tuple[float, float, float]
+
+
+class Controls(Protocol):
+    """The top panel of a view: the live :class:`ControlPanel` or a replay's timeline."""
+
+    def refresh(self) -> None: ...
+    def sync(self) -> None: ...
+
+
+class Driver(Protocol):
+    """What a view reads from the controller it shows (a live session's
+    :class:`Controller`, or a replay's)."""
+
+    @property
+    def sim(self) -> Simulation: ...
+
+
+D = TypeVar("D", bound=Driver)
+
 
 def camera_pose(
-    center: np.ndarray, extent: float, direction: Sequence[float] = (0.45, -1.0, 0.55)
+    center: ArrayLike, extent: float, direction: ArrayLike = (0.45, -1.0, 0.55)
 ) -> tuple[np.ndarray, np.ndarray]:
     """A view along ``direction`` (default: three-quarter from the front, above).
 
@@ -43,33 +70,36 @@ def camera_pose(
         Camera position and look-at point, world coordinates [m].
     """
     look_at = np.asarray(center, dtype=float)
-    direction = np.asarray(direction, dtype=float)
-    direction /= np.linalg.norm(direction)
-    return look_at + 0.9 * max(extent, 1e-3) * direction, look_at
+    axis = np.asarray(direction, dtype=float)
+    axis /= np.linalg.norm(axis)
+    return look_at + 0.9 * max(extent, 1e-3) * axis, look_at
 
 
-def scene_view(sim: Any) -> tuple[Sequence[float], Sequence[float]]:
+def scene_view(sim: Simulation) -> tuple[Vec3, Vec3]:
     """(direction towards the camera, up vector): the scene's own, else z up."""
-    view = sim.scene.camera if sim.scene is not None and sim.scene.camera else None
-    return view if view else ((0.45, -1.0, 0.55), (0.0, 0.0, 1.0))
+    spec = as_scene(sim.scene)
+    if spec is not None and spec.camera:
+        return spec.camera
+    return (0.45, -1.0, 0.55), (0.0, 0.0, 1.0)
 
 
-def point_camera(client: Any, sim: Any) -> None:
+def point_camera(client: viser.ClientHandle, sim: Simulation) -> None:
     """Aim a browser's camera at the scene, from the scene's preferred side."""
     model = sim.model
     direction, up = scene_view(sim)
-    center, extent = model.stat.center, float(model.stat.extent)
-    if sim.scene is not None and sim.scene.look_at is not None:
-        center, extent = np.asarray(sim.scene.look_at[0]), sim.scene.look_at[1]
+    center, extent = np.asarray(model.stat.center, dtype=float), float(model.stat.extent)
+    spec = as_scene(sim.scene)
+    if spec is not None and spec.look_at is not None:
+        center, extent = np.asarray(spec.look_at[0], dtype=float), spec.look_at[1]
     position, look_at = camera_pose(center, extent, direction)
     client.camera.up_direction = up
     client.camera.position = position
     client.camera.look_at = look_at
 
 
-def arrow_layer(scene: Any, sim: Any, *, prefix: str = "") -> ArrowLayer | None:
+def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:
     """The scene's force arrows in a viser scene (None when the scene has none)."""
-    spec = sim.scene
+    spec = as_scene(sim.scene)
     if spec is None or not spec.arrows:
         return None
     units = {i.name: i.unit for i in sim.readout_infos()}
@@ -82,14 +112,15 @@ def arrow_layer(scene: Any, sim: Any, *, prefix: str = "") -> ArrowLayer | None:
     )
 
 
-class WebView:
+class WebView(Generic[D]):
     """Draws a controller's simulation into one viser client (implements ``View``).
 
     Args:
         client: The viser ``ClientHandle`` of the browser.
-        controller: The session's controller (or a replay's, with the same attributes).
-        controls: Builds the top panel from ``(gui, controller)``; default the live
-            :class:`ControlPanel` (a replay passes its timeline).
+        controller: The session's :class:`Controller`, or a replay's.
+        controls: Builds the top panel from ``(gui, controller)``; default (only for a
+            :class:`Controller`) the live :class:`ControlPanel` and the lesson panel (a
+            replay passes its timeline).
         values: Unused (readouts come with each frame, from the controller); kept for
             callers.
         lesson: Lesson to open at once (live sessions only).
@@ -101,10 +132,10 @@ class WebView:
 
     def __init__(
         self,
-        client: Any,
-        controller: Controller,
+        client: viser.ClientHandle,
+        controller: D,
         *,
-        controls: Callable[[Any, Any], Any] | None = None,
+        controls: Callable[[viser.GuiApi, D], Controls] | None = None,
         values: Callable[[], Mapping[str, float]] | None = None,
         lesson: str | None = None,
         join_urls: Sequence[str] = (),
@@ -123,16 +154,20 @@ class WebView:
         if draw:
             self.renderer = SceneRenderer(client.scene)
             self.arrows = arrow_layer(client.scene, sim)
-            scene = sim.scene
+            scene = as_scene(sim.scene)
             if scene is not None and scene.trail is not None:
                 self.trail = Trail(client.scene, scene.trail, extent=float(model.stat.extent))
-        self.controls = (controls or ControlPanel)(client.gui, controller)
+        self.controls: Controls
+        self.lesson: LessonPanel | None = None
+        if controls is not None:
+            self.controls = controls(client.gui, controller)
+        elif isinstance(controller, Controller):
+            self.controls = ControlPanel(client.gui, controller)
+        else:
+            raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
         self.join = JoinPanel(client.gui, join_urls) if join_urls else None
-        self.lesson = (
-            LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
-            if controls is None
-            else None
-        )
+        if controls is None and isinstance(controller, Controller):
+            self.lesson = LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
         self.picker = client.gui.add_dropdown(
             "Panneau affiché",
             (ALL_FOLDERS,),
@@ -144,31 +179,38 @@ class WebView:
         self.isolate = IsolatePanel(client.gui, sim)
         self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
-        self._drawn: tuple[Any, ...] | None = None
+        self._drawn: tuple[object, ...] | None = None
         self._last_panel = -math.inf
         self._resync_controls = False
         self._add_picker(client.gui)
 
     # -- which folder is shown -----------------------------------------------------------
-    def _add_picker(self, gui: Any) -> None:
+    def _add_picker(self, gui: viser.GuiApi) -> None:
         """One readout folder shown at a time (only it is computed and sent)."""
-        groups: dict[str, Any] = dict(self.readouts.folders)
-        for panel in (self.cycle, self.isolate, self.accuracy, self.hypotheses, self.join):
-            folder = getattr(panel, "folder", None) if panel is not None else None
-            if folder is not None:
+        groups: dict[str, viser.GuiFolderHandle] = dict(self.readouts.folders)
+        for folder in (
+            self.cycle.folder,
+            self.isolate.folder,
+            self.accuracy.folder,
+            self.hypotheses.folder,
+            self.join.folder if self.join is not None else None,
+        ):
+            if folder is not None and folder.label:
                 groups[folder.label] = folder
         self.groups = groups
         default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
         self.shown = default
         self.picker.options = (*groups, ALL_FOLDERS)
-        self.picker.value = default
-
-        @self.picker.on_update
-        def _(event: Any) -> None:
-            if event.client is not None:
-                self._pending_folder = str(event.target.value)
+        # viser declares value both as a property and as a props field: mypy reads the
+        # field as read-only, the property assigns it.
+        self.picker.value = default  # type: ignore[misc]
 
         self._pending_folder: str | None = default
+
+        @self.picker.on_update
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
+            if event.client is not None:
+                self._pending_folder = str(event.target.value)
 
     def _apply_folder(self) -> None:
         choice, self._pending_folder = self._pending_folder, None
@@ -257,7 +299,9 @@ class WebView:
             path = Path(notice.text)
             self.client.send_file_download(path.name, path.read_bytes())
             notice = Notice("info", notice.title, f"Fichier {path} (aussi téléchargé).")
-        color = {"error": "red", "diverged": "orange"}.get(notice.level, "blue")
+        color: Literal["red", "orange", "blue"] = (
+            "red" if notice.level == "error" else "orange" if notice.level == "diverged" else "blue"
+        )
         self.client.add_notification(
             notice.title,
             notice.text,
