@@ -283,14 +283,15 @@ class Recording:
 MAX_FILE_BYTES = 256 * 2**20
 """Largest recording file read [bytes] (10 minutes of a web session take under 50 MB)."""
 
-MAX_TEXT_BYTES = 512 * 2**20
+MAX_TEXT_BYTES = 256 * 2**20
 """Largest decompressed text [bytes]: a gzip bomb is refused when it passes this size."""
 
 MAX_LINE_BYTES = 8 * 2**20
 """Longest line [bytes] (the header holds the model's MJCF text)."""
 
-MAX_RECORDS = 1_000_000
-"""Most lines in a recording (4 hours of a web session at 60 frames per second)."""
+MAX_RECORDS = 500_000
+"""Most lines in a recording (about 2 hours of a web session: 60 frames and 10 readouts
+a second)."""
 
 MAX_NUMBERS = 2**25
 """Most state and readout numbers in all (256 MiB once read)."""
@@ -421,9 +422,13 @@ def _refuse_constant(name: str) -> float:
     raise _Refused(f"{name} is not a number a recording holds")
 
 
+_DECODER = json.JSONDecoder(parse_constant=_refuse_constant)
+_NUMBER_TYPES = frozenset({float, int, type(None)})
+
+
 def _json(line: bytes) -> Any:
     try:
-        return json.loads(line.decode("utf-8"), parse_constant=_refuse_constant)
+        return _DECODER.decode(line.decode("utf-8"))
     except UnicodeDecodeError:
         raise _Refused("not UTF-8 text") from None
     except RecursionError:
@@ -493,7 +498,14 @@ def _header(path: Path, line: bytes) -> dict[str, Any]:
 
     try:
         head = _json(line)
-    except _Refused:
+    except _Refused as exc:
+        if (
+            f'"format": "{FORMAT}"'.encode() in line[:100]
+            or f'"format":"{FORMAT}"'.encode() in line[:100]
+        ):
+            raise BadRecording(
+                f"recording {str(path)!r} has a bad header ({exc}); {_FIX}"
+            ) from None
         head = None
     if not isinstance(head, dict) or head.get("format") != FORMAT:
         raise BadRecording(
@@ -516,6 +528,11 @@ def _header(path: Path, line: bytes) -> dict[str, Any]:
         raise BadRecording(
             f"recording {str(path)!r} has an incomplete header (missing "
             f"{', '.join(missing)}); {_FIX}"
+        )
+    extra = sorted(set(head) - set(_HEADER_KEYS))
+    if extra:
+        raise BadRecording(
+            f"recording {str(path)!r} has unknown header fields {_short(extra)}; {_FIX}"
         )
     try:
         _text(head["created"], "'created'")
@@ -554,6 +571,22 @@ def _header(path: Path, line: bytes) -> dict[str, Any]:
     return {k: head[k] for k in _HEADER_KEYS}
 
 
+_RECORD_KEYS: dict[str, frozenset[str]] = {
+    kind: frozenset({"k", "t", *fields})
+    for kind, fields in {
+        "frame": ("s",),
+        "readouts": ("r",),
+        "set": ("name", "value"),
+        "integrator": ("value",),
+        "timestep": ("value",),
+        "reset": (),
+        "lesson": ("step",),
+        "end": ("frames",),
+    }.items()
+}
+"""The fields of each record kind (module doc)."""
+
+
 class _Reader:
     """Accumulates the validated records of one recording in compact arrays."""
 
@@ -577,6 +610,11 @@ class _Reader:
         if not isinstance(rec, dict):
             raise _Refused(f"{_short(rec)} is not a record")
         kind = rec.get("k")
+        if not isinstance(kind, str) or kind not in _RECORD_KEYS:
+            raise _Refused(f"unknown record kind {_short(kind)}")
+        extra = set(rec) - _RECORD_KEYS[kind]
+        if extra:
+            raise _Refused(f"a {kind!r} record with unknown fields {_short(sorted(extra))}")
         t = _finite(rec.get("t"), "time 't'", low=-MAX_TIME, high=MAX_TIME)
         if t < self.last_t and kind != "reset":
             raise _Refused(f"time goes back from {self.last_t!r} s to {t!r} s")
@@ -627,15 +665,25 @@ class _Reader:
     @staticmethod
     def _numbers(store: array.array[float], values: list[Any], what: str) -> None:
         """Append ``values`` (numbers; None for a readout that was not finite) to ``store``."""
-        if any(v is True or v is False for v in values):
-            raise _Refused(f"{what} holds true/false, not numbers")
+        kinds = set(map(type, values))
+        if not kinds <= _NUMBER_TYPES:
+            if bool in kinds:
+                raise _Refused(f"{what} holds true/false, not numbers")
+            raise _Refused(f"{what} holds something else than numbers")
+        if type(None) in kinds:
+            values = [math.nan if v is None else v for v in values]
         n = len(store)
         try:
-            store.extend([math.nan if v is None else v for v in values])
-        except (TypeError, OverflowError):
+            store.extend(values)
+        except OverflowError:
             del store[n:]
-            raise _Refused(f"{what} holds something else than numbers") from None
-        if not all(v is None or math.isfinite(v) for v in values):
+            raise _Refused(f"{what} holds a number too large") from None
+        if (
+            not math.isfinite(sum(store[n:]))
+            and any(  # sum: one C loop when all is well
+                not math.isfinite(v) and v == v for v in store[n:]
+            )
+        ):
             del store[n:]
             raise _Refused(f"{what} holds a number that is not finite")
 
@@ -717,7 +765,7 @@ def load(path: str | Path, *, salvage: bool = False) -> Recording:
         path=path,
         header=header,
         times=times,
-        states=np.array(reader.states, dtype=float).reshape(len(times), reader.size),
+        states=np.frombuffer(reader.states, dtype=float).reshape(len(times), reader.size),
         readout_times=np.array(reader.rtimes, dtype=float),
         readouts=np.array(reader.rows, dtype=float).reshape(len(reader.rtimes), len(names)),
         readout_frames=np.array(reader.rframes, dtype=int),
