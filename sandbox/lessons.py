@@ -647,9 +647,11 @@ def _pairs(value: str, what: str) -> tuple[tuple[str, float], ...]:
         try:
             x = float(number)
         except ValueError:
-            raise ValueError(f"{name.strip()}= expects a number, got {number[:40]!r}") from None
+            raise ValueError(
+                f"{name.strip()[:40]!r} expects a number, got {number[:40]!r}"
+            ) from None
         if not math.isfinite(x):
-            raise ValueError(f"{name.strip()}= expects a finite number, got {number[:40]!r}")
+            raise ValueError(f"{name.strip()[:40]!r} expects a finite number, got {number[:40]!r}")
         pairs.append((name.strip(), x))
     return tuple(pairs)
 

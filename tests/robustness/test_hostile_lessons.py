@@ -98,6 +98,8 @@ HOSTILE_CHECKS = [
     ("bearing_A if bearing_A else 1", "'if ... else' is not allowed"),
     ("[bearing_A][0] < 1", "character '\\[' is not allowed"),
     ("bearing_A < 1 # ` <img src=x onerror=alert(1)>", "character '#' is not allowed"),
+    ("bearing_A < 1 ` <img src=x onerror=alert(1)> `", "character '`' is not allowed"),
+    ("bearing_A < 1\x1b[2J", r"character '\\x1b' is not allowed"),
     ("bearing_A < (1", "invalid syntax"),
     ("(" * 900 + "bearing_A" + ")" * 900 + " < 1", "1813 characters"),
     ("-" * 250 + "bearing_A < 1", "more than 32 operations inside one another"),
@@ -184,6 +186,8 @@ def test_a_folder_named_like_a_lesson_is_refused(tmp_path):
         (lambda s: s.replace("show:", "check: bearing_A < 1\nshow:"), 11, "given twice"),
         (lambda s: s.replace("show:", "question: Pourquoi ?\nshow:"), 9, "QUESTION | answer"),
         (lambda s: s.replace("## Step", "## "), 7, "a step needs a title"),
+        (lambda s: s.replace("bearing_A < 2", "nope < 2"), 7, "no readout 'nope'; valid: "),
+        (lambda s: s.replace("scene: rotor", "scene: <script>"), 2, "unknown scene '<script>'"),
         (lambda s: s.replace("level: L1", "level: L1\nnumber: 1e3"), 1, "expects an integer"),
     ],
 )
