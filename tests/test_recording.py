@@ -4,12 +4,23 @@ from __future__ import annotations
 
 import gzip
 import json
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
 
 from sandbox.physics.simulation import Simulation
-from sandbox.recording import FORMAT, VERSION, BadRecording, Recorder, get_state, load, write_csv
+from sandbox.recording import (
+    FORMAT,
+    VERSION,
+    BadRecording,
+    Recorder,
+    create_unique,
+    get_state,
+    load,
+    write_csv,
+)
 
 
 def _record(path, sim, frames=120, steps=10, change_at=None):
@@ -125,3 +136,83 @@ def test_ten_minutes_at_60_hz_stay_under_50_mb(tmp_path):
     per_minute = path.stat().st_size / 0.5
     print(f"recording size: {per_minute * 10 / 1e6:.1f} MB for 10 min")
     assert per_minute * 10 < 50e6
+
+
+def test_create_unique_never_reuses_a_name(tmp_path):
+    """Two browsers recording in the same second get two files (O_EXCL, then -2, -3)."""
+    first = create_unique(tmp_path, "rotor-20261123-101500")
+    second = create_unique(tmp_path, "rotor-20261123-101500")
+    third = create_unique(tmp_path, "rotor-20261123-101500")
+    assert [p.name for p in (first, second, third)] == [
+        "rotor-20261123-101500.sbx",
+        "rotor-20261123-101500-2.sbx",
+        "rotor-20261123-101500-3.sbx",
+    ]
+    assert all(p.exists() and p.stat().st_size == 0 for p in (first, second, third))
+
+
+def test_create_unique_from_many_threads_at_once(tmp_path):
+    barrier = threading.Barrier(12)
+
+    def reserve(_: int) -> str:
+        barrier.wait()
+        return create_unique(tmp_path, "same").name
+
+    with ThreadPoolExecutor(12) as pool:
+        names = list(pool.map(reserve, range(12)))
+    assert len(set(names)) == 12 and sorted(p.name for p in tmp_path.iterdir()) == sorted(names)
+
+
+def test_create_unique_keeps_the_name_in_its_folder(tmp_path):
+    path = create_unique(tmp_path, "../../etc/x y<script>")
+    assert path.parent == tmp_path and path.name == "_.._etc_x_y_script_.sbx"
+    assert create_unique(tmp_path, "...").name == "recording.sbx"
+
+
+def test_create_unique_then_record_two_sessions(tmp_path):
+    paths = []
+    for speed in (1000, 2000):
+        sim = Simulation("rotor", values={"speed_rpm": speed})
+        path = create_unique(tmp_path, "rotor-same-second")
+        _record(path, sim, frames=5)
+        paths.append(path)
+    assert [load(p).header["values"]["speed_rpm"] for p in paths] == [1000, 2000]
+
+
+def test_create_unique_in_a_missing_folder_is_one_clear_error(tmp_path):
+    with pytest.raises(BadRecording, match=r"cannot write a recording in .*missing.*writable"):
+        create_unique(tmp_path / "missing", "r")
+
+
+def test_version_must_be_the_integer_1(tmp_path):
+    sim = Simulation("rotor")
+    path = tmp_path / "r.sbx"
+    _record(path, sim, frames=5)
+    lines = gzip.decompress(path.read_bytes()).decode().splitlines()
+    for version, needle in [(0, "invalid format version 0"), ("1", "invalid format version '1'")]:
+        head = json.loads(lines[0])
+        head["version"] = version
+        bad = tmp_path / "v.sbx"
+        bad.write_bytes(gzip.compress(("\n".join([json.dumps(head), *lines[1:]]) + "\n").encode()))
+        with pytest.raises(BadRecording, match=needle) as info:
+            load(bad)
+        assert "newer" not in str(info.value)
+
+
+def test_a_reset_may_go_back_in_time_but_nothing_else(tmp_path):
+    sim = Simulation("rotor")
+    path = tmp_path / "r.sbx"
+    rec = Recorder(path, sim)
+    for k in range(6):
+        sim.step(5)
+        rec.frame()
+        if k == 2:
+            sim.reset()
+    rec.close()
+    loaded = load(path)
+    assert list(loaded.times) == pytest.approx([0.05, 0.1, 0.15, 0.05, 0.1, 0.15])
+    lines = gzip.decompress(path.read_bytes()).decode().splitlines()
+    no_reset = [line for line in lines if '"reset"' not in line]
+    (tmp_path / "b.sbx").write_bytes(gzip.compress(("\n".join(no_reset) + "\n").encode()))
+    with pytest.raises(BadRecording, match=r"line 5 \(time goes back from 0\.15 s to 0\.05 s\)"):
+        load(tmp_path / "b.sbx")

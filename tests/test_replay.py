@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import csv
+import gzip
 import hashlib
+import json
+import tempfile
 import time
 
 import numpy as np
@@ -12,7 +15,7 @@ import pytest
 from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
-from sandbox.replay import resimulate
+from sandbox.replay import open_simulation, planned_steps, resimulate
 from sandbox.web.export import export_static
 from sandbox.web.player import ReplayController
 from sandbox.web.session import Request
@@ -145,3 +148,66 @@ def test_static_export_plays_without_python(recording, tmp_path, browser):
     finally:
         page.close()
     assert first != second, "the exported replay does not animate"
+
+
+@pytest.fixture
+def mjcf_recording(tmp_path, pendulum_xml, monkeypatch):
+    """A recording of an MJCF file; the temporary folder is tmp_path/tmp (counted)."""
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp))
+    sim = Simulation(pendulum_xml)
+    path = tmp_path / "p.sbx"
+    rec = Recorder(path, sim)
+    for _ in range(30):
+        sim.step(10)
+        rec.frame(sim.readouts())
+    rec.close()
+    return path
+
+
+def _leftovers(tmp_path):
+    return sorted(p.name for p in (tmp_path / "tmp").glob("sandbox-replay-*"))
+
+
+def test_replaying_an_mjcf_recording_leaves_no_folder(mjcf_recording, tmp_path, capsys):
+    rec = load(mjcf_recording)
+    sim = open_simulation(rec)
+    assert sim.label == "pendulum.xml" and _leftovers(tmp_path) == []
+    assert resimulate(rec) == (0.0, 30) and _leftovers(tmp_path) == []
+    ctl = ReplayController(rec)
+    ctl.submit(Request("seek", float(rec.timeline[20])))
+    ctl.frame()
+    assert ctl.index == 20 and _leftovers(tmp_path) == []
+    for _ in range(3):
+        assert main(["replay", str(mjcf_recording), "--verify"]) == 0
+    assert "maximum deviation 0" in capsys.readouterr().out
+    assert _leftovers(tmp_path) == [] and list((tmp_path / "tmp").iterdir()) == []
+
+
+def test_a_refused_mjcf_recording_leaves_no_folder(mjcf_recording, tmp_path, capsys):
+    lines = gzip.decompress(mjcf_recording.read_bytes()).decode().splitlines()
+    head = json.loads(lines[0])
+    head["mjcf"] = "<mujoco><worldbody><body>"  # not XML MuJoCo reads
+    bad = tmp_path / "bad.sbx"
+    bad.write_bytes(gzip.compress(("\n".join([json.dumps(head), *lines[1:]]) + "\n").encode()))
+    assert main(["replay", str(bad), "--verify"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sandbox: error: recording ") and "cannot load MJCF" in err
+    assert len(err.splitlines()) == 1 and _leftovers(tmp_path) == []
+
+
+def test_a_crafted_target_name_cannot_reach_the_label(mjcf_recording, tmp_path):
+    lines = gzip.decompress(mjcf_recording.read_bytes()).decode().splitlines()
+    head = json.loads(lines[0])
+    head["target"] = "../../<img src=x onerror=alert(1)>.xml"
+    path = tmp_path / "t.sbx"
+    path.write_bytes(gzip.compress(("\n".join([json.dumps(head), *lines[1:]]) + "\n").encode()))
+    sim = open_simulation(load(path))
+    assert sim.label == "img_src_x_onerror_alert_1.xml" and _leftovers(tmp_path) == []
+
+
+def test_planned_steps_count_what_the_recording_stepped(recording):
+    """The fixture took 17 steps before each of its 120 frames, across a timestep change
+    (1e-3 s -> 5e-4 s) and a reset: re-simulating from frame 0 takes 119 x 17 = 2023."""
+    assert planned_steps(load(recording)) == pytest.approx(2023, abs=1e-6)
