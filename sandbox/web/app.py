@@ -14,7 +14,8 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from types import FrameType
+from typing import Any, TypedDict
 
 import viser
 
@@ -25,6 +26,14 @@ from sandbox.web.session import Controller, Session
 from sandbox.web.view import WebView
 
 log = logging.getLogger(__name__)
+
+
+class SimOptions(TypedDict):
+    """Keyword arguments of :class:`Simulation` given to every session of a server."""
+
+    values: Mapping[str, object]
+    integrator: str | None
+    timestep: float | None
 
 
 def _check_port(host: str, port: int) -> None:
@@ -212,7 +221,7 @@ def run_forever(app: App) -> None:
             signal.signal(signal.SIGTERM, previous)
 
 
-def _interrupt(signum: int, frame: Any) -> None:
+def _interrupt(signum: int, frame: FrameType | None) -> None:
     raise KeyboardInterrupt
 
 
@@ -260,7 +269,11 @@ def start(
     """
     network.install()
     sys.setswitchinterval(SWITCH_INTERVAL)
-    options = {"values": dict(values or {}), "integrator": integrator, "timestep": timestep}
+    options: SimOptions = {
+        "values": dict(values or {}),
+        "integrator": integrator,
+        "timestep": timestep,
+    }
     Simulation(target, **options)
     server = open_server(host, port, "sandbox", check=check_port)
     urls = join_urls(host, server.get_port(), public_url)

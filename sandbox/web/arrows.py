@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Arrow
+
+if TYPE_CHECKING:
+    import viser
 
 MIN_LENGTH = 1e-4
 """Arrows shorter than this [m] are hidden (a cone alone would mislead)."""
@@ -35,7 +38,7 @@ class ArrowLayer:
 
     def __init__(
         self,
-        scene: Any,
+        scene: viser.SceneApi,
         arrows: Sequence[Arrow],
         *,
         extent: float,
@@ -44,7 +47,7 @@ class ArrowLayer:
     ) -> None:
         self.arrows = tuple(arrows)
         self.units = tuple(units) + ("",) * (len(self.arrows) - len(units))
-        self.nodes: list[tuple[Any, Any]] = []
+        self.nodes: list[tuple[viser.ArrowsHandle, viser.LabelHandle]] = []
         shaft = 0.01 * extent
         for a in self.arrows:
             node = scene.add_arrows(

@@ -21,13 +21,14 @@ import secrets
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
 
 import viser
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
 from sandbox.web import network
-from sandbox.web.app import App
+from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Frame, Notice, Request, Session
@@ -77,12 +78,13 @@ class BroadcastView:
         sim = controller.sim
         self.renderer = SceneRenderer(server.scene, prefix=f"{SHARED}/model")
         self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
-        self.names = [r.name for r in sim.scene.readouts][:8] if sim.scene else ["T", "V"]
+        spec = as_scene(sim.scene)
+        self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
         self.units = {i.name: i.unit for i in sim.readout_infos()}
         self.summary = ""
         self.version = 0
-        self.teachers: list[WebView] = []
-        self._drawn: tuple[Any, ...] | None = None
+        self.teachers: list[WebView[Controller]] = []
+        self._drawn: tuple[object, ...] | None = None
         self._summary_at = -math.inf
 
     def wants(self, now: float) -> list[str] | None:
@@ -143,7 +145,9 @@ class FollowerView:
     """A student watching the shared simulation: the broadcast 3D view, the key
     readouts, and the way out to a simulation of their own."""
 
-    def __init__(self, client: Any, broadcast: BroadcastView, on_own: Callable[[], None]) -> None:
+    def __init__(
+        self, client: viser.ClientHandle, broadcast: BroadcastView, on_own: Callable[[], None]
+    ) -> None:
         self.broadcast = broadcast
         self._seen = -1
         client.gui.configure_theme(control_width="large", show_share_button=False)
@@ -189,8 +193,8 @@ class FollowApp(App):
         self,
         server: viser.ViserServer,
         host: str,
-        target: Any,
-        options: Mapping[str, Any],
+        target: str | Path,
+        options: SimOptions,
         *,
         lesson: str | None = None,
         token: str | None = None,
@@ -198,7 +202,7 @@ class FollowApp(App):
         max_sessions: int = 200,
     ) -> None:
         self.target = target
-        self.options = dict(options)
+        self.options = options
         self.lesson = lesson
         self.token = token or secrets.token_urlsafe(9)
         self.join_urls = join_urls
@@ -206,7 +210,7 @@ class FollowApp(App):
         self.broadcast = BroadcastView(server, self.shared)
         self.broadcast_session = Session(self.shared, self.broadcast)
         self.modes: dict[int, str] = {}
-        self._views: dict[int, WebView] = {}
+        self._views: dict[int, WebView[Controller]] = {}
         self._switch = threading.Lock()
         network.page_alias(teacher_path(self.token))
         super().__init__(server, host, self._open, max_sessions=max_sessions)
@@ -255,9 +259,14 @@ class FollowApp(App):
         cid = client.client_id
         self.modes[cid] = "own"
         sim = self.shared.sim
-        options = dict(self.options, values=dict(sim.values))
-        options.update(integrator=sim.integrator, timestep=sim.timestep)
-        controller = Controller(Simulation(self.target, **options))
+        controller = Controller(
+            Simulation(
+                self.target,
+                values=dict(sim.values),
+                integrator=sim.integrator,
+                timestep=sim.timestep,
+            )
+        )
         client.scene.add_frame(SHARED, show_axes=False, visible=False)  # this browser only
         with client.gui.add_folder("Classe"):
             back = client.gui.add_button(
@@ -290,7 +299,7 @@ class FollowApp(App):
                 self.sessions[cid] = session
             session.start()
 
-    def _send(self, what: str, teacher: WebView) -> None:
+    def _send(self, what: str, teacher: WebView[Controller]) -> None:
         """The teacher's buttons: parameters or lesson step to every own copy."""
         sim = self.shared.sim
         lesson = teacher.lesson.position() if teacher.lesson is not None else None
@@ -336,7 +345,9 @@ class FollowApp(App):
 class _TeacherSession(Session):
     """The teacher's panels on the shared simulation (the broadcast steps it)."""
 
-    def __init__(self, app: FollowApp, view: WebView, counts: Any) -> None:
+    def __init__(
+        self, app: FollowApp, view: WebView[Controller], counts: viser.GuiMarkdownHandle
+    ) -> None:
         cid = view.client.client_id
         super().__init__(app.shared, view, alive=lambda: app.connected(cid), drive=False)
         self.app = app

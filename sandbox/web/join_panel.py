@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import html
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING
 
 import segno
+
+if TYPE_CHECKING:
+    import viser
 
 
 def qr_svg(url: str, *, scale: int = 6) -> str:
@@ -54,6 +57,6 @@ class JoinPanel:
         expand: Open the folder (it shows once picked in "Panneau affiché").
     """
 
-    def __init__(self, gui: Any, urls: Sequence[str], *, expand: bool = True) -> None:
+    def __init__(self, gui: viser.GuiApi, urls: Sequence[str], *, expand: bool = True) -> None:
         with gui.add_folder("Rejoindre", expand_by_default=expand) as self.folder:
             self.html = gui.add_html(join_html(urls))

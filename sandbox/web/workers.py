@@ -19,11 +19,17 @@ import sys
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from multiprocessing.process import BaseProcess
+from multiprocessing.queues import Queue
+from types import FrameType
 from typing import Any
 
 from sandbox.errors import BadOption, SandboxError
 
 log = logging.getLogger(__name__)
+
+Event = tuple[str, int, object]
+"""What a worker tells the parent: ("ready", index, port) or ("error", index, reason)."""
 
 START_TIMEOUT = 60.0
 """Seconds a worker may take to import, build its first simulation and listen."""
@@ -60,7 +66,7 @@ class WorkerSpec:
     options: Mapping[str, Any] = field(default_factory=dict)
 
 
-def _worker_main(spec: WorkerSpec, index: int, events: Any) -> None:
+def _worker_main(spec: WorkerSpec, index: int, events: Queue[Event]) -> None:
     """Body of a worker process: serve until SIGTERM or SIGINT, then close sessions."""
     from sandbox.web import network
     from sandbox.web.app import run_forever, start
@@ -106,8 +112,8 @@ class WorkerPool:
         self.spec = spec
         self.count = workers
         self._ctx = multiprocessing.get_context("spawn")
-        self._events: Any = self._ctx.Queue()
-        self.processes: dict[int, Any] = {}
+        self._events: Queue[Event] = self._ctx.Queue()
+        self.processes: dict[int, BaseProcess] = {}
         self._restarts: list[float] = []
 
     def _spawn(self, index: int) -> None:
@@ -204,7 +210,7 @@ def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
     """Run ``workers`` worker processes until Ctrl-C or SIGTERM; print ``banner`` once
     they all listen."""
 
-    def terminate(signum: int, frame: Any) -> None:
+    def terminate(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
     previous = signal.signal(signal.SIGTERM, terminate)
