@@ -46,6 +46,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import SandboxError, choices
+from sandbox.physics.model import INTEGRATORS, MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
 
 FORMAT = "sandbox-recording"
 VERSION = 1
@@ -286,8 +287,9 @@ MAX_FILE_BYTES = 256 * 2**20
 MAX_TEXT_BYTES = 256 * 2**20
 """Largest decompressed text [bytes]: a gzip bomb is refused when it passes this size."""
 
-MAX_LINE_BYTES = 8 * 2**20
-"""Longest line [bytes] (the header holds the model's MJCF text)."""
+MAX_LINE_BYTES = 2 * MAX_MJCF_BYTES
+"""Longest line [bytes]: the header holds the model's MJCF text (at most
+:data:`~sandbox.physics.model.MAX_MJCF_BYTES`), longer once escaped in JSON."""
 
 MAX_RECORDS = 500_000
 """Most lines in a recording (about 2 hours of a web session: 60 frames and 10 readouts
@@ -481,8 +483,6 @@ def _short(value: object) -> str:
 
 
 def _timestep(value: object, what: str) -> float:
-    from sandbox.physics.model import MAX_TIMESTEP, MIN_TIMESTEP
-
     return _finite(value, what, low=MIN_TIMESTEP, high=MAX_TIMESTEP)
 
 
@@ -494,8 +494,6 @@ _HEADER_KEYS = (
 
 def _header(path: Path, line: bytes) -> dict[str, Any]:
     """The validated header (only the keys of :data:`_HEADER_KEYS`)."""
-    from sandbox.physics.model import INTEGRATORS
-
     try:
         head = _json(line)
     except _Refused as exc:
@@ -539,7 +537,7 @@ def _header(path: Path, line: bytes) -> dict[str, Any]:
         _text(head["target"], "'target'")
         _text(head["scene"], "'scene'", none=True)
         _text(head["lesson"], "'lesson'", none=True)
-        _text(head["mjcf"], "'mjcf'", limit=MAX_LINE_BYTES)
+        _text(head["mjcf"], "'mjcf'", limit=MAX_MJCF_BYTES)
         values = head["values"]
         if not isinstance(values, dict) or len(values) > MAX_VALUES:
             raise _Refused(f"'values' is {_short(values)}, not a table of parameters")
@@ -688,8 +686,6 @@ class _Reader:
             raise _Refused(f"{what} holds a number that is not finite")
 
     def _event(self, kind: str, rec: dict[str, Any]) -> dict[str, Any]:
-        from sandbox.physics.model import INTEGRATORS
-
         if kind == "set":
             name = rec.get("name")
             if not isinstance(name, str) or name not in self.params:

@@ -351,6 +351,15 @@ MODEL_CASES: list[tuple[str, str, Callable[[Lines], bytes], str]] = [
         "reads the file '/etc/passwd'",
     ),
     (
+        "mjcf-hfield-10GB",
+        "pendulum",
+        _pendulum_mjcf(
+            '<mujoco><asset><hfield name="h" nrow="100000" ncol="100000" size="1 1 1 1"/>'
+            "</asset><worldbody/></mujoco>"
+        ),
+        "cannot be replayed",
+    ),
+    (
         "mjcf-not-xml",
         "pendulum",
         _pendulum_mjcf("<mujoco><worldbody>"),
@@ -386,6 +395,20 @@ def test_a_recording_that_does_not_fit_its_model_is_refused(
     assert not list(tmp_path.glob("sandbox-replay-*"))
 
 
+def test_a_recorded_mjcf_with_timestep_zero_replays_at_the_recorded_timestep(
+    pendulum, tmp_path, monkeypatch
+):
+    """The header's timestep (checked) is the one used: the file's own is overridden."""
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    mjcf = PENDULUM.replace('timestep="0.001"', 'timestep="0"')
+    path = _write(tmp_path / "z.sbx", _pendulum_mjcf(mjcf)(pendulum))
+    rec = load(path)
+    assert open_simulation(rec).timestep == rec.header["timestep"] == 0.001
+    assert resimulate(rec)[0] == 0.0 and not list(tmp_path.glob("sandbox-replay-*"))
+
+
 def test_verify_refuses_a_recording_that_asks_for_billions_of_steps(rotor, tmp_path, capsys):
     """A tiny file: two frames 10^5 s apart at 1 µs steps (10^11 steps, days of CPU)."""
     lines = copy.deepcopy(rotor)
@@ -408,12 +431,27 @@ def _fifo(tmp_path: Path) -> Path:
     return tmp_path / "fifo.sbx"
 
 
+def _symlink(tmp_path: Path) -> Path:
+    (tmp_path / "link.sbx").symlink_to("/dev/zero")
+    return tmp_path / "link.sbx"
+
+
+def _sparse(tmp_path: Path) -> Path:
+    """A 300 MiB file that takes no disk (a hole): refused by its size, unread."""
+    with open(tmp_path / "big.sbx", "wb") as fh:
+        fh.write(b"\x1f\x8b")
+        fh.truncate(300 * 2**20)
+    return tmp_path / "big.sbx"
+
+
 SPECIAL_FILES: list[tuple[str, Callable[[Path], Path], str]] = [
     ("dev-zero", lambda tmp: Path("/dev/zero"), "is not a regular file"),
     ("dev-urandom", lambda tmp: Path("/dev/urandom"), "is not a regular file"),
     ("fifo", _fifo, "is not a regular file"),
     ("directory", lambda tmp: tmp, "is a directory"),
     ("missing", lambda tmp: tmp / "missing.sbx", "cannot read recording"),
+    ("symlink-to-dev-zero", _symlink, "is not a regular file"),
+    ("300MiB-sparse", _sparse, "is 300 MiB, more than the 256 MiB"),
     ("empty", lambda tmp: _write(tmp / "e.sbx", b""), "not a gzip stream"),
     ("empty-gzip", lambda tmp: _write(tmp / "e.sbx", gzip.compress(b"")), "empty or truncated"),
     ("csv-file", lambda tmp: _write(tmp / "x.csv", b"time,T\n0,1\n"), "not a gzip stream"),
