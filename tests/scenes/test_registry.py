@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import mujoco
 import pytest
@@ -30,11 +31,63 @@ def test_effects_not_called_for_are_off(name):
     assert flags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
 
 
+UNITS = {
+    "",  # dimensionless: a ratio (μ), a flag or a preset number
+    "g", "kg", "m", "s", "deg", "rad", "rpm", "rad/s", "m/s", "m/s²",
+    "N", "N·m", "W", "kg·m", "kg·m²", "kg·m²/s", "N·m·s/rad",
+}  # fmt: skip
+"""Units the scenes speak (course notation: middle dot, superscripts): a typo such as
+"Nm", "kg.m2" or "rpm " fails here."""
+
+SUFFIX_UNITS = {"_rpm": "rpm", "_deg": "deg", "_g": "g", "_s": "s"}
+"""A parameter whose name ends with a unit carries that unit."""
+
+
+def _check_doc(doc: str, what: str) -> None:
+    """One sentence: non-empty, on one line, no stray spaces, ends with a period."""
+    assert len(doc) >= 12 and doc == doc.strip() and "\n" not in doc, what
+    assert doc.endswith("."), what
+
+
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_parameter_spec_is_consistent(name):
-    for p in SCENES[name].params:
-        assert p.min <= p.default <= p.max, p.name
-        assert p.doc and p.unit is not None
+    """Every parameter: a usable contract name, a known unit (the one its name says), a
+    one-sentence doc, a finite range holding its default with a slider step inside it,
+    and a ``check`` that admits exactly that range."""
+    params = SCENES[name].params
+    names = [p.name for p in params]
+    assert len(set(names)) == len(names), names
+    for p in params:
+        assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", p.name), p.name  # --set NAME=VALUE
+        assert p.unit in UNITS, (p.name, p.unit)
+        for suffix, unit in SUFFIX_UNITS.items():
+            if p.name.endswith(suffix):
+                assert p.unit == unit, (p.name, p.unit)
+        _check_doc(p.doc, p.name)
+        assert all(math.isfinite(x) for x in (p.min, p.default, p.max, p.step)), p.name
+        assert p.min < p.max and p.min <= p.default <= p.max, p.name
+        assert 0 < p.step <= p.max - p.min, p.name
+        assert p.check(p.default) == p.default and p.check(str(p.max)) == p.max, p.name
+        span = p.max - p.min
+        for outside in (p.min - 1e-6 * span, p.max + 1e-6 * span, math.nan):
+            with pytest.raises(BadParameter):
+                p.check(outside)
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_readout_spec_is_consistent(name):
+    """Every scene readout: a unique name that no generic readout already takes, a known
+    unit and a one-sentence doc."""
+    from sandbox.physics.readouts import GENERIC_SET
+
+    readouts = SCENES[name].readouts
+    names = [r.name for r in readouts]
+    assert len(set(names)) == len(names), names
+    assert not set(names) & GENERIC_SET, set(names) & GENERIC_SET
+    for r in readouts:
+        assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", r.name), r.name  # a CSV column
+        assert r.unit in UNITS, (r.name, r.unit)
+        _check_doc(r.doc, r.name)
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))
