@@ -27,7 +27,7 @@ from sandbox.mechanics import (
 
 def _integrate(points: np.ndarray, mass: float) -> np.ndarray:
     dm = mass / len(points)
-    return sum(point_mass(dm, p) for p in points)
+    return np.sum([point_mass(dm, p) for p in points], axis=0)
 
 
 def test_course_block_example_5_4():
