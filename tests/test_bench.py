@@ -103,6 +103,7 @@ def test_each_default_is_within_half_a_percent_and_admissible():
         assert res.admissible(default), name
 
 
+@pytest.mark.slow  # the whole quick grid of a scene plus its charts: 3.6-7.4 s
 def test_results_schema(tmp_path, capsys):
     assert main(["bench", "rotor", "--quick", "--out", str(tmp_path)]) == 0
     doc = json.loads((tmp_path / "results.json").read_text())

@@ -248,6 +248,7 @@ def _cookie(context) -> str:
 
 @pytest.mark.proxy
 @pytest.mark.browser
+@pytest.mark.slow  # HAProxy, two servers and Chromium: ~50 s
 def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
     haproxy_path()  # skip (or fail in CI) before starting anything
     ports = [free_port(), free_port()]

@@ -8,7 +8,7 @@ import time
 import pytest
 from conftest import wait_for
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-19 s each
 
 
 def _readout(page, name: str) -> float:

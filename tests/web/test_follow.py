@@ -40,6 +40,7 @@ def test_one_shared_simulation_steps_whatever_the_number_of_watchers(served_foll
 
 
 @pytest.mark.browser
+@pytest.mark.slow  # three Chromium pages: 22-30 s
 def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     open_page, served_follow
 ):

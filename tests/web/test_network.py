@@ -139,6 +139,7 @@ def test_serve_passes_its_options_on(monkeypatch):
     assert cli.main(["serve", "rotor", "--workers", "0"]) == 2
 
 
+@pytest.mark.slow  # spawns worker processes that import mujoco and viser: 2.7-6 s
 def test_workers_share_one_port_and_stop_cleanly(tmp_path):
     """`sandbox serve --workers 2`: two processes listen on the printed port, both
     accept handshakes, and SIGTERM stops everything."""
