@@ -377,7 +377,8 @@ class _Lines:
                 "by 'sandbox run --record' or the web app's record button"
             )
         dec = zlib.decompressobj(wbits=31)
-        pending = b""
+        pending: list[bytes] = []
+        size = 0  # bytes in pending
         total = number = 0
         data = head
         while not dec.eof:
@@ -398,18 +399,22 @@ class _Lines:
                     "give a file written by 'sandbox run --record' or the web app",
                 )
             parts = out.split(b"\n")
-            parts[0] = pending + parts[0]
-            pending = parts.pop()
+            pending.append(parts.pop())  # the start of a line yet to end
+            size += len(pending[-1])
+            if parts:  # pieces of a long line are joined once, when it ends
+                parts[0] = b"".join([*pending[:-1], parts[0]])
+                size = len(pending[-1])
+                del pending[:-1]
             for line in parts:
                 number += 1
                 if len(line) > MAX_LINE_BYTES:
                     raise self._too_long(number)
                 yield number, line
-            if len(pending) > MAX_LINE_BYTES:
+            if size > MAX_LINE_BYTES:
                 raise self._too_long(number + 1)
         if dec.unused_data or data or fh.read(1):
             raise self._refuse("has data after the end of its gzip stream (trailing garbage)")
-        self.ended = not pending
+        self.ended = size == 0
 
     def _too_long(self, number: int) -> BadRecording:
         what = "its first line" if number == 1 else f"its line {number}"
