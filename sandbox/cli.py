@@ -15,14 +15,17 @@ files are bounded by the limits of :mod:`sandbox.physics.model`.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
 import sys
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import NoReturn
+
+import mujoco
 
 from sandbox.errors import BadOption, BadParameter, SandboxError, one_line, shown
 from sandbox.physics.model import INTEGRATORS
@@ -495,9 +498,35 @@ def cmd_serve(
     return 0
 
 
+MAX_HELD_WARNINGS = 10
+"""MuJoCo warnings kept for the end of a command (the rest are dropped)."""
+
+
+@contextlib.contextmanager
+def _held_mujoco_warnings(held: list[str]) -> Iterator[None]:
+    """Collect MuJoCo's warnings (printed on stderr by default) instead of printing them."""
+
+    def keep(text: object) -> None:
+        if len(held) < MAX_HELD_WARNINGS:
+            held.append(one_line(str(text)))
+
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(keep)
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``sandbox`` console script; returns the exit code."""
+    """Entry point of the ``sandbox`` console script; returns the exit code.
+
+    Outside ``serve``, MuJoCo's warnings (printed by default on stderr, e.g. before a
+    divergence) are held back: shown as ``sandbox: warning: MuJoCo: ...`` lines after a
+    successful command, dropped after an error, whose one line says what happened.
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
+    held: list[str] = []
     try:
         args = build_parser().parse_args(argv)
         if args.command in (None, "serve"):
@@ -510,15 +539,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "follow", False),
                 getattr(args, "public_url", None),
             )
-        if args.command == "list":
-            return cmd_list()
-        if args.command == "describe":
-            return cmd_describe(args.target, args.json)
-        if args.command == "replay":
-            return cmd_replay(args)
-        if args.command == "bench":
-            return cmd_bench(args)
-        return cmd_run(args)
+        with _held_mujoco_warnings(held):
+            code = _dispatch(args)
     except SandboxError as exc:
         print(f"sandbox: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_code
@@ -531,6 +553,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         if os.environ.get(DEBUG_ENV) == "1":
             raise
         return _internal_error(exc)
+    if code == 0:
+        for text in dict.fromkeys(held):
+            print(f"sandbox: warning: MuJoCo: {text}", file=sys.stderr)
+    return code
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    if args.command == "list":
+        return cmd_list()
+    if args.command == "describe":
+        return cmd_describe(args.target, args.json)
+    if args.command == "replay":
+        return cmd_replay(args)
+    if args.command == "bench":
+        return cmd_bench(args)
+    return cmd_run(args)
 
 
 def _internal_error(exc: BaseException) -> int:

@@ -66,14 +66,14 @@ def check_run(duration: float, rate: float, timestep: float) -> tuple[int, int]:
     if steps > MAX_STEPS:
         raise BadOption(
             f"--duration {duration:g} s at dt = {timestep:g} s takes {steps:.3g} steps "
-            f"(max {MAX_STEPS:g}); simulate at most {MAX_STEPS * timestep:g} s, or give a "
+            f"(max {MAX_STEPS:,}); simulate at most {MAX_STEPS * timestep:g} s, or give a "
             "larger --timestep"
         )
     rows = min(duration * rate, steps) + 1
     if rows > MAX_ROWS:
         raise BadOption(
             f"--duration {duration:g} s at --rate {rate:g} writes {rows:.3g} rows "
-            f"(max {MAX_ROWS:g}); give a smaller --rate"
+            f"(max {MAX_ROWS:,}); give a smaller --rate"
         )
     return chunks(duration, rate, timestep)
 

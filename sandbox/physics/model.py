@@ -314,6 +314,12 @@ def _scan_file(path: Path, scan: _Scan, mult: float, top: Path) -> None:
 
 def _scan_element(elem: ET.Element, scan: _Scan, mult: float, top: Path) -> None:
     tag = elem.tag
+    for key, value in elem.attrib.items():  # MuJoCo would print a warning and go on
+        if any(word.lower().lstrip("+-") == "nan" for word in value.split()):
+            raise BadModel(
+                f"{shown(str(top))}: {shown(f'<{tag} {key}={value!r}>')} is not a number; "
+                "give a finite value"
+            )
     if tag == "replicate":
         mult *= _product(elem.get("count"))
     elif tag in ("composite", "flexcomp"):
@@ -431,7 +437,8 @@ def check_spec(spec: mujoco.MjSpec, path: Path, *, timestep: bool = True) -> Non
         size, pixels = _asset(spec, h.file, spec.texturedir, path) if h.file else (0, 0)
         files += size
         points = max(float(h.nrow) * float(h.ncol), float(pixels), size / 4.0)
-        parts.append((f"hfield {shown(h.name)} ({h.nrow} x {h.ncol})", 4.0 * points))
+        what = f"file {shown(h.file)}" if h.file else f"{h.nrow} x {h.ncol}"
+        parts.append((f"hfield {shown(h.name)} ({what})", 4.0 * points))
     for t in spec.textures:
         size, pixels = 0, 0
         for file in [t.file, *list(t.cubefiles)]:
@@ -442,9 +449,8 @@ def check_spec(spec: mujoco.MjSpec, path: Path, *, timestep: bool = True) -> Non
         faces = 6.0 if t.type != mujoco.mjtTexture.mjTEXTURE_2D else 1.0
         area = max(float(t.width) * float(t.height) * faces, float(t.width) ** 2 * faces)
         channels = max(int(t.nchannel), 4)
-        parts.append(
-            (f"texture {shown(t.name)} ({t.width} x {t.height})", channels * max(area, pixels))
-        )
+        what = f"file {shown(t.file)}" if t.file else f"{t.width} x {t.height}"
+        parts.append((f"texture {shown(t.name)} ({what})", channels * max(area, pixels)))
     for m in spec.meshes:
         size = _asset(spec, m.file, spec.meshdir, path)[0] if m.file else 0
         files += size
