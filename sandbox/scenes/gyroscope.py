@@ -21,7 +21,16 @@ import numpy as np
 
 from sandbox.physics.readouts import _spatial_at_origin
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
+from sandbox.scenes.base import (
+    Accuracy,
+    Arrow,
+    Effects,
+    Param,
+    Scene,
+    SceneReadout,
+    Series,
+    Values,
+)
 
 RPM = 2 * math.pi / 60
 MANOEUVRES = {
@@ -149,7 +158,7 @@ ARROWS = (
 )
 
 
-def _sigma_drift(series, values) -> float:
+def _sigma_drift(series: Series, values: Values) -> float:
     sig = np.stack([series["sigma_G_x"], series["sigma_G_y"], series["sigma_G_z"]], axis=1)
     n = np.linalg.norm(sig, axis=1)
     return float(np.max(np.abs(n - n[0])) / max(n[0], 1e-12))

@@ -29,6 +29,7 @@ from sandbox.scenes.base import (
     Param,
     Scene,
     SceneReadout,
+    Series,
     Values,
     per_revolution_timestep,
 )
@@ -180,7 +181,7 @@ ARROWS = (
 )
 
 
-def _precession_error(series, values) -> float:
+def _precession_error(series: Series, values: Values) -> float:
     exact, _ = precession(values)
     return float(np.max(np.abs(np.asarray(series["precession_rate"]) - exact)) / abs(exact))
 
