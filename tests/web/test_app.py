@@ -79,8 +79,10 @@ def _served() -> int:
     return Scheduler.shared().sessions
 
 
-def _factory(pendulum, gate: threading.Event | None = None):
+def _factory(pendulum, gate: threading.Event | None = None, entered: threading.Event | None = None):
     def make(client) -> Session:
+        if entered is not None:
+            entered.set()
         if gate is not None:
             gate.wait(5.0)
         return Session(Controller(Simulation(pendulum)), NullView(), fps=30)
@@ -90,13 +92,13 @@ def _factory(pendulum, gate: threading.Event | None = None):
 
 def test_disconnect_during_a_slow_connect_leaves_no_session(pendulum):
     server = FakeServer()
-    gate = threading.Event()
-    app = App(server, "127.0.0.1", _factory(pendulum, gate))
+    gate, entered = threading.Event(), threading.Event()
+    app = App(server, "127.0.0.1", _factory(pendulum, gate, entered))
     client = FakeClient(1)
     server.clients[1] = client
     connecting = threading.Thread(target=server.connect_cb, args=(client,))
     connecting.start()
-    time.sleep(0.05)  # the factory is building the simulation
+    assert entered.wait(5.0)  # the factory is building the simulation, held by the gate
     del server.clients[1]
     server.disconnect_cb(client)  # finds no session yet: the race of the issue
     gate.set()
