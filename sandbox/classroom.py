@@ -66,17 +66,24 @@ import tempfile
 import threading
 import time
 import urllib.request
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Coroutine, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import msgspec
 import websockets
 import websockets.exceptions
 import zstandard
 
+if TYPE_CHECKING:
+    import argparse
+
+    from websockets.asyncio.client import ClientConnection, connect
+
 from sandbox.errors import BadOption
+
+T = TypeVar("T")
 
 PROBE_PERIOD = 5.0
 """Seconds between two slider changes of one client."""
@@ -404,7 +411,7 @@ class ClientStats:
         return (t1 - t0) / (w1 - w0)
 
 
-def connect_as_browser(url: str, origin: str, *, open_timeout: float) -> Any:
+def connect_as_browser(url: str, origin: str, *, open_timeout: float) -> connect:
     """A websocket connection opened as the browser opens it (viser's subprotocol, the
     page's Origin, no compression, no message size limit)."""
     return websockets.connect(
@@ -470,7 +477,7 @@ async def run_client(
 
 
 async def _probe(
-    ws: Any,
+    ws: ClientConnection,
     stats: ClientStats,
     window: Window,
     rng: random.Random,
@@ -812,23 +819,24 @@ async def origin_probe(
         return True, f"handshake failed ({type(exc).__name__}: {exc})"
 
 
-def run_async(coro: Any) -> Any:
+def run_async(coro: Coroutine[Any, Any, T]) -> T:
     """``asyncio.run(coro)`` in a thread of its own: the caller's thread may already run
     an event loop (Playwright's sync API does, in the test suite)."""
-    out: dict[str, Any] = {}
+    values: list[T] = []
+    errors: list[BaseException] = []
 
     def body() -> None:
         try:
-            out["value"] = asyncio.run(coro)
+            values.append(asyncio.run(coro))
         except BaseException as exc:  # re-raised in the caller's thread
-            out["error"] = exc
+            errors.append(exc)
 
     worker = threading.Thread(target=body, name="classroom-bench")
     worker.start()
     worker.join()
-    if "error" in out:
-        raise out["error"]
-    return out.get("value")
+    if errors:
+        raise errors[0]
+    return values[0]
 
 
 def run_classroom(
@@ -1054,7 +1062,7 @@ def jsonable(value: Any) -> Any:
     return value
 
 
-def cli_classroom(args: Any) -> int:
+def cli_classroom(args: argparse.Namespace) -> int:
     """``sandbox bench --classroom N [SCENE] [--follow] [--seconds S] [--out FILE.json]``."""
     clients = int(args.classroom)
     if not 1 <= clients <= 200:
