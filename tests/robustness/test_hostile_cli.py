@@ -99,6 +99,7 @@ def assert_refused(res: Outcome, *words: str, code: int = 2) -> str:
         assert word in lines[0], (word, lines[0])
     assert res.seconds < TIMEOUT
     assert res.rss_bytes < GIB, f"{res.rss_bytes / 2**20:.0f} MB"
+    print(f"{res.seconds:.1f} s, peak RSS {res.rss_bytes / 2**20:.0f} MB: {lines[0][:80]}")
     return lines[0]
 
 
