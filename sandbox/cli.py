@@ -368,8 +368,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         print("goals: run / bare <= 1.25 (readouts at 60 Hz), >= 20x real time at the defaults")
     if args.effects or args.overhead:
         return 0
-    if args.out.exists() and not args.out.is_dir():
-        raise BadOption(f"--out {str(args.out)!r} is a file; give a folder")
+    _check_folder(args.out, "--out")
     start = time.perf_counter()
     results = []
     for scene in scenes:
@@ -387,6 +386,15 @@ def cmd_bench(args: argparse.Namespace) -> int:
             )
     print(f"written: {', '.join(str(p) for p in paths)} ({time.perf_counter() - start:.0f} s)")
     return 0
+
+
+def _check_folder(path: Path, option: str) -> None:
+    """A folder a command writes into (it may not exist yet): refuse a file or a bad name."""
+    try:
+        if path.exists() and not path.is_dir():
+            raise BadOption(f"{option} {shown(str(path))} is a file; give a folder")
+    except OSError as exc:
+        raise BadOption(f"{option} {shown(str(path))}: {exc.strerror}; give another path") from None
 
 
 def _check_record(path: Path) -> None:
@@ -419,13 +427,16 @@ def cmd_replay(args: argparse.Namespace) -> int:
         )
     offline = args.verify or args.export is not None or args.csv is not None
     if args.csv is not None:
-        if args.csv.is_dir() or not args.csv.parent.exists():
-            raise BadOption(f"--csv {str(args.csv)!r}: give a file in an existing folder")
+        try:
+            usable = not args.csv.is_dir() and args.csv.parent.is_dir()
+        except OSError:
+            usable = False
+        if not usable:
+            raise BadOption(f"--csv {shown(str(args.csv))}: give a file in an existing folder")
         n = write_csv(rec, args.csv)
         print(f"{n} rows of {len(rec.names)} readouts written to {args.csv}")
     if args.export is not None:
-        if args.export.exists() and not args.export.is_dir():
-            raise BadOption(f"--export {str(args.export)!r} is a file; give a folder")
+        _check_folder(args.export, "--export")
         from sandbox.web.export import export_static
 
         index = export_static(rec, args.export)

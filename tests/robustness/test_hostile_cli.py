@@ -349,3 +349,28 @@ def test_keyboard_interrupt_in_a_command_is_130(monkeypatch, capsys):
     monkeypatch.setattr("sandbox.cli.cmd_list", interrupted)
     assert main(["list"]) == 130
     assert capsys.readouterr().err == ""
+
+
+# -- folders and files of the other commands --------------------------------------------
+def test_bench_out_with_a_name_too_long(tmp_path):
+    res = run_cli("bench", "rotor", "--out", "b" * 5000, cwd=tmp_path)
+    assert_refused(res, "--out 'bbbb", "(5000 characters): File name too long")
+
+
+@pytest.mark.parametrize(
+    "options, words",
+    [
+        (
+            ["--csv", "c" * 5000 + ".csv"],
+            ["(5004 characters)", "give a file in an existing folder"],
+        ),
+        (["--csv", "plain/r.csv"], ["--csv 'plain/r.csv': give a file in an existing folder"]),
+        (["--export", "plain"], ["--export 'plain' is a file; give a folder"]),
+    ],
+    ids=["csv-long", "csv-under-a-file", "export-a-file"],
+)
+def test_replay_outputs(options, words, tmp_path):
+    (tmp_path / "plain").write_text("x")
+    made = run_cli("run", "rotor", "--duration", "0.1", "--record", "r.sbx", cwd=tmp_path)
+    assert made.code == 0, made.err
+    assert_refused(run_cli("replay", "r.sbx", *options, cwd=tmp_path), *words)
