@@ -186,7 +186,9 @@ def test_builtin_mesh_bombs(builtin, params, tmp_path):
 
 
 @pytest.mark.parametrize(
-    "asset", ['nrow="100000" ncol="100000"', 'nrow="20000" ncol="20000"'], ids=["1e10", "4e8"]
+    "asset",
+    ['nrow="100000" ncol="100000"', 'nrow="20000" ncol="20000"', 'nrow="8000" ncol="8000"'],
+    ids=["1e10", "4e8", "6.4e7"],  # the last one compiles at 1.06 GB of RSS
 )
 def test_hfield_bombs(asset, tmp_path):
     xml = mjcf(
@@ -307,6 +309,16 @@ def test_a_small_height_field_runs(tmp_path):
     )
     code, err, _ = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.1")
     assert code == 0 and "Traceback" not in err, err
+
+
+def test_the_largest_height_field_accepted_stays_far_under_1_gb(tmp_path):
+    asset = '<hfield name="h" nrow="4000" ncol="4000" size="1 1 1 0.1"/>'  # 256 MB estimated
+    world = (
+        '<geom type="hfield" hfield="h"/><body pos="0 0 1.5"><freejoint/><geom size=".1"/></body>'
+    )
+    code, err, rss = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.01")
+    assert code == 0 and "Traceback" not in err, err
+    assert rss < 512 * 2**20, f"{rss / 2**20:.0f} MB"  # measured 0.31 GB
 
 
 def test_check_spec_estimates_the_hfield_and_accepts_the_scenes(tmp_path):
