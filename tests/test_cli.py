@@ -170,7 +170,7 @@ def test_console_script_has_no_traceback():
 
 
 def test_bare_sandbox_accepts_host_and_port(monkeypatch):
-    calls = {}
+    calls: dict[str, object] = {}
 
     def fake_serve(target, **options):
         calls.update(target=target, **options)

@@ -12,7 +12,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from sandbox.errors import Diverged
+from sandbox.errors import Diverged, shown
 from sandbox.physics import readouts as generic
 from sandbox.physics.model import (
     Source,
@@ -86,7 +86,7 @@ class Simulation:
             from sandbox.errors import UnknownParameter
 
             raise UnknownParameter(
-                f"{self.source.label!r} is an MJCF file and has no parameter {name!r}; "
+                f"{shown(self.source.label)} is an MJCF file and has no parameter {shown(name)}; "
                 "parameters exist only for registered scenes (see 'sandbox list')"
             )
         return self.scene.param(name).check(value)
@@ -283,7 +283,15 @@ class Simulation:
             raise Diverged(float(d.time), "NaN or Inf in the state")
 
     def advance(self, duration: float) -> None:
-        """Step for ``duration`` seconds (rounded to whole timesteps)."""
+        """Step for ``duration`` seconds (rounded to whole timesteps).
+
+        Raises:
+            BadOption: ``duration`` is not a finite number of seconds, zero or more.
+        """
+        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration >= 0):
+            from sandbox.errors import BadOption
+
+            raise BadOption(f"a duration must be a finite number of seconds >= 0, got {duration!r}")
         self.step(int(round(duration / self.timestep)))
 
     # -- readouts -----------------------------------------------------------------------
