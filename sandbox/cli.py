@@ -283,6 +283,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_out(args.out)
     if args.record is not None:
         _check_record(args.record)
+        if args.out is not None and args.out.absolute() == args.record.absolute():
+            raise BadOption(
+                f"--out and --record name the same file {shown(str(args.out))}; give two names"
+            )
     sim = Simulation(
         resolve(args.target),
         values=_pairs(args.set),
@@ -390,6 +394,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def _check_folder(path: Path, option: str) -> None:
     """A folder a command writes into (it may not exist yet): refuse a file or a bad name."""
+    _no_nul(path, option)
     try:
         if path.exists() and not path.is_dir():
             raise BadOption(f"{option} {shown(str(path))} is a file; give a folder")
@@ -397,8 +402,14 @@ def _check_folder(path: Path, option: str) -> None:
         raise BadOption(f"{option} {shown(str(path))}: {exc.strerror}; give another path") from None
 
 
+def _no_nul(path: Path, option: str) -> None:
+    if "\x00" in str(path):
+        raise BadOption(f"{option} {shown(str(path))} contains a NUL character; give another path")
+
+
 def _check_record(path: Path) -> None:
     name = shown(str(path))
+    _no_nul(path, "--record")
     try:
         if path.is_dir():
             raise BadOption(f"--record {name} is a directory; give a file name such as r.sbx")
@@ -429,7 +440,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if args.csv is not None:
         try:
             usable = not args.csv.is_dir() and args.csv.parent.is_dir()
-        except OSError:
+        except (OSError, ValueError):  # a name too long, a NUL
             usable = False
         if not usable:
             raise BadOption(f"--csv {shown(str(args.csv))}: give a file in an existing folder")

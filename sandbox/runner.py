@@ -165,6 +165,8 @@ def check_out(out: Path, option: str = "--out") -> None:
             folder (or file) that cannot be written.
     """
     name = shown(str(out))
+    if "\x00" in str(out):
+        raise BadOption(f"{option} {name} contains a NUL character; give another path")
     if out.suffix.lower() not in (".csv", ".json"):
         raise BadOption(f"{option} {name} must end in .csv or .json")
     folder = out.parent

@@ -374,3 +374,25 @@ def test_replay_outputs(options, words, tmp_path):
     made = run_cli("run", "rotor", "--duration", "0.1", "--record", "r.sbx", cwd=tmp_path)
     assert made.code == 0, made.err
     assert_refused(run_cli("replay", "r.sbx", *options, cwd=tmp_path), *words)
+
+
+@pytest.mark.parametrize(
+    "options, line",
+    [
+        (["--out", "r\x00.csv"], "--out 'r\\x00.csv' contains a NUL character; give another path"),
+        (
+            ["--record", "r\x00.sbx"],
+            "--record 'r\\x00.sbx' contains a NUL character; give another path",
+        ),
+        (
+            ["--out", "same.csv", "--record", "same.csv"],
+            "--out and --record name the same file 'same.csv'; give two names",
+        ),
+    ],
+    ids=["nul-out", "nul-record", "same-file"],
+)
+def test_output_names_in_process(options, line, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "rotor", *options]) == 2
+    assert capsys.readouterr().err == f"sandbox: error: {line}\n"
+    assert list(tmp_path.iterdir()) == []
