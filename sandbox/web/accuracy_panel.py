@@ -37,7 +37,7 @@ CHART_DPI = 60
 def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
     """The scene's chart without the live point, drawn once per process, and the map
     from (log10 cost, log10 error) to pixels: ``(ax, bx, ay, by, x0, x1, y0, y1)``."""
-    with _BASES_LOCK, charts.LOCK:
+    with charts.LOCK, _BASES_LOCK:  # this order only: charts.submit holds LOCK first
         key = (res.scene, len(res.runs))  # every session loads its own copy
         cached = _BASES.get(key)
         if cached is not None:

@@ -89,3 +89,60 @@ def test_the_chart_base_is_drawn_once_per_scene_not_per_session():
     count = len(_BASES)
     again = chart_base(load_results("rotor"))  # a second session loads its own results
     assert again[0] is first[0] and len(_BASES) == count
+
+
+def test_charts_drawn_by_several_threads_at_once_are_all_correct():
+    """Four sessions' charts and a bench chart drawn together: every image is the one
+    drawn alone (matplotlib's mathtext parser, used by the log axes, is not thread-safe;
+    the lock and the Figure objects keep the threads apart)."""
+    import threading
+
+    import numpy as np
+
+    from sandbox.bench_plot import LOCK, draw
+    from sandbox.web import charts
+    from sandbox.web.accuracy_panel import _BASES
+
+    res = load_results("rotor")
+    live = Run("rotor", "rk4", 1e-3, 0.0, error=1e-3, cpu_per_sim_s=5e-3)
+    _BASES.clear()
+    alone = chart_image(res, live)
+    _BASES.clear()
+
+    def rgb(fig):
+        with LOCK:
+            fig.canvas.draw()
+            return np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+
+    reference_fig = rgb(draw(res, live))
+    images: list[np.ndarray] = []
+    figures: list[np.ndarray] = []
+    errors: list[BaseException] = []
+    start = threading.Barrier(8)
+
+    def session() -> None:
+        try:
+            start.wait()
+            images.append(charts.submit(chart_image, res, live).result(timeout=60))
+            images.append(chart_image(res, live))  # also straight from a session thread
+        except BaseException as exc:  # noqa: BLE001  (reported below)
+            errors.append(exc)
+
+    def bench() -> None:
+        try:
+            start.wait()
+            figures.append(rgb(draw(res, live)))
+        except BaseException as exc:  # noqa: BLE001
+            errors.append(exc)
+
+    threads = [threading.Thread(target=session) for _ in range(4)]
+    threads += [threading.Thread(target=bench) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(120)
+    assert not errors, errors
+    assert len(images) == 8 and len(figures) == 4
+    assert all(np.array_equal(image, alone) for image in images)
+    assert all(np.array_equal(f, reference_fig) for f in figures)
+    assert not (alone == 255).all()  # a real chart, not a blank
