@@ -425,6 +425,55 @@ def test_scene_tables_escape_names_units_and_docs():
     assert '<span title="a&quot;b">&lt;img src=x onerror=&quot;alert(1)&quot;&gt;</span>' in text
 
 
+# -- a replay's timeline -------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from sandbox.web.session import Request
+
+    clock = Clock()
+    ctl = Controller(Simulation("rotor"), clock=clock, record_dir=tmp_path_factory.mktemp("rec"))
+    ctl.submit(Request("record"))
+    for _ in range(30):
+        clock.now += 1 / 60
+        ctl.frame()
+    path = ctl.stop_recording()
+    assert path is not None
+    return path
+
+
+@pytest.mark.parametrize(
+    "kind, value, needle",
+    [
+        ("seek", math.nan, "Temps : un nombre fini est attendu, reçu « nan »."),
+        ("seek", "abc", "Temps : un nombre est attendu, reçu « abc »."),
+        ("seek", None, "Temps : un nombre est attendu, reçu « None »."),
+        ("seek", HUGE, "Temps : un nombre est attendu, reçu « " + "x" * 39 + "… »."),
+        ("step", 1e308, "Nombre de pas « 1e+308 » refusé : entre 1 et 1000."),
+        ("step", "x", "Nombre de pas « x » refusé : entre 1 et 1000."),
+        ("speed", "fast", "Vitesse ×fast refusée : choisissez entre ×0,1 et ×4."),
+        ("reset", None, "Une relecture ne peut pas « reset » : utilisez la ligne de temps."),
+    ],
+)
+def test_a_replay_refuses_bad_timeline_requests_in_french(short_recording, kind, value, needle):
+    from sandbox.recording import load
+    from sandbox.web.player import ReplayController
+    from sandbox.web.session import Request
+
+    clock = Clock()
+    ctl = ReplayController(load(short_recording), clock=clock)
+    ctl.submit(Request("seek", float(ctl.timeline[10])))
+    ctl.frame()
+    ctl.submit(Request("pause"))
+    ctl.frame()
+    ctl.submit(Request(kind, value))
+    ctl.submit(Request(kind, value))
+    notices = ctl.frame()
+    assert [(n.title, n.text) for n in notices] == [("Valeur refusée", needle)]
+    assert ctl.index == 10 and ctl.speed == 1.0
+
+
 # -- a real server, raw websocket messages -------------------------------------------------------
 
 
