@@ -63,3 +63,24 @@ def test_energy_table_closes_the_kinetic_energy_theorem():
     sim.advance(0.1)
     md = tables.energy_markdown(sim.readouts())
     assert abs(_shown(md, "P_frame")) < 1e-6 * max(1.0, abs(_shown(md, "P_ext")))
+
+
+def test_untrusted_labels_are_escaped_in_every_table():
+    """A file's names reach the tables: they are shown as text, never as HTML."""
+    values = {f"{p}_{k}_{c}": 1.0 for p in ("kin", "dyn", "sup") for k in "RM" for c in "xyz"}
+    md = tables.torsors_markdown(
+        values,
+        point=np.zeros(3),
+        point_name="<script>x</script>",
+        basis=np.eye(3),
+        basis_name="<b>B</b>",
+        axes="xyz",
+    )
+    assert "<script>" not in md and "<b>" not in md
+    assert "Réduits en **&lt;script&gt;x&lt;/script&gt;**" in md
+    assert "M<sub>&lt;script&gt;x&lt;/script&gt;</sub>" in md
+    hyp = tables.hypotheses_markdown(
+        ["<img src=x onerror=alert(1)>"], integrator="rk4", timestep=1e-3
+    )
+    assert hyp.splitlines()[0] == "- &lt;img src=x onerror=alert(1)&gt;"
+    assert hyp.splitlines()[1] == "- Intégrateur **rk4**, pas de temps dt = 1 ms"
