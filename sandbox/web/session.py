@@ -180,6 +180,7 @@ class Controller:
         self.generation = 0  # bumped on reset: plots restart
         self.refusals = 0  # requests refused so far (the panels then show the real values)
         self.slow_until = -math.inf  # wall clock until which the status says "slower"
+        self._limited = 0  # consecutive frames the step budget held back
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -347,7 +348,11 @@ class Controller:
         finally:
             self._count(time.thread_time() - start, n * dt, n)
         if n < steps <= cap:  # the budget, not a stall, held it back
-            self.slow_until = now + 1.0
+            self._limited += 1
+            if self._limited >= 3:  # not one late frame: the timestep is too small
+                self.slow_until = now + 1.0
+        else:
+            self._limited = 0
         if steps > n:
             self._resync(now)
         return []
