@@ -310,6 +310,9 @@ class Controller:
 
         When the simulation falls more than :data:`MAX_LAG` behind (slow machine,
         huge speed) or runs ahead (time jumped), pacing re-syncs rather than racing.
+        A frame steps at most :meth:`frame_steps` times (:data:`STEP_BUDGET`): a timestep
+        too small for real time makes the motion slower (:meth:`slowed`), never a busy
+        core. A timestep that is not a positive number pauses, said once.
         """
         now = self.clock() if now is None else now
         if not self.playing or self.diverged:
