@@ -366,3 +366,16 @@ def test_eccentric_cylinder_leaves_the_plane_when_the_course_says():
         assert r["a"] == pytest.approx(r["a_ref"], rel=1e-2, abs=1e-2)
     at_loss = next(r for time, r in rows if time == lost)
     assert math.isnan(at_loss["a_ref"]) and math.isnan(at_loss["N_ref"])
+
+
+def test_bench_error_skips_blank_references():
+    """The benchmark's error, max |a − a_ref| / max |a_ref|, over the samples that have a
+    reference: (|5 − 4| = 1) / 4 = 0.25 here; NaN when none has."""
+    from sandbox.scenes.rolling_cylinder import SCENE
+
+    assert SCENE.accuracy is not None
+    error = SCENE.accuracy.error
+    assert (
+        error({"a": np.array([1.0, 2.0, 5.0]), "a_ref": np.array([1.1, np.nan, 4.0])}, {}) == 0.25
+    )
+    assert math.isnan(error({"a": np.array([1.0]), "a_ref": np.array([np.nan])}, {}))
