@@ -351,6 +351,7 @@ def test_the_error_per_revolution_depends_on_the_angle_per_step_only():
 
     from sandbox.bench import run_one
 
+    assert SCENE.accuracy is not None
     out = {}
     for rpm in (17000.0, 3000.0):
         k = 17000.0 / rpm
@@ -365,6 +366,7 @@ def test_the_error_per_revolution_depends_on_the_angle_per_step_only():
     fast, slow = out[17000.0], out[3000.0]
     assert slow.error == pytest.approx(fast.error, rel=1e-6)
     assert slow.drift == pytest.approx(fast.drift, rel=1e-6)
+    assert fast.constraint is not None
     assert slow.constraint == pytest.approx(fast.constraint, rel=1e-6)
     assert fast.error < 5e-4 and fast.drift < 1e-3 and fast.constraint < 1e-6
 
