@@ -543,8 +543,22 @@ def _update(uuid: str, updates: dict[str, Any]) -> bytes:
 
 
 def _run(port: int, actions: Callable[[Any, Browser], Any]) -> Browser:
+    """One browser's visit, on its own thread and event loop (a session-wide Playwright
+    may keep a loop running in the test's thread)."""
     browser = Browser(port)
-    asyncio.run(asyncio.wait_for(browser.session(actions), 30))
+    failure: list[BaseException] = []
+
+    def visit() -> None:
+        try:
+            asyncio.run(asyncio.wait_for(browser.session(actions), 30))
+        except BaseException as exc:  # noqa: BLE001  (raised in the test below)
+            failure.append(exc)
+
+    thread = threading.Thread(target=visit)
+    thread.start()
+    thread.join(40)
+    if failure:
+        raise failure[0]
     return browser
 
 
