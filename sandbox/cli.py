@@ -487,16 +487,23 @@ def cmd_serve(
     public_url: str | None = None,
 ) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
-    from sandbox.lessons import ANY_SCENE, lessons
+    from sandbox.lessons import ANY_SCENE, catalogue
     from sandbox.scenes import DEFAULT_SCENE, SCENES
     from sandbox.web.app import serve
 
     _check_port_range(port)
     target = target or DEFAULT_SCENE
     lesson = None
-    if target not in SCENES and target in lessons():
+    # One broken lesson file does not stop the good ones: it is named once here (and listed
+    # in the web "Leçon" folder); serving the broken lesson itself is refused with its error.
+    good, refused = catalogue()
+    for error in refused:
+        if target not in SCENES and f"{os.sep}{target}.md:" in f"{os.sep}{error}":
+            raise error
+        print(f"sandbox: warning: lesson skipped: {error}", file=sys.stderr)
+    if target not in SCENES and target in good:
         lesson = target
-        scene = lessons()[lesson].scene
+        scene = good[lesson].scene
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         raise BadOption(f"--workers must be between 1 and {MAX_WORKERS}, got {workers!r}")

@@ -205,10 +205,14 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
 
 
 def run_forever(app: App) -> None:
-    """Block until Ctrl-C or SIGTERM, then stop ``app`` (recordings are closed)."""
-    previous = None
-    if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _interrupt)
+    """Block until Ctrl-C or SIGTERM, then stop ``app`` (recordings are closed).
+
+    The first signal stops the loop; later ones (the terminal, a proxy and the worker pool
+    may each send one) are ignored until the recordings are closed."""
+    main = threading.current_thread() is threading.main_thread()
+    previous = {}
+    if main:
+        previous = {sig: signal.signal(sig, _interrupt) for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         while True:
             time.sleep(0.5)
@@ -216,12 +220,17 @@ def run_forever(app: App) -> None:
     except KeyboardInterrupt:
         pass
     finally:
-        app.stop()
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        try:
+            app.stop()
+        finally:
+            for sig, handler in previous.items():
+                signal.signal(sig, handler)
 
 
 def _interrupt(signum: int, frame: FrameType | None) -> None:
+    """One-shot: ignore the next signals, then interrupt the main loop."""
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     raise KeyboardInterrupt
 
 

@@ -22,7 +22,7 @@ from typing import Any, Protocol
 from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.model import INTEGRATORS, MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
-from sandbox.recording import Recorder
+from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import as_scene
 
 log = logging.getLogger(__name__)
@@ -243,7 +243,8 @@ class Controller:
             return self.recorder.path
         self.record_dir.mkdir(parents=True, exist_ok=True)
         stamp = time.strftime("%Y%m%d-%H%M%S")
-        path = self.record_dir / f"{self.sim.label.replace('.', '_')}-{stamp}.sbx"
+        # Opened exclusively: two browsers recording in the same second get -2, -3...
+        path = create_unique(self.record_dir, f"{self.sim.label.replace('.', '_')}-{stamp}")
         self.recorder = Recorder(path, self.sim, lesson=lesson or self.lesson)
         self._recorded_t = self._readouts_t = -math.inf
         self.record()

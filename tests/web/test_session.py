@@ -288,6 +288,25 @@ def test_recording_from_the_web_session_replays_identically(tmp_path):
     assert resimulate(rec)[0] == 0.0
 
 
+def test_three_browsers_recording_in_the_same_second_keep_three_files(tmp_path, monkeypatch):
+    from sandbox.recording import load
+    from sandbox.web import session as session_module
+
+    monkeypatch.setattr(session_module.time, "strftime", lambda fmt: "20261123-101500")
+    ctls = [Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path) for _ in range(3)]
+    paths = [ctl.start_recording() for ctl in ctls]
+    for ctl, mass in zip(ctls, (10, 20, 30)):
+        ctl.sim.set_value("mass2_g", mass)
+        _run(ctl, 0.2)
+        ctl.stop_recording()
+    assert [p.name for p in paths] == [
+        "rotor-20261123-101500.sbx",
+        "rotor-20261123-101500-2.sbx",
+        "rotor-20261123-101500-3.sbx",
+    ]
+    assert [load(p).events[0]["value"] for p in paths] == [10, 20, 30]
+
+
 def test_leaving_the_page_closes_the_recording(tmp_path):
     from sandbox.recording import load
 
