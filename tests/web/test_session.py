@@ -295,7 +295,7 @@ def test_three_browsers_recording_in_the_same_second_keep_three_files(tmp_path, 
     monkeypatch.setattr(session_module.time, "strftime", lambda fmt: "20261123-101500")
     ctls = [Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path) for _ in range(3)]
     paths = [ctl.start_recording() for ctl in ctls]
-    for ctl, mass in zip(ctls, (10, 20, 30)):
+    for ctl, mass in zip(ctls, (10, 20, 30), strict=True):
         ctl.sim.set_value("mass2_g", mass)
         _run(ctl, 0.2)
         ctl.stop_recording()
