@@ -197,6 +197,7 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
     """A viser server on exactly ``host:port`` (BadOption when the port is taken)."""
     if check:
         _check_port(host, port)
+    network.quiet_viewer_logs()
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()

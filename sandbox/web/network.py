@@ -20,10 +20,12 @@ import dataclasses
 import http
 import ipaddress
 import logging
+import math
 import socket
 import struct
 import sys
 import threading
+import time
 from collections.abc import Awaitable, Callable, Mapping
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
@@ -114,6 +116,52 @@ def install(*, reuse_port: bool | None = None) -> None:
         # job for viser's single call (mypy sees a class replaced by a function).
         ws_server.serve = serve  # type: ignore[assignment,misc]
         _installed = True
+
+
+class OneLine(logging.Filter):
+    """Turn the tracebacks that viser's websocket layer logs for a browser's bad frame
+    (``websockets.server``: "connection handler failed"; ``asyncio``: "Task exception was
+    never retrieved") into one warning line, and say a repeated one once per
+    :attr:`QUIET` seconds: a hostile browser must not fill the teacher's terminal."""
+
+    QUIET = 10.0
+
+    def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
+        super().__init__()
+        self.clock = clock
+        self.last: dict[tuple[str, str], float] = {}
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if not record.exc_info or record.exc_info[1] is None:
+            return True
+        exc = record.exc_info[1]
+        key = (record.name, type(exc).__name__)
+        now = self.clock()
+        if now - self.last.get(key, -math.inf) < self.QUIET:
+            return False
+        self.last[key] = now
+        detail = " ".join(str(exc).split())[:160]
+        record.msg = (
+            f"{record.getMessage()}: {type(exc).__name__}: {detail} (browser input dropped)"
+        )
+        record.args = None
+        record.exc_info = record.exc_text = record.stack_info = None
+        record.levelno, record.levelname = logging.WARNING, "WARNING"
+        return True
+
+
+VIEWER_LOGGERS = ("websockets.server", "websockets", "asyncio")
+"""Loggers of the libraries under viser that report a browser's bad input."""
+
+_one_line = OneLine()
+
+
+def quiet_viewer_logs() -> None:
+    """Install :class:`OneLine` on :data:`VIEWER_LOGGERS` (idempotent)."""
+    for name in VIEWER_LOGGERS:
+        logger = logging.getLogger(name)
+        if _one_line not in logger.filters:
+            logger.addFilter(_one_line)
 
 
 def page_alias(path: str) -> None:

@@ -563,10 +563,12 @@ def _run(port: int, actions: Callable[[Any, Browser], Any]) -> Browser:
 
 
 def _sandbox_tracebacks(caplog: pytest.LogCaptureFixture) -> list[str]:
+    """Tracebacks or errors logged by anyone: the sandbox, viser, websockets or asyncio
+    (a browser's bad frame is one warning line, see network.OneLine)."""
     return [
-        r.getMessage()
+        f"{r.name}: {r.getMessage()}"
         for r in caplog.records
-        if r.name.startswith("sandbox") and (r.exc_info or r.levelno >= logging.ERROR)
+        if r.exc_info or r.exc_text or r.levelno >= logging.ERROR
     ]
 
 
@@ -647,6 +649,23 @@ def test_malformed_frames_drop_that_connection_only(server, caplog, raw):
     _run(server.port, actions)
     fresh = _run(server.port, lambda ws, b: b.read(ws, lambda: False, timeout=0.3))
     assert ("GuiNumberMessage", "dt [s]") in fresh.guis and fresh.toasts == []
+    assert not _sandbox_tracebacks(caplog)
+
+
+def test_a_value_viser_cannot_convert_is_one_warning_line(server, caplog):
+    """A string for a number box fails inside viser's own handler: logged as one
+    warning line (not a traceback), and the session goes on."""
+    caplog.set_level(logging.WARNING)
+
+    async def actions(ws: Any, b: Browser) -> None:
+        dt = b.uuid("Number", "dt [s]")
+        for _ in range(3):
+            await ws.send(_update(dt, {"value": "abc"}))
+        await b.read(ws, lambda: False, timeout=1.0)
+
+    _run(server.port, actions)
+    fresh = _run(server.port, lambda ws, b: b.read(ws, lambda: False, timeout=0.3))
+    assert ("GuiNumberMessage", "dt [s]") in fresh.guis
     assert not _sandbox_tracebacks(caplog)
 
 

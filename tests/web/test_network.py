@@ -217,3 +217,42 @@ def test_a_bad_public_url_is_refused_in_one_line(monkeypatch, capsys):
     monkeypatch.setattr(app, "serve", lambda target, **kw: pytest.fail("served"))
     assert cli.main(["serve", "rotor", "--public-url", "javascript:alert(1)"]) == 2
     assert "--public-url must be an http" in capsys.readouterr().err
+
+
+def test_a_browser_traceback_becomes_one_warning_line_said_once_per_quiet_window():
+    import logging
+
+    from sandbox.web.network import OneLine
+
+    now = [0.0]
+    one = OneLine(clock=lambda: now[0])
+
+    def record(exc: BaseException) -> logging.LogRecord:
+        try:
+            raise exc
+        except BaseException:
+            import sys
+
+            return logging.LogRecord(
+                "websockets.server",
+                logging.ERROR,
+                "f",
+                1,
+                "connection handler failed",
+                None,
+                sys.exc_info(),
+            )
+
+    first = record(ValueError("bad\nframe"))
+    assert one.filter(first)
+    assert (first.levelno, first.exc_info, first.getMessage()) == (
+        logging.WARNING,
+        None,
+        "connection handler failed: ValueError: bad frame (browser input dropped)",
+    )
+    assert not one.filter(record(ValueError("again")))  # same kind within the window
+    assert one.filter(record(KeyError("other kind")))
+    now[0] += OneLine.QUIET
+    assert one.filter(record(ValueError("later")))
+    plain = logging.LogRecord("asyncio", logging.INFO, "f", 1, "no exception", None, None)
+    assert one.filter(plain) and plain.levelno == logging.INFO
