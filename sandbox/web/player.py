@@ -242,7 +242,7 @@ def start_replay(
 
     def session(client: viser.ClientHandle) -> Session:
         ctl = ReplayController(rec)
-        view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)  # type: ignore[arg-type]
+        view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)
         return Session(ctl, view)  # type: ignore[arg-type]
 
     app = App(server, host, session)
