@@ -319,6 +319,13 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise
     if writer is not None:
         writer.close()
+    if recorder is not None and recorder.full:
+        print(
+            f"sandbox: warning: --record {shown(str(args.record))} stopped at "
+            f"t = {recorder.stopped_at:g} s, the most one recording holds; lower --rate or "
+            "--duration to record the whole run",
+            file=sys.stderr,
+        )
     if error is not None:
         print(f"sandbox: error: {error}", file=sys.stderr)
         return error.exit_code

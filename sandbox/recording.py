@@ -142,6 +142,10 @@ class Recorder:
         self.names = list(sim.readout_names())
         self.frames = 0
         self.closed = False
+        self.full = False
+        """True once the file reached a reader's limit and was closed (see :meth:`fits`)."""
+        self._bytes = self._records = self._numbers = self._events = 0
+        self.stopped_at = math.nan  # simulated time at which a full file was closed
         self._clock = clock
         try:
             self._fh = gzip.open(self.path, "wt", encoding="utf-8", compresslevel=6)
@@ -173,7 +177,30 @@ class Recorder:
         sim.observers.append(self._observe)
 
     def _write(self, record: Mapping[str, Any]) -> None:
-        self._fh.write(json.dumps(record, separators=(",", ":"), allow_nan=False) + "\n")
+        line = json.dumps(record, separators=(",", ":"), allow_nan=False) + "\n"
+        self._fh.write(line)
+        self._bytes += len(line.encode("utf-8"))
+        self._records += 1
+
+    def fits(self, records: int = 2, numbers: int = 0, events: int = 0) -> bool:
+        """Whether ``records`` more lines still leave the file readable: every limit that
+        :func:`load` puts on an untrusted file (:data:`MAX_TEXT_BYTES`, :data:`MAX_RECORDS`,
+        :data:`MAX_NUMBERS`, :data:`MAX_EVENTS`) keeps a 2 % margin (and room for the end
+        line). A recorder that would pass one closes its file instead (:attr:`full`):
+        what was recorded stays replayable."""
+        margin = 0.98
+        line = self._bytes / max(self._records, 1)
+        return (
+            self._bytes + (records + 1) * 2 * line <= margin * MAX_TEXT_BYTES
+            and self._records + records + 1 <= margin * MAX_RECORDS
+            and self._numbers + numbers <= margin * MAX_NUMBERS
+            and self._events + events <= margin * MAX_EVENTS
+        )
+
+    def _close_full(self) -> None:
+        self.full = True
+        self.stopped_at = float(self.sim.data.time)
+        self.close()
 
     def _observe(self, kind: str, fields: Mapping[str, Any]) -> None:
         if not self.closed:
@@ -183,17 +210,30 @@ class Recorder:
         """Record an event at the current simulated time (``set``, ``lesson``...)."""
         if kind not in EVENT_KINDS:
             raise ValueError(f"unknown event {kind!r}; one of {EVENT_KINDS}")
+        if self.closed:
+            return
+        if not self.fits(records=1, events=1):
+            self._close_full()
+            return
         self._write({"k": kind, "t": float(self.sim.data.time), **fields})
+        self._events += 1
         self._maybe_flush()
 
     def frame(self, readouts: Mapping[str, float] | None = None) -> None:
         """Record the current full state, and the readouts shown with it if given."""
         sim = self.sim
+        if self.closed:
+            return
         state = get_state(sim.model, sim.data)
+        numbers = len(state) + (len(self.names) if readouts is not None else 0)
+        if not self.fits(records=2, numbers=numbers):
+            self._close_full()
+            return
         t = float(sim.data.time)
         self._write({"k": "frame", "t": t, "s": [float(x) for x in state]})
         if readouts is not None:
             self._write({"k": "readouts", "t": t, "r": [_number(readouts[n]) for n in self.names]})
+        self._numbers += numbers
         self.frames += 1
         self._maybe_flush()
 

@@ -180,3 +180,25 @@ def test_bare_sandbox_accepts_host_and_port(monkeypatch):
     assert calls["target"] == "rotor" and calls["port"] == 8133
     assert main(["serve", "equilibrage", "--port", "8134"]) == 0
     assert calls["target"] == "rotor" and calls["lesson"] == "equilibrage"
+
+
+def test_a_run_longer_than_one_recording_holds_keeps_a_replayable_file_and_says_so(tmp_path):
+    """A recording is never lost: past the reader's limits the file is closed, and the
+    run says where it stopped (one warning line, exit 0)."""
+    out = tmp_path / "r.sbx"
+    code = (
+        "import sys; from sandbox import recording; recording.MAX_RECORDS = 200; "
+        "from sandbox.cli import main; sys.exit(main(sys.argv[1:]))"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, "run", "rotor", "--duration", "2", "--record", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    (line,) = done.stderr.strip().splitlines()
+    assert line.startswith("sandbox: warning: --record") and "stopped at t = 0.9" in line
+    from sandbox.recording import load
+
+    assert load(out).complete

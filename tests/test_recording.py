@@ -216,3 +216,40 @@ def test_a_reset_may_go_back_in_time_but_nothing_else(tmp_path):
     (tmp_path / "b.sbx").write_bytes(gzip.compress(("\n".join(no_reset) + "\n").encode()))
     with pytest.raises(BadRecording, match=r"line 5 \(time goes back from 0\.15 s to 0\.05 s\)"):
         load(tmp_path / "b.sbx")
+
+
+@pytest.mark.parametrize(
+    "limit, value",
+    [("MAX_RECORDS", 120), ("MAX_NUMBERS", 2_000), ("MAX_TEXT_BYTES", 60_000)],
+)
+def test_a_recording_that_reaches_a_reader_limit_is_closed_and_stays_replayable(
+    tmp_path, monkeypatch, limit, value
+):
+    """The reader refuses files past its limits (untrusted input); the writer stops just
+    before them, so what was recorded is never lost."""
+    from sandbox import recording
+
+    monkeypatch.setattr(recording, limit, value)
+    sim = Simulation("rotor")
+    rec = recording.Recorder(tmp_path / "r.sbx", sim)
+    for _ in range(400):
+        sim.step(10)
+        rec.frame(sim.readouts())
+    assert rec.full and rec.closed and 10 < rec.frames < 400
+    assert rec.stopped_at == pytest.approx(rec.frames * 10 * sim.timestep, abs=20 * sim.timestep)
+    back = recording.load(tmp_path / "r.sbx")
+    assert back.complete and len(back.times) == rec.frames
+
+
+def test_a_flood_of_events_closes_the_recording_before_the_event_limit(tmp_path, monkeypatch):
+    from sandbox import recording
+
+    monkeypatch.setattr(recording, "MAX_EVENTS", 50)
+    sim = Simulation("rotor")
+    rec = recording.Recorder(tmp_path / "r.sbx", sim)
+    for i in range(100):
+        sim.set_value("mass2_g", 10 + i % 5)
+        rec.frame()
+    assert rec.full
+    back = recording.load(tmp_path / "r.sbx")
+    assert back.complete and len(back.events) <= 50

@@ -166,6 +166,7 @@ class Controller:
         self.clock = clock
         self.record_dir = Path(record_dir or Path.cwd() / "recordings")
         self.recorder: Recorder | None = None
+        self.later: list[Notice] = []  # notices of the recorder, given by the next drain()
         self.lesson: str | None = None  # lesson being followed (recorded with the session)
         self._recorded_t = -math.inf
         self._readouts_t = -math.inf
@@ -225,6 +226,26 @@ class Controller:
             self._readouts_t = t
         rec.frame(row)
         self._recorded_t = t
+        if rec.full:
+            self._roll_over(rec)
+
+    def _roll_over(self, rec: Recorder) -> None:
+        """A file reached the size a recording may have: it is closed (and downloaded)
+        and the recording goes on in a new file, so nothing is lost."""
+        self.recorder = None
+        self.later.append(Notice("file", "Enregistrement terminé", str(rec.path)))
+        try:
+            path = self.start_recording()
+        except SandboxError as exc:
+            self.later.append(Notice("error", "Enregistrement arrêté", french_message(exc)))
+            return
+        self.later.append(
+            Notice(
+                "info",
+                "Enregistrement",
+                f"Fichier plein : l'enregistrement continue dans {path}",
+            )
+        )
 
     def readouts_due(self) -> bool:
         """True when the recorder wants a row of every readout at the current state."""
@@ -273,7 +294,7 @@ class Controller:
         applied, and identical notices are given once.
         """
         now = self.clock() if now is None else now
-        notices: list[Notice] = []
+        notices, self.later = self.later, []
         requests = merged(list(pending(self.requests)))
         if len(requests) > MAX_REQUESTS:
             dropped = len(requests) - MAX_REQUESTS

@@ -453,3 +453,23 @@ def test_a_session_whose_browser_left_stops_within_a_second_even_at_a_tiny_times
         clock.now += 1 / 60
         scheduler.run_due()
     assert session.finished and clock.now - left <= 1.0
+
+
+def test_a_full_recording_goes_on_in_a_new_file_and_both_are_downloaded(tmp_path, monkeypatch):
+    from sandbox import recording
+
+    monkeypatch.setattr(recording, "MAX_RECORDS", 150)
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl.submit(Request("record"))
+    notices = _run(ctl, 3.0)
+    ctl.submit(Request("stop_record"))
+    notices += ctl.frame()
+    files = [n.text for n in notices if n.level == "file"]
+    assert len(files) >= 2 and len(set(files)) == len(files)
+    assert any("Fichier plein" in n.text for n in notices)
+    loaded = [recording.load(f) for f in files]
+    assert all(r.complete for r in loaded)
+    # one timeline without a gap: each file starts where the previous one stopped
+    for before, after in zip(loaded, loaded[1:], strict=False):
+        assert after.times[0] - before.times[-1] == pytest.approx(1 / 60, abs=0.02)
+    assert loaded[-1].times[-1] == pytest.approx(3.0, abs=0.05)
