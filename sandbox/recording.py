@@ -46,7 +46,8 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import SandboxError, choices
-from sandbox.physics.model import INTEGRATORS, MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
+from sandbox.physics.limits import MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
+from sandbox.physics.model import INTEGRATORS
 
 FORMAT = "sandbox-recording"
 VERSION = 1
@@ -329,7 +330,7 @@ MAX_TEXT_BYTES = 256 * 2**20
 
 MAX_LINE_BYTES = 2 * MAX_MJCF_BYTES
 """Longest line [bytes]: the header holds the model's MJCF text (at most
-:data:`~sandbox.physics.model.MAX_MJCF_BYTES`), longer once escaped in JSON."""
+:data:`~sandbox.physics.limits.MAX_MJCF_BYTES`), longer once escaped in JSON."""
 
 MAX_RECORDS = 500_000
 """Most lines in a recording (about 2 hours of a web session: 60 frames and 10 readouts

@@ -134,6 +134,7 @@ def test_player_seeks_steps_and_shows_recorded_readouts(recording):
 
 
 @pytest.mark.browser
+@pytest.mark.slow
 def test_static_export_plays_without_python(recording, tmp_path, browser):
     index = export_static(load(recording), tmp_path / "export")
     assert (tmp_path / "export" / "readouts.csv").exists()

@@ -14,11 +14,11 @@ import numpy as np
 
 from sandbox.errors import Diverged, shown
 from sandbox.physics import readouts as generic
+from sandbox.physics.limits import check_timestep
 from sandbox.physics.model import (
     Source,
     build,
     check_integrator,
-    check_timestep,
     integrator_name,
     model_xml,
     resolve,

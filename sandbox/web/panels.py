@@ -14,7 +14,8 @@ import mujoco
 import numpy as np
 import viser
 
-from sandbox.physics.model import INTEGRATORS, MIN_TIMESTEP
+from sandbox.physics.limits import MIN_TIMESTEP
+from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import tables

@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from sandbox.errors import Diverged, SandboxError
-from sandbox.physics.model import INTEGRATORS, MAX_TIMESTEP, MIN_TIMESTEP
+from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP
+from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import as_scene

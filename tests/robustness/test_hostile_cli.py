@@ -22,7 +22,7 @@ import pytest
 
 from sandbox.cli import DEBUG_ENV, MAX_WORKERS, main
 from sandbox.errors import BadOption
-from sandbox.physics.model import MIN_TIMESTEP
+from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.runner import MAX_ROWS, MAX_STEPS, check_run
 
 SANDBOX = str(Path(sys.executable).parent / "sandbox")

@@ -23,7 +23,7 @@ import mujoco
 import pytest
 
 from sandbox.errors import BadModel
-from sandbox.physics.model import (
+from sandbox.physics.limits import (
     MAX_ASSET_BYTES,
     MAX_BUILTIN_PARAM,
     MAX_ELEMENTS,
@@ -31,10 +31,9 @@ from sandbox.physics.model import (
     MAX_MJCF_BYTES,
     MAX_MODEL_BYTES,
     MAX_USER_FIELDS,
-    Source,
-    build,
     check_spec,
 )
+from sandbox.physics.model import Source, build
 
 SANDBOX = str(Path(sys.executable).parent / "sandbox")
 TIMEOUT = 20.0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from sandbox.physics.model import MIN_TIMESTEP
+from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
 from sandbox.web.session import (
     MAX_FRAME_STEPS,
