@@ -2,7 +2,7 @@
 
 Every file is written inline and run through the installed ``sandbox`` console script
 as a child process (peak RSS from ``wait4``). Without the checks of
-:mod:`sandbox.physics.model`, the bombs below take MuJoCo gigabytes while it parses
+:mod:`sandbox.physics.limits`, the bombs below take MuJoCo gigabytes while it parses
 (``<replicate>``, ``<flexcomp>``, built-in meshes, height fields) or compiles
 (textures, ``<size>``), and a wrong timestep runs 0 steps or for ever.
 """
@@ -10,17 +10,13 @@ as a child process (peak RSS from ``wait4``). Without the checks of
 from __future__ import annotations
 
 import os
-import resource
 import struct
-import subprocess
-import sys
-import tempfile
-import time
 import zlib
 from pathlib import Path
 
 import mujoco
 import pytest
+from hostile import Outcome, assert_refused, run_cli
 
 from sandbox.errors import BadModel
 from sandbox.physics.limits import (
@@ -35,9 +31,6 @@ from sandbox.physics.limits import (
 )
 from sandbox.physics.model import Source, build
 
-SANDBOX = str(Path(sys.executable).parent / "sandbox")
-TIMEOUT = 20.0
-GIB = 2**30
 BODY = '<body><freejoint/><geom size="0.1"/></body>'
 
 
@@ -47,57 +40,14 @@ def mjcf(*, option: str = "", asset: str = "", world: str = BODY, head: str = ""
     return f"<mujoco>{head}{options}{assets}<worldbody>{world}</worldbody></mujoco>"
 
 
-def run_file(tmp_path: Path, text: str | bytes, *args: str, name: str = "m.xml"):
-    """``sandbox run NAME ARGS`` on ``text`` written in ``tmp_path``: (code, err, RSS)."""
+def run_file(tmp_path: Path, text: str | bytes, *args: str, name: str = "m.xml") -> Outcome:
+    """``sandbox run NAME ARGS`` on ``text`` written in ``tmp_path``."""
     path = tmp_path / name
     if isinstance(text, bytes):
         path.write_bytes(text)
     else:
         path.write_text(text)
-    return run_cli(tmp_path, "run", name, *args)
-
-
-def run_cli(cwd: Path, *args: str) -> tuple[int, str, int]:
-    def limit() -> None:  # a regression fails here instead of swapping the machine
-        resource.setrlimit(resource.RLIMIT_AS, (4 * GIB, 4 * GIB))
-
-    with tempfile.TemporaryFile() as err:
-        start = time.monotonic()
-        proc = subprocess.Popen(
-            [SANDBOX, *args],
-            cwd=cwd,
-            stdout=subprocess.DEVNULL,
-            stderr=err,
-            stdin=subprocess.DEVNULL,
-            preexec_fn=limit,
-        )
-        while True:
-            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.monotonic() - start > TIMEOUT:
-                proc.kill()
-                os.wait4(proc.pid, 0)
-                proc.returncode = -9
-                pytest.fail(f"sandbox {' '.join(args)} ran over {TIMEOUT} s")
-            time.sleep(0.01)
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        err.seek(0)
-        return proc.returncode, err.read().decode(errors="replace"), usage.ru_maxrss * 1024
-
-
-def assert_refused(result: tuple[int, str, int], *words: str) -> str:
-    code, err, rss = result
-    assert "Traceback" not in err, err
-    lines = err.strip().splitlines()
-    assert code == 2, (code, err)
-    assert len(lines) == 1, err
-    assert lines[0].startswith("sandbox: error: "), lines[0]
-    for word in words:
-        assert word in lines[0], (word, lines[0])
-    assert rss < GIB, f"{rss / 2**20:.0f} MB"
-    print(f"peak RSS {rss / 2**20:.0f} MB: {lines[0][:90]}")  # pytest -s shows them
-    return lines[0]
+    return run_cli("run", name, *args, cwd=tmp_path)
 
 
 def png_header(width: int, height: int) -> bytes:
@@ -129,15 +79,15 @@ def test_nan_anywhere_is_refused_before_mujoco_warns(tmp_path):
 
 
 def test_a_given_timestep_overrides_the_files(tmp_path):
-    code, err, _ = run_file(
+    res = run_file(
         tmp_path, mjcf(option='timestep="0"'), "--timestep", "0.001", "--duration", "0.01"
     )
-    assert code == 0 and "Traceback" not in err, err
+    assert res.code == 0 and "Traceback" not in res.err, res.err
 
 
 def test_describe_refuses_a_zero_timestep_too(tmp_path):
     (tmp_path / "z.xml").write_text(mjcf(option='timestep="0"'))
-    assert_refused(run_cli(tmp_path, "describe", "z.xml"), RANGE)
+    assert_refused(run_cli("describe", "z.xml", cwd=tmp_path), RANGE)
 
 
 # -- bombs MuJoCo expands while parsing ---------------------------------------------------
@@ -283,7 +233,7 @@ def test_bad_files(text, words, tmp_path):
 def test_a_file_over_the_size_cap(tmp_path):
     with (tmp_path / "big.xml").open("wb") as fh:
         fh.truncate(MAX_MJCF_BYTES + 1)
-    assert_refused(run_cli(tmp_path, "run", "big.xml"), "is larger than 16 MB")
+    assert_refused(run_cli("run", "big.xml", cwd=tmp_path), "is larger than 16 MB")
 
 
 @pytest.mark.parametrize(
@@ -297,7 +247,7 @@ def test_a_file_over_the_size_cap(tmp_path):
 )
 def test_paths_that_are_not_mjcf_files(target, words, tmp_path):
     os.mkfifo(tmp_path / "fifo.xml")  # opening it would wait for a writer for ever
-    assert_refused(run_cli(tmp_path, "run", target), *words)
+    assert_refused(run_cli("run", target, cwd=tmp_path), *words)
 
 
 # -- within the limits, files still run -------------------------------------------------
@@ -306,8 +256,8 @@ def test_a_small_height_field_runs(tmp_path):
     world = (
         '<geom type="hfield" hfield="h"/><body pos="0 0 1.5"><freejoint/><geom size=".1"/></body>'
     )
-    code, err, _ = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.1")
-    assert code == 0 and "Traceback" not in err, err
+    res = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.1")
+    assert res.code == 0 and "Traceback" not in res.err, res.err
 
 
 def test_the_largest_height_field_accepted_stays_far_under_1_gb(tmp_path):
@@ -315,9 +265,9 @@ def test_the_largest_height_field_accepted_stays_far_under_1_gb(tmp_path):
     world = (
         '<geom type="hfield" hfield="h"/><body pos="0 0 1.5"><freejoint/><geom size=".1"/></body>'
     )
-    code, err, rss = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.01")
-    assert code == 0 and "Traceback" not in err, err
-    assert rss < 512 * 2**20, f"{rss / 2**20:.0f} MB"  # measured 0.31 GB
+    res = run_file(tmp_path, mjcf(asset=asset, world=world), "--duration", "0.01")
+    assert res.code == 0 and "Traceback" not in res.err, res.err
+    assert res.rss_bytes < 512 * 2**20, f"{res.rss_bytes / 2**20:.0f} MB"  # measured 0.31 GB
 
 
 def test_check_spec_estimates_the_hfield_and_accepts_the_scenes(tmp_path):
