@@ -17,6 +17,7 @@ from pathlib import Path
 from types import FrameType
 from typing import Any, TypedDict
 
+import rich
 import viser
 
 from sandbox.errors import BadOption
@@ -198,6 +199,10 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
     if check:
         _check_port(host, port)
     network.quiet_viewer_logs()
+    # viser prints its own address box (with "localhost" for 0.0.0.0, and the websocket
+    # URL) and "Server stopped" through rich's global console; the teacher reads the
+    # sandbox's banner instead, which names the addresses students type.
+    rich.reconfigure(quiet=True)
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()
