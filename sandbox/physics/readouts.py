@@ -24,11 +24,14 @@ Pair = tuple[np.ndarray, np.ndarray]
 
 @dataclass(frozen=True)
 class ReadoutInfo:
-    """Name, unit and one-line doc of a generic readout."""
+    """Name, unit and one-line doc of a generic readout; ``label`` and ``hint``: the
+    French words and tooltip of the web page ("": the name and the doc)."""
 
     name: str
     unit: str
     doc: str
+    label: str = ""
+    hint: str = ""
 
 
 def _torsor_infos(prefix: str, what: str, ru: str, mu: str) -> list[ReadoutInfo]:

@@ -38,11 +38,14 @@ _BAD_WARNINGS = (
 
 @dataclass(frozen=True)
 class ReadoutInfo:
-    """Name, unit and one-line doc of a readout column."""
+    """Name, unit and one-line doc of a readout column; ``label`` and ``hint``: the
+    French words and tooltip of the web page ("": the name and the doc)."""
 
     name: str
     unit: str
     doc: str
+    label: str = ""
+    hint: str = ""
 
 
 class Simulation:
@@ -309,10 +312,15 @@ class Simulation:
         """(infos, names, scene functions by name): fixed for a simulation, built once."""
         table = getattr(self, "_table", None)
         if table is None:
-            infos = [ReadoutInfo(r.name, r.unit, r.doc) for r in generic.GENERIC_READOUTS]
+            infos = [
+                ReadoutInfo(r.name, r.unit, r.doc, r.label, r.hint)
+                for r in generic.GENERIC_READOUTS
+            ]
             fns: dict[str, Callable[[Snapshot], float]] = {}
             if self.scene is not None:
-                infos += [ReadoutInfo(r.name, r.unit, r.doc) for r in self.scene.readouts]
+                infos += [
+                    ReadoutInfo(r.name, r.unit, r.doc, r.label, r.hint) for r in self.scene.readouts
+                ]
                 fns = {r.name: r.fn for r in self.scene.readouts}
             table = self._table = (tuple(infos), tuple(i.name for i in infos), fns)
         return table

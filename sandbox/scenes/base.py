@@ -58,6 +58,9 @@ class Param:
         doc: One sentence saying what the parameter is.
         live: True when a change needs no model rebuild (e.g. a motor set point).
         step: Suggested slider step in the web UI (0 means range/200).
+        label: What the web page shows: French words with the course's symbol, e.g.
+            "Vitesse de rotation ω" (the unit is added by the page; "" shows ``name``).
+        hint: French tooltip of the web page: one sentence ("" shows ``doc``).
     """
 
     name: str
@@ -68,6 +71,8 @@ class Param:
     doc: str
     live: bool = False
     step: float = 0.0
+    label: str = ""
+    hint: str = ""
 
     def check(self, value: object) -> float:
         """Validate ``value`` (number or numeric string) and return it as a float.
@@ -162,12 +167,17 @@ class SceneReadout:
         unit: Unit of the value.
         doc: One sentence saying what it measures.
         fn: Computes the value from a snapshot of the simulation.
+        label: What the web page shows: French words with the course's symbol, e.g.
+            "Effort du palier A" ("" shows ``name``).
+        hint: French tooltip of the web page: one sentence ("" shows ``doc``).
     """
 
     name: str
     unit: str
     doc: str
     fn: Callable[[Snapshot], float]
+    label: str = ""
+    hint: str = ""
 
 
 @dataclass(frozen=True)

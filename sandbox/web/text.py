@@ -31,3 +31,25 @@ def plain(value: object, limit: int = MAX_SHOWN) -> str:
     """``value`` as literal text inside markdown: HTML escaped, markdown syntax backslashed,
     on one line, at most ``limit`` characters."""
     return html.escape(_MARKDOWN.sub(r"\\\1", _clip(value, limit)), quote=True)
+
+
+def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
+    """``value`` as a French reader writes it: ``digits`` significant digits, a decimal
+    comma, a narrow no-break space between thousands, ``×10⁻⁵`` instead of ``e-05``,
+    "—" when not finite, and "0" when ``|value| <= zero`` (below the scene's round-off,
+    e.g. 1.959e-19 N). CSV and JSON files keep Python's dot."""
+    if value != value or value in (float("inf"), float("-inf")):
+        return "—"
+    if abs(value) <= zero or value == 0:
+        return "0"
+    exponent = int(f"{abs(value):.{max(digits - 1, 0)}e}".split("e")[1])
+    if -4 <= exponent < digits + 2:
+        decimals = max(digits - 1 - exponent, 0)
+        text = f"{value:,.{decimals}f}"
+        if "." in text:
+            text = text.rstrip("0").rstrip(".")
+        return text.replace(",", "\u202f").replace(".", ",")
+    mantissa, power = f"{value:.{max(digits - 1, 0)}e}".split("e")
+    mantissa = mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa
+    superscript = str(int(power)).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{mantissa.replace('.', ',')}×10{superscript}"
