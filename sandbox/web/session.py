@@ -23,8 +23,11 @@ from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recorder, create_unique
-from sandbox.scenes.base import as_scene
+from sandbox.scenes.base import Param, as_scene
+from sandbox.web import text
+from sandbox.web.motion import DisplayState, hinge_speed
 
 log = logging.getLogger(__name__)
 
@@ -44,8 +47,9 @@ IDLE_EXIT = 5.0
 ALIVE_CHECK = 0.5
 """Seconds between checks that the session's browser is still connected."""
 
-SPEEDS = (0.1, 4.0)
-"""Allowed speed factors (slowest, fastest)."""
+SPEEDS = (0.01, 4.0)
+"""Allowed speed factors (slowest, fastest): ×0.01 ("Ralenti") makes a 6000 rpm rotor
+turn 6° between two frames at 60 frames per second."""
 
 STEP_BUDGET = 0.005
 """CPU seconds of stepping one frame may spend (5 ms: 30 % of a core at 60 frames/s).
@@ -58,6 +62,12 @@ measure, and a bound the clock cannot move)."""
 
 MAX_STEP_REQUEST = 1000
 """Most timesteps one "Pas" request may ask for."""
+
+MAX_ADVANCE = 10.0
+"""Longest "Pas" in time [s] (or its angle converted at the current speed)."""
+
+MAX_ADVANCE_STEPS = 20000
+"""Most timesteps one "Pas" in time or angle may run (a longer one is refused)."""
 
 MAX_REQUESTS = 64
 """Requests applied in one frame once repeated settings are merged (the last value of a
@@ -73,9 +83,11 @@ class Request:
     """Something a GUI callback asks of the simulation loop.
 
     Attributes:
-        kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step``, ``reset``,
-            ``speed``, ``integrator`` or ``timestep``.
-        name: Parameter name for ``set_value``.
+        kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step`` (timesteps),
+            ``advance`` (a "Pas" in time or angle), ``reset``, ``speed``,
+            ``integrator`` or ``timestep``.
+        name: Parameter name for ``set_value``; ``s`` or ``deg`` for ``advance`` (the
+            unit of ``value``: seconds, or degrees of the main rotating joint).
         value: The new value, unvalidated.
     """
 
@@ -105,7 +117,7 @@ class Frame:
 
     Attributes:
         now: Wall clock of the tick [s].
-        time: Simulated time [s].
+        time: Simulated time drawn [s] (the display time, between two physics steps).
         generation: Bumped on every reset (plots restart).
         model_id: Identity of the compiled model (a new one rebuilds the 3D nodes).
         playing: The simulation runs.
@@ -183,6 +195,8 @@ class Controller:
         self.refusals = 0  # requests refused so far (the panels then show the real values)
         self.slow_until = -math.inf  # wall clock until which the status says "slower"
         self._limited = 0  # consecutive frames the step budget held back
+        self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
+        self.display = DisplayState(sim)
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -208,6 +222,16 @@ class Controller:
         if record:
             self.record()
         return notices
+
+    # -- what is drawn -------------------------------------------------------------------
+    def drawn(self, names: Collection[str] = ()) -> Snapshot:
+        """The state to draw: the physics carried forward to :attr:`display_time` (never
+        the physics ``MjData`` itself, which it leaves untouched).
+
+        Args:
+            names: Readouts evaluated on it (the arrows' forces); empty: poses only.
+        """
+        return self.display.snapshot(self.display_time, names)
 
     # -- recording -----------------------------------------------------------------------
     def record(self, values: Mapping[str, float] | None = None) -> None:
@@ -349,6 +373,7 @@ class Controller:
         target = self._sync_sim + (now - self._sync_wall) * self.speed
         behind = target - float(self.sim.data.time)
         if behind < -MAX_LAG * self.speed:
+            self.display_time = float(self.sim.data.time)
             self._resync(now)
             return []
         steps = int(min(behind / dt, 1e9)) if behind > 0 else 0
@@ -379,8 +404,12 @@ class Controller:
                 self.slow_until = now + 1.0
         else:
             self._limited = 0
+        t = float(self.sim.data.time)
         if steps > n:
+            self.display_time = t
             self._resync(now)
+        else:  # the physics stopped at the last whole step before the target: draw the target
+            self.display_time = max(target, t)
         return []
 
     def frame_steps(self) -> int:
@@ -409,17 +438,15 @@ class Controller:
 
     # -- internals -----------------------------------------------------------------------
     def _resync(self, now: float) -> None:
+        t = float(self.sim.data.time)
+        if self.display.ahead(self.display_time) == 0.0:  # not just ahead of the physics
+            self.display_time = t
         self._sync_wall = now
-        self._sync_sim = float(self.sim.data.time)
+        self._sync_sim = self.display_time
 
     def _diverge(self, exc: Diverged) -> Notice:
         self.playing = False
-        detail = str(exc).split("; ")[0]
-        self.diverged = (
-            f"La simulation a divergé à t = {exc.time:.4g} s ({detail}). "
-            "Réduisez le pas de temps ou prenez l'intégrateur rk4 ou implicitfast, "
-            "puis cliquez sur « Réinitialiser »."
-        )
+        self.diverged = divergence_message(exc)
         return Notice("diverged", "Simulation divergée", self.diverged)
 
     def _apply(self, request: Request) -> Notice | None:
@@ -441,6 +468,23 @@ class Controller:
             count = step_count(value)
             self.playing = False
             sim.step(count)
+            return None
+        if kind == "advance":
+            if self.diverged:
+                return _reset_first()
+            seconds = advance_seconds(sim, value, request.name)
+            target = self.display_time + seconds
+            dt = sim.timestep
+            count = math.floor((target - float(sim.data.time)) / dt * (1 + 1e-9) + 1e-9)
+            if count > MAX_ADVANCE_STEPS:
+                raise Refused(
+                    f"Pas de {text.number(seconds, 3)} s refusé : il demanderait "
+                    f"{count} pas de calcul (au plus {MAX_ADVANCE_STEPS}). Choisissez un pas "
+                    "plus court."
+                )
+            self.playing = False
+            sim.step(max(count, 0))
+            self.display_time = max(target, float(sim.data.time))
             return None
         if kind == "speed":
             self.speed = check_speed(value)
@@ -465,6 +509,59 @@ class Controller:
         if kind == "button":  # a label no button has (only a crafted message sends it)
             raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
         raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
+
+
+DIVERGENCE_CAUSES = {
+    "BADQACC": "accélérations démesurées",
+    "BADQVEL": "vitesses démesurées",
+    "BADQPOS": "positions démesurées",
+    "NaN or Inf": "valeurs non numériques dans l'état",
+}
+"""French words for the causes a :class:`~sandbox.errors.Diverged` names."""
+
+
+def divergence_message(exc: Diverged) -> str:
+    """What the page says when the simulation blows up (French, decimal comma)."""
+    detail = str(exc)
+    cause = next((v for k, v in DIVERGENCE_CAUSES.items() if k in detail), "état non physique")
+    return (
+        f"La simulation a divergé à t = {text.number(exc.time, 4)} s ({cause}). "
+        "Réduisez le pas de temps dt ou choisissez l'intégrateur rk4 ou implicitfast, "
+        "puis cliquez sur « Réinitialiser »."
+    )
+
+
+def advance_seconds(sim: Simulation, value: object, unit: object) -> float:
+    """Seconds of motion of a "Pas" of ``value`` in ``unit`` (``s``, or ``deg`` of the
+    mechanism's main rotating joint at its current speed).
+
+    Raises:
+        Refused: not a positive number within :data:`MAX_ADVANCE`, an unknown unit, or
+            an angle while no joint turns.
+    """
+    if unit not in ("s", "deg"):
+        raise Refused(f"Unité de pas « {shown_value(unit)} » inconnue : s ou °.")
+    what = "Pas en temps" if unit == "s" else "Pas en angle"
+    number = _number(value, what)
+    if unit == "s":
+        if not 0 < number <= MAX_ADVANCE:
+            raise Refused(
+                f"Pas de {text.number(number, 3)} s refusé : choisissez entre 0 et "
+                f"{text.number(MAX_ADVANCE)} s."
+            )
+        return number
+    if not 0 < number <= 3600:
+        raise Refused(f"Pas de {text.number(number, 3)}° refusé : choisissez entre 0 et 3600°.")
+    w = hinge_speed(sim.model, sim.data)
+    if w < 1e-6:
+        raise Refused("Aucune pièce ne tourne : choisissez un pas en temps (s).")
+    seconds = math.radians(number) / w
+    if seconds > MAX_ADVANCE:
+        raise Refused(
+            f"Pas de {text.number(number, 3)}° refusé : à cette vitesse il durerait "
+            f"{text.number(seconds, 3)} s (au plus {text.number(MAX_ADVANCE)} s)."
+        )
+    return seconds
 
 
 def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
@@ -498,8 +595,8 @@ def shown_value(value: object, limit: int = 40) -> str:
 
 
 def french_number(x: float) -> str:
-    """``x`` with 3 significant digits and a decimal comma (``0,001``, ``1e-06``)."""
-    return f"{x:.3g}".replace(".", ",")
+    """``x`` with 3 significant digits and a decimal comma (``0,001``, ``1×10⁻⁶``)."""
+    return text.number(x, 3)
 
 
 def _number(value: object, what: str) -> float:
@@ -579,21 +676,43 @@ def check_value(sim: Simulation, name: object, value: object) -> float:
     scene = as_scene(sim.scene)
     known = {p.name: p for p in scene.params} if scene is not None else {}
     if not isinstance(name, str) or name not in known:
-        where = f"parmi {', '.join(known)}" if known else "aucun pour un fichier MJCF"
+        where = (
+            f"parmi : {' ; '.join(param_words(p) for p in known.values())}"
+            if known
+            else "un fichier MJCF n'en a aucun"
+        )
         raise Refused(f"Paramètre « {shown_value(name)} » inconnu ({where}).")
     p = known[name]
-    unit = f" {p.unit}" if p.unit else ""
+    unit = french_unit(p.unit)
+    unit = unit if unit in ("", "°") else f" {unit}"
+    numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
+    shown = text.number(float(value), 6) if numeric else shown_value(value)  # type: ignore[arg-type]
+    given = f"{shown}{unit}" if numeric else f"« {shown} »"
     refusal = (
-        f"{p.name} = {shown_value(value)} refusé : choisissez entre {french_number(p.min)} et "
-        f"{french_number(p.max)}{unit}."
+        f"{param_words(p)} : {given} refusé, choisissez entre {text.number(p.min, 6)} et "
+        f"{text.number(p.max, 6)}{unit}."
     )
     try:
-        number = _number(value, p.name)
+        number = _number(value, param_words(p))
     except Refused:
         raise Refused(refusal) from None
     if not p.min <= number <= p.max:
         raise Refused(refusal)
     return number
+
+
+FRENCH_UNITS = {"rpm": "tr/min", "deg": "°", "deg/s": "°/s"}
+"""Units written the French way in messages (the contracts keep the others)."""
+
+
+def french_unit(unit: str) -> str:
+    """``unit`` as the page writes it (``rpm`` -> ``tr/min``, ``deg`` -> ``°``)."""
+    return FRENCH_UNITS.get(unit, unit)
+
+
+def param_words(p: Param) -> str:
+    """A parameter as the page names it: its French label, else its name."""
+    return p.label or p.name
 
 
 def step_count(value: object) -> int:
@@ -773,9 +892,10 @@ class Session:
         elif self.drive and _records(ctl):
             ctl.record()
         sim = ctl.sim
+        shown = getattr(ctl, "display_time", None)
         return Frame(
             now=now,
-            time=float(sim.data.time),
+            time=float(sim.data.time if shown is None else shown),
             generation=int(getattr(ctl, "generation", 0)),
             model_id=id(sim.model),
             playing=bool(ctl.playing),

@@ -88,13 +88,13 @@ def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
 @pytest.mark.parametrize(
     "request_, needle",
     [
-        (Request("set_value", "abc", name="mass1_g"), "mass1_g = abc refusé : choisissez entre"),
-        (Request("set_value", 1e6, name="mass1_g"), "mass1_g = 1000000.0 refusé"),
-        (Request("set_value", 1, name="nope"), "Paramètre « nope » inconnu (parmi "),
-        (Request("timestep", 0), "dt = 0 s refusé : choisissez un pas entre 1e-06 s et"),
+        (Request("set_value", "abc", name="mass1_g"), " : « abc » refusé, choisissez entre 0 "),
+        (Request("set_value", 1e6, name="mass1_g"), " : 1\u202f000\u202f000 g refusé, choisissez"),
+        (Request("set_value", 1, name="nope"), "Paramètre « nope » inconnu (parmi : "),
+        (Request("timestep", 0), "dt = 0 s refusé : choisissez un pas entre 1×10⁻⁶ s et"),
         (Request("timestep", "nan"), "dt = nan s refusé"),
         (Request("integrator", "leapfrog"), "Intégrateur « leapfrog » inconnu : choisissez parmi"),
-        (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,1 et ×4."),
+        (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,01 et ×4."),
         (Request("launch_missiles"), "Commande inconnue « launch_missiles »."),
     ],
 )
@@ -163,7 +163,7 @@ def test_session_survives_a_view_that_fails(caplog):
     _tick(ctl, scheduler, 0.3, fps=200)
     assert session.running and view.frames == 60
     assert [n.title for n in view.notices] == ["Valeur refusée", "Erreur interne"]
-    assert "RuntimeError" in view.notices[1].text and "mass1_g = x refusé" in view.notices[0].text
+    assert "RuntimeError" in view.notices[1].text and "« x » refusé" in view.notices[0].text
     assert len([r for r in caplog.records if r.levelname == "ERROR"]) == 1  # logged once
     session.stop()
     assert session.finished and not session.running
@@ -197,14 +197,14 @@ def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
     assert len(notices) == 1
     assert (
         notices[0].text == "Pas de temps dt = True s refusé : choisissez un pas entre "
-        "1e-06 s et 0,1 s."
+        "1×10⁻⁶ s et 0,1 s."
     )
     assert ctl.sim.timestep == 0.01 and ctl.refusals == 1
     ctl.submit(Request("timestep", 1e-9))
     (notice,) = ctl.frame()
     assert (
         notice.text
-        == "Pas de temps dt = 1e-09 s refusé : choisissez un pas entre 1e-06 s et 0,1 s."
+        == "Pas de temps dt = 1×10⁻⁹ s refusé : choisissez un pas entre 1×10⁻⁶ s et 0,1 s."
     )
 
 
@@ -212,7 +212,7 @@ def test_the_timestep_range_is_the_scene_maximum():
     ctl = Controller(Simulation("rolling_cylinder"), clock=Clock())
     ctl.submit(Request("timestep", 0.05))
     (notice,) = ctl.frame()
-    assert notice.text.endswith("entre 1e-06 s et 0,02 s.")
+    assert notice.text.endswith("entre 1×10⁻⁶ s et 0,02 s.")
     ctl.submit(Request("timestep", MIN_TIMESTEP))
     assert ctl.frame() == [] and ctl.sim.timestep == MIN_TIMESTEP
 
@@ -246,7 +246,7 @@ def test_a_file_with_a_zero_timestep_pauses_once(tmp_path, ctl):
     ctl.sim.model.opt.timestep = 0.0  # what a file with timestep="0" would give
     notices = _run(ctl, 1.0)
     assert [n.title for n in notices] == ["Pas de temps invalide"]
-    assert "choisissez un pas entre 1e-06 s" in notices[0].text
+    assert "choisissez un pas entre 1×10⁻⁶ s" in notices[0].text
     assert not ctl.playing and ctl.sim.data.time == 0.0
     assert isinstance(ctl.sim.model, mujoco.MjModel)
 

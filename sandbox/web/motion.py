@@ -1,0 +1,122 @@
+"""What the 3D view draws: the state at the display time, not at the last physics step.
+
+The physics steps by whole timesteps (the rotor's 10 ms turn it 90° at 1500 rpm and
+360° at 6000 rpm); the display asks for the state at any instant in between. The last
+step's positions are carried forward with its velocities for the fraction of timestep
+(``mj_integratePos``: exact for a rotation at constant speed, quaternions handled), then
+``mj_kinematics`` (or ``mj_forward`` when arrows need forces) runs on a second
+``MjData`` that only the display reads: the physics itself is never touched.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import mujoco
+import numpy as np
+
+from sandbox.physics import readouts as generic
+from sandbox.physics.simulation import Simulation
+from sandbox.physics.snapshot import Snapshot
+
+MAX_AHEAD_STEPS = 2.0
+"""The display runs ahead of the physics by less than one timestep; a larger gap (a
+reset, a state changed behind the controller's back) draws the physics state."""
+
+
+class DisplayState:
+    """A second ``MjData`` holding the state drawn at ``time``.
+
+    Args:
+        sim: The simulation it follows (its model may be swapped at any time).
+    """
+
+    def __init__(self, sim: Simulation) -> None:
+        self.sim = sim
+        self._model: mujoco.MjModel | None = None
+        self._data: mujoco.MjData | None = None
+        self._key: tuple[object, ...] | None = None
+
+    def ahead(self, time: float) -> float:
+        """Seconds of motion to add to the physics state to draw ``time`` (0 when
+        ``time`` is not within :data:`MAX_AHEAD_STEPS` timesteps after it)."""
+        sim = self.sim
+        gap = time - float(sim.data.time)
+        dt = sim.timestep
+        if not (math.isfinite(gap) and gap > 0 and gap <= MAX_AHEAD_STEPS * max(dt, 1e-12)):
+            return 0.0
+        return gap
+
+    def data(self, time: float, names: Iterable[str] = ()) -> mujoco.MjData:
+        """The state at ``time``: a copy of the physics state carried forward by
+        :meth:`ahead` (positions and bodies' poses up to date).
+
+        Args:
+            time: Display time [s].
+            names: Readouts the caller evaluates on it (forces need ``mj_forward``);
+                empty: positions only (``mj_kinematics``).
+        """
+        sim = self.sim
+        model, physics = sim.model, sim.data
+        gap = self.ahead(time)
+        if self._model is not model or self._data is None:
+            self._model, self._data = model, mujoco.MjData(model)
+        names = tuple(names)
+        key = (
+            id(model),
+            float(physics.time),
+            gap,
+            names,
+            physics.qpos.tobytes(),
+            physics.qvel.tobytes(),
+            physics.ctrl.tobytes(),
+        )
+        shown = self._data
+        if key == self._key:
+            return shown
+        mujoco.mj_copyData(shown, model, physics)
+        if gap > 0:
+            mujoco.mj_integratePos(model, shown.qpos, shown.qvel, gap)
+        shown.time = float(physics.time) + gap
+        if names:
+            generic.prepare(model, shown, names)
+        else:
+            mujoco.mj_kinematics(model, shown)
+        self._key = key
+        return shown
+
+    def snapshot(self, time: float, names: Iterable[str] = ()) -> Snapshot:
+        """A snapshot of the state at ``time`` for the readouts ``names`` (arrows)."""
+        names = tuple(names)
+        return Snapshot(self.sim.model, self.data(time, names or ("time",)), self.sim.values)
+
+
+def main_hinge(model: mujoco.MjModel, data: mujoco.MjData) -> int | None:
+    """The mechanism's main rotating joint: the hinge turning fastest (a crank, a rotor's
+    spin), None when no hinge turns (a free or ball joint only, or all at rest)."""
+    best, speed = None, 0.0
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) != int(mujoco.mjtJoint.mjJNT_HINGE):
+            continue
+        w = abs(float(data.qvel[int(model.jnt_dofadr[j])]))
+        if w > speed:
+            best, speed = j, w
+    return best
+
+
+def hinge_speed(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """Angular speed [rad/s] of :func:`main_hinge` (0 when none turns)."""
+    j = main_hinge(model, data)
+    return 0.0 if j is None else abs(float(data.qvel[int(model.jnt_dofadr[j])]))
+
+
+def hinge_angle(model: mujoco.MjModel, data: mujoco.MjData, joint: int) -> float:
+    """Angle [rad] of hinge ``joint`` in ``data``."""
+    return float(data.qpos[int(model.jnt_qposadr[joint])])
+
+
+def angle_between(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle [rad] between two orientations (w, x, y, z)."""
+    dot = abs(float(np.dot(a, b)) / (np.linalg.norm(a) * np.linalg.norm(b)))
+    return 2.0 * math.acos(min(1.0, dot))
