@@ -15,6 +15,7 @@ A lesson file::
     arrows: bearing_A, bearing_B
     question: Why ...? | answer: Because ...
     check: bearing_A < 0.01 * initial(bearing_A)
+    goal: Divide the force of bearing A by 100
     success: Well done ...
     hint: Try ...
     solution: @balancing_solution      (or NAME=VALUE, ...: a state where the check passes)
@@ -24,6 +25,8 @@ A lesson file::
 Directives are the ``key: value`` lines right under the step's heading. A check is a
 condition on readouts (``and``, ``or``, ``not``, comparisons, ``+ - * / **``, ``abs(x)``,
 ``min(a, b, ...)``, ``max(a, b, ...)`` and ``initial(name)``: the value when the step began).
+The page states the goal in words from the check (e.g. "Palier A : 54 N → objectif < 0,54 N",
+with a progress bar); ``goal:`` replaces that sentence when it reads badly.
 
 Lesson files are untrusted (students and teachers exchange them):
 
@@ -60,7 +63,8 @@ from sandbox.errors import BadParameter, SandboxError, choices
 
 ANY_SCENE = "any"
 DIRECTIVES = (
-    "preset", "show", "plots", "arrows", "question", "check", "success", "hint", "solution",
+    "preset", "show", "plots", "arrows", "question", "check", "goal", "success", "hint",
+    "solution",
 )  # fmt: skip
 REPEATABLE = ("question", "hint")
 """Directives a step may give several times; the others at most once."""
@@ -132,6 +136,7 @@ class Step:
     success: str = ""
     hints: tuple[str, ...] = ()
     solution: str = ""
+    goal: str = ""
 
 
 @dataclass(frozen=True)
@@ -422,6 +427,17 @@ def _number(node: ast.AST, values: Mapping[str, float], initial: Mapping[str, fl
     raise CheckError(f"cannot compute {type(node).__name__}", "expression non calculable")
 
 
+def number_of(node: ast.AST, values: Mapping[str, float], initial: Mapping[str, float]) -> float:
+    """The value of a numeric part of a compiled check's tree (e.g. the bound of a
+    comparison, for the lesson panel's goal), with the live values and those at the step's
+    start.
+
+    Raises:
+        CheckError: it cannot be computed with these values.
+    """
+    return _number(node, values, initial)
+
+
 def _read(values: Mapping[str, float], name: str, kind: str) -> float:
     try:
         return float(values[name])
@@ -665,7 +681,7 @@ def _step(path: Path, lines: list[str], start: int, stop: int) -> Step:
     questions: list[tuple[str, str]] = []
     hints: list[str] = []
     check: Check | None = None
-    success = solution = ""
+    success = solution = goal = ""
     seen: set[str] = set()
     i = start + 1
     while i < stop and re.match(r"^[a-z]+:", lines[i]):
@@ -695,6 +711,8 @@ def _step(path: Path, lines: list[str], start: int, stop: int) -> Step:
                 check = compile_check(value, f"{path.name}:{where}")
             elif key == "success":
                 success = render_text(value)
+            elif key == "goal":
+                goal = render_text(value)
             elif key == "solution":
                 solution = value
                 if value and not value.startswith("@"):
@@ -720,6 +738,7 @@ def _step(path: Path, lines: list[str], start: int, stop: int) -> Step:
         success=success,
         hints=tuple(hints),
         solution=solution,
+        goal=goal,
     )
 
 

@@ -182,6 +182,7 @@ class Gui:
 
     def __init__(self) -> None:
         self.markdowns: list[Handle] = []
+        self.htmls: list[Handle] = []
 
     def add_folder(self, label: str, **_: object) -> contextlib.nullcontext[None]:
         return contextlib.nullcontext()
@@ -189,6 +190,11 @@ class Gui:
     def add_markdown(self, content: str) -> Handle:
         handle = Handle(content)
         self.markdowns.append(handle)
+        return handle
+
+    def add_html(self, content: str) -> Handle:
+        handle = Handle(content)
+        self.htmls.append(handle)
         return handle
 
     def add_dropdown(self, label: str, options: tuple[str, ...], **kw: Any) -> Handle:
@@ -298,13 +304,17 @@ def test_the_panel_walks_a_lesson_with_presets_questions_and_success(monkeypatch
         ("set_value", "mass1_g", 10.0)
     ]
     assert controller.lesson == "good" and "étape 1/1" in panel.header.content
-    assert panel.status.content == "⏳ Objectif : `bearing_A < 2 * initial(bearing_A)`"
+    assert panel.status.content == ""  # the goal block says where the student is
+    assert "Objectif — En cours" in panel.goal.content
+    assert "bearing_A : 1 → objectif &lt; …" in panel.goal.content  # start not known yet
     assert panel.progress is not None and panel.progress.initial is None  # preset not in force
     controller.sim.values["mass1_g"] = 10.0
     panel.refresh({"bearing_A": 1.0})  # start value: 1
+    assert "bearing_A : 1 → objectif &lt; 2" in panel.goal.content
     panel.refresh({"bearing_A": 1.5})
-    assert panel.status.content.startswith("✅ **Réussi.**")
+    assert panel.status.content.startswith("**Réussi.**")
+    assert "Objectif — Réussi" in panel.goal.content and 'aria-valuenow="100"' in panel.goal.content
     question, button, reply = panel._step_handles
-    assert question.content == "❓ Pourquoi ?"
+    assert question.content == "**Question :** Pourquoi ?"
     button.callbacks[0](None)
-    assert reply.content == "➜ Parce que <i>ω</i>."
+    assert reply.content == "**Réponse :** Parce que <i>ω</i>."

@@ -10,6 +10,10 @@ in the folder (the other lessons stay available), and a check that cannot be com
 the live values is reported once in the status line, in French with ``file:line``: the
 student reads "vérification impossible : … (fichier:ligne)" and is told to go on with
 "Suivant ▶" (the navigation never depends on the check).
+
+The goal is written in words with a progress bar per condition (:mod:`sandbox.web.lesson_goal`),
+readouts by their French label and unit with a decimal comma, and no emoji anywhere (lab PCs
+without an emoji font show empty boxes): "Question", "Indice", "Réponse", "Réussi".
 """
 
 from __future__ import annotations
@@ -23,9 +27,9 @@ import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.lesson_goal import Words, goal_html, lines
 from sandbox.web.plots import Plot, group_by_unit
 from sandbox.web.session import Controller, Request
-from sandbox.web.tables import fmt
 from sandbox.web.text import plain
 
 FREE = "Exploration libre"
@@ -76,6 +80,8 @@ class LessonPanel:
         self.available: dict[str, Lesson] = {
             name: les for name, les in found.items() if scene and les.for_scene(scene)
         }
+        infos = sim.readout_infos()
+        self.words = Words({i.name: i.label for i in infos}, {i.name: i.unit for i in infos})
         self.progress: Progress | None = None
         self.plots: list[Plot] = []
         self._step_handles: list[_Removable] = []
@@ -90,6 +96,7 @@ class LessonPanel:
             self.header = gui.add_markdown("")
             self.nav = gui.add_button_group("Étapes", NAV, visible=False)
             self.text = gui.add_markdown("")
+            self.goal = gui.add_html("")
             self.table = gui.add_markdown("")
             self.status = gui.add_markdown("")
             self.hint_button = gui.add_button("Indice", visible=False)
@@ -153,12 +160,19 @@ class LessonPanel:
             plot.push()
         step = progress.step
         ok = progress.observe(values, self.controller.sim.values)
-        rows = [f"| {n} | {fmt(values.get(n, math.nan))} |" for n in step.show]
-        table = ("| grandeur | valeur |\n|:--|--:|\n" + "\n".join(rows)) if rows else ""
+        rows = [
+            f"| {plain(self.words.label(n))} | {self.words.quantity(values.get(n, math.nan), n)} |"
+            for n in step.show
+        ]
+        table = ("| Grandeur | Valeur |\n|:--|--:|\n" + "\n".join(rows)) if rows else ""
         _set(self.table, table)
         _set(self.status, status_text(progress, ok))
+        _set(self.goal, self._goal(progress, values, ok))
         shown = step.hints[: progress.hints_shown]
-        _set(self.hints, "\n\n".join(f"💡 {h}" for h in shown))
+        _set(
+            self.hints,
+            "\n\n".join(f"**Indice {k} :** {h}" for k, h in enumerate(shown, start=1)),
+        )
         self.hint_button.visible = progress.hints_shown < len(step.hints)
 
     def _open(self, lesson: Lesson | None) -> None:
@@ -175,7 +189,7 @@ class LessonPanel:
             self.plots = []
             self.nav.visible = False
             self.hint_button.visible = False
-            for handle in (self.header, self.text, self.table, self.status, self.hints):
+            for handle in (self.header, self.text, self.goal, self.table, self.status, self.hints):
                 _set(handle, "")
             if self.arrows is not None:
                 self.arrows.only(None)
@@ -205,14 +219,16 @@ class LessonPanel:
         self.plots = []
         with self.folder:
             if step.plots:
-                units = {i.name: i.unit for i in self.controller.sim.readout_infos()}
-                for plot in group_by_unit(step.plots, units, {}):
-                    plot.attach(self.gui, title=f"{', '.join(plot.names)} [{plot.unit}]")
+                arrows = getattr(self.controller.sim.scene, "arrows", ())
+                colours = {a.name: a.color for a in arrows}  # a curve has its arrow's colour
+                for plot in group_by_unit(step.plots, self.words.units, colours):
+                    names = ", ".join(self.words.label(n) for n in plot.names)
+                    plot.attach(self.gui, title=f"{names} [{plot.unit}]".replace(" []", ""))
                     self.plots.append(plot)
                     if plot.handle is not None:
                         self._step_handles.append(plot.handle)
             for question, answer in step.questions:
-                q = self.gui.add_markdown(f"❓ {question}")
+                q = self.gui.add_markdown(f"**Question :** {question}")
                 button = self.gui.add_button("Voir la réponse", color="gray")
                 reply = self.gui.add_markdown("")
                 button.on_click(_reveal(reply, answer))
@@ -220,9 +236,26 @@ class LessonPanel:
         if self.arrows is not None:
             self.arrows.only(step.arrows or None)
 
+    def _goal(self, progress: Progress, values: Mapping[str, float], ok: bool | None) -> str:
+        """The goal block of the current step ("" when the step has no check)."""
+        step = progress.step
+        if step.check is None:
+            return ""
+        if ok:
+            state = "Réussi"
+        elif progress.index in progress.passed:
+            state = "Déjà réussi"
+        elif progress.error is not None:
+            state = "Vérification impossible"
+        else:
+            state = "En cours"
+        shown = lines(step.check, self.words, values, progress.initial, brief=bool(step.goal))
+        return goal_html(shown, state=state, sentence=step.goal)
+
 
 def status_text(progress: Progress, ok: bool | None) -> str:
-    """The status line of the current step (Markdown), given the check's last result.
+    """The status line of the current step (Markdown), given the check's last result
+    ("" while the goal is not reached: the goal block says it, with its bars).
 
     A check that cannot be computed is said once, with its ``file:line``, and the student
     is told to go on: a broken check never blocks silently.
@@ -231,15 +264,15 @@ def status_text(progress: Progress, ok: bool | None) -> str:
     if step.check is None:
         return ""
     if ok:
-        return f"✅ **Réussi.** {step.success}"
+        return f"**Réussi.** {step.success}"
     if progress.index in progress.passed:
-        return "✅ Étape déjà réussie ; la condition n'est plus remplie."
+        return "**Étape déjà réussie** ; la condition n'est plus remplie."
     if progress.error is not None:
         return (
-            f"⚠️ Vérification impossible : {plain(progress.error, SHOWN_ERROR)}. "
+            f"**Vérification impossible** : {plain(progress.error, SHOWN_ERROR)}. "
             "Observez le phénomène, puis passez à la suite avec « Suivant ▶ »."
         )
-    return f"⏳ Objectif : `{step.check.source}`"
+    return ""
 
 
 def _reveal(
@@ -248,7 +281,7 @@ def _reveal(
     """The click callback of a "Voir la réponse" button (the answer is rendered Markdown)."""
 
     def show(_: viser.GuiEvent[viser.GuiButtonHandle]) -> None:
-        reply.content = f"➜ {answer}"
+        reply.content = f"**Réponse :** {answer}"
 
     return show
 
@@ -256,7 +289,7 @@ def _reveal(
 def _refusals(refused: tuple[Exception, ...]) -> str:
     """The lesson files refused at load time, for their author (one line each)."""
     return "\n\n".join(
-        f"⚠️ Fichier de leçon refusé (à corriger par son auteur) : {plain(exc, SHOWN_ERROR)}"
+        f"**Fichier de leçon refusé** (à corriger par son auteur) : {plain(exc, SHOWN_ERROR)}"
         for exc in refused
     )
 

@@ -299,7 +299,7 @@ def test_a_check_broken_by_live_values_is_shown_once_in_french_with_file_line(
         for _ in range(50):  # 50 refreshes with a value that overflows
             panel.refresh({"bearing_A": 1e300})
     status = panel.status.content
-    assert status.startswith("⚠️ Vérification impossible : résultat trop grand")
+    assert status.startswith("**Vérification impossible** : résultat trop grand")
     assert "hostile\\.md:10" in status and "« Suivant ▶ »" in status
     assert panel.status.changes == 1  # shown once, not every frame
     assert len(caplog.records) == 1 and "hostile.md:10" in caplog.records[0].getMessage()
@@ -315,7 +315,7 @@ def test_a_check_that_passes_after_a_failure_still_counts(monkeypatch, tmp_path)
     assert panel.progress is not None and panel.progress.error is not None
     panel.progress.initial = {"bearing_A": 1.0}
     panel.refresh({"bearing_A": 1.0})
-    assert panel.status.content.startswith("✅ **Réussi.**")
+    assert panel.status.content.startswith("**Réussi.**")
 
 
 def test_a_readout_that_never_comes_is_reported_not_waited_for_forever():
@@ -325,7 +325,7 @@ def test_a_readout_that_never_comes_is_reported_not_waited_for_forever():
     results = [progress.observe({"bearing_A": 1.0}, {"mass1_g": 10.0}) for _ in range(10)]
     assert results == [None] * 10
     assert progress.error == "grandeur « nowhere » absente (absent.md:10)"
-    assert status_text(progress, None).startswith("⚠️ Vérification impossible : grandeur")
+    assert status_text(progress, None).startswith("**Vérification impossible** : grandeur")
 
 
 def test_lesson_titles_and_refused_files_are_shown_as_text(monkeypatch, tmp_path):
@@ -337,7 +337,7 @@ def test_lesson_titles_and_refused_files_are_shown_as_text(monkeypatch, tmp_path
     shown = "\n".join(h.content for h in gui.markdowns)
     assert "<img" not in shown and "<script" not in shown
     assert "&lt;img src=x onerror=alert\\(1\\)&gt;" in panel.header.content
-    assert panel.refused.content.startswith("⚠️ Fichier de leçon refusé")
+    assert panel.refused.content.startswith("**Fichier de leçon refusé**")
 
 
 # -- lesson text: raw HTML shown as text, links only to http(s) ------------------------------
