@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 from collections import deque
 from collections.abc import Mapping, Sequence
@@ -23,6 +24,17 @@ def nice_ceil(x: float) -> float:
         if m * 10.0**k >= x * (1 - 1e-12):
             return m * 10.0**k
     return 10.0 ** (k + 1)
+
+
+SOFT_ZERO = {"pad": 0.1, "soft": 0.0, "mode": 1}
+"""uPlot range bound: 10 % padding, and 0 kept inside the range (soft limit, mode 1)."""
+
+SCALES: dict[str, uplot.Scale] = {
+    "x": {"time": False},
+    "y": {"auto": True, "range": {"min": SOFT_ZERO, "max": SOFT_ZERO}},
+}
+"""Scales of every live plot, sent once at creation: x follows the samples, y is ranged
+by the browser from the samples shown (uPlot's range configuration: padding and 0)."""
 
 
 class Plot:
@@ -52,7 +64,6 @@ class Plot:
         self.t: deque[float] = deque(maxlen=maxlen)
         self.y: list[deque[float]] = [deque(maxlen=maxlen) for _ in self.names]
         self.handle: viser.GuiUplotHandle | None = None
-        self._sent_scales: dict[str, uplot.Scale] | None = None
 
     def append(self, values: Mapping[str, float]) -> None:
         """Add one sample (needs ``time`` and every name); time going back clears the plot."""
@@ -90,20 +101,20 @@ class Plot:
             )
         return tuple(out)
 
-    def attach(self, gui: viser.GuiApi, *, title: str) -> None:
-        """Create the chart in ``gui`` (a viser ``GuiApi``)."""
-        self._sent_scales = self.scales()
+    def attach(self, gui: viser.GuiApi, *, title: str, x_label: str = "t [s]") -> None:
+        """Create the chart in ``gui`` (a viser ``GuiApi``); its options never change after."""
         self.handle = gui.add_uplot(
             data=self.arrays(),
             series=self.series(),
             title=title,
-            scales=self._sent_scales or self.scales(),
-            axes=(uplot.Axis(label="t [s]"), uplot.Axis(label=self.unit, size=60)),
+            scales=self.scales(),
+            axes=(uplot.Axis(label=x_label), uplot.Axis(label=self.unit, size=60)),
             aspect=1.6,
         )
 
     def y_range(self) -> tuple[float, float]:
-        """Vertical range including 0 and every sample, with 10 % headroom."""
+        """Vertical range including 0 and every sample, with 10 % headroom (what the
+        browser's automatic range shows, rounded to "nice" bounds; for tests and exports)."""
         values = np.concatenate([np.asarray(s, dtype=float) for s in self.y] or [np.zeros(1)])
         values = values[np.isfinite(values)]
         lo = min(0.0, float(values.min())) if values.size else 0.0
@@ -112,20 +123,19 @@ class Plot:
         return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
 
     def scales(self) -> dict[str, uplot.Scale]:
-        """uPlot scales: linear time axis and :meth:`y_range`."""
-        return {"x": uplot.Scale(time=False), "y": uplot.Scale(auto=False, range=self.y_range())}
+        """uPlot scales, the same for the chart's whole life (:data:`SCALES`)."""
+        return copy.deepcopy(SCALES)
 
     def push(self) -> None:
-        """Send the current samples, and the vertical range when it changed.
+        """Send the current samples (only the data: the browser ranges the y axis itself).
 
-        The range is rounded to "nice" bounds so that it rarely changes: a new
-        ``scales`` makes the browser rebuild the chart, which would flicker at 10 Hz.
+        Never send ``scales`` again: any new ``scales`` makes viser's uPlot component
+        destroy and rebuild the chart, and the rebuilt chart keeps an x window computed
+        from the destroyed one (blank at first, then one second of data lagging ~8 s
+        behind, for good: issue 14).
         """
         if self.handle is not None:
             self.handle.data = self.arrays()
-            scales = self.scales()
-            if scales != self._sent_scales:
-                self.handle.scales = self._sent_scales = scales
 
 
 def group_by_unit(

@@ -44,17 +44,48 @@ def test_window_nan_and_time_going_back():
     assert len(plot.arrays()[0]) == 1
 
 
-def test_range_is_only_resent_when_it_changes():
+class Gui:
+    """Stands for viser's GuiApi: keeps the options the chart was created with."""
+
+    def __init__(self) -> None:
+        self.created: dict = {}
+        self.handle = Handle()
+
+    def add_uplot(self, **kwargs):
+        self.created = kwargs
+        self.handle.data = kwargs["data"]
+        return self.handle
+
+
+def test_scales_are_sent_once_and_every_push_sends_the_data():
+    """Issue 14: a new ``scales`` rebuilt the browser's chart, which then drew nothing,
+    then one second of data 8 s late. The range now moves in the browser."""
+    plot = Plot(["v"], "m/s", [(0, 0, 0)])
+    gui = Gui()
+    plot.attach(gui, title="v")
+    created = gui.created["scales"]
+    assert created["y"]["auto"] is True and "range" in created["y"]
+    for bound in ("min", "max"):  # 10 % headroom, 0 kept in view
+        assert created["y"]["range"][bound] == {"pad": 0.1, "soft": 0.0, "mode": 1}
+    assert created["x"] == {"time": False}
+    for k in range(60):  # the range grows 50-fold, then the sign changes
+        plot.append({"time": 0.1 * k, "v": 0.5 * k if k < 50 else -100.0})
+        plot.push()
+        t, v = plot.handle.data
+        assert t[-1] == pytest.approx(0.1 * k) and len(t) == len(v) == k + 1
+    assert plot.handle.scales_sent == 0
+    assert plot.scales() == created  # and a copy: a caller cannot change the shared one
+    plot.scales()["y"]["auto"] = False
+    assert plot.scales()["y"]["auto"] is True
+
+
+def test_y_range_includes_zero_and_headroom():
     plot = Plot(["a"], "N", [(0, 0, 0)])
-    plot.handle = Handle()
     for k in range(50):
         plot.append({"time": 0.01 * k, "a": 54.0 + 0.01 * math.sin(k)})
-        plot.push()
-    assert plot.handle.scales_sent == 1
-    assert plot.handle.scales["y"]["range"] == (0.0, 60.0)
+    assert plot.y_range() == (0.0, 60.0)
     plot.append({"time": 1.0, "a": -3.0})
-    plot.push()
-    assert plot.handle.scales_sent == 2 and plot.handle.scales["y"]["range"][0] < -3.0
+    assert plot.y_range()[0] < -3.0
 
 
 def test_group_by_unit():
