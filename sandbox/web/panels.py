@@ -1,4 +1,4 @@
-"""GUI folders of a session: controls, parameters, readouts, torsors, energy, hypotheses.
+"""GUI folders of a session: simulation controls, parameters, hypotheses.
 
 Callbacks only queue :class:`~sandbox.web.session.Request` objects; the loop thread
 applies them. Refresh methods are called by the view from the loop thread. Values
@@ -19,35 +19,44 @@ from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import tables
+from sandbox.web.fields import (
+    Mirror,
+    advanced,
+    choices,
+    engineering,
+    integrator_label,
+    integrator_name,
+    on_user,
+    param_hint,
+    parse_number,
+    typed,
+)
+from sandbox.web.fields import (
+    param_label as param_label,
+)
+from sandbox.web.fields import (
+    set_value as set_value,
+)
 from sandbox.web.session import SPEEDS, Controller, Request, max_timestep
-from sandbox.web.text import plain
+from sandbox.web.text import number, plain
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
 COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
 COMMAND_KINDS = {"Pause": "pause", "Lecture": "play", "Pas": "step", "Réinitialiser": "reset"}
 """Buttons of the time bar and the request each one queues."""
 
-RECORD_IDLE = ("● Enregistrer",)
-RECORD_BUSY = ("■ Arrêter l'enregistrement",)
+RECORD_IDLE = ("Enregistrer",)
+RECORD_BUSY = ("Arrêter l'enregistrement",)
 RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
 
+SPEED_LABEL = "Vitesse de lecture ×"
+INTEGRATOR_LABEL = "Intégrateur"
+TIMESTEP_LABEL = "Pas de temps dt [s]"
+PARAMS_FOLDER = "Paramètres"
+ADVANCED_FOLDER = "Réglages avancés"
+NUMERICS_FOLDER = "Méthode numérique"
 
-def _on_user(handle: viser.GuiInputHandle[Any], action: Callable[[Any], None]) -> None:
-    """Run ``action(value)`` when the user (not the server) changes ``handle``."""
-
-    @handle.on_update
-    def _(event: viser.GuiEvent[Any]) -> None:
-        if event.client is not None:
-            action(event.target.value)
-
-
-def set_value(handle: viser.GuiInputHandle[Any], value: object) -> None:
-    """Show ``value`` in an input (sent to the browser).
-
-    viser declares ``value`` as a property on one base class and as a plain field on
-    the props class it also inherits, which mypy reads as read-only: assigned here once.
-    """
-    handle.value = value  # type: ignore[misc]
+_on_user = on_user  # kept for modules importing it from here
 
 
 def command(kinds: dict[str, str], label: object) -> Request:
@@ -55,11 +64,6 @@ def command(kinds: dict[str, str], label: object) -> Request:
     unknown one becomes a request that the loop refuses once, in French)."""
     kind = kinds.get(label) if isinstance(label, str) else None
     return Request(kind) if kind is not None else Request("button", label)
-
-
-def param_label(p: Param) -> str:
-    """Slider label: the contract name and its unit."""
-    return f"{p.name} [{p.unit}]" if p.unit else p.name
 
 
 def param_step(p: Param) -> float:
@@ -79,7 +83,7 @@ def hypotheses(sim: Simulation) -> tuple[str, ...]:
     lines.append(
         "Poids négligé"
         if flags & dsbl.mjDSBL_GRAVITY or g == 0
-        else f"Pesanteur prise en compte (g = {g:.3g} m/s²)"
+        else f"Pesanteur prise en compte (g = {number(g, 3)} m/s²)"
     )
     lines.append(
         "Pas de contact entre solides"
@@ -93,6 +97,10 @@ def hypotheses(sim: Simulation) -> tuple[str, ...]:
 class ControlPanel:
     """Folders "Simulation" and "Paramètres", plus the divergence alert.
 
+    Every control is a :class:`~sandbox.web.fields.Mirror` of the value in force:
+    whatever changed it (the user, a lesson preset or step, a refusal, a reset, the
+    teacher's settings), each refresh puts the controls back on the simulation's values.
+
     Args:
         gui: A viser ``GuiApi`` (``client.gui``).
         controller: The session's controller (requests go to its queue).
@@ -100,7 +108,6 @@ class ControlPanel:
 
     def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
         self.controller = controller
-        self._shown: dict[str, float] = {}
         self._refusals = 0
         sim = controller.sim
         scene = as_scene(sim.scene)
@@ -109,72 +116,155 @@ class ControlPanel:
             self.alert_text = gui.add_markdown("")
             reset2 = gui.add_button("Réinitialiser", color="red")
         reset2.on_click(lambda _: submit(Request("reset")))
-        with gui.add_folder("Simulation"):
+        with gui.add_folder("Simulation") as self.folder:
             self.title = gui.add_markdown(f"**{plain(scene.title if scene else sim.label)}**")
             self.status = gui.add_markdown("")
             self.commands = gui.add_button_group(
-                "Temps", COMMANDS_PLAYING, hint="Pause/Lecture, un pas dt, état initial"
+                "Temps",
+                COMMANDS_PLAYING,
+                hint="Pause ou lecture, un pas de temps dt, retour à l'état initial",
             )
             self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
             self.speed = gui.add_slider(
-                "Vitesse ×",
+                SPEED_LABEL,
                 min=SPEEDS[0],
                 max=SPEEDS[1],
-                step=0.1,
+                step=min(0.1, SPEEDS[0]),
                 initial_value=1.0,
-                hint="Temps simulé / temps réel",
+                hint="Temps simulé divisé par le temps réel (1 : temps réel)",
             )
-            _on_user(self.speed, lambda v: submit(Request("speed", v)))
-            self.integrator = gui.add_dropdown(
-                "Intégrateur", tuple(INTEGRATORS), initial_value=_known(sim.integrator)
-            )
-            _on_user(self.integrator, lambda v: submit(Request("integrator", v)))
-            self.timestep = gui.add_number(
-                "dt [s]",
-                initial_value=sim.timestep,
-                step=1e-5,
-                hint=f"Pas de temps (de {MIN_TIMESTEP:g} s à {max_timestep(sim):g} s)",
-            )
-            _on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+            on_user(self.speed, lambda v: submit(Request("speed", v)))
             self.record = gui.add_button_group(
                 "Enregistrer",
                 RECORD_IDLE,
-                hint="Enregistre la séance pour « sandbox replay » (fichier .sbx)",
+                hint="Enregistre la séance pour la relire avec « sandbox replay » (fichier .sbx)",
             )
             self.record.on_click(lambda event: submit(command(RECORD_KINDS, event.target.value)))
-        self.sliders: dict[str, viser.GuiSliderHandle[float]] = {}
-        if scene is not None and scene.params:
-            with gui.add_folder("Paramètres"):
-                for p in scene.params:
-                    slider = gui.add_slider(
-                        param_label(p),
-                        min=p.min,
-                        max=p.max,
-                        step=param_step(p),
-                        initial_value=sim.values[p.name],
-                        hint=p.doc,
-                    )
-                    _on_user(slider, _setter(submit, p.name))
-                    self.sliders[p.name] = slider
+            with gui.add_folder(NUMERICS_FOLDER, expand_by_default=False):
+                labels = tuple(integrator_label(n) for n in INTEGRATORS)
+                self.integrator = gui.add_dropdown(
+                    INTEGRATOR_LABEL,
+                    labels,
+                    initial_value=integrator_label(_known(sim.integrator)),
+                    hint="Schéma qui calcule le mouvement d'un pas de temps au suivant",
+                )
+                on_user(
+                    self.integrator, lambda v: submit(Request("integrator", integrator_name(v)))
+                )
+                self.timestep = gui.add_number(
+                    TIMESTEP_LABEL,
+                    initial_value=sim.timestep,
+                    step=1e-5,
+                    hint=f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
+                    f"{number(max_timestep(sim))} s)",
+                )
+                on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+        busy = self._busy
+        self.mirrors: dict[str, Mirror] = {
+            "<speed>": Mirror(self.speed, lambda: controller.speed, busy=busy),
+            "<integrator>": Mirror(
+                self.integrator, lambda: integrator_label(_known(sim.integrator)), busy=busy
+            ),
+            "<dt>": Mirror(self.timestep, lambda: sim.timestep, busy=busy),
+        }
+        self.sliders: dict[str, viser.GuiInputHandle[Any]] = {}
+        params = scene.params if scene is not None else ()
+        if params:
+            with gui.add_folder(PARAMS_FOLDER) as self.params_folder:
+                for p in params:
+                    if not advanced(p):
+                        self._control(gui, p)
+                rare = [p for p in params if advanced(p)]
+                if rare:
+                    with gui.add_folder(ADVANCED_FOLDER, expand_by_default=False):
+                        for p in rare:
+                            self._control(gui, p)
         self._playing: bool | None = None
         self._recording = False
 
+    def _busy(self) -> bool:
+        """True while the user's requests wait for the loop (controls may be ahead)."""
+        return not self.controller.requests.empty()
+
+    def _control(self, gui: viser.GuiApi, p: Param) -> None:
+        """A dropdown for a choice, a box for a typed number, else a slider."""
+        if choices(p):
+            self._choice(gui, p)
+        elif typed(p):
+            self._box(gui, p)
+        else:
+            self._slider(gui, p)
+
+    def _choice(self, gui: viser.GuiApi, p: Param) -> None:
+        """A parameter picking one of a few options: the dropdown shows their names and
+        sends the option's number."""
+        sim, submit = self.controller.sim, self.controller.submit
+        names = choices(p)
+        read = _reader(sim, p.name)
+
+        def shown() -> str:
+            index = int(round(read()))
+            return names[index] if 0 <= index < len(names) else names[0]
+
+        dropdown = gui.add_dropdown(
+            param_label(p), names, initial_value=shown(), hint=param_hint(p)
+        )
+        name = p.name
+        on_user(
+            dropdown,
+            lambda v: submit(
+                Request("set_value", float(names.index(v)) if v in names else v, name=name)
+            ),
+        )
+        self.sliders[p.name] = dropdown
+        self.mirrors[p.name] = Mirror(dropdown, shown, busy=self._busy)
+
+    def _slider(self, gui: viser.GuiApi, p: Param) -> None:
+        sim, submit = self.controller.sim, self.controller.submit
+        slider = gui.add_slider(
+            param_label(p),
+            min=p.min,
+            max=p.max,
+            step=param_step(p),
+            initial_value=sim.values[p.name],
+            hint=param_hint(p),
+        )
+        on_user(slider, _setter(submit, p.name))
+        self.sliders[p.name] = slider
+        self.mirrors[p.name] = Mirror(slider, _reader(sim, p.name), busy=self._busy)
+
+    def _box(self, gui: viser.GuiApi, p: Param) -> None:
+        """A rarely changed parameter: a text box in engineering notation (``2×10⁻⁴``),
+        which takes any value of its range (a slider's steps cannot reach 0,0002)."""
+        sim, submit = self.controller.sim, self.controller.submit
+        box = gui.add_text(
+            param_label(p),
+            engineering(sim.values[p.name]),
+            hint=param_hint(p) + " Écrivez par exemple 0,0002 ou 2e-4.",
+        )
+        name = p.name
+        on_user(box, lambda v: submit(Request("set_value", parse_number(v), name=name)))
+        self.sliders[p.name] = box
+        read = _reader(sim, name)
+        self.mirrors[p.name] = Mirror(box, lambda: engineering(float(read())), busy=self._busy)
+
     def refresh(self) -> None:
-        """Status line and play/pause label."""
+        """Status line, play/pause label, and every control on the value in force."""
         ctl = self.controller
         state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
-        status = f"t = {ctl.sim.data.time:.3f} s · vitesse ×{ctl.speed:g} · **{state}**"
+        status = (
+            f"t = {number(ctl.sim.data.time, 4)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
+        )
         if ctl.playing and not ctl.diverged and ctl.slowed():
             status += " · plus lent que le temps réel (pas de temps trop petit pour ce poste)"
         recorder = ctl.recorder
         recording = recorder is not None
         if recorder is not None:
-            status += f" · ● enregistrement ({recorder.frames} images)"
+            status += f" · enregistrement en cours ({recorder.frames} images)"
         if self.status.content != status:
             self.status.content = status
-        if ctl.refusals != self._refusals:  # a refused value: the controls show the real ones
-            self._refusals = ctl.refusals
-            self.sync()
+        refused = ctl.refusals != self._refusals
+        self._refusals = ctl.refusals
         if recording != self._recording:
             self.record.options = RECORD_BUSY if recording else RECORD_IDLE
             self._recording = recording
@@ -184,35 +274,21 @@ class ControlPanel:
         if bool(ctl.diverged) != self.alert.visible:
             self.alert.visible = bool(ctl.diverged)
             self.alert_text.content = ctl.diverged or ""
-        self._follow_simulation()
-
-    def _follow_simulation(self) -> None:
-        """Controls show what the simulation really uses, whoever changed it (a lesson
-        preset, the teacher's settings, a timestep that follows the speed)."""
-        sim = self.controller.sim
-        for name, slider in self.sliders.items():
-            value = sim.values.get(name)
-            if value is not None and self._shown.get(name) != value:
-                self._shown[name] = value
-                if slider.value != value:
-                    set_value(slider, value)
-        if self._shown.get("<dt>") != sim.timestep:
-            self._shown["<dt>"] = sim.timestep
-            if self.timestep.value != sim.timestep:
-                set_value(self.timestep, sim.timestep)
+        for mirror in self.mirrors.values():
+            mirror.refresh(force=refused)  # a refused value: the controls show the real ones
 
     def sync(self) -> None:
-        """Put every control back to the simulation's actual values (after a refusal)."""
-        sim = self.controller.sim
-        for name, slider in self.sliders.items():
-            set_value(slider, sim.values[name])
-        set_value(self.speed, self.controller.speed)
-        set_value(self.integrator, _known(sim.integrator))
-        set_value(self.timestep, sim.timestep)
+        """Put every control back to the simulation's actual values at once."""
+        for mirror in self.mirrors.values():
+            mirror.refresh(force=True)
 
 
 def _known(name: str) -> str:
     return name if name in INTEGRATORS else "euler"
+
+
+def _reader(sim: Simulation, name: str) -> Callable[[], float]:
+    return lambda: sim.values[name]
 
 
 def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], None]:
