@@ -19,13 +19,15 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from sandbox.physics.units import display_unit
+
 Pair = tuple[np.ndarray, np.ndarray]
 
 
 @dataclass(frozen=True)
 class ReadoutInfo:
-    """Name, unit and one-line doc of a generic readout; ``label`` and ``hint``: the
-    French words and tooltip of the web page ("": the name and the doc)."""
+    """Name, unit and one-line doc of a readout; ``label`` and ``hint``: the French words
+    (with the course's symbol) and tooltip of the web page ("": the name and the doc)."""
 
     name: str
     unit: str
@@ -33,25 +35,125 @@ class ReadoutInfo:
     label: str = ""
     hint: str = ""
 
+    @property
+    def display_unit(self) -> str:
+        """The unit as the web page shows it ("tr/min" for "rpm", "°" for "deg")."""
+        return display_unit(self.unit)
 
-def _torsor_infos(prefix: str, what: str, ru: str, mu: str) -> list[ReadoutInfo]:
-    out = [ReadoutInfo(f"{prefix}_R_{c}", ru, f"{what}: resultant, {c} component") for c in "xyz"]
+
+AXES = {"x": "x₀", "y": "y₀", "z": "z₀"}
+"""The world axes as the course writes them (basis B0 of R0)."""
+
+
+def _torsor_infos(
+    prefix: str, what: str, ru: str, mu: str, words: tuple[str, str, str, str]
+) -> list[ReadoutInfo]:
+    """Six components of a torsor at O; ``words``: French (resultant label, resultant
+    hint, moment label, moment hint), each with ``{axis}`` for the axis."""
+    rl, rh, ml, mh = words
+    out = [
+        ReadoutInfo(
+            f"{prefix}_R_{c}",
+            ru,
+            f"{what}: resultant, {c} component",
+            rl.format(axis=AXES[c]),
+            rh.format(axis=AXES[c]),
+        )
+        for c in "xyz"
+    ]
     out += [
-        ReadoutInfo(f"{prefix}_M_{c}", mu, f"{what}: moment at O, {c} component") for c in "xyz"
+        ReadoutInfo(
+            f"{prefix}_M_{c}",
+            mu,
+            f"{what}: moment at O, {c} component",
+            ml.format(axis=AXES[c]),
+            mh.format(axis=AXES[c]),
+        )
+        for c in "xyz"
     ]
     return out
 
 
 GENERIC_READOUTS: tuple[ReadoutInfo, ...] = (
-    ReadoutInfo("time", "s", "Simulated time."),
-    ReadoutInfo("T", "J", "Kinetic energy of the mechanism in R0."),
-    ReadoutInfo("V", "J", "Potential energy of weight and joint springs."),
-    ReadoutInfo("P_ext", "W", "Power of weight, motors and applied loads."),
-    ReadoutInfo("P_int", "W", "Power of inter-efforts, non-perfect joints and contacts."),
-    ReadoutInfo("P_acc", "W", "Power of the accelerations, equal to dT/dt."),
-    *_torsor_infos("kin", "Kinetic torsor {C}", "kg·m/s", "kg·m²/s"),
-    *_torsor_infos("dyn", "Dynamic torsor {D}", "N", "N·m"),
-    *_torsor_infos("sup", "Action of the frame on the mechanism", "N", "N·m"),
+    ReadoutInfo("time", "s", "Simulated time.", "Temps t", "Temps simulé écoulé depuis le départ."),
+    ReadoutInfo(
+        "T",
+        "J",
+        "Kinetic energy of the mechanism in R0.",
+        "Énergie cinétique T",
+        "Énergie cinétique de l'ensemble des pièces mobiles dans leur mouvement par rapport "
+        "au bâti (repère R₀, supposé galiléen).",
+    ),
+    ReadoutInfo(
+        "V",
+        "J",
+        "Potential energy of weight and joint springs.",
+        "Énergie potentielle V",
+        "Énergie potentielle de la pesanteur et des ressorts des liaisons (nulle quand le "
+        "poids est négligé).",
+    ),
+    ReadoutInfo(
+        "P_ext",
+        "W",
+        "Power of weight, motors and applied loads.",
+        "Puissance des efforts extérieurs Pₑₓₜ",
+        "Puissance du poids, des moteurs et des charges appliquées aux pièces mobiles, dans "
+        "leur mouvement par rapport à R₀.",
+    ),
+    ReadoutInfo(
+        "P_int",
+        "W",
+        "Power of inter-efforts, non-perfect joints and contacts.",
+        "Puissance des efforts intérieurs Pᵢₙₜ",
+        "Puissance des inter-efforts : frottements et amortissements des liaisons non "
+        "parfaites et des contacts, toujours négative ou nulle.",
+    ),
+    ReadoutInfo(
+        "P_acc",
+        "W",
+        "Power of the accelerations, equal to dT/dt.",
+        "Puissance des quantités d'accélération dT/dt",
+        "Somme sur les solides du comoment {D} ⊗ {V}, égale à la dérivée de l'énergie cinétique T.",
+    ),
+    *_torsor_infos(
+        "kin",
+        "Kinetic torsor {C}",
+        "kg·m/s",
+        "kg·m²/s",
+        (
+            "Résultante cinétique m·V(G) selon {axis}",
+            "Composante sur {axis} de la résultante du torseur cinétique {{C}} des pièces "
+            "mobiles, leur quantité de mouvement.",
+            "Moment cinétique σ en O selon {axis}",
+            "Composante sur {axis} du moment en O du torseur cinétique {{C}} des pièces mobiles.",
+        ),
+    ),
+    *_torsor_infos(
+        "dyn",
+        "Dynamic torsor {D}",
+        "N",
+        "N·m",
+        (
+            "Résultante dynamique m·Γ(G) selon {axis}",
+            "Composante sur {axis} de la résultante du torseur dynamique {{D}} des pièces mobiles.",
+            "Moment dynamique δ en O selon {axis}",
+            "Composante sur {axis} du moment en O du torseur dynamique {{D}} des pièces mobiles.",
+        ),
+    ),
+    *_torsor_infos(
+        "sup",
+        "Action of the frame on the mechanism",
+        "N",
+        "N·m",
+        (
+            "Action du bâti : résultante selon {axis}",
+            "Composante sur {axis} de la résultante des actions du bâti 0 sur les pièces "
+            "mobiles, par les liaisons et les contacts (moteurs exclus).",
+            "Action du bâti : moment en O selon {axis}",
+            "Composante sur {axis} du moment en O des actions du bâti 0 sur les pièces "
+            "mobiles, par les liaisons et les contacts (moteurs exclus).",
+        ),
+    ),
 )
 GENERIC_NAMES: tuple[str, ...] = tuple(r.name for r in GENERIC_READOUTS)
 GENERIC_SET: frozenset[str] = frozenset(GENERIC_NAMES)

@@ -16,6 +16,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.physics.units import display_unit
 
 if TYPE_CHECKING:
     from sandbox.physics.snapshot import Snapshot
@@ -61,6 +62,14 @@ class Param:
         label: What the web page shows: French words with the course's symbol, e.g.
             "Vitesse de rotation ω" (the unit is added by the page; "" shows ``name``).
         hint: French tooltip of the web page: one sentence ("" shows ``doc``).
+        group: French name of the folder the web page files it under (e.g. "Géométrie");
+            parameters of one group are consecutive in ``params``.
+        advanced: Rarely changed (inertias, a drawing length): the page folds it away.
+        log: The range spans decades (e.g. 1e-6 to 2e-2 kg·m²): a linear slider cannot
+            reach the useful values, so the page offers a number box in engineering
+            notation instead.
+        choices: French names of the values 0, 1, 2... of a parameter that picks one of
+            a few options (a preset, on/off): the page shows a dropdown or a checkbox.
     """
 
     name: str
@@ -73,6 +82,15 @@ class Param:
     step: float = 0.0
     label: str = ""
     hint: str = ""
+    group: str = ""
+    advanced: bool = False
+    log: bool = False
+    choices: tuple[str, ...] = ()
+
+    @property
+    def display_unit(self) -> str:
+        """The unit as the web page shows it ("tr/min" for "rpm", "°" for "deg")."""
+        return display_unit(self.unit)
 
     def check(self, value: object) -> float:
         """Validate ``value`` (number or numeric string) and return it as a float.
@@ -179,12 +197,30 @@ class SceneReadout:
     label: str = ""
     hint: str = ""
 
+    @property
+    def display_unit(self) -> str:
+        """The unit as the web page shows it ("tr/min" for "rpm", "°" for "deg")."""
+        return display_unit(self.unit)
+
 
 @dataclass(frozen=True)
 class Arrow:
     """An arrow drawn in the 3D view: origin and vector (world frame) from a snapshot.
 
-    ``scale`` converts the vector's unit into metres of arrow (e.g. 1e-3 m/N).
+    Attributes:
+        name: Contract name (lessons' ``arrows:`` lines); a scene readout of the same
+            name, when there is one, is the arrow's magnitude.
+        label: French words of the 3D label, e.g. "Palier A" (no unit, no value).
+        color: RGB colour of the arrow (0-255).
+        fn: (origin [m], vector [``unit``]) in world coordinates, from a snapshot.
+        scale: Metres of arrow per unit of the vector (e.g. 4e-3 m/N).
+        unit: Unit of the vector (contract form, "" when dimensionless); the label
+            shows :attr:`display_unit` after the magnitude.
+        point: Name of the point the arrow starts from (e.g. "A"), offered as a
+            reduction point of the torsors; "" when it is not a named point.
+        hint: French sentence saying what the arrow shows (legend, tooltip).
+        magnitude: False for a direction (a unit vector such as a rotor's axis): the
+            label is then the words alone.
     """
 
     name: str
@@ -192,6 +228,22 @@ class Arrow:
     color: tuple[int, int, int]
     fn: Callable[[Snapshot], tuple[np.ndarray, np.ndarray]]
     scale: float = 1.0
+    unit: str = ""
+    point: str = ""
+    hint: str = ""
+    magnitude: bool = True
+
+    @property
+    def display_unit(self) -> str:
+        """The vector's unit as the web page shows it."""
+        return display_unit(self.unit)
+
+    def caption(self, value: str) -> str:
+        """The 3D label with the magnitude already written in French (``value``, e.g.
+        "0,91"): "Palier A : 0,91 N"; the words alone for a direction."""
+        if not self.magnitude:
+            return self.label
+        return f"{self.label} : {value} {self.display_unit}".rstrip()
 
 
 Series = Mapping[str, np.ndarray]
@@ -278,6 +330,10 @@ class Scene:
             accuracy the scene promises (e.g. a contact that softens).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
+        zero: Round-off of the scene by unit (contract unit -> absolute value in that
+            unit): the page shows a number whose magnitude is at most this as 0 (e.g. a
+            bearing force of 6e-12 N where the course says 0). Far below anything the
+            scene computes on purpose (a closure error of 1e-8 m stays visible).
     """
 
     name: str
@@ -306,6 +362,11 @@ class Scene:
     max_timestep: float = math.inf
     start_paused: bool = False
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
+    zero: Mapping[str, float] = field(default_factory=dict)
+
+    def zero_for(self, unit: str) -> float:
+        """Round-off [``unit``] below which the page shows 0 (0.0: every digit shown)."""
+        return float(self.zero.get(unit, 0.0))
 
     def param(self, name: str) -> Param:
         """The parameter called ``name``.
