@@ -453,6 +453,7 @@ class Controller:
         kind, value, sim = request.kind, request.value, self.sim
         if kind == "reset":
             sim.reset()
+            self.display_time = float(sim.data.time)
             self.diverged = None
             self.generation += 1
             return None

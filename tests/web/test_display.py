@@ -1,0 +1,228 @@
+"""Motion at display rate: the drawn state between physics steps, "Ralenti" and "Pas"."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from sandbox.errors import Diverged
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+from sandbox.web import session as session_module
+from sandbox.web.motion import angle_between, main_hinge
+from sandbox.web.session import (
+    SPEEDS,
+    Controller,
+    Request,
+    check_value,
+    divergence_message,
+    param_words,
+)
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def _rotor(speed_rpm: float = 6000.0, dt: float | None = None) -> Controller:
+    sim = Simulation("rotor", values={"speed_rpm": speed_rpm}, timestep=dt)
+    return Controller(sim, clock=Clock())
+
+
+def _rotor_quat(ctl: Controller) -> np.ndarray:
+    data = ctl.drawn().data
+    body = mujoco.mj_name2id(ctl.sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
+    return np.array(data.xquat[body])
+
+
+def _turns_between_frames(ctl: Controller, frames: int, fps: float = 60.0) -> list[float]:
+    """Angles [deg] the drawn rotor turns from one frame to the next."""
+    angles, last = [], _rotor_quat(ctl)
+    for _ in range(frames):
+        ctl.clock.now += 1.0 / fps
+        ctl.frame()
+        quat = _rotor_quat(ctl)
+        angles.append(math.degrees(angle_between(last, quat)))
+        last = quat
+    return angles
+
+
+@pytest.mark.parametrize("dt", [1e-4, 1e-3, 3e-3, 1e-2, 2e-2])
+def test_a_6000_rpm_rotor_at_one_hundredth_turns_at_most_30_degrees_a_frame(dt):
+    ctl = _rotor(6000.0, dt)
+    ctl.submit(Request("speed", SPEEDS[0]))
+    ctl.frame()
+    angles = _turns_between_frames(ctl, 240)  # 4 s of wall time: 0.04 s simulated
+    assert ctl.sim.data.time == pytest.approx(0.04, abs=dt + 1e-3)
+    # 6000 rpm = 100 turns/s; ×0.01 at 60 frames/s: 6° a frame, every frame
+    assert max(angles) <= 30.0
+    assert min(angles) > 0.0, "the rotor must be seen turning on every frame"
+    assert np.median(angles) == pytest.approx(6.0, rel=0.05)
+
+
+def test_the_drawn_angle_is_the_exact_angle_at_the_display_time():
+    ctl = _rotor(1500.0)  # dt = 10 ms: 90° a step
+    ctl.submit(Request("speed", 0.1))
+    ctl.frame()
+    for _ in range(37):
+        ctl.clock.now += 1.0 / 60
+        ctl.frame()
+        shown = ctl.drawn().data
+        w = 1500.0 * 2 * math.pi / 60
+        assert shown.time == pytest.approx(ctl.display_time)
+        assert ctl.sim.data.time <= ctl.display_time < ctl.sim.data.time + ctl.sim.timestep
+        assert shown.qpos[0] == pytest.approx(w * ctl.display_time, rel=1e-9, abs=1e-9)
+
+
+def test_the_display_never_changes_the_physics():
+    """Two sessions on the same clock, one drawing every frame: bit-identical physics,
+    identical to a simulation stepped alone the same number of times."""
+    drawn, blind = _rotor(3000.0, 1e-3), _rotor(3000.0, 1e-3)
+    for ctl in (drawn, blind):
+        ctl.submit(Request("speed", 0.37))
+        ctl.frame()
+    for _ in range(90):
+        for ctl in (drawn, blind):
+            ctl.clock.now += 1.0 / 60
+            ctl.frame()
+        drawn.drawn(("sup_R_x", "dyn_R_x"))  # what the arrows ask
+    assert drawn.sim.data.time == blind.sim.data.time
+    assert np.array_equal(drawn.sim.data.qpos, blind.sim.data.qpos)
+    assert np.array_equal(drawn.sim.data.qvel, blind.sim.data.qvel)
+    alone = Simulation("rotor", values={"speed_rpm": 3000.0}, timestep=1e-3)
+    alone.step(round(drawn.sim.data.time / 1e-3))
+    assert np.array_equal(alone.data.qpos, drawn.sim.data.qpos)
+
+
+def test_forces_are_evaluated_at_the_drawn_state():
+    ctl = _rotor(1500.0)
+    ctl.submit(Request("advance", 30.0, name="deg"))
+    ctl.frame()
+    snap = ctl.drawn(("sup_R_x",))
+    force = snap.support[0]
+    physics = ctl.sim.snapshot(("sup_R_x",)).support[0]
+    # the rotating bearing force has turned 30° about x from the physics state's
+    assert ctl.sim.data.time == 0.0
+    turned = math.degrees(math.atan2(force[2], force[1]) - math.atan2(physics[2], physics[1]))
+    assert (turned + 180) % 360 - 180 == pytest.approx(30.0, abs=1e-6)
+
+
+def test_a_step_of_an_angle_turns_the_main_joint_by_that_angle():
+    ctl = _rotor(1500.0)  # one physics step is 90°
+    assert main_hinge(ctl.sim.model, ctl.sim.data) == 0
+    before = ctl.drawn().data.qpos[0]
+    for _ in range(13):
+        ctl.submit(Request("advance", "10", name="deg"))
+        assert ctl.frame() == []
+    assert not ctl.playing
+    after = ctl.drawn().data.qpos[0]
+    assert math.degrees(after - before) == pytest.approx(130.0, abs=1e-6)
+    assert ctl.sim.data.time == pytest.approx(0.01)  # one whole step taken, 40° ahead
+
+
+def test_a_step_of_time_moves_the_display_time():
+    ctl = _rotor(1500.0)
+    ctl.submit(Request("advance", 0.025, name="s"))
+    ctl.frame()
+    assert ctl.display_time == pytest.approx(0.025)
+    assert ctl.sim.data.time == pytest.approx(0.02)
+    for _ in range(30):  # paused: the display stays where the step left it
+        ctl.clock.now += 1 / 60
+        ctl.frame()
+    assert ctl.display_time == pytest.approx(0.025)
+    ctl.submit(Request("play"))
+    ctl.frame()
+    ctl.clock.now += 0.2
+    ctl.frame()
+    assert ctl.display_time == pytest.approx(0.225, abs=1e-9)
+
+
+def test_reset_brings_the_display_back():
+    ctl = _rotor(1500.0)
+    ctl.submit(Request("advance", 45, name="deg"))
+    ctl.frame()
+    ctl.submit(Request("reset"))
+    ctl.frame()
+    assert ctl.display_time == ctl.sim.data.time == 0.0
+
+
+@pytest.mark.parametrize(
+    "value, unit, needle",
+    [
+        (-5, "s", "Pas de -5 s refusé : choisissez entre 0 et 10 s."),
+        ("abc", "deg", "Pas en angle : un nombre est attendu, reçu « abc »."),
+        (1e9, "deg", "Pas de 1×10⁹° refusé : choisissez entre 0 et 3600°."),
+        (1, "furlong", "Unité de pas « furlong » inconnue : s ou °."),
+        (0.5, "s", "Pas de 0,5 s refusé : il demanderait 50000 pas de calcul"),
+    ],
+)
+def test_bad_steps_are_refused_in_french(value, unit, needle):
+    ctl = _rotor(1500.0, 1e-5)
+    ctl.submit(Request("advance", value, name=unit))
+    notices = ctl.frame()
+    assert [n.level for n in notices] == ["error"] and needle in notices[0].text
+    assert ctl.sim.data.time == 0.0 and ctl.display_time == 0.0
+
+
+def test_an_angle_step_needs_something_turning():
+    ctl = _rotor(0.0)
+    ctl.submit(Request("advance", 10, name="deg"))
+    (notice,) = ctl.frame()
+    assert notice.text == "Aucune pièce ne tourne : choisissez un pas en temps (s)."
+
+
+def test_slow_motion_down_to_one_hundredth():
+    ctl = _rotor(1500.0)
+    ctl.submit(Request("speed", "0,01".replace(",", ".")))
+    assert ctl.frame() == [] and ctl.speed == 0.01
+    ctl.submit(Request("speed", 0.005))
+    (notice,) = ctl.frame()
+    assert notice.text == "Vitesse ×0.005 refusée : choisissez entre ×0,01 et ×4."
+    for _ in range(600):
+        ctl.clock.now += 1 / 60
+        ctl.frame()
+    assert ctl.display_time == pytest.approx(0.1, abs=1e-9)
+
+
+def test_refusals_name_parameters_in_french_words(monkeypatch):
+    scene = as_scene(Simulation("rotor").scene)
+    assert scene is not None
+    labelled = dataclasses.replace(
+        scene,
+        params=tuple(
+            dataclasses.replace(p, label="Masse de correction m₁") if p.name == "mass1_g" else p
+            for p in scene.params
+        ),
+    )
+    monkeypatch.setattr(session_module, "as_scene", lambda _: labelled)
+    sim = Simulation("rotor")
+    with pytest.raises(session_module.Refused) as err:
+        check_value(sim, "mass1_g", 250.5)
+    assert str(err.value) == (
+        "Masse de correction m₁ : 250,5 g refusé, choisissez entre 0 et 200 g."
+    )
+    with pytest.raises(session_module.Refused) as err:
+        check_value(sim, "speed_rpm", -1)
+    speed = param_words(labelled.params[0])
+    assert str(err.value) == (
+        f"{speed} : -1 tr/min refusé, choisissez entre 0 et 6\u202f000 tr/min."
+    )
+    with pytest.raises(session_module.Refused) as err:
+        check_value(sim, "angle1_deg", 200)
+    assert str(err.value).endswith(": 200° refusé, choisissez entre -180 et 180°.")
+    assert param_words(dataclasses.replace(labelled.params[0], label="")) == "speed_rpm"
+
+
+def test_the_divergence_message_is_french():
+    text = divergence_message(Diverged(1.25, "bad acceleration (BADQACC)"))
+    assert text.startswith("La simulation a divergé à t = 1,25 s (accélérations démesurées).")
+    text = divergence_message(Diverged(0.5, "NaN or Inf in the state"))
+    assert "(valeurs non numériques dans l'état)" in text and "NaN" not in text
