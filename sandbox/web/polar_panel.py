@@ -1,0 +1,309 @@
+"""Polar diagram of the rotor's unbalance (course 7.2), drawn live as an inline SVG.
+
+Two diagrams in the rotor frame (y₁ to the right, z₁ up, angles in degrees from y₁ towards
+z₁, as the correction masses' angles): the static unbalance m·OG⊥ [kg·m] and the couple
+unbalance (F, E) [kg·m²]. In each, the rotor without correction masses (defect mass and
+skewed disk), then correction mass 1, then correction mass 2 are drawn head to tail, and
+the resultant from the centre: the rotor is balanced dynamically when both chains close
+at the centre, and then the bearings carry no rotating force.
+
+The vectors come from the parameter values and the scene's geometry (the defect, the disk
+and the planes of :mod:`sandbox.scenes.rotor`, the point masses of
+:mod:`sandbox.mechanics.unbalance`); the panel redraws only when a value changes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from sandbox.mechanics.unbalance import PointMass, polar
+from sandbox.scenes import rotor
+from sandbox.web.plots import nice_ceil
+from sandbox.web.text import html_text, number
+
+FOLDER = "Diagramme des balourds"
+SCENE = "rotor"
+KEYS = ("defect_mass_g", "skew_deg", "mass1_g", "angle1_deg", "mass2_g", "angle2_deg")
+"""Parameters the diagram depends on (the speed does not change the unbalance)."""
+COLOURS = {"rotor": "#c0392b", "m1": "#1e8449", "m2": "#7d3c98", "total": "#111111"}
+NAMES = {
+    "rotor": "Rotor seul (masselotte et disque de travers)",
+    "m1": "Masse m₁ (plan 1, x = −120 mm)",
+    "m2": "Masse m₂ (plan 2, x = +120 mm)",
+    "total": "Résultante",
+}
+TIPS = {"rotor": "rotor", "m1": "m₁", "m2": "m₂", "total": "Σ"}
+ROUND_OFF = 1e-9
+"""Relative size under which a vector is shown as 0 (the round-off of the sums)."""
+
+
+@dataclass(frozen=True)
+class Unbalance:
+    """The rotor's unbalance vectors in the rotor frame, components (y₁, z₁).
+
+    Attributes:
+        static: m·OG⊥ of "rotor", "m1", "m2" [kg·m], each shape (2,).
+        couple: (F, E) of the same parts [kg·m²], each shape (2,).
+    """
+
+    static: Mapping[str, np.ndarray]
+    couple: Mapping[str, np.ndarray]
+
+    @property
+    def static_total(self) -> np.ndarray:
+        """m·OG⊥ of the whole rotor [kg·m]."""
+        return np.sum(list(self.static.values()), axis=0)
+
+    @property
+    def couple_total(self) -> np.ndarray:
+        """(F, E) of the whole rotor [kg·m²]."""
+        return np.sum(list(self.couple.values()), axis=0)
+
+
+def correction_masses(values: Mapping[str, float]) -> tuple[PointMass, PointMass]:
+    """The two correction masses as point masses (plane 1 at x = −c, plane 2 at +c)."""
+    return (
+        PointMass(
+            values["mass1_g"] / 1000.0,
+            -rotor.PLANE_X,
+            rotor.CORRECTION_RADIUS,
+            values["angle1_deg"],
+        ),
+        PointMass(
+            values["mass2_g"] / 1000.0,
+            rotor.PLANE_X,
+            rotor.CORRECTION_RADIUS,
+            values["angle2_deg"],
+        ),
+    )
+
+
+def rotor_unbalance(values: Mapping[str, float]) -> Unbalance:
+    """The unbalance vectors of the rotor scene for parameter ``values``.
+
+    The rotor without its correction masses (shaft, skewed disk, flanges, defect) comes
+    from the scene's closed form (:func:`sandbox.scenes.rotor.unbalance`); the correction
+    masses add ``m r`` and ``x m r`` in their direction.
+    """
+    bare = {**values, "mass1_g": 0.0, "mass2_g": 0.0}
+    mass, g, e, f = rotor.unbalance(bare)
+    m1, m2 = correction_masses(values)
+    return Unbalance(
+        static={"rotor": mass * np.array([g[1], g[2]]), "m1": m1.static, "m2": m2.static},
+        couple={"rotor": np.array([f, e]), "m1": m1.couple, "m2": m2.couple},
+    )
+
+
+# -- drawing ----------------------------------------------------------------------------------
+SIZE = 230.0
+"""Width of one diagram in the SVG's units (two side by side, ~20 units per text line)."""
+RADIUS = 78.0
+
+
+def _fmt(norm: float, unit: str, zero: float) -> str:
+    return f"{number(norm, 3, zero=zero)} {unit}"
+
+
+def _arrow(x0: float, y0: float, x1: float, y1: float, colour: str, width: float) -> str:
+    """An SVG arrow from (x0, y0) to (x1, y1) with a filled head (no marker ids)."""
+    length = math.hypot(x1 - x0, y1 - y0)
+    if length < 0.5:
+        return ""
+    ux, uy = (x1 - x0) / length, (y1 - y0) / length
+    head = min(10.0, 0.5 * length)
+    bx, by = x1 - head * ux, y1 - head * uy
+    px, py = -uy * head * 0.45, ux * head * 0.45
+    return (
+        f'<line x1="{x0:.1f}" y1="{y0:.1f}" x2="{bx:.1f}" y2="{by:.1f}" stroke="{colour}" '
+        f'stroke-width="{width}" stroke-linecap="round"/>'
+        f'<polygon points="{x1:.1f},{y1:.1f} {bx + px:.1f},{by + py:.1f} '
+        f'{bx - px:.1f},{by - py:.1f}" fill="{colour}"/>'
+    )
+
+
+def _diagram(
+    left: float, title: str, parts: Mapping[str, np.ndarray], total: np.ndarray, unit: str
+) -> str:
+    """One polar diagram at x offset ``left``: axes, scale circle, chain and resultant."""
+    cx, cy = left + SIZE / 2, 34.0 + RADIUS + 12
+    chain = [np.zeros(2)]
+    for vector in parts.values():
+        chain.append(chain[-1] + vector)
+    reach = max(
+        [float(np.linalg.norm(p)) for p in chain]
+        + [float(np.linalg.norm(v)) for v in parts.values()]
+    )
+    scale = nice_ceil(reach) if reach > 0 else 1.0
+    k = RADIUS / scale
+
+    def at(p: np.ndarray) -> tuple[float, float]:
+        return cx + k * float(p[0]), cy - k * float(p[1])  # z₁ up
+
+    grey = "#9a9a9a"
+    out = [
+        f'<text x="{cx:.1f}" y="16" text-anchor="middle" font-weight="600" font-size="15">'
+        f"{title}</text>",
+        f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{RADIUS}" fill="none" stroke="{grey}"/>',
+        f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{RADIUS / 2}" fill="none" stroke="#d0d0d0"/>',
+        f'<line x1="{cx - RADIUS - 6:.1f}" y1="{cy:.1f}" x2="{cx + RADIUS + 6:.1f}" '
+        f'y2="{cy:.1f}" stroke="{grey}" stroke-dasharray="3 3"/>',
+        f'<line x1="{cx:.1f}" y1="{cy - RADIUS - 6:.1f}" x2="{cx:.1f}" '
+        f'y2="{cy + RADIUS + 6:.1f}" stroke="{grey}" stroke-dasharray="3 3"/>',
+        f'<text x="{cx + RADIUS + 8:.1f}" y="{cy + 4:.1f}" font-size="13" fill="#555">0°</text>',
+        f'<text x="{cx - RADIUS - 8:.1f}" y="{cy + 4:.1f}" font-size="13" fill="#555" '
+        'text-anchor="end">180°</text>',
+        f'<text x="{cx + 4:.1f}" y="{cy - RADIUS - 8:.1f}" font-size="13" fill="#555">90° (z₁)'
+        "</text>",
+        f'<text x="{cx + 4:.1f}" y="{cy + RADIUS + 16:.1f}" font-size="13" fill="#555">−90°</text>',
+        f'<text x="{cx + RADIUS - 4:.1f}" y="{cy - 6:.1f}" font-size="13" fill="#555" '
+        'text-anchor="end">y₁</text>',
+        f'<text x="{cx:.1f}" y="{cy + RADIUS + 34:.1f}" text-anchor="middle" font-size="13" '
+        f'fill="#555">cercle : {html_text(_fmt(scale, unit, 0.0))}</text>',
+    ]
+    for name, start, end in zip(parts, chain[:-1], chain[1:], strict=True):
+        (x0, y0), (x1, y1) = at(start), at(end)
+        out.append(_arrow(x0, y0, x1, y1, COLOURS[name], 3.0))
+    x1, y1 = at(total)
+    out.append(_arrow(cx, cy, x1, y1, COLOURS["total"], 4.5))
+    out.append(f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="3" fill="#111"/>')
+    return "".join(out)
+
+
+def polar_svg(unbalance: Unbalance) -> str:
+    """Both diagrams side by side as one inline SVG (scales with the panel's width)."""
+    height = 34.0 + 2 * RADIUS + 12 + 40
+    body = _diagram(
+        0.0, "Balourd statique m·OG⊥", unbalance.static, unbalance.static_total, "kg·m"
+    ) + _diagram(
+        SIZE, "Balourd de couple (F, E)", unbalance.couple, unbalance.couple_total, "kg·m²"
+    )
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {2 * SIZE:.0f} {height:.0f}" '
+        'width="100%" role="img" aria-label="Diagramme polaire des balourds" '
+        'font-family="sans-serif" font-size="13" style="display:block;max-width:40em">'
+        f"{body}</svg>"
+    )
+
+
+def _cell(vector: np.ndarray, zero: float) -> str:
+    norm, angle = polar(vector)
+    if norm <= zero:
+        return "0"
+    if angle <= -179.95:
+        angle = 180.0  # -0.0 below the axis: the same direction
+    degrees = number(angle, 3, zero=0.05).replace("-", "−")
+    return f"{number(norm, 3, zero=zero)} à {degrees}°"
+
+
+def legend_html(unbalance: Unbalance) -> str:
+    """The table under the diagrams: colour, part, static and couple unbalance, angle."""
+    static_zero = ROUND_OFF * max(float(np.linalg.norm(v)) for v in unbalance.static.values())
+    couple_zero = ROUND_OFF * max(float(np.linalg.norm(v)) for v in unbalance.couple.values())
+    rows = []
+    cell = '<td style="text-align:right;white-space:nowrap;padding-left:0.5em">'
+    parts = [
+        *((n, unbalance.static[n], unbalance.couple[n]) for n in ("rotor", "m1", "m2")),
+        ("total", unbalance.static_total, unbalance.couple_total),
+    ]
+    for name, static, couple in parts:
+        swatch = (
+            f'<svg width="14" height="14" viewBox="0 0 14 14" aria-hidden="true">'
+            f'<rect width="14" height="14" rx="2" fill="{COLOURS[name]}"/></svg>'
+        )
+        weight = ' style="font-weight:600"' if name == "total" else ""
+        rows.append(
+            f"<tr{weight}><td>{swatch}</td><td>{html_text(NAMES[name])}</td>"
+            f"{cell}{html_text(_cell(static, static_zero))}</td>"
+            f"{cell}{html_text(_cell(couple, couple_zero))}</td>"
+            "</tr>"
+        )
+    head = (
+        '<tr style="color:#555"><th></th><th style="text-align:left">Vecteur</th>'
+        '<th style="text-align:right">Statique [kg·m]</th>'
+        '<th style="text-align:right">Couple [kg·m²]</th></tr>'
+    )
+    note = (
+        '<p style="margin:0.4em 0 0">Dans le repère du rotor, angles depuis y₁ vers z₁. '
+        "Le rotor est équilibré quand les deux résultantes sont nulles : les paliers ne "
+        "transmettent plus d'effort tournant.</p>"
+    )
+    return (
+        '<table style="width:100%;border-collapse:collapse;font-size:0.9em">'
+        f"{head}{''.join(rows)}</table>{note}"
+    )
+
+
+def panel_html(values: Mapping[str, float]) -> str:
+    """The whole panel for parameter ``values``: diagrams and legend."""
+    unbalance = rotor_unbalance(values)
+    return f'<div class="sandbox-polar">{polar_svg(unbalance)}{legend_html(unbalance)}</div>'
+
+
+# -- the panel --------------------------------------------------------------------------------
+class _Folder(Protocol):
+    label: str
+    visible: bool
+
+    def __enter__(self) -> object: ...
+    def __exit__(self, *args: object) -> None: ...
+
+
+class _Gui(Protocol):
+    def add_folder(self, label: str, *, expand_by_default: bool = ...) -> _Folder: ...
+    def add_html(self, content: str) -> _Html: ...
+
+
+class _Html(Protocol):
+    content: str
+
+
+class _Driver(Protocol):
+    @property
+    def sim(self) -> object: ...
+
+
+class PolarPanel:
+    """Folder "Diagramme des balourds" of the rotor scene, redrawn when a value changes.
+
+    Create it with :meth:`create` (None for other scenes) and call :meth:`refresh` at the
+    panel rate (10 Hz) from the session's loop thread.
+
+    Args:
+        gui: A viser ``GuiApi``.
+        controller: The session's controller, or a replay's (anything with ``sim``, whose
+            ``values`` are the parameter values).
+    """
+
+    def __init__(self, gui: _Gui, controller: _Driver) -> None:
+        self.controller = controller
+        self._key: tuple[float, ...] | None = None
+        self.folder = gui.add_folder(FOLDER, expand_by_default=True)
+        with self.folder:
+            self.html = gui.add_html("")
+        self.refresh()
+
+    @classmethod
+    def create(cls, gui: _Gui, controller: _Driver) -> PolarPanel | None:
+        """The panel when ``controller`` shows the rotor scene, else None."""
+        scene = getattr(controller.sim, "scene", None)
+        if getattr(scene, "name", None) != SCENE:
+            return None
+        return cls(gui, controller)
+
+    def refresh(self) -> bool:
+        """Redraw when a parameter the diagram depends on changed; True when redrawn."""
+        values: Mapping[str, float] = getattr(self.controller.sim, "values", {})
+        try:
+            key = tuple(float(values[k]) for k in KEYS)
+        except (KeyError, TypeError, ValueError):
+            return False
+        if key == self._key:
+            return False
+        self._key = key
+        self.html.content = panel_html(values)
+        return True
