@@ -62,8 +62,8 @@ class Param:
         label: What the web page shows: French words with the course's symbol, e.g.
             "Vitesse de rotation ω" (the unit is added by the page; "" shows ``name``).
         hint: French tooltip of the web page: one sentence ("" shows ``doc``).
-        group: French name of the folder the web page files it under (e.g. "Géométrie");
-            parameters of one group are consecutive in ``params``.
+        group: French name of the folder the web page files it under (e.g. "Géométrie"):
+            folders in the order of their first parameter, parameters in their order.
         advanced: Rarely changed (inertias, a drawing length): the page folds it away.
         log: The range spans decades (e.g. 1e-6 to 2e-2 kg·m²): a linear slider cannot
             reach the useful values, so the page offers a number box in engineering

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -44,31 +45,38 @@ LOOP_SAMPLES = 32
 """Crank angles of :func:`loop_forces` (orders 0..4 need 9; 32 keeps aliasing out)."""
 
 
-def _p(name, unit, default, lo, hi, doc, *, live=False, step=0.0) -> Param:
-    return Param(name, unit, default, lo, hi, doc, live=live, step=step)
+def _p(name: str, unit: str, default: float, lo: float, hi: float, doc: str, **kw: Any) -> Param:
+    return Param(name, unit, default, lo, hi, doc, **kw)
 
 
+DRIVE, GEOMETRY, CENTRES, MASSES, BALANCE, INERTIAS = (
+    "Entraînement", "Géométrie", "Centres de gravité", "Masses", "Contrepoids", "Inerties",
+)  # fmt: skip
+
+# Inertias: from about a hundredth of the course's values (A1 = 1.2e-4, B2 = 2e-6 kg·m²) up
+# to what the heaviest crank the sliders allow needs (m1 d1² reaches 1.25e-2 kg·m²); they
+# span decades, so the page types them as numbers (``log``): no slider reaches 2e-4 in 2e-2.
 PARAMS = (
-    _p("speed_rpm", "rpm", 3000.0, 0.0, 17000.0, "Crank speed held by the motor.", live=True, step=50.0),
-    _p("R", "m", 0.015, 0.005, 0.05, "Crank radius OA.", step=0.0005),
-    _p("L", "m", 0.055, 0.0055, 0.25, "Rod length AB (must exceed R).", step=0.0005),
-    _p("d1", "m", 0.003, -0.03, 0.05, "OG1: crank centre of mass along x1.", step=0.0005),
-    _p("d2", "m", 0.02, 0.0, 0.25, "AG2: rod centre of mass from the pin A along y2.", step=0.0005),
-    _p("d3", "m", 0.005, -0.05, 0.05, "BG3: piston centre of mass from B along y0.", step=0.0005),
-    _p("m1", "kg", 0.35, 0.01, 5.0, "Mass of the crank.", step=0.01),
-    _p("m2", "kg", 0.06, 0.001, 2.0, "Mass of the rod.", step=0.005),
-    _p("m3", "kg", 0.08, 0.001, 2.0, "Mass of the piston.", step=0.005),
-    _p("A1", "kg·m²", 1.2e-4, 1e-7, 1e-1, "Crank inertia about (O, x1).", step=1e-6),
-    _p("B1", "kg·m²", 2.0e-4, 1e-7, 1e-1, "Crank inertia about (O, y1).", step=1e-6),
-    _p("C1", "kg·m²", 2.2e-4, 1e-7, 1e-1, "Crank inertia about (O, z0), the rotation axis.", step=1e-6),
-    _p("E1", "kg·m²", 1.0e-6, -1e-2, 1e-2, "Crank product of inertia E1 = ∫ x z dm at O.", step=1e-7),
-    _p("A2", "kg·m²", 6.5e-5, 1e-8, 1e-1, "Rod inertia about (A, x2).", step=1e-6),
-    _p("B2", "kg·m²", 2.0e-6, 1e-9, 1e-1, "Rod inertia about (A, y2), its own axis.", step=1e-7),
-    _p("C2", "kg·m²", 6.5e-5, 1e-8, 1e-1, "Rod inertia about (A, z0).", step=1e-6),
-    _p("counterweight_mass", "kg", 0.0, 0.0, 2.0, "Balancing mass on the crank, opposite A.", step=0.005),
-    _p("counterweight_radius", "m", 0.015, 0.0, 0.06, "Distance of the balancing mass from O.", step=0.0005),
-    _p("motor_inertia", "kg·m²", 0.02, 0.0, 1.0, "Inertia of the motor's rotor, turning with the crank (a joint armature).", step=0.001),
-    _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05),
+    _p("speed_rpm", "rpm", 3000.0, 0.0, 17000.0, "Crank speed held by the motor.", live=True, step=50.0, label="Vitesse du vilebrequin ω", hint="Vitesse de rotation que le moteur impose au vilebrequin 1.", group=DRIVE),
+    _p("R", "m", 0.015, 0.005, 0.05, "Crank radius OA.", step=0.0005, label="Rayon de manivelle R", hint="Longueur OA de la manivelle du vilebrequin 1.", group=GEOMETRY),
+    _p("L", "m", 0.055, 0.0055, 0.25, "Rod length AB (must exceed R).", step=0.0005, label="Longueur de bielle L", hint="Longueur AB de la bielle 2, qui doit dépasser R.", group=GEOMETRY),
+    _p("d1", "m", 0.003, -0.03, 0.05, "OG1: crank centre of mass along x1.", step=0.0005, label="Position de G₁ d₁", hint="Distance OG₁ du centre de gravité du vilebrequin, comptée le long de x₁.", group=CENTRES, advanced=True),
+    _p("d2", "m", 0.02, 0.0, 0.25, "AG2: rod centre of mass from the pin A along y2.", step=0.0005, label="Position de G₂ d₂", hint="Distance AG₂ du centre de gravité de la bielle depuis le maneton A, le long de y₂.", group=CENTRES, advanced=True),
+    _p("d3", "m", 0.005, -0.05, 0.05, "BG3: piston centre of mass from B along y0.", step=0.0005, label="Position de G₃ d₃", hint="Distance BG₃ du centre de gravité du piston depuis l'axe B, le long de y₀.", group=CENTRES, advanced=True),
+    _p("m1", "kg", 0.35, 0.01, 5.0, "Mass of the crank.", step=0.01, label="Masse du vilebrequin m₁", hint="Masse du vilebrequin 1, sans le contrepoids.", group=MASSES),
+    _p("m2", "kg", 0.06, 0.001, 2.0, "Mass of the rod.", step=0.005, label="Masse de la bielle m₂", hint="Masse de la bielle 2.", group=MASSES),
+    _p("m3", "kg", 0.08, 0.001, 2.0, "Mass of the piston.", step=0.005, label="Masse du piston m₃", hint="Masse du piston 3, en translation le long de y₀.", group=MASSES),
+    _p("A1", "kg·m²", 1.2e-4, 1e-6, 2e-2, "Crank inertia about (O, x1).", step=1e-6, label="Moment d'inertie A₁", hint="Moment d'inertie du vilebrequin autour de l'axe (O, x₁).", group=INERTIAS, advanced=True, log=True),
+    _p("B1", "kg·m²", 2.0e-4, 1e-6, 2e-2, "Crank inertia about (O, y1).", step=1e-6, label="Moment d'inertie B₁", hint="Moment d'inertie du vilebrequin autour de l'axe (O, y₁).", group=INERTIAS, advanced=True, log=True),
+    _p("C1", "kg·m²", 2.2e-4, 1e-6, 2e-2, "Crank inertia about (O, z0), the rotation axis.", step=1e-6, label="Moment d'inertie C₁", hint="Moment d'inertie du vilebrequin autour de son axe de rotation (O, z₀).", group=INERTIAS, advanced=True, log=True),
+    _p("E1", "kg·m²", 1.0e-6, -1e-3, 1e-3, "Crank product of inertia E1 = ∫ x z dm at O.", step=1e-7, label="Produit d'inertie E₁", hint="Produit d'inertie E₁ = ∫ x·z dm du vilebrequin en O, dans la base B₁.", group=INERTIAS, advanced=True, log=True),
+    _p("A2", "kg·m²", 6.5e-5, 1e-7, 1e-1, "Rod inertia about (A, x2).", step=1e-7, label="Moment d'inertie A₂", hint="Moment d'inertie de la bielle autour de l'axe (A, x₂).", group=INERTIAS, advanced=True, log=True),
+    _p("B2", "kg·m²", 2.0e-6, 1e-9, 1e-3, "Rod inertia about (A, y2), its own axis.", step=1e-8, label="Moment d'inertie B₂", hint="Moment d'inertie de la bielle autour de son propre axe (A, y₂).", group=INERTIAS, advanced=True, log=True),
+    _p("C2", "kg·m²", 6.5e-5, 1e-7, 1e-1, "Rod inertia about (A, z0).", step=1e-7, label="Moment d'inertie C₂", hint="Moment d'inertie de la bielle autour de l'axe (A, z₀), parallèle à l'axe du vilebrequin.", group=INERTIAS, advanced=True, log=True),
+    _p("counterweight_mass", "kg", 0.0, 0.0, 2.0, "Balancing mass on the crank, opposite A.", step=0.005, label="Masse du contrepoids", hint="Masse d'équilibrage fixée sur le vilebrequin, à l'opposé du maneton A (un balourd volontaire).", group=BALANCE),
+    _p("counterweight_radius", "m", 0.015, 0.0, 0.06, "Distance of the balancing mass from O.", step=0.0005, label="Rayon du contrepoids", hint="Distance du contrepoids à l'axe de rotation (O, z₀).", group=BALANCE),
+    _p("motor_inertia", "kg·m²", 0.02, 0.0, 0.2, "Inertia of the motor's rotor, turning with the crank (a joint armature).", step=0.001, label="Inertie du rotor du moteur J", hint="Moment d'inertie du rotor du moteur, qui tourne avec le vilebrequin.", group=INERTIAS, advanced=True),
+    _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05, label="Temps de montée en vitesse τ", hint="0 : le vilebrequin part à sa vitesse ; sinon il part du repos et la consigne du moteur monte avec cette constante de temps.", group=DRIVE),
 )  # fmt: skip
 
 
@@ -539,19 +547,19 @@ def _motor_torque_ref(s: Snapshot) -> float:
 
 
 READOUTS = (
-    SceneReadout("theta", "rad", "Crank angle θ from x0 to x1 (unwrapped).", _theta),
-    SceneReadout("omega", "rad/s", "Crank speed θ'.", lambda s: s.joint_qvel("crank")),
-    SceneReadout("lambda", "m", "OB: position of the piston pin on y0.", lambda s: s.joint_qpos("piston")),
-    SceneReadout("pilon", "N", "Force of the moving parts on the frame along y0 (cylinder axis).", lambda s: float(_force(s)[1])),
-    SceneReadout("tamis", "N", "Force of the moving parts on the frame along x0 (across).", lambda s: float(_force(s)[0])),
-    SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank shaft (its rotor's own inertia excluded).", lambda s: float(joint_drive(s.model, s.data)[0])),
-    SceneReadout("closure_error", "m", "Distance between the rod's end and the crank pin A.", _closure),
-    SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution (simulated ahead in steady state, on the loop at the current speed during a speed change).", lambda s: float(_pilon_harmonics(s)[0, 1])),
-    SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[0, 2])),
-    SceneReadout("tamis_h1", "N", "Order-1 amplitude of the tamis over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[1, 1])),
-    SceneReadout("pilon_ref", "N", "Course value of the pilon at the current θ, θ' and θ'' (exact slider-crank; θ'' terms during a speed change).", lambda s: float(_reference(s)[1])),
-    SceneReadout("tamis_ref", "N", "Course value of the tamis at the current θ, θ' and θ'' (as pilon_ref).", lambda s: float(_reference(s)[0])),
-    SceneReadout("motor_torque_ref", "N·m", "Course value of C_mot at the current θ, θ' and θ'' (virtual power; (dT/dt)/ω at constant speed).", _motor_torque_ref),
+    SceneReadout("theta", "rad", "Crank angle θ from x0 to x1 (unwrapped).", _theta, label="Angle du vilebrequin θ", hint="Angle de x₀ à x₁ autour de z₀, qui continue de croître tour après tour."),
+    SceneReadout("omega", "rad/s", "Crank speed θ'.", lambda s: s.joint_qvel("crank"), label="Vitesse mesurée du vilebrequin ω", hint="Vitesse de rotation θ' du vilebrequin par rapport au bâti."),
+    SceneReadout("lambda", "m", "OB: position of the piston pin on y0.", lambda s: s.joint_qpos("piston"), label="Position du piston λ", hint="Distance OB de l'axe du vilebrequin à l'axe du piston, le long de y₀."),
+    SceneReadout("pilon", "N", "Force of the moving parts on the frame along y0 (cylinder axis).", lambda s: float(_force(s)[1]), label="Effet de pilon", hint="Effort des pièces mobiles sur le bâti le long de l'axe du cylindre y₀."),
+    SceneReadout("tamis", "N", "Force of the moving parts on the frame along x0 (across).", lambda s: float(_force(s)[0]), label="Effet de tamis", hint="Effort des pièces mobiles sur le bâti perpendiculairement à l'axe du cylindre, le long de x₀."),
+    SceneReadout("motor_torque", "N·m", "Torque of the motor on the crank shaft (its rotor's own inertia excluded).", lambda s: float(joint_drive(s.model, s.data)[0]), label="Couple moteur Cₘₒₜ", hint="Couple que le moteur transmet au vilebrequin, sans celui qui accélère son propre rotor."),
+    SceneReadout("closure_error", "m", "Distance between the rod's end and the crank pin A.", _closure, label="Écart de fermeture en A", hint="Distance entre l'extrémité de la bielle et le maneton A du vilebrequin, quasi nulle quand la chaîne reste fermée."),
+    SceneReadout("pilon_h1", "N", "Order-1 amplitude of the pilon over a revolution (simulated ahead in steady state, on the loop at the current speed during a speed change).", lambda s: float(_pilon_harmonics(s)[0, 1]), label="Pilon, ordre 1", hint="Amplitude de la composante du pilon à la fréquence de rotation, sur un tour de vilebrequin."),
+    SceneReadout("pilon_h2", "N", "Order-2 amplitude of the pilon over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[0, 2]), label="Pilon, ordre 2", hint="Amplitude de la composante du pilon à deux fois la fréquence de rotation, sur un tour."),
+    SceneReadout("tamis_h1", "N", "Order-1 amplitude of the tamis over a revolution (as pilon_h1).", lambda s: float(_pilon_harmonics(s)[1, 1]), label="Tamis, ordre 1", hint="Amplitude de la composante du tamis à la fréquence de rotation, sur un tour."),
+    SceneReadout("pilon_ref", "N", "Course value of the pilon at the current θ, θ' and θ'' (exact slider-crank; θ'' terms during a speed change).", lambda s: float(_reference(s)[1]), label="Pilon selon le cours", hint="Pilon calculé par le cours pour le système bielle-manivelle exact, à l'angle, à la vitesse et à l'accélération actuels."),
+    SceneReadout("tamis_ref", "N", "Course value of the tamis at the current θ, θ' and θ'' (as pilon_ref).", lambda s: float(_reference(s)[0]), label="Tamis selon le cours", hint="Tamis calculé par le cours pour le système bielle-manivelle exact, à l'angle, à la vitesse et à l'accélération actuels."),
+    SceneReadout("motor_torque_ref", "N·m", "Course value of C_mot at the current θ, θ' and θ'' (virtual power; (dT/dt)/ω at constant speed).", _motor_torque_ref, label="Couple moteur selon le cours", hint="Couple Cₘₒₜ calculé par les puissances, égal à (dT/dt)/ω à vitesse constante."),
 )  # fmt: skip
 
 ARROW_SCALE = 2e-4
@@ -563,10 +571,10 @@ def _at_o(vec: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 ARROWS = (
-    Arrow("pilon", "Pilon", (220, 60, 60), lambda s: _at_o([0.0, _force(s)[1]]), ARROW_SCALE),
-    Arrow("tamis", "Tamis", (60, 140, 220), lambda s: _at_o([_force(s)[0], 0.0]), ARROW_SCALE),
-    Arrow("frame_force", "Pilon + tamis", (120, 60, 160), lambda s: _at_o(_force(s)), ARROW_SCALE),
-)
+    Arrow("pilon", "Pilon", (220, 60, 60), lambda s: _at_o([0.0, _force(s)[1]]), ARROW_SCALE, unit="N", point="O", hint="Effet de pilon : effort des pièces mobiles sur le bâti le long de y₀ (rouge)."),
+    Arrow("tamis", "Tamis", (60, 140, 220), lambda s: _at_o([_force(s)[0], 0.0]), ARROW_SCALE, unit="N", point="O", hint="Effet de tamis : effort des pièces mobiles sur le bâti le long de x₀ (bleu)."),
+    Arrow("frame_force", "Pilon + tamis", (120, 60, 160), lambda s: _at_o(_force(s)), ARROW_SCALE, unit="N", point="O", hint="Effort total des pièces mobiles sur le bâti (violet)."),
+)  # fmt: skip
 
 
 def _peak_error(series, values) -> float:
@@ -609,6 +617,16 @@ SCENE = Scene(
     cycle=revolution,
     extra={
         "solid_names": {"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}
+    },
+    # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
+    zero={
+        "N": 1e-9,
+        "N·m": 1e-10,
+        "W": 1e-9,
+        "J": 1e-12,
+        "kg·m/s": 1e-12,
+        "kg·m²/s": 1e-12,
+        "m": 1e-13,
     },
     # Measured at 17,000 rpm, the hardest speed the course mentions: at 3000 rpm every RK4
     # timestep up to 1e-4 s gives the pilon within 1e-4, so only the top speed separates
