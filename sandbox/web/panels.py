@@ -49,7 +49,7 @@ RECORD_IDLE = ("Enregistrer",)
 RECORD_BUSY = ("Arrêter l'enregistrement",)
 RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
 
-SPEED_LABEL = "Vitesse de lecture ×"
+SPEED_LABEL = "Vitesse ×"
 INTEGRATOR_LABEL = "Intégrateur"
 TIMESTEP_LABEL = "Pas de temps dt [s]"
 PARAMS_FOLDER = "Paramètres"

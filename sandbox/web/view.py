@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
@@ -18,6 +19,7 @@ from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
+from sandbox.web.projector import Projector
 from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import EVERY, Controller, Frame, Notice
@@ -36,6 +38,13 @@ CYCLE_FOLDER = "Sur un tour"
 ISOLATE_FOLDER = "Isoler un solide"
 ACCURACY_FOLDER = "Précision et coût"
 HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+LESSON_TAB = "Leçon"
+LESSON_WIDTH = 380
+"""Width [px] of the lesson's column, docked left of the 3D view: the step's text stays
+beside the simulation controls on a 1280×720 projector, with no scrolling."""
+CONTROLS_WIDTH = 430
+"""Width [px] of the control panel, docked right of the 3D view (labels of 16 px text on
+two lines at most)."""
 
 SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
 """Readouts brought up to date before the scene's arrows are evaluated."""
@@ -83,15 +92,16 @@ def scene_view(sim: Simulation) -> tuple[Vec3, Vec3]:
     return (0.45, -1.0, 0.55), (0.0, 0.0, 1.0)
 
 
-def point_camera(client: viser.ClientHandle, sim: Simulation) -> None:
-    """Aim a browser's camera at the scene, from the scene's preferred side."""
+def point_camera(client: viser.ClientHandle, sim: Simulation, *, narrow: bool = False) -> None:
+    """Aim a browser's camera at the scene, from the scene's preferred side (``narrow``:
+    from further back, for a 3D view between two docked columns)."""
     model = sim.model
     direction, up = scene_view(sim)
     center, extent = np.asarray(model.stat.center, dtype=float), float(model.stat.extent)
     spec = as_scene(sim.scene)
     if spec is not None and spec.look_at is not None:
         center, extent = np.asarray(spec.look_at[0], dtype=float), spec.look_at[1]
-    position, look_at = camera_pose(center, extent, direction)
+    position, look_at = camera_pose(center, extent * (1.5 if narrow else 1.0), direction)
     client.camera.up_direction = up
     client.camera.position = position
     client.camera.look_at = look_at
@@ -147,6 +157,8 @@ class WebView(Generic[D]):
         sim = controller.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
+        client.gui.main_panel.dock_right()
+        client.gui.main_panel.set_width(CONTROLS_WIDTH)
         point_camera(client, sim)
         self.renderer: SceneRenderer | None = None
         self.arrows: ArrowLayer | None = shared_arrows
@@ -166,8 +178,12 @@ class WebView(Generic[D]):
         else:
             raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
         self.join = JoinPanel(client.gui, join_urls) if join_urls else None
+        left = 16
         if controls is None and isinstance(controller, Controller):
-            self.lesson = LessonPanel(client.gui, controller, lesson=lesson, arrows=self.arrows)
+            self.lesson, docked = _lesson_column(client.gui, controller, lesson, self.arrows)
+            left += LESSON_WIDTH if docked else 0
+        if left > 16:
+            point_camera(client, sim, narrow=True)
         self.picker = client.gui.add_dropdown(
             "Panneau affiché",
             (ALL_FOLDERS,),
@@ -179,6 +195,10 @@ class WebView(Generic[D]):
         self.isolate = IsolatePanel(client.gui, sim)
         self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
+        # Hook for panels of other modules (display and motion controls, the unbalance's
+        # polar diagram): build them here, after the readout folders, and list their
+        # folder in _add_picker so that "Panneau affiché" shows one at a time.
+        self.projector = Projector(client.gui, sim, left=left)
         self._drawn: tuple[object, ...] | None = None
         self._last_panel = -math.inf
         self._resync_controls = False
@@ -194,6 +214,7 @@ class WebView(Generic[D]):
             self.accuracy.folder,
             self.hypotheses.folder,
             self.join.folder if self.join is not None else None,
+            self.projector.folder,
         ):
             if folder is not None and folder.label:
                 groups[folder.label] = folder
@@ -237,6 +258,7 @@ class WebView(Generic[D]):
         if self.shown == ALL_FOLDERS:
             return EVERY
         names = {"time", *self.readouts.plot_names(), *self.accuracy.names()}
+        names.update(self.projector.names)
         names.update(self.readouts.names(self.shown))
         return names
 
@@ -269,6 +291,7 @@ class WebView(Generic[D]):
         self.controls.refresh()
         if self._showing(HYPOTHESES_FOLDER):
             self.hypotheses.refresh()
+        self.projector.refresh(None if frame.diverged else frame.readouts)
         if frame.diverged or frame.readouts is None:
             return
         values = frame.readouts
@@ -312,3 +335,28 @@ class WebView(Generic[D]):
         if notice.level == "error":
             self._resync_controls = True
         self._last_panel = -math.inf  # show the new state at once
+
+
+def _lesson_column(
+    gui: viser.GuiApi, controller: Controller, lesson: str | None, arrows: ArrowLayer | None
+) -> tuple[LessonPanel, bool]:
+    """The lesson panel, in its own column docked left of the 3D view when the scene has
+    lessons (minimised unless a lesson opens at once); else in the control panel.
+
+    Returns:
+        The panel, and True when it is docked (the 3D view then starts past it).
+    """
+    scene = controller.sim.scene
+    name = scene.name if scene is not None else None
+    found = catalogue()[0] if name is not None else {}
+    if name is None or not any(les.for_scene(name) for les in found.values()):
+        return LessonPanel(gui, controller, lesson=lesson, arrows=arrows), False
+    column = gui.add_panel()
+    with column.add_tab(LESSON_TAB):
+        panel = LessonPanel(gui, controller, lesson=lesson, arrows=arrows)
+    column.dock_left()
+    column.set_width(LESSON_WIDTH)
+    if lesson is None:
+        column.minimize()
+        return panel, False
+    return panel, True

@@ -1,0 +1,164 @@
+"""Projector mode: text large enough for the back row, and the scene's key readouts in
+large print over the 3D view.
+
+viser has no font-size setting: the page's size comes from a ``<style>`` element sent
+with ``gui.add_html`` (the browser applies a style element wherever it sits), which sets
+Mantine's size variables, so every label, box, button and slider bound follows. The
+overlay is a fixed ``<div>`` sent the same way, drawn over the canvas, left of the
+control panel.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+from sandbox.web.fields import display_unit, on_user, set_value
+from sandbox.web.text import html_text, number
+
+if TYPE_CHECKING:
+    import viser
+
+    from sandbox.physics.simulation import Simulation
+
+KEY_READOUTS: dict[str, tuple[str, ...]] = {
+    "rotor": ("omega", "bearing_A", "bearing_B"),
+    "compressor": ("theta", "pilon", "tamis", "motor_torque"),
+    "rolling_cylinder": ("v", "a", "contact"),
+    "gyroscope": ("gimbal_outer", "gimbal_inner", "axis_drift"),
+    "heavy_gyroscope": ("precession_rate", "nutation", "spin"),
+}
+"""The 3-4 readouts shown in large print over the 3D view, per scene (a scene that is
+not listed, or a user's MJCF file, shows its energies)."""
+
+FALLBACK_READOUTS = ("T", "V")
+"""Overlay of a scene without key readouts: kinetic and potential energy."""
+
+FONT_SIZES = (16, 18, 20, 24)
+"""Text sizes offered [px] (the smallest is the default: 16 px is read from the back of
+a classroom on a 1280×720 projector)."""
+
+DISPLAY_FOLDER = "Affichage"
+FONT_LABEL = "Taille du texte"
+OVERLAY_LABEL = "Mesures dans la vue 3D"
+OVERLAY_ID = "sandbox-overlay"
+
+
+def font_option(px: int) -> str:
+    return f"{px} px"
+
+
+def style_html(font_px: int, *, left: int = 16) -> str:
+    """The page's style: Mantine's text sizes from ``font_px`` up, slider bounds and
+    folder titles readable, and the overlay's place (``left`` [px] from the window's
+    left edge, past a panel docked there)."""
+    f = font_px
+    return (
+        "<style>"
+        f":root{{--mantine-font-size-xs:{f}px;--mantine-font-size-sm:{f}px;"
+        f"--mantine-font-size-md:{f + 1}px;--mantine-font-size-lg:{f + 2}px;"
+        f"--mantine-font-size-xl:{f + 4}px;}}"
+        f".mantine-Slider-markLabel{{font-size:{max(f - 4, 12)}px !important}}"
+        f".mantine-Input-input,.mantine-InputWrapper-label,.mantine-Button-label,"
+        f".mantine-Text-root,.mantine-Tooltip-tooltip{{font-size:{f}px !important}}"
+        # viser gives a control's label a fixed 6.6 em column: three lines for "Masse de
+        # correction m₁ [g]"; 40 % of the row keeps it on one or two.
+        '.mantine-Flex-root>div[style*="width: 6.6125em"]{width:40% !important}'
+        ".mantine-Flex-root>div>p.mantine-Text-root{letter-spacing:0 !important}"
+        f"#{OVERLAY_ID}{{position:fixed;left:{left}px;bottom:16px;z-index:5;"
+        "pointer-events:none;background:rgba(255,255,255,0.82);border-radius:8px;"
+        f"padding:6px 14px;font-size:{round(1.35 * f)}px;line-height:1.3;"
+        "font-variant-numeric:tabular-nums;color:#111;box-shadow:0 1px 6px rgba(0,0,0,.2)}"
+        f"#{OVERLAY_ID}:empty{{display:none}}"
+        "</style>"
+    )
+
+
+def key_readouts(sim: Simulation) -> list[str]:
+    """Names of the overlay's readouts for ``sim`` (those it has)."""
+    known = set(sim.readout_names())
+    scene = sim.scene.name if sim.scene is not None else ""
+    names = KEY_READOUTS.get(scene, FALLBACK_READOUTS)
+    return [n for n in names if n in known]
+
+
+def overlay_lines(
+    names: Sequence[str],
+    values: Mapping[str, float],
+    labels: Mapping[str, str],
+    units: Mapping[str, str],
+) -> list[str]:
+    """One line per readout: "label = value unit" (French number, "—" when missing)."""
+    lines = []
+    for name in names:
+        value = values.get(name, math.nan)
+        unit = display_unit(units.get(name, ""))
+        text = f"{labels.get(name) or name} = {number(value, 3)}"
+        lines.append(f"{text} {unit}".rstrip())
+    return lines
+
+
+def overlay_html(lines: Sequence[str]) -> str:
+    """The overlay's HTML: every line escaped (labels may come from a file)."""
+    body = "<br>".join(html_text(line) for line in lines)
+    return f"<div id='{OVERLAY_ID}'>{body}</div>"
+
+
+class Projector:
+    """Folder "Affichage" (text size, overlay on or off), the page's style and the key
+    readouts over the 3D view.
+
+    Args:
+        gui: A viser ``GuiApi`` (``client.gui``).
+        sim: The session's simulation (only read).
+        left: Distance [px] of the overlay from the window's left edge.
+    """
+
+    def __init__(self, gui: viser.GuiApi, sim: Simulation, *, left: int = 16) -> None:
+        self.left = left
+        self.font = FONT_SIZES[0]
+        infos = {i.name: i for i in sim.readout_infos()}
+        self.names = key_readouts(sim)
+        self.labels = {n: infos[n].label for n in self.names}
+        self.units = {n: infos[n].unit for n in self.names}
+        self.style = gui.add_html(style_html(self.font, left=left), order=-1000.0)
+        self.overlay = gui.add_html(overlay_html([]), order=-999.0)
+        with gui.add_folder(DISPLAY_FOLDER) as self.folder:
+            options = tuple(font_option(px) for px in FONT_SIZES)
+            self.size = gui.add_dropdown(
+                FONT_LABEL,
+                options,
+                initial_value=font_option(self.font),
+                hint="Taille des textes du panneau (plus grand pour le fond de la salle)",
+            )
+            self.show = gui.add_checkbox(
+                OVERLAY_LABEL,
+                True,
+                hint="Les grandeurs clés de la scène en grand, sur la vue 3D",
+            )
+        self._pending_font: int | None = None
+        on_user(self.size, self._ask_font)
+        self._lines: list[str] = []
+
+    def _ask_font(self, option: object) -> None:
+        for px in FONT_SIZES:
+            if option == font_option(px):
+                self._pending_font = px
+                return
+        set_value(self.size, font_option(self.font))  # a crafted option: put back
+
+    def refresh(self, values: Mapping[str, float] | None) -> None:
+        """Apply a new text size; show the key readouts of ``values`` (None: keep)."""
+        if self._pending_font is not None:
+            self.font, self._pending_font = self._pending_font, None
+            self.style.content = style_html(self.font, left=self.left)
+        if not self.show.value:
+            lines: list[str] = []
+        elif values is None:
+            return
+        else:
+            lines = overlay_lines(self.names, values, self.labels, self.units)
+        if lines != self._lines:
+            self._lines = lines
+            self.overlay.content = overlay_html(lines)
