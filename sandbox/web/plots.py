@@ -11,6 +11,8 @@ import numpy as np
 import viser
 from viser import uplot
 
+from sandbox.physics.units import display_unit
+
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
 """Line colours when a readout has no arrow colour of its own."""
 
@@ -42,8 +44,9 @@ class Plot:
 
     Args:
         names: Readout names on this chart.
-        unit: Their common unit (y axis label).
+        unit: Their common unit (contract form; the axis shows its display form).
         colors: RGB colour of each series.
+        labels: What the legend shows for each series (French words; default the names).
         window: Time span kept [s].
         maxlen: Most points kept per series.
     """
@@ -56,9 +59,12 @@ class Plot:
         *,
         window: float = 10.0,
         maxlen: int = 1000,
+        labels: Sequence[str] | None = None,
     ) -> None:
         self.names = tuple(names)
+        self.labels = tuple(labels) if labels is not None else self.names
         self.unit = unit
+        self.shown_unit = display_unit(unit)
         self.colors = tuple(colors)
         self.window = window
         self.t: deque[float] = deque(maxlen=maxlen)
@@ -95,10 +101,9 @@ class Plot:
     def series(self) -> tuple[uplot.Series, ...]:
         """uPlot series options: time first, then one coloured line per readout."""
         out: list[uplot.Series] = [uplot.Series(label="t [s]")]
-        for name, (r, g, b) in zip(self.names, self.colors, strict=True):
-            out.append(
-                uplot.Series(label=f"{name} [{self.unit}]", stroke=f"rgb({r},{g},{b})", width=2)
-            )
+        unit = f" [{self.shown_unit}]" if self.shown_unit else ""
+        for label, (r, g, b) in zip(self.labels, self.colors, strict=True):
+            out.append(uplot.Series(label=f"{label}{unit}", stroke=f"rgb({r},{g},{b})", width=2))
         return tuple(out)
 
     def attach(self, gui: viser.GuiApi, *, title: str, x_label: str = "t [s]") -> None:
@@ -108,7 +113,7 @@ class Plot:
             series=self.series(),
             title=title,
             scales=self.scales(),
-            axes=(uplot.Axis(label=x_label), uplot.Axis(label=self.unit, size=60)),
+            axes=(uplot.Axis(label=x_label), uplot.Axis(label=self.shown_unit, size=60)),
             aspect=1.6,
         )
 
@@ -142,8 +147,11 @@ def group_by_unit(
     names: Sequence[str],
     units: Mapping[str, str],
     colors: Mapping[str, tuple[int, int, int]],
+    labels: Mapping[str, str] | None = None,
 ) -> list[Plot]:
-    """One :class:`Plot` per unit, in the order the names first appear."""
+    """One :class:`Plot` per unit, in the order the names first appear; ``labels``: the
+    French words of each name (default the name)."""
+    labels = labels or {}
     groups: dict[str, list[str]] = {}
     for name in names:
         groups.setdefault(units.get(name, ""), []).append(name)
@@ -154,5 +162,5 @@ def group_by_unit(
         for name in members:
             cols.append(colors.get(name, PALETTE[k % len(PALETTE)]))
             k += 1
-        plots.append(Plot(members, unit, cols))
+        plots.append(Plot(members, unit, cols, labels=[labels.get(n) or n for n in members]))
     return plots

@@ -53,7 +53,11 @@ class ReadoutPanel:
         self.arrows = arrows
         scene = as_scene(sim.scene)
         infos = {i.name: i for i in sim.readout_infos()}
-        self.scene_rows = [(r.name, r.unit, r.doc) for r in scene.readouts] if scene else []
+        self.zero: dict[str, float] = dict(scene.zero) if scene is not None else {}
+        self.scene_rows = [
+            tables.Row(r.name, r.unit, r.doc, r.label, r.hint, self.zero.get(r.unit, 0.0))
+            for r in (scene.readouts if scene else ())
+        ]
         self._ref_key: tuple[tuple[str, float], ...] | None = None
         self._ref: dict[str, float] = {}
         self.scene_text: viser.GuiMarkdownHandle | None = None
@@ -65,12 +69,16 @@ class ReadoutPanel:
         names = [n for n in names if n in infos]
         arrow_of = {a.name: a for a in (arrows.arrows if arrows else ())}
         colors = {n: a.color for n, a in arrow_of.items()}
-        self.plots: list[Plot] = group_by_unit(names, {n: infos[n].unit for n in names}, colors)
+        words = {n: infos[n].label or (arrow_of[n].label if n in arrow_of else n) for n in names}
+        self.plots: list[Plot] = group_by_unit(
+            names, {n: infos[n].unit for n in names}, colors, labels=words
+        )
         if self.plots:
             with gui.add_folder(PLOTS_FOLDER) as self.folders[PLOTS_FOLDER]:
                 for plot in self.plots:
-                    shown = ", ".join(arrow_of[n].label if n in arrow_of else n for n in plot.names)
-                    plot.attach(gui, title=f"{shown} [{plot.unit}] en fonction de t")
+                    unit = f" [{plot.shown_unit}]" if plot.shown_unit else ""
+                    title = f"{', '.join(plot.labels)}{unit} en fonction du temps"
+                    plot.attach(gui, title=title)
         self.body = -1
         if scene is not None and scene.body_frame:
             self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
@@ -90,7 +98,9 @@ class ReadoutPanel:
             )
             bases = [BASIS_0]
             if self.body > 0 and scene is not None:
-                bases.append(f"B1 ({scene.body_frame})")
+                solids = scene.extra.get("solid_names")
+                solid = solids.get(scene.body_frame) if isinstance(solids, Mapping) else None
+                bases.append(f"B1, liée au solide {solid}" if solid else "B1, liée au solide")
             self.basis = gui.add_dropdown(
                 "Base",
                 tuple(bases),
@@ -145,7 +155,7 @@ class ReadoutPanel:
     def names(self, folder: str | None) -> list[str]:
         """Readouts a folder shows (none for other folders)."""
         if folder == SCENE_FOLDER:
-            return [name for name, _, _ in self.scene_rows]
+            return [row.name for row in self.scene_rows]
         if folder == TORSORS_FOLDER:
             return list(TORSOR_NAMES)
         if folder == ENERGY_FOLDER:
@@ -179,10 +189,11 @@ class ReadoutPanel:
                     basis=basis,
                     basis_name=basis_name,
                     axes=axes,
+                    zero=self.zero,
                 ),
             )
         if folder in (None, ENERGY_FOLDER):
-            _set(self.energy_text, tables.energy_markdown(values))
+            _set(self.energy_text, tables.energy_markdown(values, zero=self.zero))
 
 
 def _set(handle: viser.GuiMarkdownHandle, content: str) -> None:

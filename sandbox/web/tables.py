@@ -2,9 +2,12 @@
 
 Values come from :meth:`Simulation.readouts`; torsors are moved to the chosen point
 and basis with :class:`sandbox.mechanics.Torsor` (the web layer computes no physics).
-Each simulated value sits in ``<span data-readout="NAME">`` so that tests and
-scripts can find it in the page. Names, units, docs and labels are escaped
-(:func:`~sandbox.web.text.html_text`): a user's file may name a body ``<img onerror=…>``.
+Numbers are written the French way (:func:`sandbox.web.text.number`: decimal comma,
+×10ⁿ, 0 below the scene's round-off). Each simulated value sits in
+``<span data-readout="NAME" data-value="1.25">1,25</span>``: tests and scripts find it
+in the page and read the exact value (with a dot) from ``data-value``. Names, units,
+docs and labels are escaped (:func:`cell`): a user's file may name a body
+``<img onerror=…>``, and a ``|`` in a tooltip would cut the table's row.
 """
 
 from __future__ import annotations
@@ -17,24 +20,57 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
-from sandbox.web.text import html_text
+from sandbox.physics.units import display_unit
+from sandbox.web.fields import INTEGRATOR_LABELS
+from sandbox.web.text import html_text, number
+
+RELATIVE_ZERO = 1e-9
+"""A component below this fraction of the largest one of its table is round-off (shown 0)."""
 
 
 def fmt(value: float, *, digits: int = 4, floor: float = 0.0) -> str:
-    """A number for humans: ``digits`` significant digits, 0 under ``floor``, — if not finite."""
-    if not math.isfinite(value):
-        return "—"
-    if abs(value) <= floor:
-        return "0"
-    text = f"{value:.{digits}g}"
-    if "e" in text:
-        mantissa, exp = text.split("e")
-        text = f"{mantissa}·10<sup>{int(exp)}</sup>"
-    return text
+    """A number for French readers: ``digits`` significant digits, decimal comma, ×10ⁿ,
+    0 when ``|value| <= floor``, — if not finite (:func:`sandbox.web.text.number`)."""
+    return number(float(value), digits, zero=floor)
 
 
-def _span(name: str, text: str) -> str:
-    return f'<span data-readout="{html_text(name)}">{text}</span>'
+def cell(value: object, limit: int = 200) -> str:
+    """``value`` as the text of a markdown table cell or HTML attribute: HTML escaped, and
+    ``|`` written as an entity (a bare ``|`` ends the cell, even inside an attribute,
+    and the rest of the cell then shows as raw HTML)."""
+    return html_text(value, limit).replace("|", "&#124;")
+
+
+def _span(name: str, text: str, value: float | None = None) -> str:
+    exact = f' data-value="{value!r}"' if value is not None else ""
+    return f'<span data-readout="{cell(name)}"{exact}>{text}</span>'
+
+
+def unit_suffix(unit: str) -> str:
+    """`` [unit]`` as the page writes it (tr/min, °), or "" for a pure number."""
+    shown = display_unit(unit)
+    return f" [{cell(shown)}]" if shown else ""
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the scene table.
+
+    Attributes:
+        name: Contract name of the readout (never shown: it names the ``data-readout``).
+        unit: Contract unit (shown as :func:`~sandbox.physics.units.display_unit`).
+        doc: English sentence, the tooltip while ``hint`` is empty.
+        label: French words with the course's symbol ("" shows ``name``).
+        hint: French tooltip.
+        zero: Round-off [unit]: values at most this are shown 0.
+    """
+
+    name: str
+    unit: str
+    doc: str = ""
+    label: str = ""
+    hint: str = ""
+    zero: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -71,23 +107,37 @@ def torsor_at_o(values: Mapping[str, float], prefix: str) -> Torsor:
 
 
 def torsor_table(
-    spec: TorsorSpec, torsor: Torsor, *, point: str, basis: np.ndarray, axes: Sequence[str]
+    spec: TorsorSpec,
+    torsor: Torsor,
+    *,
+    point: str,
+    basis: np.ndarray,
+    axes: Sequence[str],
+    zero: Mapping[str, float] | None = None,
 ) -> str:
-    """Markdown table of one torsor: rows R and M_point, columns the basis' axes."""
+    """Markdown table of one torsor: rows R and M_point, columns the basis' axes.
+
+    A component is 0 below :data:`RELATIVE_ZERO` of the largest component, or below the
+    scene's round-off ``zero`` of its unit (contract unit -> value)."""
     r, m = torsor.in_basis(basis)
-    floor = 1e-9 * max(float(np.abs(r).max()), float(np.abs(m).max()), 1e-300)
+    floor = RELATIVE_ZERO * max(float(np.abs(r).max()), float(np.abs(m).max()), 1e-300)
+    zero = zero or {}
+    r_floor = max(floor, zero.get(spec.r_unit, 0.0))
+    m_floor = max(floor, zero.get(spec.m_unit, 0.0))
     head = f"| {spec.symbol} | " + " | ".join(axes) + " |\n|:--|" + "--:|" * len(axes) + "\n"
     row_r = (
         f"| R [{spec.r_unit}] | "
         + " | ".join(
-            _span(f"shown_{spec.prefix}_R{i}", fmt(v, floor=floor)) for i, v in enumerate(r)
+            _span(f"shown_{spec.prefix}_R{i}", fmt(v, floor=r_floor), float(v))
+            for i, v in enumerate(r)
         )
         + " |\n"
     )
     row_m = (
         f"| M<sub>{point}</sub> [{spec.m_unit}] | "
         + " | ".join(
-            _span(f"shown_{spec.prefix}_M{i}", fmt(v, floor=floor)) for i, v in enumerate(m)
+            _span(f"shown_{spec.prefix}_M{i}", fmt(v, floor=m_floor), float(v))
+            for i, v in enumerate(m)
         )
         + " |\n"
     )
@@ -102,6 +152,7 @@ def torsors_markdown(
     basis: np.ndarray,
     basis_name: str,
     axes: Sequence[str],
+    zero: Mapping[str, float] | None = None,
 ) -> str:
     """The three generic torsors reduced at ``point`` with components in ``basis``.
 
@@ -112,13 +163,14 @@ def torsors_markdown(
         basis: 3x3, columns = basis vectors in world coordinates.
         basis_name: Its name (``B0``, ``B1``).
         axes: Axis names of the basis.
+        zero: The scene's round-off by contract unit (:attr:`Scene.zero`).
     """
-    p = ", ".join(fmt(float(x), digits=3, floor=1e-12) for x in point)
+    p = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in point)
     point_name, basis_name = html_text(point_name, 40), html_text(basis_name, 40)
     out = [f"Réduits en **{point_name}** = ({p}) m, composantes dans **{basis_name}**.\n"]
     for spec in TORSORS:
         t = torsor_at_o(values, spec.prefix).at(point)
-        out.append(torsor_table(spec, t, point=point_name, basis=basis, axes=axes))
+        out.append(torsor_table(spec, t, point=point_name, basis=basis, axes=axes, zero=zero))
     out.append(
         "PFD : {𝒟<sub>Σ/R0</sub>} = {𝒯<sub>0/Σ</sub>} + actions extérieures "
         "(poids, moteur, charges)."
@@ -135,21 +187,25 @@ ENERGY_ROWS = (
 )
 
 
-def energy_markdown(values: Mapping[str, float]) -> str:
-    """Table of T, V and the powers, and the kinetic-energy theorem's balance."""
-    # Powers below 1e-9 of the largest power, or of T per second, are round-off: shown 0.
+def energy_markdown(values: Mapping[str, float], *, zero: Mapping[str, float] | None = None) -> str:
+    """Table of T, V and the powers, and the kinetic-energy theorem's balance.
+
+    Powers below :data:`RELATIVE_ZERO` of the largest power (or of T per second), or
+    below the scene's round-off ``zero`` of their unit, are round-off: shown 0."""
     names = [n for n, *_ in ENERGY_ROWS[2:]] + ["T"]
     scale = max(abs(values.get(n, 0.0)) for n in names) if values else 0.0
-    floor = 1e-9 * max(scale, 1e-300)
+    floor = RELATIVE_ZERO * max(scale, 1e-300)
+    zero = zero or {}
     lines = ["| Grandeur | Valeur | |\n|:--|--:|:--|"]
     for name, symbol, unit, doc in ENERGY_ROWS:
         v = values.get(name, math.nan)
-        lines.append(f"| {symbol} [{unit}] | {_span(name, fmt(v, floor=floor))} | {doc} |")
+        shown = fmt(v, floor=max(floor, zero.get(unit, 0.0)))
+        lines.append(f"| {symbol} [{unit}] | {_span(name, shown, v)} | {doc} |")
     frame = frame_power(values)
     lines.append(
         f"| dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W] | "
-        f"{_span('P_frame', fmt(frame, floor=floor))} | puissance des liaisons "
-        "avec le bâti (0 si parfaites) |"
+        f"{_span('P_frame', fmt(frame, floor=max(floor, zero.get('W', 0.0))), frame)} | "
+        "puissance des liaisons avec le bâti (0 si parfaites) |"
     )
     return (
         "\n".join(lines) + "\n\nThéorème de l'énergie cinétique : dT/dt = P<sub>ext</sub> "
@@ -158,43 +214,59 @@ def energy_markdown(values: Mapping[str, float]) -> str:
 
 
 def gap(sim: float, ref: float) -> str:
-    """Relative gap (sim − ref)/|ref| in %, or — when the reference is (nearly) zero."""
+    """Relative gap (sim − ref)/|ref| in % with a decimal comma ("+1,25 %"), or — when the
+    reference is (nearly) zero."""
     if not (math.isfinite(sim) and math.isfinite(ref)) or abs(ref) < 1e-12:
         return "—"
     pct = round(100.0 * (sim - ref) / abs(ref), 2) + 0.0  # no "-0.00"
-    return f"{pct:+.2f} %"
+    return f"{pct:+.2f}\u202f%".replace(".", ",").replace("-", "−")
+
+
+def _row(row: Row | Sequence[str]) -> Row:
+    if isinstance(row, Row):
+        return row
+    name, unit, doc = row
+    return Row(name, unit, doc)
+
+
+def integrator_words(name: str) -> str:
+    """An integrator in words with its contract name, e.g. "Runge-Kutta 4 (rk4)"."""
+    words = INTEGRATOR_LABELS.get(name)
+    return f"{words} ({name})" if words else name
 
 
 def scene_markdown(
-    rows: Sequence[tuple[str, str, str]],
+    rows: Sequence[Row | tuple[str, str, str]],
     values: Mapping[str, float],
     reference: Mapping[str, float],
 ) -> str:
     """Scene readouts with the course's closed-form values side by side.
 
     Args:
-        rows: (name, unit, doc) of each scene readout, in display order.
+        rows: Each scene readout, in display order: a :class:`Row`, or (name, unit, doc).
         values: Simulated values.
         reference: Closed-form values by name (missing names show —).
     """
     lines = ["| Grandeur | Simulation | Cours | Écart |", "|:--|--:|--:|--:|"]
-    for name, unit, doc in rows:
-        v = values.get(name, math.nan)
-        ref = reference.get(name)
-        unit_text = f" [{html_text(unit)}]" if unit else ""
-        label = f'<span title="{html_text(doc)}">{html_text(name)}</span>{unit_text}'
+    for item in rows:
+        row = _row(item)
+        v = values.get(row.name, math.nan)
+        ref = reference.get(row.name)
+        words = row.label or row.name
+        label = f'<span title="{cell(row.hint or row.doc)}">{cell(words)}</span>'
+        label += unit_suffix(row.unit)
+        course = fmt(ref, floor=row.zero) if ref is not None else "—"
         lines.append(
-            f"| {label} | {_span(name, fmt(v))} | {fmt(ref) if ref is not None else '—'} | "
+            f"| {label} | {_span(row.name, fmt(v, floor=row.zero), v)} | {course} | "
             f"{gap(v, ref) if ref is not None else '—'} |"
         )
     note = "*Cours* : forme close du cours ; *Écart* : (simulation − cours) / |cours|."
-    return "\n".join(lines) + "\n\n" + note
+    return "\n".join(lines) + "\n\n" + note.replace("|", "&#124;")
 
 
 def hypotheses_markdown(lines: Sequence[str], *, integrator: str, timestep: float) -> str:
     """Bulleted modelling hypotheses followed by the numerical method."""
     items = [f"- {html_text(line)}" for line in lines]
-    items.append(
-        f"- Intégrateur **{html_text(integrator)}**, pas de temps dt = {fmt(timestep * 1e3)} ms"
-    )
+    method = html_text(integrator_words(integrator))
+    items.append(f"- Intégrateur **{method}**, pas de temps dt = {fmt(timestep * 1e3)} ms")
     return "\n".join(items)

@@ -12,19 +12,30 @@ from sandbox.mechanics import rotation_matrix
 from sandbox.physics.simulation import Simulation
 from sandbox.web import tables
 
+SUPERSCRIPTS = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
+
 
 def _shown(markdown: str, key: str) -> float:
-    match = re.search(rf'data-readout="{key}">([^<]*(?:<sup>[^<]*</sup>)?)<', markdown)
+    """The number a reader sees in a readout cell, read back the French way; it must
+    agree with the exact value the cell carries for scripts (``data-value``)."""
+    match = re.search(rf'data-readout="{key}" data-value="([^"]*)">([^<]*)<', markdown)
     assert match, key
-    text = match.group(1).replace("·10<sup>", "e").replace("</sup>", "")
-    return float(text)
+    text = match.group(2).replace("\u202f", "").replace(",", ".").replace("−", "-")
+    mantissa, _, power = text.partition("×10")
+    shown = float(mantissa) * 10.0 ** int(power.translate(SUPERSCRIPTS) or 0)
+    exact = float(match.group(1))
+    assert shown == pytest.approx(exact, rel=1e-3) or shown == 0.0
+    return shown
 
 
 def test_fmt_and_gap():
-    assert tables.fmt(1234.5678) == "1235"
-    assert tables.fmt(1.5e-7) == "1.5·10<sup>-7</sup>"
+    assert tables.fmt(1234.5678) == "1\u202f235"
+    assert tables.fmt(0.5) == "0,5"
+    assert tables.fmt(1.5e-7) == "1,5×10⁻⁷"
+    assert tables.fmt(1.959e-19, floor=1e-9) == "0"
     assert tables.fmt(math.nan) == "—"
-    assert tables.gap(101.0, 100.0) == "+1.00 %"
+    assert tables.gap(101.0, 100.0) == "+1,00\u202f%"
+    assert tables.gap(99.0, 100.0) == "−1,00\u202f%"
     assert tables.gap(1.0, 0.0) == "—"
 
 
@@ -55,7 +66,7 @@ def test_scene_table_compares_with_the_course():
         [(r.name, r.unit, r.doc) for r in sim.scene.readouts], values, sim.reference()
     )
     assert _shown(md, "bearing_A") == pytest.approx(values["bearing_A"], rel=1e-3)
-    assert "+0.00 %" in md
+    assert "+0,00\u202f%" in md
 
 
 def test_energy_table_closes_the_kinetic_energy_theorem():
@@ -83,4 +94,81 @@ def test_untrusted_labels_are_escaped_in_every_table():
         ["<img src=x onerror=alert(1)>"], integrator="rk4", timestep=1e-3
     )
     assert hyp.splitlines()[0] == "- &lt;img src=x onerror=alert(1)&gt;"
-    assert hyp.splitlines()[1] == "- Intégrateur **rk4**, pas de temps dt = 1 ms"
+    assert hyp.splitlines()[1] == "- Intégrateur **Runge-Kutta 4 (rk4)**, pas de temps dt = 1 ms"
+
+
+CODE_NAME = re.compile(r"\b[a-z]+_[a-zA-Z0-9_]+\b")
+"""A snake_case identifier (speed_rpm, bearing_A, mass1_g): a code name."""
+
+
+def _visible(markdown: str) -> str:
+    """What a reader sees: the markdown without HTML tags and attributes."""
+    return re.sub(r"<[^>]*>", "", markdown)
+
+
+@pytest.mark.parametrize("scene", ["rotor", "compressor", "rolling_cylinder", "gyroscope"])
+def test_scene_table_speaks_french_with_a_decimal_comma(scene):
+    """Labels (or names while a scene has none), French units, decimal comma, no
+    raw HTML cut by a ``|`` (the rolling cylinder's ``|Tt| / N`` tooltip did)."""
+    from sandbox.scenes.base import as_scene
+
+    sim = Simulation(scene)
+    sim.advance(0.05)
+    spec = as_scene(sim.scene)
+    rows = [
+        tables.Row(r.name, r.unit, r.doc, r.label, r.hint, spec.zero_for(r.unit))
+        for r in spec.readouts
+    ]
+    md = tables.scene_markdown(rows, sim.readouts(), sim.reference())
+    lines = md.splitlines()
+    body = [line for line in lines if line.startswith("| ") and "data-readout" in line]
+    assert len(body) == len(rows)
+    for line, row in zip(body, rows, strict=True):
+        cells = line.strip("|").split("|")
+        assert len(cells) == 4, f"a | cut the row of {row.name}: {line}"
+        first = cells[0]
+        assert first.count("<span") == first.count("</span>") == 1
+        if row.label:
+            assert _visible(first).strip().startswith(row.label.split("|")[0].strip()[:8])
+        assert "rpm" not in _visible(first) and "[deg]" not in _visible(first)
+    visible = _visible(md)
+    assert not re.search(r"\d\.\d", visible), visible
+    labelled = [row.name for row in rows if row.label and "_" in row.name]
+    for name in labelled:
+        assert not re.search(rf"\b{re.escape(name)}\b", visible), name
+    if all(row.label for row in rows):
+        assert not CODE_NAME.search(visible), CODE_NAME.findall(visible)
+
+
+def test_round_off_is_shown_as_zero():
+    """A bearing force of 1,959×10⁻¹⁹ N where the course says 0 reads 0."""
+    rows = [tables.Row("bearing_A", "N", "", "Effort du palier A", "", 1e-9)]
+    md = tables.scene_markdown(rows, {"bearing_A": 1.959e-19}, {"bearing_A": 0.0})
+    assert _shown(md, "bearing_A") == 0.0
+    assert "10⁻¹⁹" not in md and "Effort du palier A</span> [N]" in md
+    values = {f"{p}_{k}_{c}": 0.0 for p in ("kin", "dyn", "sup") for k in "RM" for c in "xyz"}
+    values.update({"sup_R_y": 3e-10, "sup_M_z": 2.0})  # 3e-10 N: below the scene's 1e-9 N
+    md = tables.torsors_markdown(
+        values,
+        point=np.array([0.5, 0.0, 0.0]),
+        point_name="A",
+        basis=np.eye(3),
+        basis_name="B0",
+        axes="xyz",
+        zero={"N": 1e-9},
+    )
+    assert _shown(md, "shown_sup_R1") == 0.0
+    assert "(0,5 ; 0 ; 0) m" in md
+    energy = tables.energy_markdown(
+        {"T": 1.0, "V": 0.0, "P_ext": 1e-12, "P_int": 0.0, "P_acc": 1e-12}, zero={"W": 1e-9}
+    )
+    assert _shown(energy, "P_ext") == 0.0
+
+
+def test_a_pipe_in_a_tooltip_or_label_stays_inside_its_cell():
+    rows = [tables.Row("mu_required", "", "|Tt| / N: the friction used.", "μ = |T|/N")]
+    md = tables.scene_markdown(rows, {"mu_required": 0.25}, {})
+    line = next(line for line in md.splitlines() if "mu_required" in line)
+    assert len(line.strip("|").split("|")) == 4
+    assert 'title="&#124;Tt&#124; / N: the friction used."' in line
+    assert ">μ = &#124;T&#124;/N</span>" in line and ">0,25</span>" in line

@@ -1,0 +1,91 @@
+"""Readout panels as a student sees them, in headless Chromium: plots that keep drawing
+while their range grows, tables in French with a decimal comma and no raw HTML."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+
+import pytest
+from conftest import free_port
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-20 s each
+
+CHARTS = """() => Object.values((window.__viserTestpoints || {}).uplots || {}).map((entry) => {
+  const chart = entry.chart, t = chart.data[0];
+  const canvas = chart.ctx.canvas, ctx = chart.ctx;
+  const box = chart.bbox;  // plotting area, canvas pixels
+  const image = ctx.getImageData(box.left, box.top, box.width, box.height).data;
+  const third = Math.floor(box.width / 3);
+  let coloured = 0, right = 0;
+  for (let i = 0; i < image.length; i += 4) {
+    const r = image[i], g = image[i + 1], b = image[i + 2];
+    if (Math.max(r, g, b) - Math.min(r, g, b) > 80) {
+      coloured += 1;
+      if ((i / 4) % box.width >= 2 * third) right += 1;
+    }
+  }
+  return {last: t.length ? t[t.length - 1] : null, xmax: chart.scales.x.max,
+          ymin: chart.scales.y.min, ymax: chart.scales.y.max,
+          coloured, right, width: canvas.width};
+})"""
+"""Per chart: last sample time, x and y ranges, and how many saturated (line) pixels its
+plotting area holds, in all and in its right third (the latest samples)."""
+
+
+@pytest.fixture
+def served_cylinder() -> Iterator[object]:
+    from sandbox.web.app import start
+
+    app = start("rolling_cylinder", port=free_port(), open_message=False)
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+def _show_folder(page, label: str) -> None:
+    row = page.locator(
+        "div.mantine-Flex-root", has=page.get_by_text("Panneau affiché", exact=True)
+    ).last
+    row.locator("input").first.click()
+    page.get_by_role("option", name=label, exact=True).click()
+
+
+def test_plots_keep_drawing_while_their_range_grows(open_page, served_cylinder):
+    """Issue 14: the cylinder's speed grows from 0 to 40 m/s; each new range rebuilt the
+    chart, which drew nothing, then one second of data lagging 8 s behind."""
+    page = open_page(served_cylinder.url)
+    page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
+    _show_folder(page, "Courbes")
+    (session,) = served_cylinder.sessions.values()
+    session.controller.playing = True  # the scene waits for "Lecture"
+    ranges = set()
+    checked = 0
+    deadline_time = 9.0
+    while session.controller.sim.data.time < deadline_time:
+        page.wait_for_timeout(700)
+        charts = page.evaluate(CHARTS)
+        assert charts, "no chart in the page"
+        for chart in charts:
+            if chart["last"] is None or chart["last"] < 1.0:
+                continue
+            ranges.add((chart["ymin"], chart["ymax"]))
+            # Drawn up to the latest sample (one refresh late at most: 0.1 s at 10 Hz,
+            # and the time the page takes to draw it).
+            assert chart["xmax"] == pytest.approx(chart["last"], abs=0.5), chart
+            assert chart["coloured"] > 50 and chart["right"] > 10, f"blank chart: {chart}"
+            checked += 1
+    assert checked >= 10
+    assert len(ranges) >= 4, f"the vertical range never changed: {ranges}"
+
+
+def test_scene_table_is_french_with_a_decimal_comma(open_page, served_cylinder):
+    page = open_page(served_cylinder.url)
+    table = page.locator("table").first
+    table.wait_for(timeout=30_000)
+    text = page.locator("body").inner_text()
+    assert "<span" not in text and "title=" not in text
+    cells = page.locator("[data-readout]").all_inner_texts()
+    numbers = [c for c in cells if re.search(r"\d", c)]
+    assert numbers and not any(re.search(r"\d\.\d", c) for c in numbers), numbers
