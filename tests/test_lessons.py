@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import colorsys
 import contextlib
+import re
 from collections.abc import Callable
 from pathlib import Path
 from types import SimpleNamespace
@@ -318,3 +320,142 @@ def test_the_panel_walks_a_lesson_with_presets_questions_and_success(monkeypatch
     assert question.content == "**Question :** Pourquoi ?"
     button.callbacks[0](None)
     assert reply.content == "**Réponse :** Parce que <i>ω</i>."
+
+
+# -- the lesson texts agree with their own physics ------------------------------------------
+EMOJI = re.compile("[\u2300-\u23ff\u2600-\u27bf\u2b00-\u2bff\U0001f000-\U0001faff\ufe0f]")
+COLOURS = {
+    "rouge": "rouge", "rouges": "rouge", "orange": "orange", "oranges": "orange",
+    "jaune": "jaune", "jaunes": "jaune", "vert": "vert", "verte": "vert", "verts": "vert",
+    "vertes": "vert", "bleu": "bleu", "bleue": "bleu", "bleus": "bleu", "bleues": "bleu",
+    "violet": "violet", "violette": "violet", "violets": "violet", "violettes": "violet",
+}  # fmt: skip
+
+
+def colour_name(rgb: tuple[int, int, int]) -> str:
+    """The French word a reader uses for an arrow's colour (hue in HSV)."""
+    h, s, _ = colorsys.rgb_to_hsv(*(c / 255 for c in rgb))
+    hue = 360 * h
+    if s < 0.25:
+        return "gris"
+    for name, upper in (("rouge", 10), ("orange", 45), ("jaune", 70), ("vert", 170)):
+        if hue < upper:
+            return name
+    return "bleu" if hue < 250 else "violet" if hue < 335 else "rouge"
+
+
+def _words(text: str) -> str:
+    return re.sub(r"<[^>]+>", "", text)
+
+
+def _texts(step) -> list[str]:
+    return [step.text, step.success, step.goal, *step.hints, *sum(step.questions, ())]
+
+
+def test_colour_names_of_the_known_arrows():
+    assert colour_name((40, 110, 230)) == "bleu"  # bearing A
+    assert colour_name((230, 80, 40)) == "orange"  # bearing B
+    assert colour_name((220, 60, 60)) == "rouge" and colour_name((120, 60, 160)) == "violet"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_the_colours_named_in_a_step_are_those_of_its_arrows(name):
+    lesson = get_lesson(name)
+    scenes = list(SCENES.values()) if lesson.scene == "any" else [SCENES[lesson.scene]]
+    arrows = {a.name: a.color for s in scenes for a in s.arrows}
+    labels = {a.label.lower(): colour_name(a.color) for s in scenes for a in s.arrows}
+    for step in lesson.steps:
+        shown = {colour_name(arrows[a]) for a in (step.arrows or arrows)}
+        named: set[str] = set()
+        for text in _texts(step):
+            for sentence in re.split(r"[.;:!?]", _words(text)):
+                if "flèche" not in sentence:
+                    continue
+                colours = {COLOURS[w] for w in re.findall(r"\w+", sentence) if w in COLOURS}
+                assert colours <= shown, (name, step.title, sentence, shown)
+                named |= colours
+                for clause in sentence.split(","):  # "la flèche orange ... palier B"
+                    words = [COLOURS[w] for w in re.findall(r"\w+", clause) if w in COLOURS]
+                    said = [
+                        c
+                        for label, c in labels.items()
+                        if re.search(rf"\b{re.escape(label)}\b", clause.lower())
+                    ]
+                    if len(words) == 1 and len(said) == 1:
+                        assert words == said, (name, step.title, clause)
+        # a step that names arrows by colour names every colour it shows ("flèches bleues"
+        # for a blue and an orange arrow is refused)
+        assert not named or named == shown, (name, step.title, named, shown)
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_lesson_texts_have_no_emoji_and_no_code_names(name):
+    lesson = get_lesson(name)
+    scenes = list(SCENES.values()) if lesson.scene == "any" else [SCENES[lesson.scene]]
+    code = {p.name for s in scenes for p in s.params} | {r.name for s in scenes for r in s.readouts}
+    code = {c for c in code if "_" in c}
+    for step in lesson.steps:
+        for text in (step.title, *_texts(step)):
+            assert not EMOJI.search(text), (name, step.title, text)
+            assert "`" not in text and "<code>" not in text, (name, step.title, text)
+            words = set(re.findall(r"[A-Za-z0-9_]+", _words(text)))
+            assert not words & code, (name, step.title, words & code)
+
+
+def test_the_balancing_hints_give_the_solution_that_passes_the_check():
+    """Step 3: 32 g at 180°; step 4: the last hint's two masses are the course's solution
+    (rounded to 0,1 g) and, typed as written, bring both bearings under 1 %."""
+    from sandbox.scenes.rotor import balancing_solution
+
+    lesson = get_lesson("equilibrage")
+    static, dynamic = lesson.steps[2], lesson.steps[3]
+    assert "<i>m<sub>1</sub> = 32</i> g" in static.hints[-1]
+    assert dict(_pairs_of(static.solution)) == {"mass1_g": 32.0, "angle1_deg": 180.0}
+    values: dict[str, float] = {}
+    for step in lesson.steps[:4]:
+        values.update(dict(step.preset))
+    found = re.findall(r"([\d,]+) g à (\d+)°", _words(dynamic.hints[-1]))
+    typed = {
+        "mass1_g": float(found[0][0].replace(",", ".")),
+        "angle1_deg": float(found[0][1]),
+        "mass2_g": float(found[1][0].replace(",", ".")),
+        "angle2_deg": float(found[1][1]),
+    }
+    exact = balancing_solution(values)
+    assert typed["mass1_g"] == pytest.approx(exact["mass1_g"], abs=0.05)
+    assert typed["mass2_g"] == pytest.approx(exact["mass2_g"], abs=0.05)
+    assert abs(exact["angle1_deg"]) == pytest.approx(typed["angle1_deg"])  # -180 is 180
+    assert exact["angle2_deg"] == pytest.approx(typed["angle2_deg"], abs=1e-9)
+    sim = Simulation("rotor", values=values)
+    sim.advance(0.1)
+    progress = Progress(lesson)
+    progress.go(3)
+    assert progress.observe(sim.readouts(), sim.values) is False
+    for key, value in typed.items():
+        sim.set_value(key, value)
+    sim.advance(0.25)
+    assert progress.observe(sim.readouts(), sim.values) is True
+
+
+def _pairs_of(text: str) -> list[tuple[str, float]]:
+    return [(k.strip(), float(v)) for k, v in (p.split("=") for p in text.split(","))]
+
+
+def test_a_goal_directive_replaces_the_sentence_and_is_shown_as_text(monkeypatch, tmp_path):
+    from sandbox.lessons import Catalogue
+    from sandbox.web import lesson_panel
+    from sandbox.web.lesson_panel import LessonPanel
+
+    text = GOOD.replace("check:", "goal: Diviser <img src=x> par $\\omega$\ncheck:")
+    lesson = parse(tmp_path / "good.md", text)
+    monkeypatch.setattr(lesson_panel, "catalogue", lambda: Catalogue({"good": lesson}, ()))
+    gui = Gui()
+    controller = FakeController({"mass1_g": 10.0})
+    panel = LessonPanel(gui, controller, lesson="good")  # type: ignore[arg-type]
+    panel.refresh({"bearing_A": 4.0})
+    panel.refresh({"bearing_A": 3.0})
+    goal = panel.goal.content
+    assert "<img" not in goal and "Diviser &lt;img src=x> par <i>ω</i>" in goal
+    assert "bearing_A : 3" in goal and "objectif" not in goal.split("</div>", 2)[-1]
+    shown = [h.content for h in gui.markdowns + gui.htmls]
+    assert not any(EMOJI.search(c) for c in shown)

@@ -104,7 +104,8 @@ def parts(check: Check) -> tuple[Part, ...] | None:
 
 
 def fraction(part: Part, now: float, start: float, bound: float) -> float | None:
-    """How far ``now`` has gone from ``start`` towards ``bound``, in [0, 1] (1: reached);
+    """How far ``now`` has gone from ``start`` towards ``bound``, in [0, 1] (1 only when
+    reached);
     None for ``=`` and ``≠`` goals or values that are not numbers."""
     if not all(math.isfinite(x) for x in (now, start, bound)):
         return None
@@ -120,7 +121,7 @@ def fraction(part: Part, now: float, start: float, bound: float) -> float | None
         done = math.log(start / now) / math.log(start / bound)
     else:
         done = (start - now) / (start - bound)
-    return min(max(done, 0.0), 1.0)
+    return min(max(done, 0.0), 0.99)  # 100 % only once reached
 
 
 @dataclass(frozen=True)
