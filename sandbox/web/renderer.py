@@ -32,6 +32,41 @@ HIDDEN_GROUP = 3
 
 _DEFAULT_RGBA = (0.5, 0.5, 0.5, 1.0)
 
+MARKER = 0.02
+"""Smallest radius a moving sphere is drawn with, as a fraction of the mechanism's size
+(a rotor's 6 mm correction masses would be 2 px dots on a projector); the physics keeps
+its own size."""
+
+
+def mechanism_size(model: mujoco.MjModel, data: mujoco.MjData | None = None) -> float:
+    """Size [m] of the mechanism: the diagonal of the box around the geoms of the bodies
+    not welded to the world (the world's own geoms, such as a floor, are left out); the
+    model's extent when nothing moves.
+
+    Args:
+        model: Compiled model.
+        data: State giving the geoms' positions (default: the model's reference pose).
+    """
+    if data is None:
+        data = mujoco.MjData(model)
+        mujoco.mj_kinematics(model, data)
+    low, high = np.full(3, np.inf), np.full(3, -np.inf)
+    for g in range(model.ngeom):
+        body = int(model.geom_bodyid[g])
+        if int(model.body_weldid[body]) == 0:
+            continue
+        r = float(model.geom_rbound[g])
+        if not math.isfinite(r) or r <= 0:
+            r = float(np.max(model.geom_size[g]))
+        p = np.asarray(data.geom_xpos[g], dtype=float)
+        if not np.isfinite(p).all():
+            continue
+        low, high = np.minimum(low, p - r), np.maximum(high, p + r)
+    if not np.isfinite(low).all():
+        return float(model.stat.extent) or 1.0
+    size = float(np.linalg.norm(high - low))
+    return size if size > 0 else float(model.stat.extent) or 1.0
+
 
 @dataclass(frozen=True)
 class GeomShape:
@@ -111,6 +146,7 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
     """
     shapes = []
     extent = float(model.stat.extent) or 1.0
+    marker = MARKER * mechanism_size(model)
     for i in range(model.ngeom):
         kind = KINDS.get(int(model.geom_type[i]))
         rgba = _rgba(model, i)
@@ -124,6 +160,8 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
         if kind == "mesh":
             verts, faces = mesh_arrays(model, mesh_id)
             size = (float(len(verts)), float(len(faces)), float(np.abs(verts).sum()))
+        if moving and kind == "sphere" and size[0] < marker:
+            size = (marker,)
         if moving:
             local = tuple(float(x) for x in (*model.geom_pos[i], *model.geom_quat[i]))
             node = f"{body_frame(prefix, body)}/{i}_{name}"

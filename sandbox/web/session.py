@@ -24,6 +24,7 @@ from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.units import display_unit
 from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import text
@@ -702,13 +703,9 @@ def check_value(sim: Simulation, name: object, value: object) -> float:
     return number
 
 
-FRENCH_UNITS = {"rpm": "tr/min", "deg": "°", "deg/s": "°/s"}
-"""Units written the French way in messages (the contracts keep the others)."""
-
-
 def french_unit(unit: str) -> str:
     """``unit`` as the page writes it (``rpm`` -> ``tr/min``, ``deg`` -> ``°``)."""
-    return FRENCH_UNITS.get(unit, unit)
+    return display_unit(unit)
 
 
 def param_words(p: Param) -> str:
@@ -1047,6 +1044,13 @@ class Scheduler:
             following = after
         with self._cond:
             heapq.heappush(self._heap, (following, seq, session))
+
+
+def drawn_snapshot(ctl: Any, names: Collection[str] = ()) -> Snapshot:
+    """The state a view draws: a live controller's display state (:meth:`Controller.drawn`,
+    between physics steps), else its simulation's own state (a replay)."""
+    drawn = getattr(ctl, "drawn", None)
+    return drawn(names) if drawn is not None else ctl.sim.snapshot(names)
 
 
 def _records(ctl: Any) -> bool:

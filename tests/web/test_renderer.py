@@ -147,3 +147,118 @@ def test_renderer_poses_moving_nodes_and_keeps_unchanged_ones(model_data):
     removed = [n.name for n in scene.nodes if n.removed]
     assert len(removed) == 1 and removed[0].endswith("sphere")
     assert len(renderer.nodes) == 7
+
+
+def test_the_mechanism_size_leaves_the_floor_out():
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.renderer import mechanism_size
+
+    sim = Simulation("rolling_cylinder")
+    assert float(sim.model.stat.extent) > 10.0  # the 12 m plane
+    assert 0.2 < mechanism_size(sim.model, sim.data) < 1.0
+
+
+def test_small_moving_spheres_are_drawn_large_enough_to_see():
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.renderer import MARKER, mechanism_size
+
+    sim = Simulation("rotor", values={"mass1_g": 30.0})
+    size = mechanism_size(sim.model)
+    shapes = {s.name.rsplit("_", 1)[1]: s for s in geom_shapes(sim.model)}
+    assert shapes["correction1"].size == (pytest.approx(MARKER * size),)
+    assert shapes["correction1"].size[0] > 2 * 0.006  # the 6 mm sphere of the physics
+    assert "correction2" not in shapes  # no mass: not drawn
+    # the physics keeps its own size
+    gid = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "correction1")
+    assert sim.model.geom_size[gid][0] == pytest.approx(0.006)
+
+
+class Handle:
+    """A viser handle whose properties are plain attributes."""
+
+    def __init__(self, **kwargs) -> None:
+        self.visible = True
+        self.points = np.zeros((1, 2, 3))
+        self.position = np.zeros(3)
+        self.__dict__.update(kwargs)
+
+
+class HandleScene:
+    def __init__(self) -> None:
+        self.made: dict[str, Handle] = {}
+
+    def add_arrows(self, name, **kwargs):
+        self.made[name] = Handle(**kwargs)
+        return self.made[name]
+
+    def add_label(self, name, text, **kwargs):
+        self.made[name] = Handle(text=text, **kwargs)
+        return self.made[name]
+
+
+@pytest.mark.parametrize(
+    "scene, values",
+    [
+        ("rotor", {"speed_rpm": 6000.0}),
+        ("rotor", {"speed_rpm": 300.0}),
+        ("compressor", {}),
+        ("rolling_cylinder", {}),
+        ("gyroscope", {}),
+        ("heavy_gyroscope", {}),
+    ],
+)
+def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
+    from sandbox.physics.simulation import Simulation
+    from sandbox.scenes.base import as_scene
+    from sandbox.web.arrows import MAX_REACH, MIN_REACH, SHAFT, ArrowLayer
+    from sandbox.web.renderer import mechanism_size
+
+    sim = Simulation(scene, values=values)
+    sim.advance(0.05)
+    spec = as_scene(sim.scene)
+    assert spec is not None and spec.arrows
+    fake = HandleScene()
+    layer = ArrowLayer(fake, spec.arrows, extent=float(sim.model.stat.extent))
+    for _ in range(5):
+        layer.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
+        sim.advance(0.01)
+    size = mechanism_size(sim.model, sim.data)
+    assert layer.size == pytest.approx(size, rel=0.2)
+    for (node, _label), shown, start, end in zip(
+        layer.nodes, layer.shown, layer.origins, layer.ends, strict=True
+    ):
+        assert node.shaft_radius == pytest.approx(SHAFT * layer.size)
+        assert node.head_length < 0.2 * size
+        if shown:
+            length = float(np.linalg.norm(end - start))
+            assert length <= MAX_REACH * size + 1e-9
+    by_unit: dict[str, float] = {}
+    for k, shown in enumerate(layer.shown):
+        if shown:
+            length = float(np.linalg.norm(layer.ends[k] - layer.origins[k]))
+            by_unit[layer.units[k]] = max(by_unit.get(layer.units[k], 0.0), length)
+    assert all(v >= MIN_REACH * size * 0.99 for v in by_unit.values()), by_unit
+    layer.relabel()
+    for k, (_, label) in enumerate(layer.nodes):
+        if getattr(spec.arrows[k], "magnitude", True) and layer.units[k]:
+            assert label.text.endswith(layer.units[k].replace("rpm", "tr/min")), label.text
+            assert "." not in label.text.split(":")[-1], label.text  # decimal comma
+
+
+def test_the_user_scale_multiplies_the_lengths():
+    from sandbox.physics.simulation import Simulation
+    from sandbox.scenes.base import as_scene
+    from sandbox.web.arrows import ArrowLayer
+
+    sim = Simulation("rotor")
+    spec = as_scene(sim.scene)
+    assert spec is not None
+    layer = ArrowLayer(HandleScene(), spec.arrows, extent=1.0)
+    snap = sim.snapshot(("sup_R_x",))
+    layer.update(snap)
+    before = np.linalg.norm(layer.ends[0] - layer.origins[0])
+    layer.set_scale(2.0)
+    layer.update(snap)
+    assert np.linalg.norm(layer.ends[0] - layer.origins[0]) == pytest.approx(2 * before)
+    layer.set_scale(100.0)
+    assert layer.user_scale == 4.0
