@@ -44,13 +44,14 @@ LOCK_DEG = 10.0
 LOCK_SIN = math.cos(math.radians(LOCK_DEG))
 PIVOT_DAMPING = 0.002  # N·m·s/rad, the default friction of each gimbal pivot
 
+ROTOR, CASE, JOINTS = "Rotor", "Orientation du boîtier", "Liaisons"
 PARAMS = (
-    Param("spin_rpm", "rpm", 12000.0, 0.0, 30000.0, "Spin of the rotor, given at reset and whenever it is changed (an instant launch); in between the rotor turns freely on a perfect pivot.", live=True, step=100.0),
-    Param("case_yaw_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: yaw about z0.", live=True, step=1.0),
-    Param("case_pitch_deg", "deg", 0.0, -90.0, 90.0, "Case attitude: pitch about the yawed y.", live=True, step=1.0),
-    Param("case_roll_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: roll about the case's x.", live=True, step=1.0),
-    Param("manoeuvre", "", 0.0, 0.0, 2.0, "Preset case motion: 0 none (sliders), 1 roll to 120° through gimbal lock, 2 yaw 90°, pitch 20°, roll 30°.", live=True, step=1.0),
-    Param("pivot_damping", "N·m·s/rad", PIVOT_DAMPING, 0.0, 0.02, "Viscous friction of each gimbal pivot (0: perfect pivots); the rotor's own pivot stays perfect.", live=True, step=1e-4),
+    Param("spin_rpm", "rpm", 12000.0, 0.0, 30000.0, "Spin of the rotor, given at reset and whenever it is changed (an instant launch); in between the rotor turns freely on a perfect pivot.", live=True, step=100.0, label="Rotation propre du rotor", hint="Vitesse donnée au rotor au départ et à chaque changement ; entre-temps il tourne librement sur un pivot parfait.", group=ROTOR),
+    Param("case_yaw_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: yaw about z0.", live=True, step=1.0, label="Lacet du boîtier", hint="Orientation du boîtier : rotation de lacet autour de la verticale z₀.", group=CASE),
+    Param("case_pitch_deg", "deg", 0.0, -90.0, 90.0, "Case attitude: pitch about the yawed y.", live=True, step=1.0, label="Tangage du boîtier", hint="Orientation du boîtier : rotation de tangage autour de l'axe y après le lacet.", group=CASE),
+    Param("case_roll_deg", "deg", 0.0, -180.0, 180.0, "Case attitude: roll about the case's x.", live=True, step=1.0, label="Roulis du boîtier", hint="Orientation du boîtier : rotation de roulis autour de l'axe x du boîtier.", group=CASE),
+    Param("manoeuvre", "", 0.0, 0.0, 2.0, "Preset case motion: 0 none (sliders), 1 roll to 120° through gimbal lock, 2 yaw 90°, pitch 20°, roll 30°.", live=True, step=1.0, label="Manœuvre programmée", hint="Mouvement tout prêt du boîtier ; « Aucune » le laisse aux curseurs de lacet, de tangage et de roulis.", group=CASE, choices=("Aucune (curseurs)", "Roulis jusqu'à 120°, par le blocage de cardan", "Lacet 90°, tangage 20°, roulis 30°")),
+    Param("pivot_damping", "N·m·s/rad", PIVOT_DAMPING, 0.0, 0.02, "Viscous friction of each gimbal pivot (0: perfect pivots); the rotor's own pivot stays perfect.", live=True, step=1e-4, label="Frottement des pivots des cadres", hint="Frottement visqueux de chaque pivot des cadres (0 : pivots parfaits) ; le pivot du rotor reste parfait.", group=JOINTS, advanced=True),
 )  # fmt: skip
 
 CASE_JOINTS = ("case_yaw", "case_pitch", "case_roll")
@@ -140,22 +141,22 @@ def _lock(s: Snapshot) -> float:
 
 
 READOUTS = (
-    SceneReadout("spin", "rad/s", "Spin of the rotor relative to the inner gimbal.", lambda s: s.joint_qvel("spin")),
-    SceneReadout("gimbal_outer", "rad", "Outer gimbal angle: the instrument's first reading.", lambda s: s.joint_qpos("outer")),
-    SceneReadout("gimbal_inner", "rad", "Inner gimbal angle: the instrument's second reading.", lambda s: s.joint_qpos("inner")),
-    SceneReadout("axis_drift", "rad", "Angle between the rotor's axis and its direction at reset, in R0.", _drift),
-    SceneReadout("sigma_G_x", "kg·m²/s", "Rotor's angular momentum at G, on x0.", lambda s: float(_sigma_g(s)[0])),
-    SceneReadout("sigma_G_y", "kg·m²/s", "Rotor's angular momentum at G, on y0.", lambda s: float(_sigma_g(s)[1])),
-    SceneReadout("sigma_G_z", "kg·m²/s", "Rotor's angular momentum at G, on z0.", lambda s: float(_sigma_g(s)[2])),
-    SceneReadout("pivot_moment_inner", "N·m", "Moment the inner gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "inner")))),
-    SceneReadout("pivot_moment_outer", "N·m", "Moment the outer gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "outer")))),
-    SceneReadout("gimbal_lock", "", f"1 when the rotor's axis is within {LOCK_DEG:g}° of the outer pivot (lock), else 0.", _lock),
+    SceneReadout("spin", "rad/s", "Spin of the rotor relative to the inner gimbal.", lambda s: s.joint_qvel("spin"), label="Rotation propre mesurée", hint="Vitesse de rotation du rotor par rapport au cadre intérieur."),
+    SceneReadout("gimbal_outer", "rad", "Outer gimbal angle: the instrument's first reading.", lambda s: s.joint_qpos("outer"), label="Angle du cadre extérieur", hint="Première lecture de l'instrument : angle du pivot du cadre extérieur."),
+    SceneReadout("gimbal_inner", "rad", "Inner gimbal angle: the instrument's second reading.", lambda s: s.joint_qpos("inner"), label="Angle du cadre intérieur", hint="Seconde lecture de l'instrument : angle du pivot du cadre intérieur."),
+    SceneReadout("axis_drift", "rad", "Angle between the rotor's axis and its direction at reset, in R0.", _drift, label="Dérive de l'axe du rotor", hint="Angle entre l'axe du rotor et sa direction au départ, mesuré dans R₀."),
+    SceneReadout("sigma_G_x", "kg·m²/s", "Rotor's angular momentum at G, on x0.", lambda s: float(_sigma_g(s)[0]), label="Moment cinétique σ en G selon x₀", hint="Composante sur x₀ du moment cinétique du rotor en son centre de gravité G."),
+    SceneReadout("sigma_G_y", "kg·m²/s", "Rotor's angular momentum at G, on y0.", lambda s: float(_sigma_g(s)[1]), label="Moment cinétique σ en G selon y₀", hint="Composante sur y₀ du moment cinétique du rotor en son centre de gravité G."),
+    SceneReadout("sigma_G_z", "kg·m²/s", "Rotor's angular momentum at G, on z0.", lambda s: float(_sigma_g(s)[2]), label="Moment cinétique σ en G selon z₀", hint="Composante sur z₀ du moment cinétique du rotor en son centre de gravité G."),
+    SceneReadout("pivot_moment_inner", "N·m", "Moment the inner gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "inner"))), label="Moment des pivots du cadre intérieur", hint="Norme du moment que les pivots du cadre intérieur transmettent, perpendiculairement à leur axe."),
+    SceneReadout("pivot_moment_outer", "N·m", "Moment the outer gimbal's pivots transmit, across their axis.", lambda s: float(np.linalg.norm(pivot_moment(s.model, s.data, "outer"))), label="Moment des pivots du cadre extérieur", hint="Norme du moment que les pivots du cadre extérieur transmettent, perpendiculairement à leur axe."),
+    SceneReadout("gimbal_lock", "", f"1 when the rotor's axis is within {LOCK_DEG:g}° of the outer pivot (lock), else 0.", _lock, label="Blocage de cardan", hint=f"1 quand l'axe du rotor est à moins de {LOCK_DEG:g}° du pivot du cadre extérieur (blocage), 0 sinon."),
 )  # fmt: skip
 
 ARROWS = (
-    Arrow("axis", "Axe du rotor", (200, 120, 40), lambda s: (np.zeros(3), _axis(s)), 0.15),
-    Arrow("sigma_G", "σG", (60, 100, 220), lambda s: (np.zeros(3), _sigma_g(s)), 0.15),
-)
+    Arrow("axis", "Axe du rotor", (200, 120, 40), lambda s: (np.zeros(3), _axis(s)), 0.15, point="G", hint="Direction de l'axe de rotation propre du rotor (orange).", magnitude=False),
+    Arrow("sigma_G", "Moment cinétique σ en G", (60, 100, 220), lambda s: (np.zeros(3), _sigma_g(s)), 0.15, unit="kg·m²/s", point="G", hint="Moment cinétique du rotor en son centre de gravité G (bleu).")
+)  # fmt: skip
 
 
 def _sigma_drift(series: Series, values: Values) -> float:
@@ -192,6 +193,18 @@ SCENE = Scene(
     timestep=1.5e-3,
     plots=("gimbal_outer", "gimbal_inner", "axis_drift"),
     arrows=ARROWS,
+    # Longest MJCF names first: the isolate panel replaces them in its texts.
+    extra={
+        "solid_names": {
+            "case_pitch": "support de tangage",
+            "case_yaw": "support de lacet",
+            "case": "boîtier",
+            "outer": "cadre extérieur",
+            "inner": "cadre intérieur",
+        }
+    },
+    # Round-off only: the axis drift (1e-8 rad) and the pivots' moments stay visible.
+    zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12},
     body_frame="rotor",
     sections="1, 2.2.2, 3, 5",
     camera=((0.8, -1.0, 0.6), (0.0, 0.0, 1.0)),

@@ -38,13 +38,14 @@ from sandbox.scenes.measures import energy_drift
 G = 9.81
 RPM = 2 * math.pi / 60
 
+LAUNCH, ROTOR = "Lancement", "Rotor"
 PARAMS = (
-    Param("spin_rpm", "rpm", 3000.0, 0.0, 30000.0, "Spin r of the rotor about its own axis (a change relaunches the top on the steady precession).", live=True, step=50.0),
-    Param("mass", "kg", 1.0, 0.01, 20.0, "Mass of the rotor.", step=0.01),
-    Param("d", "m", 0.1, 0.0, 0.5, "OG: distance from the fixed point to the centre of mass.", step=0.005),
-    Param("I_spin", "kg·m²", 0.004, 1e-5, 1.0, "C: inertia about the rotor's axis.", step=1e-4),
-    Param("I_transverse", "kg·m²", 0.002, 1e-5, 1.0, "A: inertia about a transverse axis through G.", step=1e-4),
-    Param("tilt_deg", "deg", 30.0, 0.0, 89.0, "θ: angle of the axis from the vertical z0 at launch (a change relaunches the top).", live=True, step=0.5),
+    Param("spin_rpm", "rpm", 3000.0, 0.0, 30000.0, "Spin r of the rotor about its own axis (a change relaunches the top on the steady precession).", live=True, step=50.0, label="Rotation propre r", hint="Vitesse de rotation du rotor autour de son axe e₃ ; la changer relance la toupie sur sa précession stationnaire.", group=LAUNCH),
+    Param("mass", "kg", 1.0, 0.01, 20.0, "Mass of the rotor.", step=0.01, label="Masse du rotor m", hint="Masse du rotor, qui tourne autour du point fixe O.", group=ROTOR),
+    Param("d", "m", 0.1, 0.0, 0.5, "OG: distance from the fixed point to the centre of mass.", step=0.005, label="Distance OG d", hint="Distance du point fixe O au centre de gravité G, le long de l'axe du rotor.", group=ROTOR),
+    Param("I_spin", "kg·m²", 0.004, 1e-5, 1.0, "C: inertia about the rotor's axis.", step=1e-4, label="Moment d'inertie axial C", hint="Moment d'inertie du rotor autour de son axe e₃.", group=ROTOR, advanced=True, log=True),
+    Param("I_transverse", "kg·m²", 0.002, 1e-5, 1.0, "A: inertia about a transverse axis through G.", step=1e-4, label="Moment d'inertie transversal A", hint="Moment d'inertie du rotor autour d'un axe perpendiculaire à e₃ passant par G.", group=ROTOR, advanced=True, log=True),
+    Param("tilt_deg", "deg", 30.0, 0.0, 89.0, "θ: angle of the axis from the vertical z0 at launch (a change relaunches the top).", live=True, step=0.5, label="Inclinaison de l'axe θ", hint="Angle de l'axe e₃ avec la verticale z₀ au lancement ; le changer relance la toupie.", group=LAUNCH),
 )  # fmt: skip
 
 
@@ -168,17 +169,17 @@ def _sigma_o(s: Snapshot) -> np.ndarray:
 
 
 READOUTS = (
-    SceneReadout("precession_rate", "rad/s", "ψ': rate at which the axis turns about z0.", _precession_rate),
-    SceneReadout("nutation", "rad", "θ: angle of the rotor's axis from z0.", lambda s: float(math.acos(max(-1.0, min(1.0, _axis(s)[2]))))),
-    SceneReadout("spin", "rad/s", "r = ω·e3: spin about the rotor's own axis.", lambda s: float(_omega(s) @ _axis(s))),
-    SceneReadout("sigma_O_z", "kg·m²/s", "Angular momentum about the vertical z0 through O (conserved).", lambda s: float(_sigma_o(s)[2])),
-    SceneReadout("precession_fast_top", "rad/s", "Course's fast-top value m g d / (C r) at the current spin.", lambda s: precession(s.values)[1]),
+    SceneReadout("precession_rate", "rad/s", "ψ': rate at which the axis turns about z0.", _precession_rate, label="Vitesse de précession ψ'", hint="Vitesse à laquelle l'axe du rotor tourne autour de la verticale z₀."),
+    SceneReadout("nutation", "rad", "θ: angle of the rotor's axis from z0.", lambda s: float(math.acos(max(-1.0, min(1.0, _axis(s)[2])))), label="Angle de nutation θ", hint="Angle de l'axe du rotor avec la verticale z₀."),
+    SceneReadout("spin", "rad/s", "r = ω·e3: spin about the rotor's own axis.", lambda s: float(_omega(s) @ _axis(s)), label="Rotation propre mesurée r", hint="Composante r = ω·e₃ de la rotation du rotor sur son propre axe."),
+    SceneReadout("sigma_O_z", "kg·m²/s", "Angular momentum about the vertical z0 through O (conserved).", lambda s: float(_sigma_o(s)[2]), label="Moment cinétique σ en O selon z₀", hint="Composante verticale du moment cinétique en O, conservée car le moment du poids en O est horizontal."),
+    SceneReadout("precession_fast_top", "rad/s", "Course's fast-top value m g d / (C r) at the current spin.", lambda s: precession(s.values)[1], label="Précession de la toupie rapide m·g·d/(C·r)", hint="Valeur approchée du cours pour une rotation propre rapide, à la rotation propre actuelle."),
 )  # fmt: skip
 
 ARROWS = (
-    Arrow("axis", "Axe e3", (200, 120, 40), lambda s: (np.zeros(3), _axis(s)), 0.2),
-    Arrow("sigma_O", "σO", (60, 100, 220), lambda s: (np.zeros(3), _sigma_o(s)), 0.15),
-)
+    Arrow("axis", "Axe du rotor e₃", (200, 120, 40), lambda s: (np.zeros(3), _axis(s)), 0.2, point="O", hint="Direction de l'axe e₃ du rotor, depuis le point fixe O (orange).", magnitude=False),
+    Arrow("sigma_O", "Moment cinétique σ en O", (60, 100, 220), lambda s: (np.zeros(3), _sigma_o(s)), 0.15, unit="kg·m²/s", point="O", hint="Moment cinétique du rotor au point fixe O (bleu)."),
+)  # fmt: skip
 
 
 def _precession_error(series: Series, values: Values) -> float:
@@ -214,6 +215,9 @@ SCENE = Scene(
     timestep_for=default_timestep,
     plots=("precession_rate", "nutation"),
     arrows=ARROWS,
+    # Round-off: {D} and the frame's moment keep 1e-14 N·m about z0 where the course has 0;
+    # P_ext (2e-8 W, the nutation the launch leaves) stays visible.
+    zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12},
     body_frame="rotor",
     sections="2.2.2, 3, 5",
     camera=((0.6, -1.0, 0.5), (0.0, 0.0, 1.0)),

@@ -55,18 +55,19 @@ from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneRea
 from sandbox.scenes.measures import energy_drift
 
 G = 9.81
+CYLINDER, PLANE, ECCENTRIC, START = "Cylindre", "Plan incliné", "Masse excentrée", "Lancement"
 PARAMS = (
-    Param("R", "m", 0.1, 0.01, 0.5, "Outer radius of the cylinder.", step=0.005),
-    Param("length", "m", 0.2, 0.01, 1.0, "Length of the cylinder along its axis.", step=0.01),
-    Param("mass", "kg", 1.0, 0.01, 100.0, "Mass of the cylinder (without the eccentric mass).", step=0.01),
-    Param("inner_radius", "m", 0.0, 0.0, 0.499, "Inner radius: 0 for a solid cylinder, close to R for a thin tube.", step=0.005),
-    Param("slope_deg", "deg", 20.0, 0.0, 60.0, "Slope α of the plane.", step=0.5),
-    Param("mu", "", 0.3, 0.0, 2.0, "Coulomb friction coefficient between cylinder and plane.", step=0.01),
-    Param("eccentric_mass", "kg", 0.0, 0.0, 10.0, "Point mass fixed in the cylinder off its axis.", step=0.01),
-    Param("eccentric_radius", "m", 0.05, 0.0, 0.5, "Distance of the eccentric mass from the axis.", step=0.005),
-    Param("v0", "m/s", 0.0, -10.0, 10.0, "Initial speed of the centre down the slope (rolling).", step=0.05),
-    Param("plane_length", "m", 12.0, 1.0, 200.0, "Length of the drawn plane (the default holds a 3 s run); on_plane turns 0 beyond it.", step=1.0),
-    Param("race", "", 0.0, 0.0, 1.0, "1: a thin tube and a solid sphere (same R and mass) race the cylinder side by side.", step=1.0),
+    Param("R", "m", 0.1, 0.01, 0.5, "Outer radius of the cylinder.", step=0.005, label="Rayon du cylindre R", hint="Rayon extérieur du cylindre, celui qui roule sur le plan.", group=CYLINDER),
+    Param("length", "m", 0.2, 0.01, 1.0, "Length of the cylinder along its axis.", step=0.01, label="Longueur du cylindre", hint="Longueur du cylindre le long de son axe, sans effet sur la descente.", group=CYLINDER, advanced=True),
+    Param("mass", "kg", 1.0, 0.01, 100.0, "Mass of the cylinder (without the eccentric mass).", step=0.01, label="Masse du cylindre m", hint="Masse du cylindre seul, sans la masse excentrée.", group=CYLINDER),
+    Param("inner_radius", "m", 0.0, 0.0, 0.499, "Inner radius: 0 for a solid cylinder, close to R for a thin tube.", step=0.005, label="Rayon intérieur r", hint="Rayon intérieur : 0 pour un cylindre plein, proche de R pour un tube mince.", group=CYLINDER),
+    Param("slope_deg", "deg", 20.0, 0.0, 60.0, "Slope α of the plane.", step=0.5, label="Pente du plan α", hint="Angle α du plan incliné avec l'horizontale.", group=PLANE),
+    Param("mu", "", 0.3, 0.0, 2.0, "Coulomb friction coefficient between cylinder and plane.", step=0.01, label="Coefficient de frottement μ", hint="Coefficient de frottement de Coulomb entre le cylindre et le plan.", group=PLANE),
+    Param("eccentric_mass", "kg", 0.0, 0.0, 10.0, "Point mass fixed in the cylinder off its axis.", step=0.01, label="Masse excentrée", hint="Masse ponctuelle fixée dans le cylindre, hors de son axe (0 : pas de masse excentrée).", group=ECCENTRIC),
+    Param("eccentric_radius", "m", 0.05, 0.0, 0.5, "Distance of the eccentric mass from the axis.", step=0.005, label="Excentricité e", hint="Distance de la masse excentrée à l'axe du cylindre.", group=ECCENTRIC),
+    Param("v0", "m/s", 0.0, -10.0, 10.0, "Initial speed of the centre down the slope (rolling).", step=0.05, label="Vitesse initiale v₀", hint="Vitesse initiale du centre vers le bas de la pente, le cylindre roulant sans glisser.", group=START),
+    Param("plane_length", "m", 12.0, 1.0, 200.0, "Length of the drawn plane (the default holds a 3 s run); on_plane turns 0 beyond it.", step=1.0, label="Longueur du plan", hint="Longueur du plan dessiné (3 s de descente par défaut) : au-delà, l'indicateur « Sur le plan » passe à 0.", group=PLANE, advanced=True),
+    Param("race", "", 0.0, 0.0, 1.0, "1: a thin tube and a solid sphere (same R and mass) race the cylinder side by side.", step=1.0, label="Course contre un tube et une sphère", hint="Oui : un tube mince et une sphère pleine, de même rayon et de même masse, descendent à côté du cylindre.", group=START, choices=("Non", "Oui")),
 )  # fmt: skip
 
 
@@ -471,26 +472,26 @@ def _n_ref(s: Snapshot) -> float:
 
 
 READOUTS = (
-    SceneReadout("x", "m", "Distance travelled by the centre down the slope.", lambda s: s.joint_qpos("x")),
-    SceneReadout("v", "m/s", "Speed of the centre down the slope.", lambda s: s.joint_qvel("x")),
-    SceneReadout("a", "m/s²", "Acceleration of the centre down the slope.", lambda s: float(s.data.qacc[0])),
-    SceneReadout("a_ref", "m/s²", "Course value of the acceleration (rolling or slipping; energy theorem with the eccentric mass, while it rolls); NaN (—) once the cylinder has left the plane.", _a_ref),
-    SceneReadout("slip_velocity", "m/s", "V(A∈S/R0) down the slope: the material point at A (0 when rolling).", _slip),
-    SceneReadout("contact_point_velocity", "m/s", "V(A/R0) down the slope: the geometric contact point, which follows the axis.", lambda s: _along(s, _axis_velocity(s), 0)),
-    SceneReadout("N", "N", "Normal force of the plane on the cylinder.", lambda s: _along(s, _contact_force(s), 2)),
-    SceneReadout("N_ref", "N", "Course value of N: m g cos α, and with the eccentric mass m [g cos α − e (a sin β/R + v² cos β/R²)] while it rolls; NaN (—) off the plane.", _n_ref),
-    SceneReadout("contact", "", "Contact avec le plan: 1 while the plane pushes on the cylinder (N > 0), 0 once it has left it (a_ref and N_ref then show —).", lambda s: float(_contact(s))),
-    SceneReadout("Tt", "N", "Tangential force of the plane on the cylinder, down the slope.", lambda s: _along(s, _contact_force(s), 0)),
-    SceneReadout("mu_required", "", "|Tt| / N: the friction the motion uses.", lambda s: abs(_along(s, _contact_force(s), 0)) / max(_along(s, _contact_force(s), 2), 1e-12)),
-    SceneReadout("P_contact", "W", "Power of the contact forces on the cylinder (≤ 0; 0 when rolling).", _contact_power),
-    SceneReadout("delta_A_formula", "N·m", "δA about the axis from dσA/dt + V(A) ∧ m V(G).", lambda s: _cached_delta(s)[0] + _cached_delta(s)[1]),
-    SceneReadout("delta_A_direct", "N·m", "δA about the axis from δG + AG ∧ m Γ(G).", lambda s: _cached_delta(s)[2]),
-    SceneReadout("delta_A_dsigma", "N·m", "First term of the formula: dσA/dt (time derivative).", lambda s: _cached_delta(s)[0]),
-    SceneReadout("delta_A_transport", "N·m", "Second term: V(A) ∧ m V(G) (0 if G is on the axis).", lambda s: _cached_delta(s)[1]),
-    SceneReadout("x_hollow", "m", "Race: distance travelled by the thin tube (0 without race).", lambda s: _racer_x(s, "hollow")),
-    SceneReadout("x_sphere", "m", "Race: distance travelled by the sphere (0 without race).", lambda s: _racer_x(s, "sphere")),
-    SceneReadout("penetration", "m", "Depth of the cylinder in the plane: a few µm at 1 ms; centimetres mean the timestep is far too large.", _penetration),
-    SceneReadout("on_plane", "", "1 while the centre is over the drawn plane, 0 beyond its end.", lambda s: float(-0.5 <= s.joint_qpos("x") <= s.values["plane_length"] - 0.5)),
+    SceneReadout("x", "m", "Distance travelled by the centre down the slope.", lambda s: s.joint_qpos("x"), label="Distance parcourue x", hint="Distance parcourue par le centre du cylindre le long de la pente."),
+    SceneReadout("v", "m/s", "Speed of the centre down the slope.", lambda s: s.joint_qvel("x"), label="Vitesse du centre v", hint="Vitesse du centre du cylindre vers le bas de la pente."),
+    SceneReadout("a", "m/s²", "Acceleration of the centre down the slope.", lambda s: float(s.data.qacc[0]), label="Accélération du centre a", hint="Accélération du centre du cylindre vers le bas de la pente."),
+    SceneReadout("a_ref", "m/s²", "Course value of the acceleration (rolling or slipping; energy theorem with the eccentric mass, while it rolls); NaN (—) once the cylinder has left the plane.", _a_ref, label="Accélération selon le cours", hint="Accélération donnée par le cours, en roulement ou en glissement (théorème de l'énergie cinétique avec la masse excentrée), et « — » une fois le plan quitté."),
+    SceneReadout("slip_velocity", "m/s", "V(A∈S/R0) down the slope: the material point at A (0 when rolling).", _slip, label="Vitesse de glissement V(A∈S/R₀)", hint="Vitesse du point du cylindre qui se trouve en A, le long de la pente : nulle quand il roule sans glisser."),
+    SceneReadout("contact_point_velocity", "m/s", "V(A/R0) down the slope: the geometric contact point, which follows the axis.", lambda s: _along(s, _axis_velocity(s), 0), label="Vitesse du point de contact V(A/R₀)", hint="Vitesse du point géométrique de contact A, qui avance avec l'axe du cylindre."),
+    SceneReadout("N", "N", "Normal force of the plane on the cylinder.", lambda s: _along(s, _contact_force(s), 2), label="Effort normal N", hint="Composante normale de l'action du plan sur le cylindre."),
+    SceneReadout("N_ref", "N", "Course value of N: m g cos α, and with the eccentric mass m [g cos α − e (a sin β/R + v² cos β/R²)] while it rolls; NaN (—) off the plane.", _n_ref, label="Effort normal selon le cours", hint="Valeur de N donnée par le cours, m·g·cos α sans masse excentrée, et « — » hors du plan."),
+    SceneReadout("contact", "", "Contact avec le plan: 1 while the plane pushes on the cylinder (N > 0), 0 once it has left it (a_ref and N_ref then show —).", lambda s: float(_contact(s)), label="Contact avec le plan", hint="1 tant que le plan appuie sur le cylindre (N > 0), 0 quand le cylindre l'a quitté."),
+    SceneReadout("Tt", "N", "Tangential force of the plane on the cylinder, down the slope.", lambda s: _along(s, _contact_force(s), 0), label="Effort tangentiel Tₜ", hint="Composante tangentielle de l'action du plan sur le cylindre, comptée vers le bas de la pente."),
+    SceneReadout("mu_required", "", "|Tt| / N: the friction the motion uses.", lambda s: abs(_along(s, _contact_force(s), 0)) / max(_along(s, _contact_force(s), 2), 1e-12), label="Frottement utilisé |Tₜ|/N", hint="Rapport |Tₜ|/N que le mouvement demande au contact : le cylindre glisse quand il atteint μ."),
+    SceneReadout("P_contact", "W", "Power of the contact forces on the cylinder (≤ 0; 0 when rolling).", _contact_power, label="Puissance du contact", hint="Puissance de l'action du plan sur le cylindre : nulle en roulement sans glissement, négative en glissement."),
+    SceneReadout("delta_A_formula", "N·m", "δA about the axis from dσA/dt + V(A) ∧ m V(G).", lambda s: _cached_delta(s)[0] + _cached_delta(s)[1], label="Moment dynamique en A, par la formule", hint="Moment dynamique δ en A sur l'axe du cylindre, calculé par dσ(A)/dt + V(A) ∧ m·V(G)."),
+    SceneReadout("delta_A_direct", "N·m", "δA about the axis from δG + AG ∧ m Γ(G).", lambda s: _cached_delta(s)[2], label="Moment dynamique en A, par transport", hint="Moment dynamique δ en A sur l'axe du cylindre, transporté depuis G : δ(G) + AG ∧ m·Γ(G)."),
+    SceneReadout("delta_A_dsigma", "N·m", "First term of the formula: dσA/dt (time derivative).", lambda s: _cached_delta(s)[0], label="Terme dσ(A)/dt", hint="Premier terme de la formule : dérivée par rapport au temps du moment cinétique en A."),
+    SceneReadout("delta_A_transport", "N·m", "Second term: V(A) ∧ m V(G) (0 if G is on the axis).", lambda s: _cached_delta(s)[1], label="Terme V(A) ∧ m·V(G)", hint="Second terme de la formule, nul quand G est sur l'axe du cylindre."),
+    SceneReadout("x_hollow", "m", "Race: distance travelled by the thin tube (0 without race).", lambda s: _racer_x(s, "hollow"), label="Distance du tube mince", hint="Course : distance parcourue par le tube mince (0 sans course)."),
+    SceneReadout("x_sphere", "m", "Race: distance travelled by the sphere (0 without race).", lambda s: _racer_x(s, "sphere"), label="Distance de la sphère", hint="Course : distance parcourue par la sphère pleine (0 sans course)."),
+    SceneReadout("penetration", "m", "Depth of the cylinder in the plane: a few µm at 1 ms; centimetres mean the timestep is far too large.", _penetration, label="Enfoncement dans le plan", hint="Enfoncement du cylindre dans le plan : quelques µm à 1 ms, des centimètres signalent un pas de temps bien trop grand."),
+    SceneReadout("on_plane", "", "1 while the centre is over the drawn plane, 0 beyond its end.", lambda s: float(-0.5 <= s.joint_qpos("x") <= s.values["plane_length"] - 0.5), label="Sur le plan", hint="1 tant que le centre est au-dessus du plan dessiné, 0 au-delà de son extrémité."),
 )  # fmt: skip
 
 
@@ -513,10 +514,10 @@ def _at_a(s: Snapshot, vec: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 ARROWS = (
-    Arrow("N", "N", (60, 160, 60), lambda s: _at_a(s, _along(s, _contact_force(s), 2) * _frame(s)[:, 2]), ARROW_SCALE),
-    Arrow("Tt", "Tt", (220, 120, 40), lambda s: _at_a(s, _along(s, _contact_force(s), 0) * _frame(s)[:, 0]), ARROW_SCALE),
-    Arrow("v_G", "V(G)", (60, 100, 220), lambda s: _g_and_velocity(s), 0.1),
-    Arrow("slip", "V(A∈S)", (200, 40, 40), lambda s: _at_a(s, _velocity_of_material_point(s, _contact_point(s))), 0.1),
+    Arrow("N", "Effort normal N", (60, 160, 60), lambda s: _at_a(s, _along(s, _contact_force(s), 2) * _frame(s)[:, 2]), ARROW_SCALE, unit="N", point="A", hint="Effort normal du plan sur le cylindre, au point de contact A (vert)."),
+    Arrow("Tt", "Effort tangentiel Tₜ", (220, 120, 40), lambda s: _at_a(s, _along(s, _contact_force(s), 0) * _frame(s)[:, 0]), ARROW_SCALE, unit="N", point="A", hint="Effort tangentiel du plan sur le cylindre, au point de contact A (orange)."),
+    Arrow("v_G", "Vitesse V(G)", (60, 100, 220), lambda s: _g_and_velocity(s), 0.1, unit="m/s", point="G", hint="Vitesse du centre de gravité G par rapport au bâti (bleu)."),
+    Arrow("slip", "Vitesse V(A∈S)", (200, 40, 40), lambda s: _at_a(s, _velocity_of_material_point(s, _contact_point(s))), 0.1, unit="m/s", point="A", hint="Vitesse du point du cylindre situé en A : nulle en roulement sans glissement (rouge)."),
 )  # fmt: skip
 
 
@@ -573,6 +574,10 @@ SCENE = Scene(
     camera=((0.1, -1.0, 0.25), (0.0, 0.0, 1.0)),
     look_at=((0.5, 0.0, -0.15), 1.3),
     start_paused=True,
+    extra={"solid_names": {"cylinder": "cylindre", "eccentric": "masse excentrée"}},
+    # Round-off: an absent eccentric mass is a 1e-9 kg point, which leaves 1e-9 N·m in
+    # V(A) ∧ m V(G) where the course has 0 (δ in A is a few N·m).
+    zero={"N": 1e-9, "N·m": 1e-8, "W": 1e-9, "J": 1e-12, "kg·m/s": 1e-12, "kg·m²/s": 1e-12},
     accuracy=Accuracy(
         key="a",
         readouts=("a", "a_ref", "T", "V"),
