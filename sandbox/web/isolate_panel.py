@@ -3,7 +3,7 @@ when the course isolates the piston, the crank or the rod and writes the PFD."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import mujoco
 import numpy as np
@@ -30,6 +30,7 @@ class IsolatePanel:
         given = scene.extra.get("solid_names") if scene else None
         names = {str(k): str(v) for k, v in given.items()} if isinstance(given, Mapping) else {}
         self.names = names
+        self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
         self.choices: dict[str, str] = {}
         for body in isolate.solids(sim.model):
             raw = mujoco.mj_id2name(sim.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"corps {body}"
@@ -77,21 +78,7 @@ class IsolatePanel:
                 return
             sim.snapshot(("sup_R_x", "dyn_R_x"))
             pfd = isolate.balance(model, sim.data, body)
-        rows = ["| | R<sub>x</sub> | R<sub>y</sub> | M<sub>G,z</sub> [N·m] | ‖M<sub>G</sub>‖ |",
-                "|:--|--:|--:|--:|--:|"]  # fmt: skip
-        d = pfd.dynamic
-        for a in [*pfd.actions, d]:
-            label = "**{𝒟} (PFD : somme des actions)**" if a is d else plain(self._label(a.label))
-            rows.append(
-                f"| {label} | {fmt(a.resultant[0])} | {fmt(a.resultant[1])} | "
-                f"{fmt(a.moment[2])} | {fmt(float(np.linalg.norm(a.moment)))} |"
-            )
-        text = (
-            f"Moments en G = ({', '.join(fmt(float(x), digits=3) for x in pfd.centre)}) m, "
-            f"composantes dans B0, forces en N.\n\n"
-            + "\n".join(rows)
-            + f"\n\nÉcart PFD (Σ actions − {{𝒟}}) : {fmt(pfd.residual, digits=2)} relatif."
-        )
+        text = isolate_markdown(pfd, label=self._label, zero=self.zero)
         if self.refused is not None:
             text = f"*Solide « {plain(self.refused, 40)} » inconnu : choix refusé.*\n\n" + text
             self.refused = None
@@ -103,3 +90,47 @@ def _one_line(text: str) -> str:
     """``text`` on one line, at most :data:`~sandbox.web.text.MAX_SHOWN` characters."""
     text = "".join(c if c.isprintable() else " " for c in text)
     return text if len(text) <= MAX_SHOWN else text[: MAX_SHOWN - 1] + "…"
+
+
+GAP = "\u2002"
+"""En space before each number: right-aligned columns of a narrow panel otherwise touch
+("73,23-72,95")."""
+
+
+def isolate_markdown(
+    pfd: isolate.Balance,
+    *,
+    label: Callable[[str], str] = str,
+    zero: Mapping[str, float] | None = None,
+) -> str:
+    """The actions on the isolated solid and its dynamic torsor, one column per
+    component (R_x, R_y [N], M_G,z [N·m], ‖M_G‖ [N·m]), numbers the French way.
+
+    Args:
+        pfd: The balance of the solid (:func:`sandbox.physics.isolate.balance`).
+        label: Turns an action's label into the words shown (e.g. body names).
+        zero: The scene's round-off by unit: smaller components are shown 0.
+    """
+    zero = zero or {}
+    n_floor, m_floor = zero.get("N", 0.0), zero.get("N·m", 0.0)
+    rows = [
+        "| Action sur le solide | R<sub>x</sub> [N] | R<sub>y</sub> [N] "
+        "| M<sub>G,z</sub> [N·m] | ‖M<sub>G</sub>‖ [N·m] |",
+        "|:--|--:|--:|--:|--:|",
+    ]
+    d = pfd.dynamic
+    for a in [*pfd.actions, d]:
+        name = "**{𝒟}** (somme des actions)" if a is d else plain(label(a.label))
+        numbers = (
+            fmt(a.resultant[0], floor=n_floor),
+            fmt(a.resultant[1], floor=n_floor),
+            fmt(a.moment[2], floor=m_floor),
+            fmt(float(np.linalg.norm(a.moment)), floor=m_floor),
+        )
+        rows.append(f"| {name} | " + " | ".join(GAP + x for x in numbers) + " |")
+    centre = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in pfd.centre)
+    return (
+        f"Moments en G = ({centre}) m, composantes dans B0.\n\n"
+        + "\n".join(rows)
+        + f"\n\nÉcart du PFD (Σ actions − {{𝒟}}), relatif : {fmt(pfd.residual, digits=2)}."
+    )
