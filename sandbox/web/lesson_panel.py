@@ -95,8 +95,8 @@ class LessonPanel:
             self.picker = gui.add_dropdown("Leçon", tuple(titles), initial_value=start)
             self.header = gui.add_markdown("")
             self.nav = gui.add_button_group("Étapes", NAV, visible=False)
+            self.goal = gui.add_html("")  # the goal first: in view without scrolling
             self.text = gui.add_markdown("")
-            self.goal = gui.add_html("")
             self.table = gui.add_markdown("")
             self.status = gui.add_markdown("")
             self.hint_button = gui.add_button("Indice", visible=False)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
+import viser
 
 from sandbox.mechanics.unbalance import PointMass, polar
 from sandbox.scenes import rotor
@@ -31,12 +32,7 @@ SCENE = "rotor"
 KEYS = ("defect_mass_g", "skew_deg", "mass1_g", "angle1_deg", "mass2_g", "angle2_deg")
 """Parameters the diagram depends on (the speed does not change the unbalance)."""
 COLOURS = {"rotor": "#c0392b", "m1": "#1e8449", "m2": "#7d3c98", "total": "#111111"}
-NAMES = {
-    "rotor": "Rotor seul (masselotte et disque de travers)",
-    "m1": "Masse m₁ (plan 1, x = −120 mm)",
-    "m2": "Masse m₂ (plan 2, x = +120 mm)",
-    "total": "Résultante",
-}
+NAMES = {"rotor": "Rotor seul", "m1": "m₁ (plan 1)", "m2": "m₂ (plan 2)", "total": "Résultante"}
 TIPS = {"rotor": "rotor", "m1": "m₁", "m2": "m₂", "total": "Σ"}
 ROUND_OFF = 1e-9
 """Relative size under which a vector is shown as 0 (the round-off of the sums)."""
@@ -100,9 +96,10 @@ def rotor_unbalance(values: Mapping[str, float]) -> Unbalance:
 
 
 # -- drawing ----------------------------------------------------------------------------------
-SIZE = 230.0
-"""Width of one diagram in the SVG's units (two side by side, ~20 units per text line)."""
-RADIUS = 78.0
+SIZE = 200.0
+"""Width of one diagram in the SVG's units (two side by side: about one unit per pixel in
+the control panel, so that 14-unit text reads as 14 px)."""
+RADIUS = 66.0
 
 
 def _fmt(norm: float, unit: str, zero: float) -> str:
@@ -130,7 +127,7 @@ def _diagram(
     left: float, title: str, parts: Mapping[str, np.ndarray], total: np.ndarray, unit: str
 ) -> str:
     """One polar diagram at x offset ``left``: axes, scale circle, chain and resultant."""
-    cx, cy = left + SIZE / 2, 34.0 + RADIUS + 12
+    cx, cy = left + SIZE / 2, 44.0 + RADIUS
     chain = [np.zeros(2)]
     for vector in parts.values():
         chain.append(chain[-1] + vector)
@@ -146,7 +143,7 @@ def _diagram(
 
     grey = "#9a9a9a"
     out = [
-        f'<text x="{cx:.1f}" y="16" text-anchor="middle" font-weight="600" font-size="15">'
+        f'<text x="{cx:.1f}" y="17" text-anchor="middle" font-weight="600" font-size="15">'
         f"{title}</text>",
         f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{RADIUS}" fill="none" stroke="{grey}"/>',
         f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{RADIUS / 2}" fill="none" stroke="#d0d0d0"/>',
@@ -154,15 +151,12 @@ def _diagram(
         f'y2="{cy:.1f}" stroke="{grey}" stroke-dasharray="3 3"/>',
         f'<line x1="{cx:.1f}" y1="{cy - RADIUS - 6:.1f}" x2="{cx:.1f}" '
         f'y2="{cy + RADIUS + 6:.1f}" stroke="{grey}" stroke-dasharray="3 3"/>',
-        f'<text x="{cx + RADIUS + 8:.1f}" y="{cy + 4:.1f}" font-size="13" fill="#555">0°</text>',
-        f'<text x="{cx - RADIUS - 8:.1f}" y="{cy + 4:.1f}" font-size="13" fill="#555" '
-        'text-anchor="end">180°</text>',
-        f'<text x="{cx + 4:.1f}" y="{cy - RADIUS - 8:.1f}" font-size="13" fill="#555">90° (z₁)'
-        "</text>",
-        f'<text x="{cx + 4:.1f}" y="{cy + RADIUS + 16:.1f}" font-size="13" fill="#555">−90°</text>',
-        f'<text x="{cx + RADIUS - 4:.1f}" y="{cy - 6:.1f}" font-size="13" fill="#555" '
-        'text-anchor="end">y₁</text>',
-        f'<text x="{cx:.1f}" y="{cy + RADIUS + 34:.1f}" text-anchor="middle" font-size="13" '
+        f'<text x="{cx + RADIUS:.1f}" y="{cy + 17:.1f}" fill="#555" text-anchor="end">'
+        "0° (y₁)</text>",
+        f'<text x="{cx - RADIUS:.1f}" y="{cy + 17:.1f}" fill="#555">180°</text>',
+        f'<text x="{cx + 4:.1f}" y="{cy - RADIUS - 8:.1f}" fill="#555">90° (z₁)</text>',
+        f'<text x="{cx + 4:.1f}" y="{cy + RADIUS + 18:.1f}" fill="#555">−90°</text>',
+        f'<text x="{cx:.1f}" y="{cy + RADIUS + 38:.1f}" text-anchor="middle" '
         f'fill="#555">cercle : {html_text(_fmt(scale, unit, 0.0))}</text>',
     ]
     for name, start, end in zip(parts, chain[:-1], chain[1:], strict=True):
@@ -176,7 +170,7 @@ def _diagram(
 
 def polar_svg(unbalance: Unbalance) -> str:
     """Both diagrams side by side as one inline SVG (scales with the panel's width)."""
-    height = 34.0 + 2 * RADIUS + 12 + 40
+    height = 44.0 + 2 * RADIUS + 46
     body = _diagram(
         0.0, "Balourd statique m·OG⊥", unbalance.static, unbalance.static_total, "kg·m"
     ) + _diagram(
@@ -185,7 +179,7 @@ def polar_svg(unbalance: Unbalance) -> str:
     return (
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {2 * SIZE:.0f} {height:.0f}" '
         'width="100%" role="img" aria-label="Diagramme polaire des balourds" '
-        'font-family="sans-serif" font-size="13" style="display:block;max-width:40em">'
+        'font-family="sans-serif" font-size="14" style="display:block;max-width:40em">'
         f"{body}</svg>"
     )
 
@@ -228,9 +222,10 @@ def legend_html(unbalance: Unbalance) -> str:
         '<th style="text-align:right">Couple [kg·m²]</th></tr>'
     )
     note = (
-        '<p style="margin:0.4em 0 0">Dans le repère du rotor, angles depuis y₁ vers z₁. '
-        "Le rotor est équilibré quand les deux résultantes sont nulles : les paliers ne "
-        "transmettent plus d'effort tournant.</p>"
+        '<p style="margin:0.4em 0 0">Balourds statique et de couple, dans le repère du '
+        "rotor (angles depuis y₁ vers z₁). Rotor seul : masselotte et disque de travers ; "
+        "plan 1 à x = −120 mm, plan 2 à x = +120 mm. Le rotor est équilibré quand les deux "
+        "résultantes sont nulles : les paliers ne transmettent plus d'effort tournant.</p>"
     )
     return (
         '<table style="width:100%;border-collapse:collapse;font-size:0.9em">'
@@ -245,23 +240,6 @@ def panel_html(values: Mapping[str, float]) -> str:
 
 
 # -- the panel --------------------------------------------------------------------------------
-class _Folder(Protocol):
-    label: str
-    visible: bool
-
-    def __enter__(self) -> object: ...
-    def __exit__(self, *args: object) -> None: ...
-
-
-class _Gui(Protocol):
-    def add_folder(self, label: str, *, expand_by_default: bool = ...) -> _Folder: ...
-    def add_html(self, content: str) -> _Html: ...
-
-
-class _Html(Protocol):
-    content: str
-
-
 class _Driver(Protocol):
     @property
     def sim(self) -> object: ...
@@ -279,7 +257,7 @@ class PolarPanel:
             ``values`` are the parameter values).
     """
 
-    def __init__(self, gui: _Gui, controller: _Driver) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: _Driver) -> None:
         self.controller = controller
         self._key: tuple[float, ...] | None = None
         self.folder = gui.add_folder(FOLDER, expand_by_default=True)
@@ -288,7 +266,7 @@ class PolarPanel:
         self.refresh()
 
     @classmethod
-    def create(cls, gui: _Gui, controller: _Driver) -> PolarPanel | None:
+    def create(cls, gui: viser.GuiApi, controller: _Driver) -> PolarPanel | None:
         """The panel when ``controller`` shows the rotor scene, else None."""
         scene = getattr(controller.sim, "scene", None)
         if getattr(scene, "name", None) != SCENE:
