@@ -172,7 +172,7 @@ READOUTS = (
     SceneReadout("precession_rate", "rad/s", "ψ': rate at which the axis turns about z0.", _precession_rate, label="Vitesse de précession ψ'", hint="Vitesse à laquelle l'axe du rotor tourne autour de la verticale z₀."),
     SceneReadout("nutation", "rad", "θ: angle of the rotor's axis from z0.", lambda s: float(math.acos(max(-1.0, min(1.0, _axis(s)[2])))), label="Angle de nutation θ", hint="Angle de l'axe du rotor avec la verticale z₀."),
     SceneReadout("spin", "rad/s", "r = ω·e3: spin about the rotor's own axis.", lambda s: float(_omega(s) @ _axis(s)), label="Rotation propre mesurée r", hint="Composante r = ω·e₃ de la rotation du rotor sur son propre axe."),
-    SceneReadout("sigma_O_z", "kg·m²/s", "Angular momentum about the vertical z0 through O (conserved).", lambda s: float(_sigma_o(s)[2]), label="Moment cinétique σ en O selon z₀", hint="Composante verticale du moment cinétique en O, conservée car le moment du poids en O est horizontal."),
+    SceneReadout("sigma_O_z", "kg·m²/s", "Angular momentum about the vertical z0 through O (conserved).", lambda s: float(_sigma_o(s)[2]), label="Moment cinétique vertical en O", hint="Composante sur z₀ du moment cinétique du rotor en O, conservée car le moment du poids en O est horizontal."),
     SceneReadout("precession_fast_top", "rad/s", "Course's fast-top value m g d / (C r) at the current spin.", lambda s: precession(s.values)[1], label="Précession de la toupie rapide m·g·d/(C·r)", hint="Valeur approchée du cours pour une rotation propre rapide, à la rotation propre actuelle."),
 )  # fmt: skip
 
@@ -216,8 +216,8 @@ SCENE = Scene(
     plots=("precession_rate", "nutation"),
     arrows=ARROWS,
     # Round-off: {D} and the frame's moment keep 1e-14 N·m about z0 where the course has 0;
-    # P_ext (2e-8 W, the nutation the launch leaves) stays visible.
-    zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12},
+    # the powers (2e-8 W: the nutation the launch leaves) stay visible.
+    zero={"N": 1e-9, "N·m": 1e-12, "kg·m/s": 1e-12},
     body_frame="rotor",
     sections="2.2.2, 3, 5",
     camera=((0.6, -1.0, 0.5), (0.0, 0.0, 1.0)),
