@@ -245,7 +245,8 @@ def goal_html(
         rows.append(f'<div style="margin-top:0.35em">{html_text(line.text, 400)}</div>')
         if line.done is not None:
             rows.append(_bar(line.done))
-    return '<div class="sandbox-goal" style="line-height:1.35">' + "".join(rows) + "</div>"
+    style = "line-height:1.35;padding:0 0.75em"
+    return f'<div class="sandbox-goal" style="{style}">' + "".join(rows) + "</div>"
 
 
 def _bar(done: float) -> str:
