@@ -1,4 +1,6 @@
-"""Work-precision charts (PNG) of ``sandbox bench``: error against cost, log-log.
+"""Work-precision charts (PNG) of ``sandbox bench``: error against cost, log-log, in
+French (they are shown in the web page and on the teachers' slides): words, the scene's
+title, the key quantity's label and numbers with a decimal comma.
 
 Charts are matplotlib :class:`~matplotlib.figure.Figure` objects on their own Agg
 canvas (no pyplot: no global figure list, no backend switch), and every drawing holds
@@ -17,6 +19,7 @@ from sandbox.bench import Run, SceneResult
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+    from matplotlib.ticker import Formatter
 
 LOCK = threading.RLock()
 """Held while a chart is drawn or saved (reentrant: a caller may draw then save)."""
@@ -28,6 +31,48 @@ COLORS = {
     "rk4": "#1f77b4",
     "discrete": "#2ca02c",
 }
+
+
+INVARIANT_WORDS = {"energy theorem": "théorème de l'énergie cinétique"}
+"""French words of the invariants a scene names in words (the others are symbols)."""
+
+
+def decimal(value: float) -> str:
+    """``value`` with 3 significant digits and a decimal comma ("0,001", "2,5")."""
+    return f"{value:.3g}".replace(".", ",").replace("-", "−")
+
+
+def duration(seconds: float) -> str:
+    """A timestep as a reader writes it: "1 ms", "30 µs", "0,01 s"."""
+    for factor, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs")):
+        if seconds >= factor or unit == "µs":
+            return f"{decimal(seconds / factor)} {unit}"
+    return f"{decimal(seconds)} s"
+
+
+def words(res: SceneResult) -> tuple[str, str, str]:
+    """(title, key quantity, invariant) of a scene's chart in French: the scene's title
+    and the key readout's label from the registry, the invariant's symbol."""
+    title, key = res.scene, res.key
+    try:
+        from sandbox.scenes import get_scene
+
+        scene = get_scene(res.scene)
+    except Exception:  # a result file of a scene this version does not know
+        scene = None
+    if scene is not None:
+        title = scene.title
+        for r in scene.readouts:
+            if r.name == res.key and r.label:
+                key = r.label[0].lower() + r.label[1:] if r.label[1:2].islower() else r.label
+    return title, key, invariant_words(res.invariant)
+
+
+def invariant_words(invariant: str) -> str:
+    """What a scene conserves, for a French reader: its symbols ("T + V", "|σG|") without
+    the English words in parentheses, or French words ("théorème de l'énergie cinétique")."""
+    head = invariant.split(" (")[0].strip()
+    return INVARIANT_WORDS.get(head, head)
 
 
 def _ok(r: Run) -> bool:
@@ -59,6 +104,19 @@ def draw(res: SceneResult, live: Run | None = None) -> Figure:
     (drawn under :data:`LOCK`; hold it too to save or render the figure)."""
     with LOCK:
         return _draw(res, live)
+
+
+def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
+    """Matplotlib's log tick labels (10⁻³, 2×10⁻³) with a decimal comma in any plain
+    number it may write, without touching the process locale."""
+    from matplotlib.ticker import LogFormatterSciNotation
+
+    class Comma(LogFormatterSciNotation):
+        def __call__(self, x: float, pos: int | None = None) -> str:
+            text = str(super().__call__(x, pos))
+            return text.replace(".", "{,}") if text.startswith("$") else text.replace(".", ",")
+
+    return Comma(labelOnlyBase=label_only_base)
 
 
 def _draw(res: SceneResult, live: Run | None) -> Figure:
@@ -100,7 +158,7 @@ def _draw(res: SceneResult, live: Run | None) -> Figure:
             color="grey",
             linewidth=6,
             alpha=0.3,
-            label="Pareto front",
+            label="front de Pareto (les meilleurs compromis)",
             zorder=0,
         )
     default = res.default
@@ -112,7 +170,7 @@ def _draw(res: SceneResult, live: Run | None) -> Figure:
             color="gold",
             markeredgecolor="black",
             markersize=16,
-            label=f"default ({default.integrator}, dt = {default.timestep:g} s)",
+            label=f"réglage par défaut ({default.integrator}, dt = {duration(default.timestep)})",
         )
     if live is not None and _ok(live) and math.isfinite(live.cpu_per_sim_s):
         ax.plot(
@@ -121,27 +179,31 @@ def _draw(res: SceneResult, live: Run | None) -> Figure:
             "D",
             color="black",
             markersize=10,
-            label=f"now ({live.integrator}, dt = {live.timestep:g} s)",
+            label=f"réglage actuel ({live.integrator}, dt = {duration(live.timestep)})",
         )
+    title, key, invariant = words(res)
     diverged = sum(r.diverged for r in res.runs)
     if any(_ok(r) and not res.admissible(r) for r in res.runs):
         ax.text(
             0.01,
             0.01,
-            f"hollow: {res.invariant} above {res.drift_tol:g} (not admissible)",
+            f"cercle vide : dérive de {invariant} au-delà de {decimal(res.drift_tol)} "
+            "(réglage non admissible)",
             transform=ax.transAxes,
             fontsize=8,
         )
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("cost: CPU seconds per simulated second")
-    ax.set_ylabel(f"relative error of {res.key} vs the course")
-    title = f"{res.scene}: what accuracy costs"
+    ax.set_xlabel("Coût CPU par seconde simulée [s]")
+    ax.set_ylabel(f"Erreur relative sur {key} (par rapport au cours)")
     if diverged:
-        title += f" ({diverged} diverged runs not shown)"
-    ax.set_title(title)
+        title += f" ({diverged} calculs divergents non montrés)"
+    ax.set_title(f"Ce que coûte la précision : {title}", fontsize=11)
     ax.axhline(5e-3, color="green", linestyle=":", linewidth=1)
-    ax.text(ax.get_xlim()[0], 5e-3, " 0.5 %", color="green", va="bottom", fontsize=8)
+    ax.text(ax.get_xlim()[0], 5e-3, " 0,5 %", color="green", va="bottom", fontsize=8)
+    for axis in (ax.xaxis, ax.yaxis):  # 10⁻³ needs no comma; a plain 0.5 would
+        axis.set_major_formatter(comma_log_formatter())
+        axis.set_minor_formatter(comma_log_formatter(label_only_base=True))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

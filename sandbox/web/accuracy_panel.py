@@ -14,10 +14,12 @@ import numpy as np
 import viser
 
 from sandbox.bench import Run, SceneResult, load_results
+from sandbox.bench_plot import invariant_words
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import charts
-from sandbox.web.tables import fmt
+from sandbox.web.tables import cell, fmt, integrator_words
+from sandbox.web.text import html_text
 
 log = logging.getLogger(__name__)
 
@@ -107,12 +109,17 @@ class AccuracyPanel:
         self._chart_at = -math.inf
         self._charted: tuple | None = None
         self._drawing: Future[np.ndarray] | None = None
+        self.key_words = self.invariant_words = ""
+        if self.acc is not None:
+            labels = {i.name: i.label for i in sim.readout_infos()}
+            self.key_words = labels.get(self.acc.key) or self.acc.key
+            self.invariant_words = invariant_words(self.acc.invariant)
         with gui.add_folder("Précision et coût") as self.folder:
             self.text = gui.add_markdown("")
             self.image = None
             if self.results is not None:
                 blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
-                self.image = gui.add_image(blank, label="Erreur / coût", format="png")
+                self.image = gui.add_image(blank, label="Erreur relative et coût CPU", format="png")
 
     def names(self) -> tuple[str, ...]:
         """Readouts the live error and drift need (sampled whether shown or not)."""
@@ -146,26 +153,15 @@ class AccuracyPanel:
     def refresh(self, sim: Simulation, cost: float, now: float) -> None:
         """Rewrite the table; redraw the chart now and then."""
         error, drift = self.measures(sim)
-        rtf = 1.0 / cost if cost > 0 else math.nan
-        lines = [
-            "| | |",
-            "|:--|--:|",
-            f"| Intégrateur, dt | {sim.integrator}, {fmt(sim.timestep * 1e3)} ms |",
-            f"| Coût : s CPU par s simulée | {fmt(cost, digits=3)} |",
-            f"| Facteur temps réel possible | ×{rtf:.0f} |"
-            if rtf >= 10
-            else f"| Facteur temps réel possible | ×{fmt(rtf, digits=2)} |",
-        ]
-        if self.acc is not None:
-            lines += [
-                f"| Erreur de {self.acc.key} / cours | {fmt(error, digits=2)} |",
-                f"| Dérive de {self.acc.invariant.replace('|', '')} | {fmt(drift, digits=2)} |",
-            ]
-        text = "\n".join(lines) + (
-            "\n\nL'étoile du graphique est le réglage par défaut de la scène, le losange noir "
-            "votre réglage actuel (mesuré ici)."
-            if self.image is not None
-            else ""
+        text = accuracy_markdown(
+            sim.integrator,
+            sim.timestep,
+            cost,
+            error=error if self.acc is not None else None,
+            drift=drift if self.acc is not None else None,
+            key=self.key_words,
+            invariant=self.invariant_words,
+            chart=self.image is not None,
         )
         if self.text.content != text:
             self.text.content = text
@@ -188,6 +184,52 @@ class AccuracyPanel:
             )
             # Drawn by the chart thread: the frames of every session go on meanwhile.
             self._drawing = charts.submit(chart_image, self.results, live)
+
+
+def accuracy_markdown(
+    integrator: str,
+    timestep: float,
+    cost: float,
+    *,
+    error: float | None = None,
+    drift: float | None = None,
+    key: str = "",
+    invariant: str = "",
+    chart: bool = False,
+) -> str:
+    """The live table of "Précision et coût", in French with decimal commas.
+
+    Args:
+        integrator: Contract name of the integrator (shown with its words).
+        timestep: Timestep [s].
+        cost: CPU seconds per simulated second.
+        error: Relative error of the key quantity against the course (None: no course).
+        drift: Relative drift of the invariant (None: no course).
+        key: The key quantity in words (its label).
+        invariant: The invariant in words or symbols.
+        chart: Add the sentence that explains the chart's marks.
+    """
+    rtf = 1.0 / cost if cost > 0 else math.nan
+    factor = fmt(round(rtf)) if rtf >= 10 else fmt(rtf, digits=2)
+    lines = [
+        "| | |",
+        "|:--|--:|",
+        f"| Intégrateur | {html_text(integrator_words(integrator))} |",
+        f"| Pas de temps dt | {fmt(timestep * 1e3)} ms |",
+        f"| Coût CPU par seconde simulée | {fmt(cost, digits=3)} s |",
+        f"| Facteur temps réel possible | ×{factor} |",
+    ]
+    if error is not None:
+        lines.append(f"| Erreur relative sur {cell(key)} (cours) | {fmt(error, digits=2)} |")
+    if drift is not None:
+        lines.append(f"| Dérive relative de {cell(invariant)} | {fmt(drift, digits=2)} |")
+    text = "\n".join(lines)
+    if chart:
+        text += (
+            "\n\nSur le graphique, l'étoile marque le réglage par défaut de la scène et le "
+            "losange noir votre réglage actuel (mesuré ici)."
+        )
+    return text
 
 
 def _round(x: float) -> float:

@@ -53,7 +53,11 @@ def test_live_error_and_drift_follow_the_simulation():
     error, drift = panel.measures(sim)
     assert error < 1e-9 and drift < 1e-9  # a uniform rotation: exact
     panel.refresh(sim, cost=2e-3, now=100.0)
-    assert "×500" in panel.text.content and "bearing_A" in panel.text.content
+    text = panel.text.content
+    assert "×500" in text and "Erreur relative sur Effort du palier A" in text
+    assert "bearing_A" not in text and "Implicite rapide (implicitfast)" in text
+    assert "Dérive relative de T |" in text  # the symbol, without "(constant speed)"
+    assert "| Coût CPU par seconde simulée | 0,002 s |" in text
     sim.set_timestep(2e-3)  # a new setting starts a new series
     panel.sample(sim, sim.readouts(), generation=0)
     assert len(panel.samples) == 1
@@ -64,7 +68,7 @@ def test_a_file_has_cost_but_no_error(pendulum_xml):
     sim = Simulation(pendulum_xml)
     panel = AccuracyPanel(Gui(), sim)
     panel.refresh(sim, cost=1e-3, now=0.0)
-    assert "×1000" in panel.text.content and panel.image is None
+    assert "×1\u202f000" in panel.text.content and panel.image is None
     assert "Erreur" not in panel.text.content
 
 
@@ -146,3 +150,41 @@ def test_charts_drawn_by_several_threads_at_once_are_all_correct():
     assert all(np.array_equal(image, alone) for image in images)
     assert all(np.array_equal(f, reference_fig) for f in figures)
     assert not (alone == 255).all()  # a real chart, not a blank
+
+
+def test_the_chart_speaks_french_with_decimal_commas():
+    """Title, axes and legend in French (integrator names as they are), timesteps in
+    ms, the 0,5 % line, tick labels without a decimal point, no scene code name."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from sandbox.bench_plot import LOCK, draw
+
+    res = load_results("rolling_cylinder")
+    assert res is not None
+    live = Run("rolling_cylinder", "rk4", 2e-3, 0.0, error=1e-3, cpu_per_sim_s=5e-3)
+    with LOCK:
+        fig = draw(res, live)
+        canvas = fig.canvas
+        assert isinstance(canvas, FigureCanvasAgg)
+        canvas.draw()
+        ax = fig.axes[0]
+        texts = [ax.get_title(), ax.get_xlabel(), ax.get_ylabel()]
+        legend = ax.get_legend()
+        assert legend is not None
+        texts += [t.get_text() for t in legend.get_texts()]
+        texts += [t.get_text() for t in ax.texts]
+        ticks = [
+            t.get_text()
+            for axis in (ax.xaxis, ax.yaxis)
+            for t in axis.get_ticklabels() + axis.get_ticklabels(minor=True)
+        ]
+    joined = "\n".join(texts)
+    assert ax.get_title().startswith("Ce que coûte la précision : Cylindre")
+    assert ax.get_xlabel() == "Coût CPU par seconde simulée [s]"
+    assert ax.get_ylabel().startswith("Erreur relative sur accélération")
+    assert "rk4" in joined and "front de Pareto" in joined
+    assert "réglage par défaut (rk4, dt = 1 ms)" in joined
+    assert "réglage actuel (rk4, dt = 2 ms)" in joined
+    assert " 0,5 %" in joined
+    assert "rolling_cylinder" not in joined and "cost" not in joined and "error" not in joined
+    assert ticks and not any("." in t for t in ticks), ticks
