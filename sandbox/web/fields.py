@@ -165,23 +165,34 @@ class Mirror:
         self.busy = busy
         self.clock = clock
         self._own = handle.update_timestamp  # the last value the server itself showed
+        self._hidden = False
 
     def refresh(self, *, force: bool = False) -> bool:
         """Show the value in force unless the user changed the control just now and
         their request is not applied yet (``force``: after a refusal, at once).
 
+        A value the user had typed and the server then replaced is also redrawn: viser's
+        number box remembers the typed text, and typing that same text again would send
+        nothing (the box is hidden for one refresh, which builds it anew).
+
         Returns:
             True when the control was changed.
         """
+        if self._hidden:
+            self._hidden = False
+            self.handle.visible = True
         truth = self.read()
         if _same(self.handle.value, truth):
             return False
+        by_user = self.handle.update_timestamp != self._own
         if not force:
-            by_user = self.handle.update_timestamp != self._own
             if self.busy() or (by_user and self.clock() - self.handle.update_timestamp < GRACE):
                 return False
         set_value(self.handle, truth)
         self._own = self.handle.update_timestamp
+        if by_user and self.handle.visible:
+            self.handle.visible = False
+            self._hidden = True
         return True
 
 
