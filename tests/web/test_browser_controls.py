@@ -170,7 +170,7 @@ ENGLISH = (
 
 def _code_names() -> set[str]:
     """Contract names of the registry that no French reader would write (with "_")."""
-    names = set()
+    names: set[str] = set()
     for scene in SCENES.values():
         names.update(p.name for p in scene.params)
         names.update(r.name for r in scene.readouts)

@@ -44,7 +44,7 @@ class Handle:
         self.update_timestamp = at
 
 
-def _mirror(handle: Handle, truth: dict[str, object], busy: list[bool] | None = None) -> Mirror:
+def _mirror(handle: Handle, truth: dict[str, float], busy: list[bool] | None = None) -> Mirror:
     flag = busy if busy is not None else [False]
     return Mirror(
         handle,  # type: ignore[arg-type]
