@@ -19,6 +19,13 @@ PERIOD = 2.0
 """Seconds between two looks at the cycle (redrawn only when it changed)."""
 
 GROUPS = ((("pilon", "tamis"), "N"), (("motor_torque",), "N·m"))
+"""Readouts drawn together, and their unit (one chart each)."""
+
+TITLES = {
+    ("pilon", "tamis"): "Effets de pilon et de tamis sur un tour du vilebrequin",
+    ("motor_torque",): "Couple moteur sur un tour du vilebrequin",
+}
+"""Chart titles (default: the labels joined)."""
 COLORS = {"pilon": "rgb(220,60,60)", "tamis": "rgb(60,140,220)", "motor_torque": "rgb(90,90,90)"}
 
 
@@ -39,20 +46,26 @@ class CyclePanel:
         self.folder: viser.GuiFolderHandle | None = None
         if self.fn is None:
             return
+        labels = {i.name: i.label or i.name for i in sim.readout_infos()}
         with gui.add_folder("Sur un tour") as self.folder:
             for names, unit in GROUPS:
                 series: list[uplot.Series] = [{"label": "θ [°]"}]
                 for n in names:
                     color = COLORS.get(n, "black")
-                    series.append({"label": f"{n} [{unit}]", "stroke": color, "width": 2})
-                    series.append({"label": f"{n} (cours)", "stroke": color, "dash": (6.0, 4.0)})
+                    words = labels.get(n, n)
+                    series.append({"label": f"{words} [{unit}]", "stroke": color, "width": 2})
+                    series.append({"label": f"{words}, cours", "stroke": color, "dash": (6.0, 4.0)})
                 empty = tuple(np.zeros(2) for _ in series)
+                title = TITLES.get(names) or " et ".join(labels.get(n, n) for n in names)
                 chart = gui.add_uplot(
                     data=empty,
                     series=tuple(series),
-                    title=f"{', '.join(names)} sur un tour de manivelle",
+                    title=title,
                     scales={"x": {"time": False, "auto": False, "range": (0.0, 360.0)}},
-                    axes=({"label": "θ [°]"}, {"label": unit, "size": 60}),
+                    axes=(
+                        {"label": "Angle du vilebrequin θ [°]"},
+                        {"label": unit, "size": 60},
+                    ),
                     aspect=1.6,
                 )
                 self.charts.append((names, chart))
