@@ -133,18 +133,25 @@ class Line:
 
 
 class Words:
-    """How readouts are written: French label (else the name) and unit."""
+    """How readouts are written: French label (else the name), unit as shown on the page,
+    and the scene's round-off by readout (values at or under it are written 0)."""
 
-    def __init__(self, labels: Mapping[str, str], units: Mapping[str, str]) -> None:
+    def __init__(
+        self,
+        labels: Mapping[str, str],
+        units: Mapping[str, str],
+        zeros: Mapping[str, float] | None = None,
+    ) -> None:
         self.labels = labels
         self.units = units
+        self.zeros = zeros or {}
 
     def label(self, name: str) -> str:
         return self.labels.get(name) or name
 
     def quantity(self, value: float, name: str) -> str:
         unit = self.units.get(name, "")
-        return f"{number(value, 3)} {unit}".rstrip()
+        return f"{number(value, 3, zero=self.zeros.get(name, 0.0))} {unit}".rstrip()
 
 
 def lines(

@@ -26,6 +26,7 @@ from typing import Protocol
 import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
+from sandbox.physics.units import display_unit
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.lesson_goal import Words, goal_html, lines
 from sandbox.web.plots import Plot, group_by_unit
@@ -81,7 +82,12 @@ class LessonPanel:
             name: les for name, les in found.items() if scene and les.for_scene(scene)
         }
         infos = sim.readout_infos()
-        self.words = Words({i.name: i.label for i in infos}, {i.name: i.unit for i in infos})
+        zero_for = getattr(sim.scene, "zero_for", None)  # the scene's round-off by unit
+        self.words = Words(
+            {i.name: i.label for i in infos},
+            {i.name: display_unit(i.unit) for i in infos},
+            {i.name: zero_for(i.unit) for i in infos} if callable(zero_for) else {},
+        )
         self.progress: Progress | None = None
         self.plots: list[Plot] = []
         self._step_handles: list[_Removable] = []

@@ -87,3 +87,9 @@ def test_the_block_escapes_text_and_has_no_emoji():
     assert "Objectif — En cours" in html and 'role="progressbar"' not in html  # NaN: no bar
     html = goal_html(lines(compile_check("x < 2"), WORDS, {"x": 3.0}, {"x": 4.0}), state="En cours")
     assert 'aria-valuenow="50"' in html and "50 %" in html
+
+
+def test_values_under_the_round_off_are_written_0():
+    words = Words({}, {"F": "N"}, {"F": 1e-9})
+    assert words.quantity(1.959e-19, "F") == "0 N" and words.quantity(0.5, "F") == "0,5 N"
+    assert words.label("F") == "F"
