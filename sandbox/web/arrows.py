@@ -31,10 +31,10 @@ MIN_LENGTH = 1e-4
 SHAFT = 0.01
 """Shaft radius as a fraction of the mechanism's size (heads 2.5 and 6 shafts)."""
 
-MAX_REACH = 0.8
+MAX_REACH = 0.4
 """Longest arrow of a unit, as a fraction of the mechanism's size, before user scaling."""
 
-MIN_REACH = 0.1
+MIN_REACH = 0.05
 """Below this fraction the longest arrow of a unit is grown back (a dot says nothing)."""
 
 USER_SCALES = (0.25, 4.0)

@@ -19,7 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
-from sandbox.errors import Diverged, SandboxError
+from sandbox.errors import (
+    BadModel,
+    BadOption,
+    BadParameter,
+    Diverged,
+    SandboxError,
+    UnknownParameter,
+)
 from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
@@ -727,12 +734,32 @@ def step_count(value: object) -> int:
     return int(number)
 
 
+FRENCH_REFUSALS: tuple[tuple[type[SandboxError], str], ...] = (
+    (UnknownParameter, "Ce paramètre n'existe pas pour cette scène : rien n'a changé."),
+    (BadParameter, "Cette valeur de paramètre est hors de son domaine : rien n'a changé."),
+    (
+        BadOption,
+        "Réglage refusé (pas de temps dt ou intégrateur hors de ce que la scène accepte) : "
+        "rien n'a changé.",
+    ),
+    (BadModel, "Le modèle ne se construit pas avec cette valeur : rien n'a changé."),
+    (Diverged, "Le calcul diverge avec ce réglage : rien n'a changé."),
+)
+"""French words for the refusals of the lower layers, whose messages are English (they
+speak to the command line); the English detail goes to the server's log only."""
+
+
 def french_message(exc: SandboxError) -> str:
-    """The message of a refusal for a French page (a :class:`Refused` is French already;
-    an English one from a lower layer gets a French lead)."""
+    """The message of a refusal for a French page: a :class:`Refused` is French already;
+    an English one from a lower layer is said in French by its kind (its detail is
+    logged)."""
     if isinstance(exc, Refused):
         return str(exc)
-    return f"Modification refusée, rien n'a changé : {shown_value(str(exc), 300)}"
+    log.info("refused: %s", shown_value(str(exc), 300))
+    for kind, words in FRENCH_REFUSALS:
+        if isinstance(exc, kind):
+            return words
+    return "Modification refusée : rien n'a changé."
 
 
 class Session:

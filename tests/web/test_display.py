@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from sandbox.errors import Diverged
+from sandbox.errors import BadModel, BadOption, BadParameter, Diverged
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import session as session_module
@@ -20,6 +20,7 @@ from sandbox.web.session import (
     Request,
     check_value,
     divergence_message,
+    french_message,
     param_words,
 )
 
@@ -226,3 +227,17 @@ def test_the_divergence_message_is_french():
     assert text.startswith("La simulation a divergé à t = 1,25 s (accélérations démesurées).")
     text = divergence_message(Diverged(0.5, "NaN or Inf in the state"))
     assert "(valeurs non numériques dans l'état)" in text and "NaN" not in text
+
+
+@pytest.mark.parametrize(
+    "exc, words",
+    [
+        (BadOption("timestep must be a positive number of seconds, got 0; try --timestep 1"), "dt"),
+        (BadParameter("parameter 'mass1_g' needs a number"), "hors de son domaine"),
+        (BadModel("cannot compile"), "ne se construit pas"),
+    ],
+)
+def test_lower_layer_refusals_are_said_in_french(exc, words):
+    text = french_message(exc)
+    assert words in text and text.endswith("rien n'a changé.")
+    assert "timestep" not in text and "mass1_g" not in text and "--" not in text
