@@ -30,9 +30,12 @@ from sandbox.scenes.base import as_scene
 from sandbox.web import network
 from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.fields import display_unit
+from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Frame, Notice, Request, Session
 from sandbox.web.tables import fmt
+from sandbox.web.text import plain
 from sandbox.web.view import SNAPSHOT_NAMES, WebView, arrow_layer, point_camera
 
 log = logging.getLogger(__name__)
@@ -80,7 +83,9 @@ class BroadcastView:
         self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
         spec = as_scene(sim.scene)
         self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
-        self.units = {i.name: i.unit for i in sim.readout_infos()}
+        infos = {i.name: i for i in sim.readout_infos()}
+        self.units = {n: display_unit(i.unit) for n, i in infos.items()}
+        self.labels = {n: plain(i.label or n) for n, i in infos.items()}
         self.summary = ""
         self.version = 0
         self.teachers: list[WebView[Controller]] = []
@@ -117,16 +122,17 @@ class BroadcastView:
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller
         state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"t = {frame.time:.2f} s · {state}"]
+        lines = [f"t = {fmt(frame.time, digits=4)} s · {state}"]
         if frame.diverged:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:
             values = frame.readouts
             rows = [
-                f"| {name} | {fmt(values[name])} {self.units.get(name, '')} |"
+                f"| {self.labels.get(name, name)} | "
+                f"{fmt(values.get(name, math.nan))} {self.units.get(name, '')} |"
                 for name in self.names
             ]
-            lines.append("| grandeur | valeur |\n|:--|--:|\n" + "\n".join(rows))
+            lines.append("| Grandeur | Valeur |\n|:--|--:|\n" + "\n".join(rows))
         text = "\n\n".join(lines)
         if text != self.summary:
             self.summary = text
@@ -151,6 +157,7 @@ class FollowerView:
         self.broadcast = broadcast
         self._seen = -1
         client.gui.configure_theme(control_width="large", show_share_button=False)
+        client.gui.add_html(style_html(FONT_SIZES[0]))  # the page's 16 px text
         with client.gui.add_folder("Simulation du professeur"):
             self.intro = client.gui.add_markdown(
                 "Vous suivez la simulation que le professeur projette."

@@ -21,7 +21,8 @@ from sandbox.recording import Recording, set_state
 from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
-from sandbox.web.panels import command, set_value
+from sandbox.web.fields import param_label, set_value
+from sandbox.web.panels import SPEED_LABEL, command
 from sandbox.web.session import (
     SPEEDS,
     Notice,
@@ -36,7 +37,7 @@ from sandbox.web.session import (
     shown_value,
     step_count,
 )
-from sandbox.web.text import plain
+from sandbox.web.text import number, plain
 from sandbox.web.view import WebView
 
 
@@ -147,10 +148,18 @@ class ReplayController:
         return shown if shown else self.sim.readouts()
 
 
+TIMELINE_LABEL = "Temps [s]"
+
+
+def seconds(t: float) -> str:
+    """A time on the timeline, to the hundredth of a second: ``5,80``."""
+    return f"{float(t):.2f}".replace(".", ",").replace("-", "−")
+
+
 class ReplayPanel:
     """Folder "Relecture": status, time scrubber, play/pause, frame steps, speed."""
 
-    COMMANDS = ("Lecture/Pause", "◀ image", "image ▶", "Début")
+    COMMANDS = ("Lecture/Pause", "Image précédente", "Image suivante", "Début")
 
     def __init__(self, gui: viser.GuiApi, controller: ReplayController) -> None:
         self.controller = controller
@@ -167,13 +176,27 @@ class ReplayPanel:
                 + (f" · leçon {plain(lesson)}" if lesson else "")
             )
             self.status = gui.add_markdown("")
-            self.commands = gui.add_button_group("Commandes", self.COMMANDS)
+            self.commands = gui.add_button_group(
+                "Commandes",
+                self.COMMANDS,
+                hint="Lecture ou pause, une image en arrière ou en avant, retour au début",
+            )
             self.commands.on_click(lambda event: self._command(event.target.value))
             self.time = gui.add_slider(
-                "Temps [s]", min=0.0, max=max(t1, step), step=step, initial_value=0.0
+                TIMELINE_LABEL,
+                min=0.0,
+                max=max(t1, step),
+                step=step,
+                initial_value=0.0,
+                hint="Position dans l'enregistrement : faites glisser pour y aller",
             )
             self.speed = gui.add_slider(
-                "Vitesse ×", min=SPEEDS[0], max=SPEEDS[1], step=0.1, initial_value=1.0
+                SPEED_LABEL,
+                min=SPEEDS[0],
+                max=SPEEDS[1],
+                step=min(0.1, SPEEDS[0]),
+                initial_value=1.0,
+                hint="Temps relu divisé par le temps réel (1 : temps réel)",
             )
         self.params: viser.GuiMarkdownHandle | None = None
         scene = as_scene(controller.sim.scene)
@@ -194,8 +217,8 @@ class ReplayPanel:
 
     COMMAND_KINDS = {
         "Lecture/Pause": "toggle",
-        "◀ image": "back",
-        "image ▶": "step",
+        "Image précédente": "back",
+        "Image suivante": "step",
         "Début": "start",
     }
 
@@ -213,19 +236,24 @@ class ReplayPanel:
         t = float(ctl.rec.times[ctl.index])
         pos = float(ctl.timeline[ctl.index])
         state = "lecture" if ctl.playing else "pause"
-        self.status.content = (
-            f"t = {t:.3f} s · {pos:.2f} s / {float(ctl.timeline[-1]):.2f} s lus · image "
-            f"{ctl.index + 1}/{len(ctl.rec.times)} · ×{ctl.speed:g} · **{state}**"
+        status = (
+            f"t = {seconds(t)} s · {seconds(pos)} s lues sur {seconds(ctl.timeline[-1])} s · "
+            f"image {ctl.index + 1} sur {len(ctl.rec.times)} · vitesse ×{number(ctl.speed, 3)}"
+            f" · **{state}**"
         )
+        if self.status.content != status:
+            self.status.content = status
         if not abs(self.time.value - pos) <= 1e-9:  # also a NaN a browser sent
             set_value(self.time, pos)
+        if not self.speed.value == ctl.speed:
+            set_value(self.speed, ctl.speed)  # a refused speed: the value in force
         if self.params is not None:
             sim = ctl.sim
             rows = [
-                f"| {plain(p.name)} | {sim.values[p.name]:g} {plain(p.unit)} |"
+                f"| {plain(param_label(p))} | {number(sim.values[p.name])} |"
                 for p in self.scene_params
             ]
-            content = "| paramètre | valeur |\n|:--|--:|\n" + "\n".join(rows)
+            content = "| Paramètre | Valeur |\n|:--|--:|\n" + "\n".join(rows)
             if self.params.content != content:
                 self.params.content = content
 

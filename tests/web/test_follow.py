@@ -9,7 +9,11 @@ import urllib.request
 import pytest
 from conftest import wait_for
 
+from sandbox.scenes import SCENES
+from sandbox.web.fields import param_label
 from sandbox.web.follow import FOLLOW, OWN, SEND_VALUES, FollowApp, teacher_path
+
+MASS1 = param_label(next(p for p in SCENES["rotor"].params if p.name == "mass1_g"))
 
 
 @pytest.fixture
@@ -53,9 +57,7 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     drivers = [s for s in app.sessions.values() if s.drive]
     assert drivers == []  # only the broadcast session steps the shared simulation
     # the teacher's slider drives the shared simulation
-    row = teacher.locator(
-        "div.mantine-Flex-root", has=teacher.get_by_text("mass1_g [g]", exact=True)
-    ).last
+    row = teacher.locator("div.mantine-Flex-root", has=teacher.get_by_text(MASS1, exact=True)).last
     box = row.locator("input.mantine-NumberInput-input").first
     box.fill("40")
     box.press("Enter")
@@ -76,7 +78,7 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     teacher.get_by_text("1 élève(s) en autonomie", exact=False).first.wait_for(timeout=10_000)
     # the student's own slider tells the truth: it shows the value the teacher sent
     own_box = (
-        student.locator("div.mantine-Flex-root", has=student.get_by_text("mass1_g [g]", exact=True))
+        student.locator("div.mantine-Flex-root", has=student.get_by_text(MASS1, exact=True))
         .last.locator("input.mantine-NumberInput-input")
         .first
     )
