@@ -6,12 +6,15 @@ import copy
 import math
 from collections import deque
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import viser
 from viser import uplot
 
+from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
+from sandbox.scenes.base import Arrow, Scene
 
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
 """Line colours when a readout has no arrow colour of its own."""
@@ -164,3 +167,97 @@ def group_by_unit(
             k += 1
         plots.append(Plot(members, unit, cols, labels=[labels.get(n) or n for n in members]))
     return plots
+
+
+@dataclass(frozen=True)
+class Components:
+    """Components of some of a scene's arrows plotted against time: a force or a momentum
+    whose magnitude stays constant can still turn, and its components show how.
+
+    Attributes:
+        arrows: Names of the scene's arrows (vectors in world coordinates).
+        basis: "B0" (fixed, the world axes) or "B1" (the scene's ``body_frame``).
+        axes: Which components (0, 1, 2 for x, y, z of the basis).
+        words: How the basis is named in the title, e.g. "B1, tournant avec le rotor".
+    """
+
+    arrows: tuple[str, ...]
+    basis: str
+    axes: tuple[int, ...]
+    words: str
+
+
+COMPONENTS: dict[str, Components] = {
+    # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
+    # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
+    # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
+    "rotor": Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
+    # Course 5: the gyroscope's σG keeps its direction in R0 (its components stay put
+    # while the gimbals turn); the heavy top's σO turns about z0 at the precession rate
+    # (x0 and y0 components are sinusoids, the z0 one is conserved).
+    "gyroscope": Components(("sigma_G",), "B0", (0, 1, 2), "B0, fixe"),
+    "heavy_gyroscope": Components(("sigma_O",), "B0", (0, 1, 2), "B0, fixe"),
+}
+"""Which arrows each scene plots by component (a scene record field would be better: see
+the report of issue 14; scenes not listed plot their scalar readouts only)."""
+
+AXIS_WORDS = {"B0": ("x₀", "y₀", "z₀"), "B1": ("x₁", "y₁", "z₁")}
+DASHES: tuple[tuple[float, ...], ...] = ((), (8.0, 4.0), (2.0, 3.0))
+"""Solid, dashed, dotted: the components of one arrow share its colour."""
+
+
+class ComponentPlot(Plot):
+    """Components of arrows in a basis against time (one colour per arrow, one dash per
+    component), fed with the arrows' vectors rather than readouts.
+
+    Args:
+        spec: What to draw.
+        arrows: The scene's arrows named in ``spec`` (label, colour, unit).
+    """
+
+    def __init__(self, spec: Components, arrows: Sequence[Arrow]) -> None:
+        self.spec = spec
+        self.arrows = tuple(arrows)
+        names, labels, colors = [], [], []
+        for arrow in self.arrows:
+            for axis in spec.axes:
+                names.append(f"{arrow.name}.{axis}")
+                labels.append(f"{arrow.label}, {AXIS_WORDS[spec.basis][axis]}")
+                colors.append(arrow.color)
+        unit = self.arrows[0].unit if self.arrows else ""
+        super().__init__(names, unit, colors, labels=labels)
+
+    def series(self) -> tuple[uplot.Series, ...]:
+        out = list(super().series())
+        for k, s in enumerate(out[1:]):
+            dash = DASHES[k % len(self.spec.axes) % len(DASHES)]
+            if dash:
+                s["dash"] = dash
+        return tuple(out)
+
+    def title(self) -> str:
+        """French title: the arrows' labels, the basis and the unit."""
+        unit = f" [{self.shown_unit}]" if self.shown_unit else ""
+        arrows = " et ".join(a.label for a in self.arrows)
+        return f"{arrows} : composantes dans {self.spec.words}{unit}"
+
+    def values(self, snapshot: Snapshot, basis: np.ndarray) -> dict[str, float]:
+        """The components now: ``basis`` is 3x3, columns = its unit vectors in world."""
+        out: dict[str, float] = {"time": float(snapshot.data.time)}
+        for arrow in self.arrows:
+            _, vector = arrow.fn(snapshot)
+            local = np.asarray(basis, dtype=float).T @ np.asarray(vector, dtype=float)
+            for axis in self.spec.axes:
+                out[f"{arrow.name}.{axis}"] = float(local[axis])
+        return out
+
+
+def component_plot(scene: Scene | None) -> ComponentPlot | None:
+    """The scene's :class:`ComponentPlot` (None when it has none, or lacks its arrows or
+    the body frame its basis needs)."""
+    spec = COMPONENTS.get(scene.name) if scene is not None else None
+    if scene is None or spec is None or (spec.basis == "B1" and not scene.body_frame):
+        return None
+    by_name = {a.name: a for a in scene.arrows}
+    arrows = [by_name[n] for n in spec.arrows if n in by_name]
+    return ComponentPlot(spec, arrows) if arrows else None

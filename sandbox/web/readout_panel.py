@@ -14,7 +14,7 @@ from sandbox.scenes.base import as_scene
 from sandbox.web import tables
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.panels import set_value
-from sandbox.web.plots import Plot, group_by_unit
+from sandbox.web.plots import ComponentPlot, Plot, component_plot, group_by_unit
 
 POINT_O = "O (origine)"
 POINT_P = "P (saisi)"
@@ -27,6 +27,9 @@ ENERGY_FOLDER = "Énergie et puissances"
 
 ENERGY_NAMES = ("T", "V", "P_ext", "P_int", "P_acc")
 """Readouts of the energy table."""
+
+COMPONENT_NAMES = ("sup_R_x", "dyn_R_x")
+"""Readouts brought up to date before the arrows' vectors are read (as for the 3D view)."""
 
 TORSOR_NAMES = tuple(n for n in GENERIC_NAMES if n[:4] in ("kin_", "dyn_", "sup_"))
 """Readouts of the torsor table."""
@@ -73,15 +76,21 @@ class ReadoutPanel:
         self.plots: list[Plot] = group_by_unit(
             names, {n: infos[n].unit for n in names}, colors, labels=words
         )
-        if self.plots:
-            with gui.add_folder(PLOTS_FOLDER) as self.folders[PLOTS_FOLDER]:
-                for plot in self.plots:
-                    unit = f" [{plot.shown_unit}]" if plot.shown_unit else ""
-                    title = f"{', '.join(plot.labels)}{unit} en fonction du temps"
-                    plot.attach(gui, title=title)
+        self.sim = sim
         self.body = -1
         if scene is not None and scene.body_frame:
             self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
+        self.components: ComponentPlot | None = component_plot(scene)
+        if self.components is not None and self.components.spec.basis == "B1" and self.body <= 0:
+            self.components = None
+        if self.plots or self.components is not None:
+            with gui.add_folder(PLOTS_FOLDER) as self.folders[PLOTS_FOLDER]:
+                if self.components is not None:
+                    self.components.attach(gui, title=self.components.title())
+                for plot in self.plots:
+                    unit = f" [{plot.shown_unit}]" if plot.shown_unit else ""
+                    title = f"{' et '.join(plot.labels)}{unit} en fonction du temps"
+                    plot.attach(gui, title=title)
         with gui.add_folder(TORSORS_FOLDER) as self.folders[TORSORS_FOLDER]:
             labels = [a.label for a in (arrows.arrows if arrows else ())]
             self.point = gui.add_dropdown(
@@ -163,11 +172,32 @@ class ReadoutPanel:
         return []
 
     def sample(self, values: Mapping[str, float], *, push: bool = True) -> None:
-        """Add the current readouts to the plots; send them when ``push``."""
+        """Add the current readouts (and arrow components) to the plots; send them when
+        ``push``."""
         for plot in self.plots:
             plot.append(values)
             if push:
                 plot.push()
+        if self.components is not None:
+            self.sample_components()
+            if push:
+                self.components.push()
+
+    def sample_components(self) -> None:
+        """Add the arrows' components now (in B0, or in B1 of the scene's body frame)."""
+        if self.components is None:
+            return
+        sim = self.sim
+        with sim.lock:
+            snapshot = sim.snapshot(COMPONENT_NAMES)
+            basis = np.eye(3)
+            if self.components.spec.basis == "B1" and 0 < self.body < sim.model.nbody:
+                basis = sim.data.xmat[self.body].reshape(3, 3).copy()
+            try:
+                values = self.components.values(snapshot, basis)
+            except (ValueError, FloatingPointError, IndexError):
+                return
+        self.components.append(values)
 
     def refresh(
         self, sim: Simulation, values: Mapping[str, float], folder: str | None = None

@@ -91,3 +91,51 @@ def test_y_range_includes_zero_and_headroom():
 def test_group_by_unit():
     plots = group_by_unit(["F", "T", "G"], {"F": "N", "G": "N", "T": "J"}, {})
     assert [(p.names, p.unit) for p in plots] == [(("F", "G"), "N"), (("T",), "J")]
+
+
+def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
+    """Course 7.2: the bearing forces are fixed in the rotor. Their B1 components stay
+    put while the rotor turns, and they make up the magnitude the table shows."""
+    import mujoco
+    import numpy as np
+
+    from sandbox.physics.simulation import Simulation
+    from sandbox.scenes.base import as_scene
+    from sandbox.web.plots import component_plot
+
+    sim = Simulation("rotor")
+    scene = as_scene(sim.scene)
+    plot = component_plot(scene)
+    assert plot is not None and plot.spec.basis == "B1"
+    assert [label.split(", ")[-1] for label in plot.labels] == ["y₁", "z₁", "y₁", "z₁"]
+    assert all("Palier" in label for label in plot.labels)
+    assert "composantes dans B1" in plot.title() and "[N]" in plot.title()
+    assert not any("_" in label for label in plot.labels)
+    body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
+    seen, turned = [], []
+    for _ in range(5):
+        sim.advance(0.013)  # not a whole number of turns
+        snapshot = sim.snapshot(("sup_R_x", "dyn_R_x"))
+        basis = sim.data.xmat[body].reshape(3, 3).copy()
+        values = plot.values(snapshot, basis)
+        seen.append([values[n] for n in plot.names])
+        world = plot.values(snapshot, np.eye(3))
+        magnitude = math.hypot(values["bearing_A.1"], values["bearing_A.2"])
+        assert magnitude == pytest.approx(sim.readouts(["bearing_A"])["bearing_A"], rel=1e-6)
+        turned.append(abs(world["bearing_A.1"] - values["bearing_A.1"]) > 1e-3 * magnitude)
+    assert any(turned)  # in B0 the same force turns
+    seen_array = np.array(seen)
+    assert np.ptp(seen_array, axis=0).max() < 1e-6 * np.abs(seen_array).max()
+    series = plot.series()
+    assert "dash" not in series[1] and series[2]["dash"] == (8.0, 4.0)
+
+
+def test_scenes_without_component_plot():
+    from sandbox.physics.simulation import Simulation
+    from sandbox.scenes.base import as_scene
+    from sandbox.web.plots import component_plot
+
+    assert component_plot(None) is None
+    assert component_plot(as_scene(Simulation("rolling_cylinder").scene)) is None
+    gyro = component_plot(as_scene(Simulation("gyroscope").scene))
+    assert gyro is not None and gyro.spec.basis == "B0" and len(gyro.names) == 3
