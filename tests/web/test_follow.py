@@ -88,3 +88,40 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
     student.get_by_role("button", name=OWN).wait_for(timeout=30_000)
     assert wait_for(lambda: app.counts() == (1, 1, 0))
     assert wait_for(lambda: own.finished)
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # two Chromium pages: about 30 s
+def test_a_lesson_step_sent_by_the_teacher_moves_the_students_sliders(open_page):
+    """The teacher sends step 2 (3000 tr/min): the student's own copy runs at 3000 and its
+    slider reads 3000, not the 1500 of step 1."""
+    from conftest import free_port
+
+    from sandbox.web.app import start
+    from sandbox.web.follow import SEND_STEP
+
+    app = start(
+        "rotor", port=free_port(), open_message=False, follow=True, token="t", lesson="equilibrage"
+    )
+    try:
+        teacher = open_page(app.teacher_url)
+        teacher.get_by_text("étape 1/4", exact=False).first.wait_for(timeout=30_000)
+        student = open_page(app.url)
+        student.get_by_role("button", name=OWN).click()
+        student.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
+        student.get_by_text("étape 1/4", exact=False).first.wait_for(timeout=30_000)
+        (own,) = [s for s in app.sessions.values() if s.drive]
+        teacher.get_by_text("Suivant", exact=False).first.click()
+        teacher.get_by_text("étape 2/4", exact=False).first.wait_for(timeout=10_000)
+        teacher.get_by_role("button", name=SEND_STEP).click()
+        student.get_by_text("étape 2/4", exact=False).first.wait_for(timeout=10_000)
+        assert wait_for(lambda: own.controller.sim.values["speed_rpm"] == 3000.0)
+        speed = param_label(next(p for p in SCENES["rotor"].params if p.name == "speed_rpm"))
+        box = (
+            student.locator("div.mantine-Flex-root", has=student.get_by_text(speed, exact=True))
+            .last.locator("input.mantine-NumberInput-input")
+            .first
+        )
+        assert wait_for(lambda: box.input_value() == "3000"), box.input_value()
+    finally:
+        app.stop()
