@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +22,7 @@ from sandbox.physics.model import (
     model_xml,
     resolve,
 )
+from sandbox.physics.readouts import ReadoutInfo
 from sandbox.physics.snapshot import Snapshot
 
 SETTLE_STEPS = 50
@@ -34,18 +34,6 @@ _BAD_WARNINGS = (
     (mujoco.mjtWarning.mjWARN_BADQVEL, "bad velocity (BADQVEL)"),
     (mujoco.mjtWarning.mjWARN_BADQPOS, "bad position (BADQPOS)"),
 )
-
-
-@dataclass(frozen=True)
-class ReadoutInfo:
-    """Name, unit and one-line doc of a readout column; ``label`` and ``hint``: the
-    French words and tooltip of the web page ("": the name and the doc)."""
-
-    name: str
-    unit: str
-    doc: str
-    label: str = ""
-    hint: str = ""
 
 
 class Simulation:
