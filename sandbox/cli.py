@@ -224,6 +224,10 @@ def describe(target: str) -> dict:
             "min": p.min,
             "max": p.max,
             "doc": p.doc,
+            # What the French web page shows (added keys; the ones above are contracts).
+            "label": p.label,
+            "hint": p.hint,
+            "display_unit": p.display_unit,
         }
         for p in (scene.params if scene else ())
     ]
@@ -235,7 +239,17 @@ def describe(target: str) -> dict:
         "integrator": sim.integrator,
         "timestep": sim.timestep,
         "params": params,
-        "readouts": [{"name": r.name, "unit": r.unit, "doc": r.doc} for r in sim.readout_infos()],
+        "readouts": [
+            {
+                "name": r.name,
+                "unit": r.unit,
+                "doc": r.doc,
+                "label": r.label,
+                "hint": r.hint,
+                "display_unit": r.display_unit,
+            }
+            for r in sim.readout_infos()
+        ],
     }
 
 

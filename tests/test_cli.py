@@ -33,10 +33,15 @@ def test_describe_json_schema(capsys):
     assert info["name"] == "rotor"
     names = [p["name"] for p in info["params"]]
     assert names[:3] == ["speed_rpm", "defect_mass_g", "skew_deg"]
+    # The contract keys, plus what the French page shows (label, hint, display_unit).
+    shown = {"label", "hint", "display_unit"}
     for p in info["params"]:
-        assert set(p) == {"name", "value", "unit", "min", "max", "doc"}
+        assert set(p) == {"name", "value", "unit", "min", "max", "doc"} | shown
     for r in info["readouts"]:
-        assert set(r) == {"name", "unit", "doc"}
+        assert set(r) == {"name", "unit", "doc"} | shown
+    speed = info["params"][0]
+    assert (speed["unit"], speed["display_unit"]) == ("rpm", "tr/min")
+    assert speed["label"].startswith("Vitesse de rotation") and speed["hint"].endswith(".")
     readouts = {r["name"] for r in info["readouts"]}
     assert {
         "omega",
