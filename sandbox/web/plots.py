@@ -50,6 +50,8 @@ class Plot:
         unit: Their common unit (contract form; the axis shows its display form).
         colors: RGB colour of each series.
         labels: What the legend shows for each series (French words; default the names).
+        zero: The scene's round-off in ``unit``: smaller samples are drawn as 0 (a range
+            of 10⁻⁸ around 0 would fill the chart with noise).
         window: Time span kept [s].
         maxlen: Most points kept per series.
     """
@@ -63,8 +65,10 @@ class Plot:
         window: float = 10.0,
         maxlen: int = 1000,
         labels: Sequence[str] | None = None,
+        zero: float = 0.0,
     ) -> None:
         self.names = tuple(names)
+        self.zero = zero
         self.labels = tuple(labels) if labels is not None else self.names
         self.unit = unit
         self.shown_unit = display_unit(unit)
@@ -82,7 +86,7 @@ class Plot:
         self.t.append(t)
         for series, name in zip(self.y, self.names, strict=True):
             v = float(values.get(name, math.nan))
-            series.append(v if math.isfinite(v) else math.nan)
+            series.append(math.nan if not math.isfinite(v) else 0.0 if abs(v) <= self.zero else v)
         while self.t and self.t[0] < t - self.window:
             self.t.popleft()
             for series in self.y:
@@ -151,10 +155,11 @@ def group_by_unit(
     units: Mapping[str, str],
     colors: Mapping[str, tuple[int, int, int]],
     labels: Mapping[str, str] | None = None,
+    zero: Mapping[str, float] | None = None,
 ) -> list[Plot]:
     """One :class:`Plot` per unit, in the order the names first appear; ``labels``: the
-    French words of each name (default the name)."""
-    labels = labels or {}
+    French words of each name (default the name); ``zero``: round-off by unit."""
+    labels, zero = labels or {}, zero or {}
     groups: dict[str, list[str]] = {}
     for name in names:
         groups.setdefault(units.get(name, ""), []).append(name)
@@ -165,7 +170,8 @@ def group_by_unit(
         for name in members:
             cols.append(colors.get(name, PALETTE[k % len(PALETTE)]))
             k += 1
-        plots.append(Plot(members, unit, cols, labels=[labels.get(n) or n for n in members]))
+        shown = [labels.get(n) or n for n in members]
+        plots.append(Plot(members, unit, cols, labels=shown, zero=zero.get(unit, 0.0)))
     return plots
 
 
@@ -213,9 +219,10 @@ class ComponentPlot(Plot):
     Args:
         spec: What to draw.
         arrows: The scene's arrows named in ``spec`` (label, colour, unit).
+        zero: The scene's round-off in their unit.
     """
 
-    def __init__(self, spec: Components, arrows: Sequence[Arrow]) -> None:
+    def __init__(self, spec: Components, arrows: Sequence[Arrow], *, zero: float = 0.0) -> None:
         self.spec = spec
         self.arrows = tuple(arrows)
         names, labels, colors = [], [], []
@@ -225,7 +232,7 @@ class ComponentPlot(Plot):
                 labels.append(f"{arrow.label}, {AXIS_WORDS[spec.basis][axis]}")
                 colors.append(arrow.color)
         unit = self.arrows[0].unit if self.arrows else ""
-        super().__init__(names, unit, colors, labels=labels)
+        super().__init__(names, unit, colors, labels=labels, zero=zero)
 
     def series(self) -> tuple[uplot.Series, ...]:
         out = list(super().series())
@@ -260,4 +267,6 @@ def component_plot(scene: Scene | None) -> ComponentPlot | None:
         return None
     by_name = {a.name: a for a in scene.arrows}
     arrows = [by_name[n] for n in spec.arrows if n in by_name]
-    return ComponentPlot(spec, arrows) if arrows else None
+    if not arrows:
+        return None
+    return ComponentPlot(spec, arrows, zero=scene.zero_for(arrows[0].unit))

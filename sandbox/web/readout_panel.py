@@ -74,7 +74,7 @@ class ReadoutPanel:
         colors = {n: a.color for n, a in arrow_of.items()}
         words = {n: infos[n].label or (arrow_of[n].label if n in arrow_of else n) for n in names}
         self.plots: list[Plot] = group_by_unit(
-            names, {n: infos[n].unit for n in names}, colors, labels=words
+            names, {n: infos[n].unit for n in names}, colors, labels=words, zero=self.zero
         )
         self.sim = sim
         self.body = -1

@@ -86,6 +86,10 @@ def test_scene_table_is_french_with_a_decimal_comma(open_page, served_cylinder):
     table.wait_for(timeout=30_000)
     text = page.locator("body").inner_text()
     assert "<span" not in text and "title=" not in text
+    shown = table.inner_text()
+    for code in ("slip_velocity", "mu_required", "P_contact", "delta_A", "on_plane"):
+        assert code not in shown, code
+    assert "Vitesse du centre v [m/s]" in shown and "|Tt|" not in shown
     cells = page.locator("[data-readout]").all_inner_texts()
     numbers = [c for c in cells if re.search(r"\d", c)]
     assert numbers and not any(re.search(r"\d\.\d", c) for c in numbers), numbers

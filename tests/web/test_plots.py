@@ -139,3 +139,11 @@ def test_scenes_without_component_plot():
     assert component_plot(as_scene(Simulation("rolling_cylinder").scene)) is None
     gyro = component_plot(as_scene(Simulation("gyroscope").scene))
     assert gyro is not None and gyro.spec.basis == "B0" and len(gyro.names) == 3
+
+
+def test_round_off_is_drawn_as_zero():
+    (plot,) = group_by_unit(["F"], {"F": "N"}, {}, labels={"F": "Effort F"}, zero={"N": 1e-9})
+    plot.append({"time": 0.0, "F": 3e-12})
+    plot.append({"time": 0.1, "F": -2.0})
+    assert list(plot.arrays()[1]) == [0.0, -2.0]
+    assert plot.labels == ("Effort F",) and plot.series()[1]["label"] == "Effort F [N]"
