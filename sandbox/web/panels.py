@@ -66,6 +66,11 @@ def command(kinds: dict[str, str], label: object) -> Request:
     return Request(kind) if kind is not None else Request("button", label)
 
 
+def bounds(low: float, high: float) -> tuple[tuple[float, str], ...]:
+    """A slider's end marks, written with a decimal comma (viser writes ``0.005``)."""
+    return ((low, number(low)), (high, number(high)))
+
+
 def param_step(p: Param) -> float:
     """Slider step: the scene's own, else 1/200 of the range."""
     return p.step if p.step > 0 else (p.max - p.min) / 200.0
@@ -131,6 +136,7 @@ class ControlPanel:
                 max=SPEEDS[1],
                 step=min(0.1, SPEEDS[0]),
                 initial_value=1.0,
+                marks=bounds(*SPEEDS),
                 hint="Temps simulé divisé par le temps réel (1 : temps réel)",
             )
             on_user(self.speed, lambda v: submit(Request("speed", v)))
@@ -227,6 +233,7 @@ class ControlPanel:
             max=p.max,
             step=param_step(p),
             initial_value=sim.values[p.name],
+            marks=bounds(p.min, p.max),
             hint=param_hint(p),
         )
         on_user(slider, _setter(submit, p.name))

@@ -22,7 +22,7 @@ from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
-from sandbox.web.panels import SPEED_LABEL, command
+from sandbox.web.panels import SPEED_LABEL, bounds, command
 from sandbox.web.session import (
     SPEEDS,
     Notice,
@@ -188,6 +188,7 @@ class ReplayPanel:
                 max=max(t1, step),
                 step=step,
                 initial_value=0.0,
+                marks=bounds(0.0, max(t1, step)),
                 hint="Position dans l'enregistrement : faites glisser pour y aller",
             )
             self.speed = gui.add_slider(
@@ -196,6 +197,7 @@ class ReplayPanel:
                 max=SPEEDS[1],
                 step=min(0.1, SPEEDS[0]),
                 initial_value=1.0,
+                marks=bounds(*SPEEDS),
                 hint="Temps relu divisé par le temps réel (1 : temps réel)",
             )
         self.params: viser.GuiMarkdownHandle | None = None

@@ -32,6 +32,12 @@ KEY_READOUTS: dict[str, tuple[str, ...]] = {
 """The 3-4 readouts shown in large print over the 3D view, per scene (a scene that is
 not listed, or a user's MJCF file, shows its energies)."""
 
+ANGLES = frozenset({"theta"})
+"""Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
+
+FLAGS = frozenset({"contact", "on_plane", "gimbal_lock"})
+"""Readouts that are 0 or 1: the overlay says "oui" or "non"."""
+
 FALLBACK_READOUTS = ("T", "V")
 """Overlay of a scene without key readouts: kinetic and potential energy."""
 
@@ -66,7 +72,9 @@ def style_html(font_px: int, *, left: int = 16) -> str:
         # correction m₁ [g]"; 40 % of the row keeps it on one or two.
         '.mantine-Flex-root>div[style*="width: 6.6125em"]{width:40% !important}'
         ".mantine-Flex-root>div>p.mantine-Text-root{letter-spacing:0 !important}"
-        f"#{OVERLAY_ID}{{position:fixed;left:{left}px;bottom:16px;z-index:5;"
+        # a slider's number box is 3 rem wide: "0.015" and "3000" were cut
+        '.mantine-NumberInput-root[style*="width: 3rem"]{width:4.4em !important}'
+        f"#{OVERLAY_ID}{{position:fixed;left:{left + 72}px;bottom:12px;z-index:5;"
         "pointer-events:none;background:rgba(255,255,255,0.82);border-radius:8px;"
         f"padding:6px 14px;font-size:{round(1.35 * f)}px;line-height:1.3;"
         "font-variant-numeric:tabular-nums;color:#111;box-shadow:0 1px 6px rgba(0,0,0,.2)}"
@@ -94,8 +102,12 @@ def overlay_lines(
     for name in names:
         value = values.get(name, math.nan)
         unit = display_unit(units.get(name, ""))
-        text = f"{labels.get(name) or name} = {number(value, 3)}"
-        lines.append(f"{text} {unit}".rstrip())
+        shown = number(value, 3)
+        if name in ANGLES and math.isfinite(value):
+            shown, unit = str(round(math.degrees(value) % 360.0) % 360), "°"
+        elif name in FLAGS and math.isfinite(value):
+            shown, unit = ("oui" if value > 0.5 else "non"), ""
+        lines.append(f"{labels.get(name) or name} = {shown} {unit}".rstrip())
     return lines
 
 

@@ -3,6 +3,8 @@ browser: a stand-in for viser's input handle)."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from sandbox.scenes.base import Param
@@ -164,3 +166,10 @@ def test_overlay_lines_are_french_and_escaped():
 def test_the_page_style_sets_at_least_16_px():
     css = style_html(16)
     assert "--mantine-font-size-xs:16px" in css and "sandbox-overlay" in css
+
+
+def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
+    lines = overlay_lines(
+        ["theta", "contact"], {"theta": 4 * math.pi + 0.5, "contact": 1.0}, {}, {"theta": "rad"}
+    )
+    assert lines == ["theta = 29 °", "contact = oui"]
