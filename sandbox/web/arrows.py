@@ -31,7 +31,7 @@ MIN_LENGTH = 1e-4
 SHAFT = 0.01
 """Shaft radius as a fraction of the mechanism's size (heads 2.5 and 6 shafts)."""
 
-MAX_REACH = 0.4
+MAX_REACH = 0.6
 """Longest arrow of a unit, as a fraction of the mechanism's size, before user scaling."""
 
 MIN_REACH = 0.05
@@ -53,14 +53,15 @@ def arrow_points(arrow: Arrow, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarr
 def auto_factor(current: float, longest: float, size: float) -> float:
     """The length factor of a unit's arrows: ``current`` unless its longest arrow
     (``longest`` metres at the scene's scale) would reach past :data:`MAX_REACH` or stay
-    under :data:`MIN_REACH` of ``size``; then the factor that brings it to half the
-    reach."""
+    under :data:`MIN_REACH` of ``size``; then the factor that brings it to 3/4 of the
+    reach (long enough to stick out of a body it starts inside, such as a rolling
+    cylinder's contact forces)."""
     if not (math.isfinite(longest) and longest > 0):
         return current
     drawn = longest * current
     if MIN_REACH * size <= drawn <= MAX_REACH * size:
         return current
-    return 0.5 * MAX_REACH * size / longest
+    return 0.75 * MAX_REACH * size / longest
 
 
 class ArrowLayer:

@@ -48,13 +48,28 @@ def speed_label(speed: float) -> str:
     return "×1 (temps réel)" if speed == 1.0 else f"×{number(speed, 3)}"
 
 
-def followed_body(model: mujoco.MjModel) -> int:
-    """The body a camera can follow: the first one moving freely (a free joint), -1 if
-    none (a mechanism on fixed pivots stays in view)."""
-    for j in range(model.njnt):
-        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):
-            return int(model.jnt_bodyid[j])
-    return -1
+def followed_body(model: mujoco.MjModel, *, slides: bool = True) -> int:
+    """The body a camera can follow: the one with the most translation joints (a free
+    joint counts three, a slide one), the first such; -1 if none (a mechanism on fixed
+    pivots stays in view).
+
+    Args:
+        model: Compiled model.
+        slides: Count slide joints (a registered scene whose motion leaves the view, such
+            as a cylinder rolling on slides x and z); False: free joints only.
+    """
+    best, most = -1, 0
+    for b in range(model.nbody):
+        count = 0
+        for j in range(int(model.body_jntadr[b]), int(model.body_jntadr[b] + model.body_jntnum[b])):
+            kind = int(model.jnt_type[j])
+            if kind == int(mujoco.mjtJoint.mjJNT_FREE):
+                count += 3
+            elif slides and kind == int(mujoco.mjtJoint.mjJNT_SLIDE):
+                count += 1
+        if count > most:
+            best, most = b, count
+    return best
 
 
 def marker_angle(model: mujoco.MjModel, geom: int) -> float | None:
@@ -132,7 +147,12 @@ class DisplayPanel:
         words = extra.get("markers") if isinstance(extra, Mapping) else None
         self.words: Mapping[str, str] = words if isinstance(words, Mapping) else {}
         self.size = mechanism_size(model, sim.data)
-        self.body = followed_body(model) if camera is not None else -1
+        # A registered scene says whether its motion leaves the view (it then starts
+        # paused); any file's free body can.
+        leaves = spec is None or spec.start_paused
+        self.body = (
+            followed_body(model, slides=spec is not None) if camera is not None and leaves else -1
+        )
         self.following = False
         submit = controller.submit
         turning = main_hinge(model, sim.data) is not None
