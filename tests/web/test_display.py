@@ -241,3 +241,100 @@ def test_lower_layer_refusals_are_said_in_french(exc, words):
     text = french_message(exc)
     assert words in text and text.endswith("rien n'a changé.")
     assert "timestep" not in text and "mass1_g" not in text and "--" not in text
+
+
+# -- the "Affichage" folder ------------------------------------------------------------------
+@pytest.fixture
+def server():
+    import viser
+    from conftest import free_port
+
+    srv = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    try:
+        yield srv
+    finally:
+        srv.stop()
+
+
+class Event:
+    def __init__(self, target) -> None:
+        self.client = object()
+        self.target = target
+
+
+class Camera:
+    """viser's camera: setting the position translates the look-at point with it."""
+
+    def __init__(self) -> None:
+        self.look_at = np.zeros(3)
+        self._position = np.array([0.0, -1.0, 0.5])
+
+    @property
+    def position(self) -> np.ndarray:
+        return self._position
+
+    @position.setter
+    def position(self, value) -> None:
+        value = np.asarray(value, dtype=float)
+        self.look_at = self.look_at + value - self._position
+        self._position = value
+
+
+def _panel(server, scene: str, **values):
+    from sandbox.web.display_panel import DisplayPanel
+
+    ctl = Controller(Simulation(scene, values=values), clock=Clock())
+    point = (np.array([0.1, 0.0, 0.05]), "P")
+    panel = DisplayPanel(server.gui, ctl, scene=server.scene, camera=Camera(), point=lambda: point)
+    return ctl, panel
+
+
+def test_ralenti_and_pas_queue_requests(server):
+    from sandbox.web.display_panel import UNIT_TIME
+
+    ctl, panel = _panel(server, "rotor")
+    assert panel.slow.options[-1] == "×0,01"
+    panel.slow.value = "×0,01"
+    panel._on_slow(Event(panel.slow))
+    assert ctl.frame() == [] and ctl.speed == 0.01
+    assert panel.step_request() == Request("advance", 10.0, name="deg")
+    ctl.submit(panel.step_request())
+    ctl.frame()
+    assert ctl.display_time == pytest.approx(math.radians(10) / (1500 * math.pi / 30))
+    panel.step_unit.value = UNIT_TIME
+    panel.step_value.value = 0.002
+    assert panel.step_request() == Request("advance", 0.002, name="s")
+    ctl.submit(Request("speed", 0.5))
+    ctl.frame()
+    panel.refresh()
+    assert panel.slow.value == "×0,5"
+    assert panel.follow is None  # the rotor stays in view
+
+
+def test_the_camera_follows_the_rolling_cylinder(server):
+    ctl, panel = _panel(server, "rolling_cylinder")
+    assert panel.follow is not None and panel.camera is not None
+    panel.following = True
+    ctl.submit(Request("play"))
+    for _ in range(60):
+        ctl.clock.now += 1 / 30
+        ctl.frame()
+    shown = ctl.drawn()
+    panel.draw(shown)
+    body = panel.body
+    assert np.asarray(panel.camera.position) - np.asarray(panel.camera.look_at) == pytest.approx(
+        np.array([0.0, -1.0, 0.5])
+    )
+    assert np.asarray(panel.camera.look_at) == pytest.approx(np.asarray(shown.data.xpos[body]))
+    assert shown.data.xpos[body][0] > 0.1  # it rolled away, the view with it
+
+
+def test_the_masses_are_labelled_with_their_angle_and_p_is_drawn(server):
+    ctl, panel = _panel(server, "rotor", mass1_g=30.0, angle1_deg=-90.0)
+    panel.draw(ctl.drawn())
+    texts = sorted(label.text for label in panel._marks.values())
+    assert texts == ["à -90°", "à 0°"] or all(" : " in t for t in texts), texts
+    panel.refresh()
+    assert panel._point is not None
+    dot, label = panel._point
+    assert dot.visible and np.asarray(dot.position) == pytest.approx([0.1, 0.0, 0.05])
