@@ -37,6 +37,7 @@ class DisplayState:
         self._model: mujoco.MjModel | None = None
         self._data: mujoco.MjData | None = None
         self._key: tuple[object, ...] | None = None
+        self._state = np.zeros(0)
 
     def ahead(self, time: float) -> float:
         """Seconds of motion to add to the physics state to draw ``time`` (0 when
@@ -75,7 +76,12 @@ class DisplayState:
         shown = self._data
         if key == self._key:
             return shown
-        mujoco.mj_copyData(shown, model, physics)
+        spec = mujoco.mjtState.mjSTATE_INTEGRATION  # state, inputs and warm start only
+        size = mujoco.mj_stateSize(model, spec)
+        if self._state.size != size:
+            self._state = np.zeros(size)
+        mujoco.mj_getState(model, physics, self._state, spec)
+        mujoco.mj_setState(model, shown, self._state, spec)
         if gap > 0:
             mujoco.mj_integratePos(model, shown.qpos, shown.qvel, gap)
         shown.time = float(physics.time) + gap
