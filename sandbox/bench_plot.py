@@ -97,13 +97,16 @@ def new_figure(width: float, height: float) -> Figure:
     return fig
 
 
-def draw(res: SceneResult, live: Run | None = None) -> Figure:
+def draw(res: SceneResult, live: Run | None = None, *, compact: bool = False) -> Figure:
     """Error of the key quantity vs CPU cost: one curve per integrator (small to large
     timestep), the Pareto front as a thick grey band, the default as a star, and the
     live setting of a web session as a black diamond. Returns the matplotlib figure
-    (drawn under :data:`LOCK`; hold it too to save or render the figure)."""
+    (drawn under :data:`LOCK`; hold it too to save or render the figure).
+
+    ``compact``: a smaller figure (5 x 4.4 in) whose words stay readable once the web
+    page shrinks it to its panel: no scene title (the panel says it), the legend below."""
     with LOCK:
-        return _draw(res, live)
+        return _draw(res, live, compact=compact)
 
 
 def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
@@ -119,8 +122,8 @@ def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
     return Comma(labelOnlyBase=label_only_base)
 
 
-def _draw(res: SceneResult, live: Run | None) -> Figure:
-    fig = new_figure(8, 5.4)
+def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figure:
+    fig = new_figure(5.0, 4.4) if compact else new_figure(8, 5.4)
     ax = fig.add_subplot()
     floor = 1e-16
     by_integrator: dict[str, list[Run]] = {}
@@ -195,16 +198,24 @@ def _draw(res: SceneResult, live: Run | None) -> Figure:
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("Coût CPU par seconde simulée [s]")
-    ax.set_ylabel(f"Erreur relative sur {key} (par rapport au cours)")
+    ax.set_ylabel(
+        f"Erreur relative sur {key}\n(par rapport au cours)"
+        if compact
+        else f"Erreur relative sur {key} (par rapport au cours)"
+    )
     if diverged:
         title += f" ({diverged} calculs divergents non montrés)"
-    ax.set_title(f"Ce que coûte la précision : {title}", fontsize=11)
+    ax.set_title("Ce que coûte la précision" if compact else f"Ce que coûte la précision : {title}",
+                 fontsize=11)  # fmt: skip
     ax.axhline(5e-3, color="green", linestyle=":", linewidth=1)
     ax.text(ax.get_xlim()[0], 5e-3, " 0,5 %", color="green", va="bottom", fontsize=8)
     for axis in (ax.xaxis, ax.yaxis):  # 10⁻³ needs no comma; a plain 0.5 would
         axis.set_major_formatter(comma_log_formatter())
         axis.set_minor_formatter(comma_log_formatter(label_only_base=True))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    if compact:
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
+    else:
+        ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -33,7 +33,8 @@ WINDOW = 300
 
 _BASES: dict[tuple[str, int], tuple[np.ndarray, tuple[float, ...]]] = {}
 _BASES_LOCK = threading.Lock()
-CHART_DPI = 60
+CHART_DPI = 100
+"""Pixels per inch of the web chart (5 x 4.4 in: 500 x 440 px, shown about 390 px wide)."""
 
 
 def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
@@ -46,7 +47,7 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
             return cached
         from sandbox.bench_plot import draw
 
-        fig = draw(res, None)  # a Figure on its own Agg canvas: no pyplot state
+        fig = draw(res, None, compact=True)  # a Figure on its own Agg canvas: no pyplot
         fig.set_dpi(CHART_DPI)
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 

@@ -93,9 +93,9 @@ class TorsorSpec:
 
 
 TORSORS = (
-    TorsorSpec("kin", "{𝒞<sub>Σ/R0</sub>}", "torseur cinétique", "kg·m/s", "kg·m²/s"),
-    TorsorSpec("dyn", "{𝒟<sub>Σ/R0</sub>}", "torseur dynamique", "N", "N·m"),
-    TorsorSpec("sup", "{𝒯<sub>0/Σ</sub>}", "action du bâti 0 sur Σ", "N", "N·m"),
+    TorsorSpec("kin", "{𝒞<sub>Σ/R0</sub>}", "Torseur cinétique", "kg·m/s", "kg·m²/s"),
+    TorsorSpec("dyn", "{𝒟<sub>Σ/R0</sub>}", "Torseur dynamique", "N", "N·m"),
+    TorsorSpec("sup", "{𝒯<sub>0/Σ</sub>}", "Action du bâti 0 sur Σ", "N", "N·m"),
 )
 
 
