@@ -93,3 +93,26 @@ def test_scene_table_is_french_with_a_decimal_comma(open_page, served_cylinder):
     cells = page.locator("[data-readout]").all_inner_texts()
     numbers = [c for c in cells if re.search(r"\d", c)]
     assert numbers and not any(re.search(r"\d\.\d", c) for c in numbers), numbers
+
+
+def test_plot_ticks_use_a_decimal_comma_in_a_french_browser(browser, served_cylinder):
+    """uPlot writes tick labels in the browser's language: a lab PC set to French reads
+    "0,05" (viser cannot send a JavaScript formatter)."""
+    context = browser.new_context(viewport={"width": 1280, "height": 720}, locale="fr-FR")
+    try:
+        page = context.new_page()
+        page.goto(served_cylinder.url)
+        page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
+        _show_folder(page, "Courbes")
+        (session,) = served_cylinder.sessions.values()
+        session.controller.playing = True
+        page.wait_for_timeout(2500)
+        ticks = page.evaluate(
+            "() => Object.values(window.__viserTestpoints.uplots).flatMap("
+            "(e) => e.chart.axes.flatMap((a) => (a._values || []).map(String)))"
+        )
+    finally:
+        context.close()
+    fractions = [t for t in ticks if re.search(r"\d[.,]\d", t)]
+    assert fractions, ticks
+    assert all("," in t and "." not in t for t in fractions), fractions
