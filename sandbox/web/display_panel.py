@@ -19,7 +19,7 @@ import numpy as np
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.arrows import USER_SCALES, ArrowLayer
-from sandbox.web.motion import main_hinge
+from sandbox.web.motion import main_joint
 from sandbox.web.renderer import MARKER, mechanism_size
 from sandbox.web.session import SPEEDS, Controller, Request
 from sandbox.web.text import number
@@ -155,7 +155,7 @@ class DisplayPanel:
         )
         self.following = False
         submit = controller.submit
-        turning = main_hinge(model, sim.data) is not None
+        turning = main_joint(model, sim.data) is not None
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:
             self.slow = gui.add_dropdown(
                 "Ralenti",

@@ -98,28 +98,36 @@ class DisplayState:
         return Snapshot(self.sim.model, self.data(time, names or ("time",)), self.sim.values)
 
 
-def main_hinge(model: mujoco.MjModel, data: mujoco.MjData) -> int | None:
-    """The mechanism's main rotating joint: the hinge turning fastest (a crank, a rotor's
-    spin), None when no hinge turns (a free or ball joint only, or all at rest)."""
+def joint_speed(model: mujoco.MjModel, data: mujoco.MjData, joint: int) -> float:
+    """Angular speed [rad/s] of a joint relative to its parent: |ω| of a hinge, ‖ω‖ of a
+    ball or of a free joint's rotation; 0 for a slide."""
+    adr = int(model.jnt_dofadr[joint])
+    kind = int(model.jnt_type[joint])
+    if kind == int(mujoco.mjtJoint.mjJNT_HINGE):
+        return abs(float(data.qvel[adr]))
+    if kind == int(mujoco.mjtJoint.mjJNT_BALL):
+        return float(np.linalg.norm(data.qvel[adr : adr + 3]))
+    if kind == int(mujoco.mjtJoint.mjJNT_FREE):
+        return float(np.linalg.norm(data.qvel[adr + 3 : adr + 6]))
+    return 0.0
+
+
+def main_joint(model: mujoco.MjModel, data: mujoco.MjData) -> int | None:
+    """The mechanism's main rotating joint: the one turning fastest (a crank, a rotor's
+    spin, a top's ball joint), None when nothing turns."""
     best, speed = None, 0.0
     for j in range(model.njnt):
-        if int(model.jnt_type[j]) != int(mujoco.mjtJoint.mjJNT_HINGE):
-            continue
-        w = abs(float(data.qvel[int(model.jnt_dofadr[j])]))
+        w = joint_speed(model, data, j)
         if w > speed:
             best, speed = j, w
     return best
 
 
-def hinge_speed(model: mujoco.MjModel, data: mujoco.MjData) -> float:
-    """Angular speed [rad/s] of :func:`main_hinge` (0 when none turns)."""
-    j = main_hinge(model, data)
-    return 0.0 if j is None else abs(float(data.qvel[int(model.jnt_dofadr[j])]))
-
-
-def hinge_angle(model: mujoco.MjModel, data: mujoco.MjData, joint: int) -> float:
-    """Angle [rad] of hinge ``joint`` in ``data``."""
-    return float(data.qpos[int(model.jnt_qposadr[joint])])
+def rotation_speed(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """Angular speed [rad/s] of :func:`main_joint` (0 when nothing turns): a "Pas" of an
+    angle lasts that angle divided by it."""
+    j = main_joint(model, data)
+    return 0.0 if j is None else joint_speed(model, data, j)
 
 
 def angle_between(a: np.ndarray, b: np.ndarray) -> float:

@@ -35,7 +35,7 @@ from sandbox.physics.units import display_unit
 from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import text
-from sandbox.web.motion import DisplayState, hinge_speed
+from sandbox.web.motion import DisplayState, rotation_speed
 
 log = logging.getLogger(__name__)
 
@@ -561,7 +561,7 @@ def advance_seconds(sim: Simulation, value: object, unit: object) -> float:
         return number
     if not 0 < number <= 3600:
         raise Refused(f"Pas de {text.number(number, 3)}° refusé : choisissez entre 0 et 3600°.")
-    w = hinge_speed(sim.model, sim.data)
+    w = rotation_speed(sim.model, sim.data)
     if w < 1e-6:
         raise Refused("Aucune pièce ne tourne : choisissez un pas en temps (s).")
     seconds = math.radians(number) / w

@@ -13,7 +13,7 @@ from sandbox.errors import BadModel, BadOption, BadParameter, Diverged
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import session as session_module
-from sandbox.web.motion import angle_between, main_hinge
+from sandbox.web.motion import angle_between, main_joint
 from sandbox.web.session import (
     SPEEDS,
     Controller,
@@ -118,7 +118,7 @@ def test_forces_are_evaluated_at_the_drawn_state():
 
 def test_a_step_of_an_angle_turns_the_main_joint_by_that_angle():
     ctl = _rotor(1500.0)  # one physics step is 90°
-    assert main_hinge(ctl.sim.model, ctl.sim.data) == 0
+    assert main_joint(ctl.sim.model, ctl.sim.data) == 0
     before = ctl.drawn().data.qpos[0]
     for _ in range(13):
         ctl.submit(Request("advance", "10", name="deg"))
@@ -338,3 +338,13 @@ def test_the_masses_are_labelled_with_their_angle_and_p_is_drawn(server):
     assert panel._point is not None
     dot, label = panel._point
     assert dot.visible and np.asarray(dot.position) == pytest.approx([0.1, 0.0, 0.05])
+
+
+def test_an_angle_step_turns_a_top_on_its_ball_joint():
+    sim = Simulation("heavy_gyroscope")
+    ctl = Controller(sim, clock=Clock())
+    w = float(np.linalg.norm(sim.data.qvel[:3]))
+    assert w > 1.0
+    ctl.submit(Request("advance", 90, name="deg"))
+    assert ctl.frame() == []
+    assert ctl.display_time == pytest.approx(math.radians(90) / w)
