@@ -535,8 +535,8 @@ def divergence_message(exc: Diverged) -> str:
     cause = next((v for k, v in DIVERGENCE_CAUSES.items() if k in detail), "état non physique")
     return (
         f"La simulation a divergé à t = {text.number(exc.time, 4)} s ({cause}). "
-        "Réduisez le pas de temps dt ou choisissez l'intégrateur rk4 ou implicitfast, "
-        "puis cliquez sur « Réinitialiser »."
+        "Réduisez le pas de temps dt ou choisissez l'intégrateur Runge-Kutta 4 (rk4) ou "
+        "implicite rapide (implicitfast), puis cliquez sur « Réinitialiser »."
     )
 
 
@@ -603,6 +603,14 @@ def shown_value(value: object, limit: int = 40) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
+def shown_number(value: object) -> str:
+    """A value from a browser as the page writes it: a finite number with a decimal
+    comma (``0,005``), anything else as :func:`shown_value` (``nan``, ``abc``)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+        return text.number(float(value), 6)
+    return shown_value(value)
+
+
 def french_number(x: float) -> str:
     """``x`` with 3 significant digits and a decimal comma (``0,001``, ``1×10⁻⁶``)."""
     return text.number(x, 3)
@@ -657,7 +665,7 @@ def check_speed(value: object) -> float:
     """A speed factor within :data:`SPEEDS` (Refused otherwise)."""
     low, high = SPEEDS
     refusal = (
-        f"Vitesse ×{shown_value(value)} refusée : choisissez entre ×{french_number(low)} "
+        f"Vitesse ×{shown_number(value)} refusée : choisissez entre ×{french_number(low)} "
         f"et ×{french_number(high)}."
     )
     try:
@@ -695,7 +703,7 @@ def check_value(sim: Simulation, name: object, value: object) -> float:
     unit = french_unit(p.unit)
     unit = unit if unit in ("", "°") else f" {unit}"
     numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
-    shown = text.number(float(value), 6) if numeric else shown_value(value)  # type: ignore[arg-type]
+    shown = shown_number(value)
     given = f"{shown}{unit}" if numeric else f"« {shown} »"
     refusal = (
         f"{param_words(p)} : {given} refusé, choisissez entre {text.number(p.min, 6)} et "

@@ -186,7 +186,7 @@ def test_slow_motion_down_to_one_hundredth():
     assert ctl.frame() == [] and ctl.speed == 0.01
     ctl.submit(Request("speed", 0.005))
     (notice,) = ctl.frame()
-    assert notice.text == "Vitesse ×0.005 refusée : choisissez entre ×0,01 et ×4."
+    assert notice.text == "Vitesse ×0,005 refusée : choisissez entre ×0,01 et ×4."
     for _ in range(600):
         ctl.clock.now += 1 / 60
         ctl.frame()
