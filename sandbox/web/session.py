@@ -702,7 +702,8 @@ def check_value(sim: Simulation, name: object, value: object) -> float:
     p = known[name]
     unit = french_unit(p.unit)
     unit = unit if unit in ("", "°") else f" {unit}"
-    numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
+    is_number = isinstance(value, (int, float)) and not isinstance(value, bool)
+    numeric = is_number and math.isfinite(value)  # type: ignore[arg-type]
     shown = shown_number(value)
     given = f"{shown}{unit}" if numeric else f"« {shown} »"
     refusal = (
