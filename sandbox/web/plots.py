@@ -31,15 +31,25 @@ def nice_ceil(x: float) -> float:
     return 10.0 ** (k + 1)
 
 
-SOFT_ZERO = {"pad": 0.1, "soft": 0.0, "mode": 1}
-"""uPlot range bound: 10 % padding, and 0 kept inside the range (soft limit, mode 1)."""
+SOFT_ZERO = {"pad": 0.0, "soft": 0.0, "mode": 1}
+"""uPlot range bound: no padding of its own (the range series carries the headroom), and
+0 kept inside the range (soft limit, mode 1)."""
 
 SCALES: dict[str, uplot.Scale] = {
     "x": {"time": False},
     "y": {"auto": True, "range": {"min": SOFT_ZERO, "max": SOFT_ZERO}},
 }
 """Scales of every live plot, sent once at creation: x follows the samples, y is ranged
-by the browser from the samples shown (uPlot's range configuration: padding and 0)."""
+by the browser from the samples and the range series (see :meth:`Plot.arrays`)."""
+
+RANGE_SERIES: uplot.Series = {
+    "label": "\u2009",  # a thin space: uPlot writes "Value" for an empty label
+    "stroke": "rgba(0,0,0,0)",
+    "width": 0,
+    "points": {"show": False},
+}
+"""An invisible last series holding :meth:`Plot.y_range` at its ends: uPlot's own range
+pads by a tenth of the spread, so a nearly constant signal sat on the chart's top edge."""
 
 
 class Plot:
@@ -99,11 +109,20 @@ class Plot:
             series.clear()
 
     def arrays(self) -> tuple[np.ndarray, ...]:
-        """(t, y_1, ..., y_n) as float arrays, at least two points long for uPlot."""
+        """(t, y_1, ..., y_n, range) as float arrays, at least two points long: the range
+        series is NaN (not drawn) but for :meth:`y_range` at its two ends."""
         if not self.t:
             t = np.array([0.0, 1e-3])
-            return (t, *(np.zeros(2) for _ in self.names))
-        return (np.array(self.t), *(np.array(s) for s in self.y))
+            columns = [np.zeros(2) for _ in self.names]
+        elif len(self.t) == 1:
+            t = np.array([self.t[0], self.t[0] + 1e-3])
+            columns = [np.array([s[0], s[0]]) for s in self.y]
+        else:
+            t = np.array(self.t)
+            columns = [np.array(s) for s in self.y]
+        bounds = np.full(len(t), np.nan)
+        bounds[0], bounds[-1] = self.y_range()
+        return (t, *columns, bounds)
 
     def series(self) -> tuple[uplot.Series, ...]:
         """uPlot series options: time first, then one coloured line per readout."""
@@ -111,6 +130,7 @@ class Plot:
         unit = f" [{self.shown_unit}]" if self.shown_unit else ""
         for label, (r, g, b) in zip(self.labels, self.colors, strict=True):
             out.append(uplot.Series(label=f"{label}{unit}", stroke=f"rgb({r},{g},{b})", width=2))
+        out.append(copy.deepcopy(RANGE_SERIES))
         return tuple(out)
 
     def attach(self, gui: viser.GuiApi, *, title: str, x_label: str = "t [s]") -> None:
@@ -121,12 +141,14 @@ class Plot:
             title=title,
             scales=self.scales(),
             axes=(uplot.Axis(label=x_label), uplot.Axis(label=self.shown_unit, size=60)),
+            legend={"live": False},  # names only: no "--" (English-looking) value cells
+            padding=(12, 24, 0, 0),  # room for the top tick's label
             aspect=1.6,
         )
 
     def y_range(self) -> tuple[float, float]:
-        """Vertical range including 0 and every sample, with 10 % headroom (what the
-        browser's automatic range shows, rounded to "nice" bounds; for tests and exports)."""
+        """Vertical range including 0 and every sample, with 10 % headroom, rounded to
+        "nice" bounds (the chart's range, sent as the range series)."""
         values = np.concatenate([np.asarray(s, dtype=float) for s in self.y] or [np.zeros(1)])
         values = values[np.isfinite(values)]
         lo = min(0.0, float(values.min())) if values.size else 0.0
@@ -236,7 +258,7 @@ class ComponentPlot(Plot):
 
     def series(self) -> tuple[uplot.Series, ...]:
         out = list(super().series())
-        for k, s in enumerate(out[1:]):
+        for k, s in enumerate(out[1 : 1 + len(self.names)]):
             dash = DASHES[k % len(self.spec.axes) % len(DASHES)]
             if dash:
                 s["dash"] = dash

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from sandbox.web.plots import Plot, group_by_unit, nice_ceil
@@ -36,12 +37,12 @@ def test_window_nan_and_time_going_back():
     plot = Plot(["a"], "N", [(0, 0, 0)], window=1.0)
     for k in range(30):
         plot.append({"time": 0.1 * k, "a": float(k)})
-    t, a = plot.arrays()
+    t, a, _ = plot.arrays()
     assert t[-1] - t[0] <= 1.0 + 1e-9 and a[-1] == 29.0
     plot.append({"time": 3.0, "a": math.inf})
     assert math.isnan(plot.arrays()[1][-1])
     plot.append({"time": 0.0, "a": 1.0})  # reset: the plot starts again
-    assert len(plot.arrays()[0]) == 1
+    assert len(plot.t) == 1 and len(plot.arrays()[0]) == 2  # uPlot needs two points
 
 
 class Gui:
@@ -65,14 +66,17 @@ def test_scales_are_sent_once_and_every_push_sends_the_data():
     plot.attach(gui, title="v")
     created = gui.created["scales"]
     assert created["y"]["auto"] is True and "range" in created["y"]
-    for bound in ("min", "max"):  # 10 % headroom, 0 kept in view
-        assert created["y"]["range"][bound] == {"pad": 0.1, "soft": 0.0, "mode": 1}
+    for bound in ("min", "max"):  # 0 kept in view, the headroom is the range series'
+        assert created["y"]["range"][bound] == {"pad": 0.0, "soft": 0.0, "mode": 1}
     assert created["x"] == {"time": False}
     for k in range(60):  # the range grows 50-fold, then the sign changes
         plot.append({"time": 0.1 * k, "v": 0.5 * k if k < 50 else -100.0})
         plot.push()
-        t, v = plot.handle.data
-        assert t[-1] == pytest.approx(0.1 * k) and len(t) == len(v) == k + 1
+        t, v, bounds = plot.handle.data
+        n = max(k + 1, 2)
+        assert t[-1] == pytest.approx(0.1 * k) or k == 0
+        assert len(t) == len(v) == len(bounds) == n
+        assert (bounds[0], bounds[-1]) == plot.y_range() and np.isnan(bounds[1:-1]).all()
     assert plot.handle.scales_sent == 0
     assert plot.scales() == created  # and a copy: a caller cannot change the shared one
     plot.scales()["y"]["auto"] = False
@@ -147,3 +151,16 @@ def test_round_off_is_drawn_as_zero():
     plot.append({"time": 0.1, "F": -2.0})
     assert list(plot.arrays()[1]) == [0.0, -2.0]
     assert plot.labels == ("Effort F",) and plot.series()[1]["label"] == "Effort F [N]"
+
+
+def test_a_nearly_constant_signal_sits_below_the_top_edge():
+    """The heavy top's ψ' = 0,7858 rad/s ± 10⁻⁹: uPlot alone ranged [0 ; 0,7858] and drew
+    the line on the top edge; the range series asks for [0 ; 1]."""
+    plot = Plot(["psi"], "rad/s", [(0, 0, 0)], labels=["ψ'"])
+    for k in range(20):
+        plot.append({"time": 0.1 * k, "psi": 0.7857610 + 1e-9 * k})
+    *_, bounds = plot.arrays()
+    assert (bounds[0], bounds[-1]) == (0.0, 1.0)
+    series = plot.series()
+    assert len(series) == 3 and series[-1]["stroke"] == "rgba(0,0,0,0)"
+    assert series[-1]["width"] == 0 and series[-1]["label"] == "\u2009"
