@@ -67,6 +67,8 @@ class CyclePanel:
                         {"label": unit, "size": 60},
                     ),
                     aspect=1.6,
+                    legend={"live": False},  # names only, no "--" value cells
+                    padding=(12, 24, 0, 0),
                 )
                 self.charts.append((names, chart))
 
