@@ -33,8 +33,9 @@ COLORS = {
 }
 
 
-INVARIANT_WORDS = {"energy theorem": "théorème de l'énergie cinétique"}
-"""French words of the invariants a scene names in words (the others are symbols)."""
+DRIFT_WORDS = {"energy theorem": "écart au théorème de l'énergie cinétique"}
+"""What the drift measures, for the invariants a scene names in words (the others are
+symbols: "dérive de T + V")."""
 
 
 def decimal(value: float) -> str:
@@ -65,14 +66,15 @@ def words(res: SceneResult) -> tuple[str, str, str]:
         for r in scene.readouts:
             if r.name == res.key and r.label:
                 key = r.label[0].lower() + r.label[1:] if r.label[1:2].islower() else r.label
-    return title, key, invariant_words(res.invariant)
+    return title, key, drift_words(res.invariant)
 
 
-def invariant_words(invariant: str) -> str:
-    """What a scene conserves, for a French reader: its symbols ("T + V", "|σG|") without
-    the English words in parentheses, or French words ("théorème de l'énergie cinétique")."""
+def drift_words(invariant: str) -> str:
+    """What the drift of a scene's invariant measures, for a French reader: "dérive de "
+    and its symbols ("T + V", "|σG|", without the English words in parentheses), or
+    French words ("écart au théorème de l'énergie cinétique")."""
     head = invariant.split(" (")[0].strip()
-    return INVARIANT_WORDS.get(head, head)
+    return DRIFT_WORDS.get(head, f"dérive de {head}")
 
 
 def _ok(r: Run) -> bool:
@@ -190,7 +192,7 @@ def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figur
         ax.text(
             0.01,
             0.01,
-            f"cercle vide : dérive de {invariant} au-delà de {decimal(res.drift_tol)} "
+            f"cercle vide : {invariant} au-delà de {decimal(res.drift_tol)} "
             "(réglage non admissible)",
             transform=ax.transAxes,
             fontsize=8,
@@ -203,10 +205,10 @@ def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figur
         if compact
         else f"Erreur relative sur {key} (par rapport au cours)"
     )
+    heading = "Ce que coûte la précision" if compact else f"Ce que coûte la précision\n{title}"
     if diverged:
-        title += f" ({diverged} calculs divergents non montrés)"
-    ax.set_title("Ce que coûte la précision" if compact else f"Ce que coûte la précision : {title}",
-                 fontsize=11)  # fmt: skip
+        heading += f" ({diverged} calculs divergents non montrés)"
+    ax.set_title(heading, fontsize=11)
     ax.axhline(5e-3, color="green", linestyle=":", linewidth=1)
     ax.text(ax.get_xlim()[0], 5e-3, " 0,5 %", color="green", va="bottom", fontsize=8)
     for axis in (ax.xaxis, ax.yaxis):  # 10⁻³ needs no comma; a plain 0.5 would

@@ -14,7 +14,7 @@ import numpy as np
 import viser
 
 from sandbox.bench import Run, SceneResult, load_results
-from sandbox.bench_plot import invariant_words
+from sandbox.bench_plot import drift_words
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import charts
@@ -114,7 +114,7 @@ class AccuracyPanel:
         if self.acc is not None:
             labels = {i.name: i.label for i in sim.readout_infos()}
             self.key_words = labels.get(self.acc.key) or self.acc.key
-            self.invariant_words = invariant_words(self.acc.invariant)
+            self.invariant_words = drift_words(self.acc.invariant)
         with gui.add_folder("Précision et coût") as self.folder:
             self.text = gui.add_markdown("")
             self.image = None
@@ -207,7 +207,7 @@ def accuracy_markdown(
         error: Relative error of the key quantity against the course (None: no course).
         drift: Relative drift of the invariant (None: no course).
         key: The key quantity in words (its label).
-        invariant: The invariant in words or symbols.
+        invariant: What the drift measures (:func:`~sandbox.bench_plot.drift_words`).
         chart: Add the sentence that explains the chart's marks.
     """
     rtf = 1.0 / cost if cost > 0 else math.nan
@@ -223,7 +223,8 @@ def accuracy_markdown(
     if error is not None:
         lines.append(f"| Erreur relative sur {cell(key)} (cours) | {fmt(error, digits=2)} |")
     if drift is not None:
-        lines.append(f"| Dérive relative de {cell(invariant)} | {fmt(drift, digits=2)} |")
+        what = cell(invariant[:1].upper() + invariant[1:])
+        lines.append(f"| {what} (relatif) | {fmt(drift, digits=2)} |")
     text = "\n".join(lines)
     if chart:
         text += (

@@ -56,7 +56,7 @@ def test_live_error_and_drift_follow_the_simulation():
     text = panel.text.content
     assert "×500" in text and "Erreur relative sur Effort du palier A" in text
     assert "bearing_A" not in text and "Implicite rapide (implicitfast)" in text
-    assert "Dérive relative de T |" in text  # the symbol, without "(constant speed)"
+    assert "| Dérive de T (relatif) |" in text  # the symbol, without "(constant speed)"
     assert "| Coût CPU par seconde simulée | 0,002 s |" in text
     sim.set_timestep(2e-3)  # a new setting starts a new series
     panel.sample(sim, sim.readouts(), generation=0)
@@ -179,7 +179,7 @@ def test_the_chart_speaks_french_with_decimal_commas():
             for t in axis.get_ticklabels() + axis.get_ticklabels(minor=True)
         ]
     joined = "\n".join(texts)
-    assert ax.get_title().startswith("Ce que coûte la précision : Cylindre")
+    assert ax.get_title().startswith("Ce que coûte la précision\nCylindre")
     assert ax.get_xlabel() == "Coût CPU par seconde simulée [s]"
     assert ax.get_ylabel().startswith("Erreur relative sur accélération")
     assert "rk4" in joined and "front de Pareto" in joined
@@ -188,3 +188,13 @@ def test_the_chart_speaks_french_with_decimal_commas():
     assert " 0,5 %" in joined
     assert "rolling_cylinder" not in joined and "cost" not in joined and "error" not in joined
     assert ticks and not any("." in t for t in ticks), ticks
+
+
+def test_drift_words():
+    from sandbox.bench_plot import drift_words
+
+    assert drift_words("T (constant speed)") == "dérive de T"
+    assert drift_words("|σG|") == "dérive de |σG|"
+    assert drift_words("energy theorem (|P_int| / peak P_ext)") == (
+        "écart au théorème de l'énergie cinétique"
+    )
