@@ -106,7 +106,9 @@ def _visible(markdown: str) -> str:
     return re.sub(r"<[^>]*>", "", markdown)
 
 
-@pytest.mark.parametrize("scene", ["rotor", "compressor", "rolling_cylinder", "gyroscope"])
+@pytest.mark.parametrize(
+    "scene", ["rotor", "compressor", "rolling_cylinder", "gyroscope", "heavy_gyroscope"]
+)
 def test_scene_table_speaks_french_with_a_decimal_comma(scene):
     """Labels (or names while a scene has none), French units, decimal comma, no
     raw HTML cut by a ``|`` (the rolling cylinder's ``|Tt| / N`` tooltip did)."""
@@ -131,6 +133,8 @@ def test_scene_table_speaks_french_with_a_decimal_comma(scene):
         if row.label:
             assert _visible(first).strip().startswith(row.label.split("|")[0].strip()[:8])
         assert "rpm" not in _visible(first) and "[deg]" not in _visible(first)
+        if row.hint:
+            assert f'title="{tables.cell(row.hint)}"' in first
     visible = _visible(md)
     assert not re.search(r"\d\.\d", visible), visible
     labelled = [row.name for row in rows if row.label and "_" in row.name]
