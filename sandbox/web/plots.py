@@ -89,14 +89,21 @@ class Plot:
         self.handle: viser.GuiUplotHandle | None = None
 
     def append(self, values: Mapping[str, float]) -> None:
-        """Add one sample (needs ``time`` and every name); time going back clears the plot."""
+        """Add one sample (needs ``time`` and every name); time going back clears the plot,
+        and a sample at the same time (paused) replaces the last one."""
         t = float(values["time"])
         if self.t and t < self.t[-1]:
             self.clear()
-        self.t.append(t)
+        same = bool(self.t) and t == self.t[-1]
+        if not same:
+            self.t.append(t)
         for series, name in zip(self.y, self.names, strict=True):
             v = float(values.get(name, math.nan))
-            series.append(math.nan if not math.isfinite(v) else 0.0 if abs(v) <= self.zero else v)
+            shown = math.nan if not math.isfinite(v) else 0.0 if abs(v) <= self.zero else v
+            if same:
+                series[-1] = shown
+            else:
+                series.append(shown)
         while self.t and self.t[0] < t - self.window:
             self.t.popleft()
             for series in self.y:

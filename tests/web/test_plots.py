@@ -164,3 +164,11 @@ def test_a_nearly_constant_signal_sits_below_the_top_edge():
     series = plot.series()
     assert len(series) == 3 and series[-1]["stroke"] == "rgba(0,0,0,0)"
     assert series[-1]["width"] == 0 and series[-1]["label"] == "\u2009"
+
+
+def test_a_paused_simulation_keeps_one_sample_showing_the_last_values():
+    plot = Plot(["a"], "N", [(0, 0, 0)])
+    plot.append({"time": 1.0, "a": 1.0})
+    for k in range(50):  # paused: the same time, a parameter moved
+        plot.append({"time": 2.0, "a": float(k)})
+    assert list(plot.t) == [1.0, 2.0] and list(plot.y[0]) == [1.0, 49.0]
