@@ -33,7 +33,7 @@ from sandbox.web.arrows import ArrowLayer
 from sandbox.web.fields import display_unit
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import Controller, Frame, Notice, Request, Session
+from sandbox.web.session import Controller, Frame, Notice, Request, Session, drawn_snapshot
 from sandbox.web.tables import fmt
 from sandbox.web.text import plain
 from sandbox.web.view import SNAPSHOT_NAMES, WebView, arrow_layer, point_camera
@@ -111,9 +111,11 @@ class BroadcastView:
             elif frame.key != self._drawn:
                 self._drawn = frame.key
                 with sim.lock:
-                    self.renderer.sync(sim.model, sim.data)
+                    names = SNAPSHOT_NAMES if self.arrows is not None else ()
+                    snapshot = drawn_snapshot(self.controller, names)
+                    self.renderer.sync(snapshot.model, snapshot.data)
                     if self.arrows is not None:
-                        self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
+                        self.arrows.update(snapshot)
             if frame.readouts is not None or frame.diverged:
                 self._summarise(frame)
                 if self.arrows is not None:

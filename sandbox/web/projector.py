@@ -45,7 +45,7 @@ FONT_SIZES = (16, 18, 20, 24)
 """Text sizes offered [px] (the smallest is the default: 16 px is read from the back of
 a classroom on a 1280×720 projector)."""
 
-DISPLAY_FOLDER = "Affichage"
+DISPLAY_FOLDER = "Projecteur"
 FONT_LABEL = "Taille du texte"
 OVERLAY_LABEL = "Mesures dans la vue 3D"
 OVERLAY_ID = "sandbox-overlay"
@@ -118,7 +118,7 @@ def overlay_html(lines: Sequence[str]) -> str:
 
 
 class Projector:
-    """Folder "Affichage" (text size, overlay on or off), the page's style and the key
+    """Folder "Projecteur" (text size, overlay on or off), the page's style and the key
     readouts over the 3D view.
 
     Args:

@@ -15,14 +15,16 @@ from sandbox.scenes.base import as_scene
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.cycle_panel import CyclePanel
+from sandbox.web.display_panel import DisplayPanel
 from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
+from sandbox.web.polar_panel import PolarPanel
 from sandbox.web.projector import Projector
 from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import EVERY, Controller, Frame, Notice
+from sandbox.web.session import EVERY, Controller, Frame, Notice, drawn_snapshot
 from sandbox.web.trail import Trail
 
 if TYPE_CHECKING:
@@ -184,6 +186,16 @@ class WebView(Generic[D]):
             left += LESSON_WIDTH if docked else 0
         if left > 16:
             point_camera(client, sim, narrow=True)
+        self.display: DisplayPanel | None = None
+        if isinstance(controller, Controller):  # "Affichage": slow motion, Pas, camera
+            self.display = DisplayPanel(
+                client.gui,
+                controller,
+                scene=client.scene if draw else None,
+                camera=client.camera if draw else None,
+                arrows=self.arrows,
+                point=lambda: self.readouts.chosen_point(),
+            )
         self.picker = client.gui.add_dropdown(
             "Panneau affiché",
             (ALL_FOLDERS,),
@@ -191,13 +203,13 @@ class WebView(Generic[D]):
             "seules ses grandeurs sont calculées",
         )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
+        self.polar = PolarPanel.create(client.gui, controller)
         self.cycle = CyclePanel(client.gui, sim)
         self.isolate = IsolatePanel(client.gui, sim)
         self.accuracy = AccuracyPanel(client.gui, sim)
         self.hypotheses = HypothesesPanel(client.gui, sim)
-        # Hook for panels of other modules (display and motion controls, the unbalance's
-        # polar diagram): build them here, after the readout folders, and list their
-        # folder in _add_picker so that "Panneau affiché" shows one at a time.
+        # Panels of other modules go here, and their folder in _add_picker's list so that
+        # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left)
         self._drawn: tuple[object, ...] | None = None
         self._last_panel = -math.inf
@@ -209,6 +221,7 @@ class WebView(Generic[D]):
         """One readout folder shown at a time (only it is computed and sent)."""
         groups: dict[str, viser.GuiFolderHandle] = dict(self.readouts.folders)
         for folder in (
+            self.polar.folder if self.polar is not None else None,
             self.cycle.folder,
             self.isolate.folder,
             self.accuracy.folder,
@@ -276,9 +289,14 @@ class WebView(Generic[D]):
             elif frame.key != self._drawn and self.renderer is not None:
                 self._drawn = frame.key
                 with sim.lock:
-                    self.renderer.sync(sim.model, sim.data)
+                    # the display state, between physics steps (a replay: its own state)
+                    names = SNAPSHOT_NAMES if self.arrows is not None else ()
+                    snapshot = drawn_snapshot(self.controller, names)
+                    self.renderer.sync(snapshot.model, snapshot.data)
                     if self.arrows is not None:
-                        self.arrows.update(sim.snapshot(SNAPSHOT_NAMES))
+                        self.arrows.update(snapshot)
+                    if self.display is not None:
+                        self.display.draw(snapshot)
             if frame.readouts is not None or (
                 frame.diverged and frame.now - self._last_panel >= 1.0 / PANEL_RATE
             ):
@@ -292,6 +310,10 @@ class WebView(Generic[D]):
         if self._showing(HYPOTHESES_FOLDER):
             self.hypotheses.refresh()
         self.projector.refresh(None if frame.diverged else frame.readouts)
+        if self.display is not None:
+            self.display.refresh()
+        if self.polar is not None and self._showing(self.polar.folder.label or ""):
+            self.polar.refresh()
         if frame.diverged or frame.readouts is None:
             return
         values = frame.readouts
