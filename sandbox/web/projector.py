@@ -22,15 +22,29 @@ if TYPE_CHECKING:
 
     from sandbox.physics.simulation import Simulation
 
-KEY_READOUTS: dict[str, tuple[str, ...]] = {
-    "rotor": ("omega", "bearing_A", "bearing_B"),
-    "compressor": ("theta", "pilon", "tamis", "motor_torque"),
-    "rolling_cylinder": ("v", "a", "contact"),
-    "gyroscope": ("gimbal_outer", "gimbal_inner", "axis_drift"),
-    "heavy_gyroscope": ("precession_rate", "nutation", "spin"),
+KEY_READOUTS: dict[str, dict[str, str]] = {
+    "rotor": {"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
+    "compressor": {
+        "theta": "θ",
+        "pilon": "Effet de pilon",
+        "tamis": "Effet de tamis",
+        "motor_torque": "Couple moteur",
+    },
+    "rolling_cylinder": {"v": "v", "a": "a", "contact": "Contact"},
+    "gyroscope": {
+        "gimbal_outer": "Cadre extérieur",
+        "gimbal_inner": "Cadre intérieur",
+        "axis_drift": "Dérive de l'axe",
+    },
+    "heavy_gyroscope": {
+        "precession_rate": "Vitesse de précession",
+        "nutation": "Nutation",
+        "spin": "Rotation propre",
+    },
 }
-"""The 3-4 readouts shown in large print over the 3D view, per scene (a scene that is
-not listed, or a user's MJCF file, shows its energies)."""
+"""The 3-4 readouts shown in large print over the 3D view, per scene, with the short
+words written there (a scene that is not listed, or a user's MJCF file, shows its
+energies with their labels)."""
 
 ANGLES = frozenset({"theta"})
 """Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
@@ -55,10 +69,11 @@ def font_option(px: int) -> str:
     return f"{px} px"
 
 
-def style_html(font_px: int, *, left: int = 16) -> str:
+def style_html(font_px: int, *, left: int = 16, right: int = 16) -> str:
     """The page's style: Mantine's text sizes from ``font_px`` up, slider bounds and
     folder titles readable, and the overlay's place (``left`` [px] from the window's
-    left edge, past a panel docked there)."""
+    left edge, past a panel docked there; at most up to ``right`` [px] from its right
+    edge, before the control panel)."""
     f = font_px
     return (
         "<style>"
@@ -74,9 +89,10 @@ def style_html(font_px: int, *, left: int = 16) -> str:
         ".mantine-Flex-root>div>p.mantine-Text-root{letter-spacing:0 !important}"
         # a slider's number box is 3 rem wide: "0.015" and "3000" were cut
         '.mantine-NumberInput-root[style*="width: 3rem"]{width:4.4em !important}'
-        f"#{OVERLAY_ID}{{position:fixed;left:{left + 72}px;bottom:12px;z-index:5;"
+        f"#{OVERLAY_ID}{{position:fixed;left:{left + 64}px;bottom:12px;z-index:5;"
+        f"max-width:calc(100vw - {left + 64 + right}px);"
         "pointer-events:none;background:rgba(255,255,255,0.82);border-radius:8px;"
-        f"padding:6px 14px;font-size:{round(1.35 * f)}px;line-height:1.3;"
+        f"padding:6px 14px;font-size:{round(1.3 * f)}px;line-height:1.3;"
         "font-variant-numeric:tabular-nums;color:#111;box-shadow:0 1px 6px rgba(0,0,0,.2)}"
         f"#{OVERLAY_ID}:empty{{display:none}}"
         "</style>"
@@ -87,7 +103,7 @@ def key_readouts(sim: Simulation) -> list[str]:
     """Names of the overlay's readouts for ``sim`` (those it has)."""
     known = set(sim.readout_names())
     scene = sim.scene.name if sim.scene is not None else ""
-    names = KEY_READOUTS.get(scene, FALLBACK_READOUTS)
+    names = KEY_READOUTS.get(scene, dict.fromkeys(FALLBACK_READOUTS, ""))
     return [n for n in names if n in known]
 
 
@@ -124,17 +140,21 @@ class Projector:
     Args:
         gui: A viser ``GuiApi`` (``client.gui``).
         sim: The session's simulation (only read).
-        left: Distance [px] of the overlay from the window's left edge.
+        left: Distance [px] of the 3D view from the window's left edge.
+        right: Distance [px] of the 3D view from the window's right edge.
     """
 
-    def __init__(self, gui: viser.GuiApi, sim: Simulation, *, left: int = 16) -> None:
-        self.left = left
+    def __init__(
+        self, gui: viser.GuiApi, sim: Simulation, *, left: int = 16, right: int = 16
+    ) -> None:
+        self.left, self.right = left, right
         self.font = FONT_SIZES[0]
         infos = {i.name: i for i in sim.readout_infos()}
         self.names = key_readouts(sim)
-        self.labels = {n: infos[n].label for n in self.names}
+        short = KEY_READOUTS.get(sim.scene.name if sim.scene is not None else "", {})
+        self.labels = {n: short.get(n) or infos[n].label for n in self.names}
         self.units = {n: infos[n].unit for n in self.names}
-        self.style = gui.add_html(style_html(self.font, left=left), order=-1000.0)
+        self.style = gui.add_html(style_html(self.font, left=left, right=right), order=-1000.0)
         self.overlay = gui.add_html(overlay_html([]), order=-999.0)
         with gui.add_folder(DISPLAY_FOLDER) as self.folder:
             options = tuple(font_option(px) for px in FONT_SIZES)
@@ -164,7 +184,7 @@ class Projector:
         """Apply a new text size; show the key readouts of ``values`` (None: keep)."""
         if self._pending_font is not None:
             self.font, self._pending_font = self._pending_font, None
-            self.style.content = style_html(self.font, left=self.left)
+            self.style.content = style_html(self.font, left=self.left, right=self.right)
         if not self.show.value:
             lines: list[str] = []
         elif values is None:

@@ -210,7 +210,7 @@ class WebView(Generic[D]):
         self.hypotheses = HypothesesPanel(client.gui, sim)
         # Panels of other modules go here, and their folder in _add_picker's list so that
         # "Panneau affiché" shows one at a time.
-        self.projector = Projector(client.gui, sim, left=left)
+        self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
         self._drawn: tuple[object, ...] | None = None
         self._last_panel = -math.inf
         self._resync_controls = False
