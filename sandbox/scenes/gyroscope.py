@@ -204,7 +204,7 @@ SCENE = Scene(
         }
     },
     # Round-off only: the axis drift (1e-8 rad) and the pivots' moments stay visible.
-    zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12},
+    zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12, "rad": 3e-8},
     body_frame="rotor",
     sections="1, 2.2.2, 3, 5",
     camera=((0.8, -1.0, 0.6), (0.0, 0.0, 1.0)),

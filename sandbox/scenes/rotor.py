@@ -406,7 +406,11 @@ SCENE = Scene(
     arrows=ARROWS,
     body_frame="rotor",
     sections="2–3, 5, 6, 7.2",
-    extra={"balancing_solution": balancing_solution, "solid_names": {"rotor": "1 (rotor)"}},
+    extra={
+        "balancing_solution": balancing_solution,
+        "solid_names": {"rotor": "1 (rotor)"},
+        "markers": {"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
+    },
     # Round-off: at 1500 rpm {D} and the frame's action keep 6e-12 N and 2e-12 N·m on
     # axes where the course has 0 (1e-13 of the 54 N peak), 1e-10 N at 6000 rpm.
     zero={

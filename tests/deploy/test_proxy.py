@@ -238,8 +238,9 @@ def _open_student(browser, url: str):
 
 
 def _readout(page, name: str) -> float:
-    text = page.locator(f'[data-readout="{name}"]').first.inner_text()
-    return float(text.replace("·10", "e").replace("−", "-"))
+    # the cell shows "54,42"; its data-value attribute keeps the exact number for scripts
+    value = page.locator(f'[data-readout="{name}"]').first.get_attribute("data-value")
+    return float(value or "nan")
 
 
 def _cookie(context) -> str:

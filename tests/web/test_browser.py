@@ -13,8 +13,9 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-19 s 
 
 def _readout(page, name: str) -> float:
     """The number shown in a readout cell (``data-readout`` span)."""
-    text = page.locator(f'[data-readout="{name}"]').first.inner_text()
-    return float(text.replace("·10", "e").replace("−", "-"))
+    # the cell shows "54,42"; its data-value attribute keeps the exact number for scripts
+    value = page.locator(f'[data-readout="{name}"]').first.get_attribute("data-value")
+    return float(value or "nan")
 
 
 def _slider_input(page, label: str):
