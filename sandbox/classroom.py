@@ -20,7 +20,7 @@ Definitions:
   ``batched_positions`` / ``batched_wxyzs`` of batched nodes). Frames/s of
   a client = its update frames received in the measurement window / the window [s].
 - **Simulated-time rate**: what the browser shows. The control panel's status line
-  ``t = 12.345 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
+  ``t = 12,35 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
   10 Hz) is read from the wire; the rate of a client = (last t - first t) / (wall time
   between the two messages) inside the window [sim s per wall s].
 - **Slider delay**: during the window each client toggles a parameter slider every
@@ -105,7 +105,7 @@ the ``batched_positions`` / ``batched_wxyzs`` keys (batched meshes or axes moved
 ``SceneNodeUpdateMessage``), should the server draw the geoms that way."""
 
 TYPE_MARKER = b"\xa4type"
-STATUS_TIME = re.compile(rb"t = (-?[0-9]+(?:\.[0-9]+)?) s \xc2\xb7 vitesse")
+STATUS_TIME = re.compile(rb"t = (-?[0-9](?:[0-9]|\xe2\x80\xaf)*(?:,[0-9]+)?) s \xc2\xb7 vitesse")
 """The simulated time in the control panel's status line (UTF-8 bytes on the wire)."""
 
 FOREIGN_ORIGIN = "http://evil.example"
@@ -263,8 +263,10 @@ def is_update_frame(inner: bytes) -> bool:
 
 def status_time(inner: bytes) -> float | None:
     """Simulated time [s] shown by the control panel's status line, if in the message."""
-    found = STATUS_TIME.findall(inner)
-    return float(found[-1]) if found else None
+    found = STATUS_TIME.findall(inner)  # "1 234,56" (French: thin spaces, decimal comma)
+    if not found:
+        return None
+    return float(found[-1].decode().replace("\u202f", "").replace(",", "."))
 
 
 def messages(inner: bytes) -> list[dict[str, Any]]:

@@ -34,7 +34,9 @@ def wire(*messages: vm.Message) -> bytes:
 
 
 def status(t: float) -> vm.GuiUpdateMessage:
-    return vm.GuiUpdateMessage("status", {"_markdown": f"t = {t:.3f} s · vitesse ×1 · **x**"})
+    from sandbox.web.panels import _seconds  # the status line as the panel writes it
+
+    return vm.GuiUpdateMessage("status", {"_markdown": f"t = {_seconds(t)} s · vitesse ×1 · **x**"})
 
 
 def test_percentile_and_summary() -> None:
@@ -258,3 +260,12 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
     assert sum(main["clients_per_process"]) == 2  # both websockets found in /proc
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
+
+
+def test_status_time_reads_the_french_status_line():
+    from sandbox.web.panels import _seconds
+
+    for t in (0.0, 5.8, 12.345, 1234.567):
+        line = f"t = {_seconds(t)} s · vitesse ×1 · **lecture**".encode()
+        assert cr.status_time(line) == pytest.approx(t, abs=0.005)
+    assert "," in _seconds(12.345) and "." not in _seconds(12.345)

@@ -99,6 +99,11 @@ def hypotheses(sim: Simulation) -> tuple[str, ...]:
     return tuple(lines)
 
 
+def _seconds(t: float) -> str:
+    """Simulated time with two decimals and a decimal comma ("12,35", "1 234,56")."""
+    return number(t, max(3, len(f"{abs(t):.0f}") + 2))
+
+
 class ControlPanel:
     """Folders "Simulation" and "Paramètres", plus the divergence alert.
 
@@ -260,7 +265,7 @@ class ControlPanel:
         ctl = self.controller
         state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
         status = (
-            f"t = {number(ctl.sim.data.time, 4)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
+            f"t = {_seconds(ctl.sim.data.time)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
         )
         if ctl.playing and not ctl.diverged and ctl.slowed():
             status += " · plus lent que le temps réel (pas de temps trop petit pour ce poste)"
