@@ -28,12 +28,18 @@ import pytest
 
 import sandbox.scenes  # noqa: F401  (the registry: Simulation("rotor"))
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import SCENES
 from sandbox.web import tables
+from sandbox.web.fields import integrator_label, param_label
+from sandbox.web.panels import TIMESTEP_LABEL
 from sandbox.web.player import ReplayPanel
 from sandbox.web.session import Controller, Scheduler, Session
 from sandbox.web.view import WebView
 
 # -- a fake viser client -------------------------------------------------------------------
+
+
+MASS1 = param_label(SCENES["rotor"].param("mass1_g"))  # the slider as the page names it
 
 
 class Anything:
@@ -56,7 +62,9 @@ class Handle:
     """One GUI element; ``value`` may hold anything a crafted message could put there."""
 
     def __init__(self, kind: str, label: str | None, value: Any = None, **props: Any) -> None:
-        self.kind, self.label, self.value = kind, label, value
+        self.kind, self.label = kind, label
+        self._value = value
+        self.update_timestamp = time.time()
         self.options = props.get("options")
         self.visible = props.get("visible", True)
         self.content = props.get("content", "")
@@ -66,6 +74,15 @@ class Handle:
         self.text = ""
         self.disabled = False
         self.callbacks: list[Callable[[Any], None]] = []
+
+    @property
+    def value(self) -> Any:
+        return self._value
+
+    @value.setter
+    def value(self, value: Any) -> None:  # like viser: every set is stamped
+        self._value = value
+        self.update_timestamp = time.time()
 
     def on_update(self, cb: Callable[[Any], None]) -> Callable[[Any], None]:
         self.callbacks.append(cb)
@@ -83,11 +100,33 @@ class Handle:
         self.visible = False
 
 
+class Panel:
+    """viser's main panel or an extra docked column: placement calls change nothing."""
+
+    def dock_left(self) -> None: ...
+    def dock_right(self) -> None: ...
+    def set_width(self, width: object) -> None: ...
+    def minimize(self) -> None: ...
+
+    def add_tab(self, label: str, **_: Any) -> contextlib.AbstractContextManager[None]:
+        return contextlib.nullcontext()
+
+
 class Gui:
     """Enough of viser's ``GuiApi`` for every panel of the page."""
 
     def __init__(self) -> None:
         self.handles: list[Handle] = []
+        self.main_panel = Panel()
+
+    def add_panel(self, **_: Any) -> Panel:
+        return Panel()
+
+    def add_checkbox(self, label: str, initial_value: bool = False, **_: Any) -> Handle:
+        return self._add("checkbox", label, initial_value)
+
+    def add_text(self, label: str, initial_value: str = "", **_: Any) -> Handle:
+        return self._add("text", label, initial_value)
 
     def _add(self, kind: str, label: str | None, value: Any = None, **props: Any) -> Handle:
         handle = Handle(kind, label, value, **props)
@@ -187,6 +226,8 @@ class Page:
     def send(self, handle: Handle, value: Any) -> None:
         """What viser does for a GuiUpdateMessage: set the value, run the callbacks."""
         handle.value = value
+        # a user's edit that is over: older than the grace the panels give a typing user
+        handle.update_timestamp = time.time() - 1.0
         event = SimpleNamespace(client=self.client, client_id=1, target=handle)
         for cb in handle.callbacks:
             cb(event)
@@ -241,7 +282,7 @@ NOT_NUMBERS = [math.nan, math.inf, -math.inf, 1e308, "abc", None, True, [1.0], {
 
 @pytest.mark.parametrize("value", [1e-9, 1e-12, 5e-324, 0.0, -0.01, 0.5, *NOT_NUMBERS], ids=repr)
 def test_a_bad_timestep_is_refused_once_with_the_range_and_the_box_goes_back(page, quiet, value):
-    box = page.find("number", "dt [s]")
+    box = page.find("number", TIMESTEP_LABEL)
     t0 = page.ctl.sim.data.time
     page.send(box, value)
     title, body = refused_once(page)
@@ -267,12 +308,13 @@ def test_an_unknown_integrator_is_refused_once(page, quiet, value):
     page.send(dropdown, value)
     _, body = refused_once(page)
     assert body.startswith("Intégrateur « ") and "choisissez parmi euler, implicit" in body
-    assert page.ctl.sim.integrator == "implicitfast" and dropdown.value == "implicitfast"
+    assert page.ctl.sim.integrator == "implicitfast"
+    assert dropdown.value == integrator_label("implicitfast")
 
 
 @pytest.mark.parametrize("value", [-5.0, 201.0, *NOT_NUMBERS], ids=repr)
 def test_a_bad_parameter_value_is_refused_once(page, quiet, value):
-    slider = page.find("slider", "mass1_g [g]")
+    slider = page.find("slider", MASS1)
     values = dict(page.ctl.sim.values)
     page.send(slider, value)
     _, body = refused_once(page)
@@ -291,7 +333,7 @@ def test_a_button_no_one_has_is_refused_once(page, quiet, tmp_path, label, value
 
 
 def test_a_flood_of_slider_values_costs_one_model_rebuild(page, quiet):
-    slider = page.find("slider", "mass1_g [g]")
+    slider = page.find("slider", MASS1)
     start = time.perf_counter()
     for i in range(20_000):
         page.send(slider, float(i % 100))
@@ -302,7 +344,7 @@ def test_a_flood_of_slider_values_costs_one_model_rebuild(page, quiet):
 
 
 def test_a_tiny_allowed_timestep_says_slower_than_real_time_and_stays_cheap(page, quiet):
-    page.send(page.find("number", "dt [s]"), 1e-6)
+    page.send(page.find("number", TIMESTEP_LABEL), 1e-6)
     cpu = time.thread_time()
     page.tick(1.0)
     spent = time.thread_time() - cpu
@@ -350,7 +392,7 @@ def test_a_crafted_reduction_point_falls_back_to_the_origin(page, quiet, value):
     page.send(vector, value)
     page.tick(0.5)
     assert vector.value == (0.0, 0.0, 0.0)
-    assert "Réduits en **P** = (0, 0, 0) m" in page.markdown()
+    assert "Réduits en **P** = (0 ; 0 ; 0) m" in page.markdown()
 
 
 @pytest.mark.parametrize("label", ["Point", "Base", "Panneau affiché", "Leçon"])
@@ -574,7 +616,7 @@ def _sandbox_tracebacks(caplog: pytest.LogCaptureFixture) -> list[str]:
 
 def test_a_tiny_timestep_over_the_wire_is_refused_once_and_the_box_goes_back(server, caplog):
     async def actions(ws: Any, b: Browser) -> None:
-        dt = b.uuid("Number", "dt [s]")
+        dt = b.uuid("Number", TIMESTEP_LABEL)
         for value in (1e-9, 1e-12, 1e-9):
             await ws.send(_update(dt, {"value": value}))
         await b.read(ws, lambda: False, timeout=1.5)
@@ -620,9 +662,9 @@ def test_crafted_values_over_the_wire_are_refused_once_each(server, caplog):
         ),
         ("Valeur refusée", "Vitesse ×nan refusée : choisissez entre ×0,01 et ×4."),
     ]
-    assert (integrator, {"value": "implicitfast"}) in b.updates
+    assert (integrator, {"value": integrator_label("implicitfast")}) in b.updates
     assert (speed, {"value": 1.0}) in b.updates
-    assert (solid, {"value": "rotor"}) in b.updates
+    assert (solid, {"value": "1 (rotor)"}) in b.updates  # the solid's French name
     assert not _sandbox_tracebacks(caplog)
 
 
@@ -648,7 +690,7 @@ def test_malformed_frames_drop_that_connection_only(server, caplog, raw):
 
     _run(server.port, actions)
     fresh = _run(server.port, lambda ws, b: b.read(ws, lambda: False, timeout=0.3))
-    assert ("GuiNumberMessage", "dt [s]") in fresh.guis and fresh.toasts == []
+    assert ("GuiNumberMessage", TIMESTEP_LABEL) in fresh.guis and fresh.toasts == []
     assert not _sandbox_tracebacks(caplog)
 
 
@@ -658,20 +700,20 @@ def test_a_value_viser_cannot_convert_is_one_warning_line(server, caplog):
     caplog.set_level(logging.WARNING)
 
     async def actions(ws: Any, b: Browser) -> None:
-        dt = b.uuid("Number", "dt [s]")
+        dt = b.uuid("Number", TIMESTEP_LABEL)
         for _ in range(3):
             await ws.send(_update(dt, {"value": "abc"}))
         await b.read(ws, lambda: False, timeout=1.0)
 
     _run(server.port, actions)
     fresh = _run(server.port, lambda ws, b: b.read(ws, lambda: False, timeout=0.3))
-    assert ("GuiNumberMessage", "dt [s]") in fresh.guis
+    assert ("GuiNumberMessage", TIMESTEP_LABEL) in fresh.guis
     assert not _sandbox_tracebacks(caplog)
 
 
 def test_a_browser_that_leaves_at_the_smallest_timestep_stops_its_work_within_a_second(server):
     async def actions(ws: Any, b: Browser) -> None:
-        dt = b.uuid("Number", "dt [s]")
+        dt = b.uuid("Number", TIMESTEP_LABEL)
         await ws.send(_update(dt, {"value": 1e-6}))
         await b.read(ws, lambda: False, timeout=1.0)
 
