@@ -194,6 +194,11 @@ def _bracket(host: str) -> str:
     return f"[{host}]" if ":" in host else host
 
 
+PAGE_TITLE = "Dynamique des solides"
+"""The page's name, at the top of its control panel (the product is ``sandbox`` only on
+the command line)."""
+
+
 def open_server(host: str, port: int, label: str, *, check: bool = True) -> viser.ViserServer:
     """A viser server on exactly ``host:port`` (BadOption when the port is taken)."""
     if check:
@@ -290,7 +295,7 @@ def start(
         "timestep": timestep,
     }
     Simulation(target, **options)
-    server = open_server(host, port, "sandbox", check=check_port)
+    server = open_server(host, port, PAGE_TITLE, check=check_port)
     urls = join_urls(host, server.get_port(), public_url)
 
     if follow:

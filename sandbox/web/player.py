@@ -268,7 +268,7 @@ def start_replay(
 ) -> App:
     """Serve ``rec`` in background threads and return at once."""
     open_simulation(rec)  # fails early with a clear message
-    server = open_server(host, port, "sandbox replay")
+    server = open_server(host, port, "Relecture — Dynamique des solides")
 
     def session(client: viser.ClientHandle) -> Session:
         ctl = ReplayController(rec)

@@ -18,6 +18,14 @@ def _readout(page, name: str) -> float:
     return float(value or "nan")
 
 
+def _label(name: str) -> str:
+    """A rotor parameter's label on the page ("Masse de correction m₁ [g]")."""
+    from sandbox.scenes import SCENES
+    from sandbox.web.fields import param_label
+
+    return param_label(SCENES["rotor"].param(name))
+
+
 def _slider_input(page, label: str):
     """The number box next to the slider labelled ``label``."""
     row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last
@@ -59,7 +67,7 @@ def test_page_shows_canvas_one_folder_at_a_time_and_bearing_forces(open_page, se
 def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):
     page = _open(open_page, served_rotor)
     before = _readout(page, "bearing_A")
-    box = _slider_input(page, "mass1_g [g]")
+    box = _slider_input(page, _label("mass1_g"))
     box.fill("60")
     box.press("Enter")
     assert wait_for(lambda: abs(_readout(page, "bearing_A") - before) > 0.05 * before), (
@@ -70,8 +78,13 @@ def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):
 
 
 def test_bad_timestep_is_refused_and_the_server_keeps_running(open_page, served_rotor):
+    from sandbox.web.panels import NUMERICS_FOLDER, TIMESTEP_LABEL
+
     page = _open(open_page, served_rotor)
-    box = page.locator("div.mantine-Flex-root", has=page.get_by_text("dt [s]", exact=True))
+    page.get_by_text(NUMERICS_FOLDER, exact=True).first.click()  # folded by default
+    label = page.get_by_text(TIMESTEP_LABEL, exact=True)
+    label.first.wait_for(timeout=10_000)
+    box = page.locator("div.mantine-Flex-root", has=label)
     field = box.last.locator("input").first
     field.fill("0")
     field.press("Enter")
@@ -88,8 +101,8 @@ def test_each_browser_has_its_own_simulation(open_page, served_rotor):
     assert wait_for(lambda: len(served_rotor.sessions) == 2)
     sims = [s.controller.sim for s in served_rotor.sessions.values()]
     assert sims[0] is not sims[1]
-    _slider_input(first, "mass1_g [g]").fill("80")
-    _slider_input(first, "mass1_g [g]").press("Enter")
+    _slider_input(first, _label("mass1_g")).fill("80")
+    _slider_input(first, _label("mass1_g")).press("Enter")
     assert wait_for(lambda: sorted(s.values["mass1_g"] for s in sims) == [0.0, 80.0])
     second.close()
     assert wait_for(lambda: len(served_rotor.sessions) == 1)
@@ -139,7 +152,7 @@ def test_a_student_walks_the_balancing_lesson_to_success(open_page):
         time.sleep(0.5)  # the step records the unbalanced forces as its start values
         solution = balancing_solution(session.controller.sim.values)
         for name in ("mass1_g", "angle1_deg", "mass2_g", "angle2_deg"):
-            box = _slider_input(page, f"{name} [{'g' if name.startswith('mass') else 'deg'}]")
+            box = _slider_input(page, _label(name))
             box.fill(f"{solution[name]:.3f}")
             box.press("Enter")
             time.sleep(0.3)
