@@ -104,6 +104,19 @@ def _seconds(t: float) -> str:
     return number(t, max(3, len(f"{abs(t):.0f}") + 2))
 
 
+def speed_slider(gui: viser.GuiApi, hint: str) -> viser.GuiSliderHandle[float]:
+    """The speed slider (×0,01 to ×4, 1: real time) of a live session or a replay."""
+    return gui.add_slider(
+        SPEED_LABEL,
+        min=SPEEDS[0],
+        max=SPEEDS[1],
+        step=min(0.1, SPEEDS[0]),
+        initial_value=1.0,
+        marks=bounds(*SPEEDS),
+        hint=hint,
+    )
+
+
 class ControlPanel:
     """Folders "Simulation" and "Paramètres", plus the divergence alert.
 
@@ -135,15 +148,7 @@ class ControlPanel:
                 hint="Pause ou lecture, un pas de temps dt, retour à l'état initial",
             )
             self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
-            self.speed = gui.add_slider(
-                SPEED_LABEL,
-                min=SPEEDS[0],
-                max=SPEEDS[1],
-                step=min(0.1, SPEEDS[0]),
-                initial_value=1.0,
-                marks=bounds(*SPEEDS),
-                hint="Temps simulé divisé par le temps réel (1 : temps réel)",
-            )
+            self.speed = speed_slider(gui, "Temps simulé divisé par le temps réel (1 : temps réel)")
             on_user(self.speed, lambda v: submit(Request("speed", v)))
             self.record = gui.add_button_group(
                 "Enregistrer",

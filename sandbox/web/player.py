@@ -22,9 +22,8 @@ from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
-from sandbox.web.panels import SPEED_LABEL, bounds, command
+from sandbox.web.panels import bounds, command, speed_slider
 from sandbox.web.session import (
-    SPEEDS,
     Notice,
     Refused,
     Request,
@@ -191,15 +190,7 @@ class ReplayPanel:
                 marks=bounds(0.0, max(t1, step)),
                 hint="Position dans l'enregistrement : faites glisser pour y aller",
             )
-            self.speed = gui.add_slider(
-                SPEED_LABEL,
-                min=SPEEDS[0],
-                max=SPEEDS[1],
-                step=min(0.1, SPEEDS[0]),
-                initial_value=1.0,
-                marks=bounds(*SPEEDS),
-                hint="Temps relu divisé par le temps réel (1 : temps réel)",
-            )
+            self.speed = speed_slider(gui, "Temps relu divisé par le temps réel (1 : temps réel)")
         self.params: viser.GuiMarkdownHandle | None = None
         scene = as_scene(controller.sim.scene)
         self.scene_params = scene.params if scene is not None else ()
