@@ -287,21 +287,25 @@ def shows_rebuild(inner: bytes, prefixes: tuple[str, ...] = ("/model/", "/prof/m
     return False
 
 
-def find_gui(inner: bytes, kind: str, name: str) -> dict[str, Any] | None:
-    """The ``Gui<kind>Message`` labelled ``name`` or ``"name [unit]"``, if present."""
+def find_gui(inner: bytes, kind: str, *names: str) -> dict[str, Any] | None:
+    """The ``Gui<kind>Message`` labelled one of ``names`` or ``"name [unit]"``, if present."""
     if f"Gui{kind}Message".encode() not in inner:
         return None
     for m in messages(inner):
         if m.get("type") == f"Gui{kind}Message":
             label = str(m["props"]["label"])
-            if label == name or label.startswith(f"{name} ["):
+            if any(label == name or label.startswith(f"{name} [") for name in names):
                 return m
     return None
 
 
 def find_slider(inner: bytes, param: str) -> dict[str, Any] | None:
-    """The slider of parameter ``param`` (labelled ``param`` or ``"param [unit]"``)."""
-    return find_gui(inner, "Slider", param)
+    """The slider of parameter ``param``: the page labels it with the parameter's French
+    words and unit ("Masse de correction m₁ [g]"), a file's parameter with its name."""
+    from sandbox.scenes import SCENES
+
+    words = {p.label for scene in SCENES.values() for p in scene.params if p.name == param}
+    return find_gui(inner, "Slider", param, *sorted(w for w in words if w))
 
 
 def camera_message() -> bytes:

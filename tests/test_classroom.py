@@ -257,6 +257,8 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
     assert main["connected"] == 2 and not main["errors"]
     assert all(f > 0 for f in main["fps_per_client"])
     assert all(r > 0 for r in main["sim_rate_per_client"])
+    # the probe found the French slider ("Masse de correction m₁ [g]") and saw its changes
+    assert main["slider_param"] == "mass1_g" and main["slider_samples"] > 0
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
     assert sum(main["clients_per_process"]) == 2  # both websockets found in /proc
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
