@@ -132,3 +132,10 @@ def wait_for(predicate: Callable[[], object], timeout: float = 20.0, poll: float
             return True
         time.sleep(poll)
     return bool(predicate())
+
+
+def choose(page, label: str, option: str) -> None:
+    """Pick ``option`` in the page's dropdown labelled ``label`` (Playwright page)."""
+    row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last
+    row.locator("input").first.click()
+    page.get_by_role("option", name=option, exact=True).click()

@@ -6,7 +6,7 @@ import re
 import time
 
 import pytest
-from conftest import wait_for
+from conftest import choose, wait_for
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-19 s each
 
@@ -38,15 +38,6 @@ def _open(open_page, app):
     return page
 
 
-def _show_folder(page, label: str) -> None:
-    """Pick ``label`` in the "Panneau affiché" dropdown."""
-    row = page.locator(
-        "div.mantine-Flex-root", has=page.get_by_text("Panneau affiché", exact=True)
-    ).last
-    row.locator("input").first.click()
-    page.get_by_role("option", name=label, exact=True).click()
-
-
 def test_page_shows_canvas_one_folder_at_a_time_and_bearing_forces(open_page, served_rotor):
     page = _open(open_page, served_rotor)
     assert page.locator("canvas").first.is_visible()
@@ -56,10 +47,10 @@ def test_page_shows_canvas_one_folder_at_a_time_and_bearing_forces(open_page, se
         assert not page.get_by_text(title, exact=True).first.is_visible(), title
     (session,) = served_rotor.sessions.values()
     assert session.view.shown == "Grandeurs de la scène"
-    _show_folder(page, "Hypothèses de modélisation")
+    choose(page, "Panneau affiché", "Hypothèses de modélisation")
     page.get_by_text("Poids négligé").first.wait_for(timeout=10_000)
     assert not page.get_by_text("Grandeurs de la scène", exact=True).first.is_visible()
-    _show_folder(page, "Tous les panneaux")
+    choose(page, "Panneau affiché", "Tous les panneaux")
     for title in ("Grandeurs de la scène", "Torseurs", "Hypothèses de modélisation", "Courbes"):
         page.get_by_text(title, exact=True).first.wait_for(timeout=10_000)
 

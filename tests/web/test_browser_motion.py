@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import free_port, wait_for
+from conftest import choose, free_port, wait_for
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # a Chromium page: ~15 s
 
@@ -39,18 +39,12 @@ def _session(app):
     return session
 
 
-def _choose(page, label: str, option: str) -> None:
-    row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last
-    row.locator("input").first.click()
-    page.get_by_role("option", name=option, exact=True).click()
-
-
 def test_a_6000_rpm_rotor_at_one_hundredth_is_seen_turning(open_page, fast_rotor):
     page = open_page(fast_rotor.url)
     page.locator("canvas").first.wait_for(timeout=30_000)
     session = _session(fast_rotor)
     page.get_by_text("Affichage", exact=True).first.click()
-    _choose(page, "Ralenti", "×0,01")
+    choose(page, "Ralenti", "×0,01")
     assert wait_for(lambda: session.controller.speed == 0.01)
     time.sleep(1.0)
     shots = []

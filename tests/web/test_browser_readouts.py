@@ -7,7 +7,7 @@ import re
 from collections.abc import Iterator
 
 import pytest
-from conftest import free_port
+from conftest import choose, free_port
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-20 s each
 
@@ -44,20 +44,12 @@ def served_cylinder() -> Iterator[object]:
         app.stop()
 
 
-def _show_folder(page, label: str) -> None:
-    row = page.locator(
-        "div.mantine-Flex-root", has=page.get_by_text("Panneau affiché", exact=True)
-    ).last
-    row.locator("input").first.click()
-    page.get_by_role("option", name=label, exact=True).click()
-
-
 def test_plots_keep_drawing_while_their_range_grows(open_page, served_cylinder):
     """Issue 14: the cylinder's speed grows from 0 to 40 m/s; each new range rebuilt the
     chart, which drew nothing, then one second of data lagging 8 s behind."""
     page = open_page(served_cylinder.url)
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
-    _show_folder(page, "Courbes")
+    choose(page, "Panneau affiché", "Courbes")
     (session,) = served_cylinder.sessions.values()
     session.controller.playing = True  # the scene waits for "Lecture"
     ranges = set()
@@ -103,7 +95,7 @@ def test_plot_ticks_use_a_decimal_comma_in_a_french_browser(browser, served_cyli
         page = context.new_page()
         page.goto(served_cylinder.url)
         page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
-        _show_folder(page, "Courbes")
+        choose(page, "Panneau affiché", "Courbes")
         (session,) = served_cylinder.sessions.values()
         session.controller.playing = True
         page.wait_for_timeout(2500)
