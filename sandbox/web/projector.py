@@ -49,6 +49,9 @@ energies with their labels)."""
 ANGLES = frozenset({"theta"})
 """Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
 
+SPEEDS = frozenset({"omega"})
+"""Rotation speeds [rad/s] that the overlay shows in tr/min, the unit of the speed slider."""
+
 FLAGS = frozenset({"contact", "on_plane", "gimbal_lock"})
 """Readouts that are 0 or 1: the overlay says "oui" or "non"."""
 
@@ -121,6 +124,10 @@ def overlay_lines(
         shown = number(value, 3)
         if name in ANGLES and math.isfinite(value):
             shown, unit = str(round(math.degrees(value) % 360.0) % 360), "°"
+        elif units.get(name) == "rad" and math.isfinite(value):  # a gimbal angle, a drift
+            shown, unit = number(math.degrees(value), 3), "°"
+        elif name in SPEEDS and units.get(name) == "rad/s" and math.isfinite(value):
+            shown, unit = number(value * 30.0 / math.pi, 4), "tr/min"
         elif name in FLAGS and math.isfinite(value):
             shown, unit = ("oui" if value > 0.5 else "non"), ""
         lines.append(f"{labels.get(name) or name} = {shown} {unit}".rstrip())

@@ -158,7 +158,8 @@ def test_overlay_lines_are_french_and_escaped():
         {"omega": "Vitesse ω", "bearing_A": "<b>Palier A</b>"},
         {"omega": "rad/s", "bearing_A": "N"},
     )
-    assert lines == ["Vitesse ω = 157 rad/s", "<b>Palier A</b> = 54,4 N", "gone = —"]
+    # ω in tr/min, as the speed slider (157,08 rad/s = 1500 tr/min)
+    assert lines == ["Vitesse ω = 1\u202f500 tr/min", "<b>Palier A</b> = 54,4 N", "gone = —"]
     html = overlay_html(lines)
     assert "<b>" not in html and "&lt;b&gt;" in html
 
@@ -173,3 +174,5 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
         ["theta", "contact"], {"theta": 4 * math.pi + 0.5, "contact": 1.0}, {}, {"theta": "rad"}
     )
     assert lines == ["theta = 29 °", "contact = oui"]
+    (gimbal,) = overlay_lines(["gimbal_outer"], {"gimbal_outer": -0.5}, {}, {"gimbal_outer": "rad"})
+    assert gimbal == "gimbal_outer = -28,6 °"  # not modulo: a gimbal swings both ways
