@@ -324,8 +324,16 @@ class Simulation:
         self.data.qacc_warmstart[:] = warm
         return Snapshot(self.model, self.data, self.values)
 
-    def readouts(self, names: Iterable[str] | None = None) -> dict[str, float]:
+    def readouts(
+        self, names: Iterable[str] | None = None, *, data: mujoco.MjData | None = None
+    ) -> dict[str, float]:
         """Values of the requested readouts (all when ``names`` is None).
+
+        Args:
+            names: Readout names (None: every readout).
+            data: Another state of this model to read instead of the simulation's own
+                (the web page's display state, between two physics steps); its derived
+                quantities are brought up to date here.
 
         Raises:
             KeyError: an unknown name (the message lists the valid ones).
@@ -342,9 +350,13 @@ class Simulation:
             needs = [n for n in wanted if n in known]
             if len(needs) < len(wanted):
                 needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
-            snap = self.snapshot(needs)
+            if data is None:
+                snap = self.snapshot(needs)
+            else:
+                generic.prepare(self.model, data, needs)
+                snap = Snapshot(self.model, data, self.values)
             out = generic.compute(
-                self.model, self.data, [n for n in wanted if n not in scene_fns], snap.cache
+                self.model, snap.data, [n for n in wanted if n not in scene_fns], snap.cache
             )
             for name in wanted:
                 if name in scene_fns:

@@ -232,6 +232,16 @@ class Controller:
         return notices
 
     # -- what is drawn -------------------------------------------------------------------
+    def shown_readouts(self, names: Collection[str]) -> dict[str, float]:
+        """Readouts of the state drawn (:attr:`display_time`, between two physics steps),
+        so that tables and plots move with the drawing in slow motion; the physics
+        state's own when the display is not ahead of it (every readout if ``names`` is
+        empty)."""
+        wanted = list(names) if names else None
+        if self.display.ahead(self.display_time) == 0.0:
+            return self.sim.readouts(wanted)
+        return self.sim.readouts(wanted, data=self.display.data(self.display_time))
+
     def drawn(self, names: Collection[str] = ()) -> Snapshot:
         """The state to draw: the physics carried forward to :attr:`display_time` (never
         the physics ``MjData`` itself, which it leaves untouched).
@@ -918,24 +928,28 @@ class Session:
         every = wanted is not None and "*" in wanted
         names = set() if wanted is None or every else set(wanted)
         recording = self.drive and _records(ctl) and ctl.readouts_due()
-        values: Mapping[str, float] | None = None
+        values: Mapping[str, float] | None = None  # the physics state's, for the recorder
+        shown: Mapping[str, float] | None = None  # the drawn state's, for the view
         if (every or names or recording) and not ctl.diverged:
-            values = _readouts(ctl, () if recording or every else names)
+            if recording:
+                values = _readouts(ctl, ())
+            if every or names:
+                shown = _shown_readouts(ctl, () if every else names, values)
         if recording:
             ctl.record(values)
         elif self.drive and _records(ctl):
             ctl.record()
         sim = ctl.sim
-        shown = getattr(ctl, "display_time", None)
+        drawn_at = getattr(ctl, "display_time", None)
         return Frame(
             now=now,
-            time=float(sim.data.time if shown is None else shown),
+            time=float(sim.data.time if drawn_at is None else drawn_at),
             generation=int(getattr(ctl, "generation", 0)),
             model_id=id(sim.model),
             playing=bool(ctl.playing),
             diverged=ctl.diverged,
             notices=tuple(notices),
-            readouts=values if wanted is not None else None,
+            readouts=shown if wanted is not None else None,
         )
 
     def _turn(self, now: float) -> bool:
@@ -1087,6 +1101,19 @@ def drawn_snapshot(ctl: Any, names: Collection[str] = ()) -> Snapshot:
     between physics steps), else its simulation's own state (a replay)."""
     drawn = getattr(ctl, "drawn", None)
     return drawn(names) if drawn is not None else ctl.sim.snapshot(names)
+
+
+def _shown_readouts(
+    ctl: Any, names: Collection[str], physics: Mapping[str, float] | None
+) -> Mapping[str, float]:
+    """The readouts a view shows: those of the drawn state when the controller draws
+    between physics steps (:meth:`Controller.shown_readouts`); while recording, the
+    recorder's row of the physics state (``physics``: one computation a tick serves
+    both, so tables step with the physics while a recording runs)."""
+    if physics is not None:
+        return physics
+    fn = getattr(ctl, "shown_readouts", None)
+    return fn(names) if fn is not None else _readouts(ctl, names)
 
 
 def _records(ctl: Any) -> bool:

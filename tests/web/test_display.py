@@ -348,3 +348,36 @@ def test_an_angle_step_turns_a_top_on_its_ball_joint():
     ctl.submit(Request("advance", 90, name="deg"))
     assert ctl.frame() == []
     assert ctl.display_time == pytest.approx(math.radians(90) / w)
+
+
+def test_tables_read_the_drawn_state_so_d_in_b0_turns_smoothly_in_slow_motion():
+    """At 1500 rpm and dt = 10 ms the physics turns 90° a step: {D} in B0 read on the
+    physics state takes four values. Read on the drawn state (what the page's tables
+    show), it turns with the drawing: a rotating vector of constant length whose angle
+    is the drawn rotor's."""
+    ctl = _rotor(1500.0)
+    ctl.submit(Request("speed", SPEEDS[0]))
+    ctl.frame()
+    names = ("dyn_R_y", "dyn_R_z")
+    physics, shown = set(), []
+    for _ in range(120):  # 2 s of wall time at ×0.01: 20 ms simulated, two steps
+        ctl.clock.now += 1.0 / 60.0
+        ctl.frame()
+        p = ctl.sim.readouts(names)
+        physics.add((round(p["dyn_R_y"], 6), round(p["dyn_R_z"], 6)))
+        s = ctl.shown_readouts(names)
+        shown.append(complex(s["dyn_R_y"], s["dyn_R_z"]))
+    assert len(physics) <= 3  # the physics state moved twice
+    assert len({round(abs(z), 6) for z in shown}) == 1  # constant magnitude (steady speed)
+    steps = [math.degrees(abs(np.angle(b / a))) for a, b in zip(shown, shown[1:], strict=False)]
+    # 1500 rpm = 25 turns/s; ×0.01 at 60 frames/s: 1.5° a frame, every frame
+    assert min(steps) > 0.5 and max(steps) < 3.0
+    ctl.submit(Request("pause"))
+    ctl.frame()
+    # paused between two steps: the tables keep what the picture shows
+    still = ctl.shown_readouts(names)
+    ctl.clock.now += 1.0
+    ctl.frame()
+    assert ctl.shown_readouts(names) == still
+    drawn = ctl.drawn().data
+    assert still == pytest.approx(ctl.sim.readouts(names, data=drawn))

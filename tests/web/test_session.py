@@ -357,9 +357,9 @@ def test_a_frame_computes_readouts_once_and_only_those_asked(tmp_path, monkeypat
     calls = []
     real = ctl.sim.readouts
 
-    def counting(names=None):
+    def counting(names=None, **state):  # state: data=, the drawn state between steps
         calls.append(None if names is None else tuple(sorted(names)))
-        return real(names)
+        return real(names, **state)
 
     monkeypatch.setattr(ctl.sim, "readouts", counting)
     ctl.clock.now += 1 / 60
