@@ -488,8 +488,8 @@ def scene_from_json(
     scene: str, entry: Mapping[str, Any], acc: Accuracy | None = None
 ) -> SceneResult:
     """One scene of a results.json document (:func:`to_json`) back as a
-    :class:`SceneResult`, its Pareto front marked again with ``acc``'s limits (the
-    session cost is not read back).
+    :class:`SceneResult`, its Pareto front marked again with ``acc``'s limits, with its
+    session cost when the document has one.
 
     Raises:
         KeyError, TypeError, ValueError: the entry lacks a field or has one of the wrong
@@ -505,9 +505,50 @@ def scene_from_json(
         runs,
         drift_tol=float(entry.get("drift_tol", math.inf)),
         constraint_tol=float(entry.get("constraint_tol", math.inf)),
+        session=_session_from_json(scene, entry.get("session")),
     )
     mark_pareto(res.runs, acc)
     return res
+
+
+def _session_from_json(scene: str, entry: object) -> SessionCost | None:
+    """The ``session`` object of a results.json scene back as a :class:`SessionCost`
+    (None when absent).
+
+    Raises:
+        KeyError, TypeError, ValueError: a field is missing or of the wrong type.
+    """
+    if entry is None:
+        return None
+    if not isinstance(entry, Mapping) or not isinstance(entry["integrator"], str):
+        raise TypeError(f"a session must be a JSON object with an integrator, got {entry!r}")
+    return SessionCost(
+        scene,
+        entry["integrator"],
+        _from_json_number(entry["timestep"]),
+        _from_json_number(entry["step_cpu_per_sim_s"]),
+        _from_json_number(entry["snapshot_cpu_s"]),
+        _from_json_number(entry["row_cpu_s"]),
+    )
+
+
+def merge_results(new: Sequence[SceneResult], path: Path) -> list[SceneResult]:
+    """``new`` plus every other registered scene already benchmarked in ``path`` (a
+    results.json), in the registry's order: refreshing a few scenes keeps the rest.
+
+    A scene that cannot be read back (missing, foreign or older document) is left out.
+    """
+    fresh = {r.scene: r for r in new}
+    merged = []
+    for name in SCENES:
+        if name in fresh:
+            merged.append(fresh[name])
+        else:
+            kept = load_results(name, path)
+            if kept is not None:
+                merged.append(kept)
+    merged += [r for r in new if r.scene not in SCENES]
+    return merged
 
 
 def load_results(scene: str, path: Path | None = None) -> SceneResult | None:

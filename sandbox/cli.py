@@ -164,6 +164,11 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("scenes", nargs="*", metavar="SCENE", help="scenes (default: all)")
     b.add_argument("--quick", action="store_true", help="shorter runs (under 2 minutes)")
     b.add_argument("--out", type=Path, default=Path("bench-results"), metavar="DIR")
+    b.add_argument(
+        "--merge",
+        action="store_true",
+        help="keep the other scenes already in DIR/results.json (refresh only SCENE ...)",
+    )
     b.add_argument("--effects", action="store_true", help="declared effects vs everything on")
     b.add_argument("--overhead", action="store_true", help="sandbox run vs a bare mj_step loop")
     b.add_argument(
@@ -399,6 +404,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
     for scene in scenes:
         say(f"{scene.name}: {scene.accuracy.key} vs the course ...")  # type: ignore[union-attr]
         results.append(bench.bench_scene(scene, quick=args.quick, progress=say))
+    if args.merge:
+        results = bench.merge_results(results, args.out / "results.json")
     paths = bench.write_results(results, args.out, quick=args.quick)
     print(bench.markdown(results))
     for result in results:

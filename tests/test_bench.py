@@ -14,6 +14,7 @@ import pytest
 from sandbox.bench import (
     CSV_COLUMNS,
     Run,
+    SceneResult,
     bench_scene,
     mark_pareto,
     run_one,
@@ -239,3 +240,25 @@ def test_a_run_field_of_the_wrong_type_gives_none(tmp_path, change):
     doc["scenes"]["osc"]["runs"] = [3]
     path.write_text(json.dumps(doc))
     assert load_results("osc", path) is None
+
+
+def test_merge_refreshes_the_named_scenes_and_keeps_the_others():
+    """``sandbox bench SCENE --merge``: the shipped results.json keeps every other scene,
+    sessions included, so one new scene does not cost a whole benchmark."""
+    from sandbox.bench import merge_results
+    from sandbox.data import data_dir
+
+    path = data_dir("bench") / "results.json"
+    original = json.loads(path.read_text())["scenes"]
+    fresh = SceneResult(
+        "rotor", "bearing_A", "T", "euler", 0.01, [Run("rotor", "euler", 0.01, 0.5, error=1e-3)]
+    )
+    merged = merge_results([fresh], path)
+    assert merged[0] is fresh
+    kept = {r.scene: r for r in merged[1:]}
+    assert set(kept) == set(original) - {"rotor"}
+    doc = to_json(merged, quick=False)["scenes"]
+    for name in kept:
+        assert doc[name]["runs"] == original[name]["runs"], name
+        assert doc[name]["session"] == original[name]["session"], name
+    assert doc["rotor"]["runs"][0]["error"] == 1e-3 and "session" not in doc["rotor"]
