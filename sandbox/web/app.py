@@ -22,7 +22,7 @@ import viser
 
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
-from sandbox.web import network
+from sandbox.web import client_text, network
 from sandbox.web.session import Controller, Session
 from sandbox.web.view import WebView
 
@@ -208,6 +208,7 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
     # URL) and "Server stopped" through rich's global console; the teacher reads the
     # sandbox's banner instead, which names the addresses students type.
     rich.reconfigure(quiet=True)
+    client_text.install()  # viser's own warnings and chart ticks in French
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()

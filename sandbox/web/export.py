@@ -20,6 +20,7 @@ import viser
 from sandbox.recording import Recording, set_state, write_csv
 from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
+from sandbox.web import client_text
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.view import camera_pose, scene_view
@@ -98,6 +99,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
                 serializer.insert_sleep(max(0.0, t - last_t))
             last_t = t
         html = serializer.as_html()
+        html = client_text.french_page(html) or html
     finally:
         with contextlib.redirect_stdout(io.StringIO()):
             server.stop()

@@ -1,0 +1,168 @@
+"""French words for the few sentences viser's own client writes, and a French locale for
+the numbers it formats.
+
+viser's browser client is a prebuilt bundle: its browser warnings ("Software WebGL rendering
+detected" on a lab PC without a graphics driver), a few tooltips and the ticks of its uPlot
+charts (formatted for ``navigator.language``) would otherwise reach the page in English.
+:func:`install` makes every viser server of this process serve that same bundle with a
+short script added at the top of the page, which
+
+- declares the page French (``<html lang="fr">``) and gives ``navigator.language`` as
+  ``fr-FR``, so that chart ticks are written with a decimal comma;
+- replaces, as soon as it appears, any text or tooltip that is exactly one of the English
+  sentences of :data:`FRENCH` by its French version.
+
+The bundle itself is not changed (it is copied as is); when a viser release moves the
+things this relies on, :func:`install` leaves viser's page untouched and the browser tests
+that read the page in French fail.
+"""
+
+from __future__ import annotations
+
+import atexit
+import json
+import shutil
+import tempfile
+import threading
+from pathlib import Path
+from typing import Any
+
+FRENCH: dict[str, str] = {
+    "Software WebGL rendering detected": "Rendu 3D sans carte graphique",
+    "WebGL is running in software mode, not on your GPU. Performance may be degraded. "
+    "If this is unexpected, check that hardware acceleration is enabled in your browser "
+    "settings.": "Le processeur dessine la 3D à la place de la carte graphique : "
+    "l'animation peut être moins fluide. Si ce n'est pas voulu, activez l'accélération "
+    "matérielle dans les réglages du navigateur.",
+    "WebGL unavailable": "3D indisponible",
+    "WebGL is unavailable. This may be caused by hardware acceleration being disabled — "
+    "check your browser settings.": "Le navigateur ne peut pas dessiner la 3D : "
+    "l'accélération matérielle est peut-être désactivée dans ses réglages.",
+    "Could not detect browser version": "Version du navigateur inconnue",
+    "Your browser version could not be detected. It may not be supported.": "La version "
+    "du navigateur n'a pas pu être lue : il se peut que la page y fonctionne mal.",
+    "Unsupported browser": "Navigateur trop ancien",
+    "Connection rejected": "Connexion refusée",
+    "Version mismatch": "Versions incompatibles",
+    "Open navigation": "Ouvrir le menu",
+    "Close navigation": "Fermer le menu",
+    "Control panel": "Panneau de commande",
+    "Scene tree": "Arbre de la scène",
+    "Playback speed": "Vitesse de lecture",
+    "Search commands...": "Chercher une commande…",
+    "No matching commands...": "Aucune commande trouvée…",
+}
+"""viser's English sentences (exactly as its client writes them) -> the page's French."""
+
+LOCALE = "fr-FR"
+"""The locale the page's own number formatting follows (uPlot's chart ticks)."""
+
+_SCRIPT = """<script>(function () {
+  var fr = %(french)s, locale = %(locale)s, attrs = ["title", "aria-label", "placeholder"];
+  document.documentElement.lang = "fr";
+  try {
+    Object.defineProperty(navigator, "language", {get: function () { return locale; }});
+    Object.defineProperty(navigator, "languages", {get: function () { return [locale]; }});
+  } catch (e) {}
+  function text(node) {
+    var t = node.nodeValue.trim();
+    if (Object.prototype.hasOwnProperty.call(fr, t)) node.nodeValue = fr[t];
+  }
+  function element(node) {
+    attrs.forEach(function (a) {
+      var v = node.getAttribute(a);
+      if (v && Object.prototype.hasOwnProperty.call(fr, v)) node.setAttribute(a, fr[v]);
+    });
+  }
+  function visit(node) {
+    if (node.nodeType === 3) return text(node);
+    if (node.nodeType !== 1) return;
+    element(node);
+    var walk = document.createTreeWalker(node, 5);  // elements and texts
+    for (var n = walk.nextNode(); n; n = walk.nextNode()) n.nodeType === 3 ? text(n) : element(n);
+  }
+  new MutationObserver(function (changes) {
+    changes.forEach(function (c) {
+      if (c.type === "childList") c.addedNodes.forEach(visit); else visit(c.target);
+    });
+  }).observe(document.documentElement, {
+    subtree: true, childList: true, characterData: true, attributes: true,
+    attributeFilter: attrs,
+  });
+})();</script>"""
+
+_lock = threading.Lock()
+_root: Path | None = None
+_installed = False
+
+
+def page_script() -> str:
+    """The ``<script>`` added at the top of viser's page (the JSON is escaped so that no
+    sentence can close the script element)."""
+    french = json.dumps(FRENCH, ensure_ascii=True).replace("<", "\\u003c")
+    return _SCRIPT % {"french": french, "locale": json.dumps(LOCALE)}
+
+
+def french_page(html: str) -> str | None:
+    """viser's ``index.html`` with :func:`page_script` first in its head (None when the
+    page has no ``<head>`` to put it in)."""
+    head = html.find("<head>")
+    if head < 0:
+        return None
+    at = head + len("<head>")
+    return html[:at] + page_script() + html[at:]
+
+
+def french_root(build: Path) -> Path | None:
+    """A folder holding viser's client ``build`` with the French page (made once per
+    process, removed at exit); None when the build has no page this module can amend."""
+    global _root
+    with _lock:
+        if _root is not None:
+            return _root
+        try:
+            page = french_page((build / "index.html").read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError):
+            return None
+        if page is None:
+            return None
+        root = Path(tempfile.mkdtemp(prefix="sandbox-client-"))
+        atexit.register(shutil.rmtree, root, ignore_errors=True)
+        shutil.copytree(build, root, dirs_exist_ok=True)
+        (root / "index.html").write_text(page, encoding="utf-8")
+        _root = root
+        return root
+
+
+def install() -> bool:
+    """Make every viser server created from now on serve the French page (idempotent).
+
+    Returns:
+        True when the page will be French; False when this viser release does not build
+        its web server the way this relies on (its page is then served unchanged).
+    """
+    global _installed
+    import viser.infra as infra
+
+    with _lock:
+        if _installed:
+            return True
+    base = infra.WebsockServer
+    build = Path(infra.__file__).resolve().parent.parent / "client" / "build"
+
+    class FrenchClientServer(base):  # type: ignore[misc,valid-type]
+        """viser's websocket server, serving the French page instead of its own."""
+
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            root = kwargs.get("http_server_root")
+            if root is not None and Path(root).resolve() == build:
+                kwargs["http_server_root"] = french_root(build) or root
+            super().__init__(*args, **kwargs)
+
+    if not (build / "index.html").is_file():
+        return False
+    with _lock:
+        if not _installed:
+            infra.WebsockServer = FrenchClientServer  # type: ignore[misc]
+            _installed = True
+    return True

@@ -1,0 +1,75 @@
+"""viser's own sentences and chart numbers in French (sandbox/web/client_text.py)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from conftest import wait_for
+
+from sandbox.web import client_text
+from sandbox.web.client_text import FRENCH, french_page, page_script
+
+
+def test_the_script_goes_first_in_the_head_and_cannot_be_closed_by_a_sentence():
+    page = french_page("<!doctype html><html><head><title>x</title></head><body></body></html>")
+    assert page is not None
+    assert page.index("<script>") == page.index("<head>") + len("<head>")
+    script = page_script()
+    assert script.count("</script>") == 1 and script.count("<") == 2  # its own tags only
+    assert french_page("<html><body>no head</body></html>") is None
+
+
+def test_every_translation_is_french_and_one_to_one():
+    assert len(set(FRENCH.values())) == len(FRENCH)
+    for english, french in FRENCH.items():
+        assert english != french and french.strip() == french, english
+        assert not re.search(r"\b(the|is|your|browser|not|settings)\b", french), french
+
+
+def test_install_is_idempotent_and_serves_a_copy_of_viser_s_page(tmp_path):
+    import viser.infra as infra
+
+    assert client_text.install() and client_text.install()
+    assert infra.WebsockServer.__name__ == "FrenchClientServer"
+    assert [c.__name__ for c in infra.WebsockServer.__mro__[:2]] == [
+        "FrenchClientServer",
+        "WebsockServer",
+    ]  # wrapped once
+    build = Path(infra.__file__).resolve().parent.parent / "client" / "build"
+    root = client_text.french_root(build)
+    assert root is not None and root == client_text.french_root(tmp_path)  # made once
+    original = (build / "index.html").read_text()
+    assert (root / "index.html").read_text() == french_page(original)
+
+
+def test_the_page_reads_french_in_an_english_browser(browser):
+    """An English-speaking browser without a graphics card: viser's warning toast is in
+    French, the page says it is French, and numbers are formatted as uPlot formats its
+    chart ticks (``Intl.NumberFormat(navigator.language)``): with a decimal comma."""
+    from conftest import free_port
+
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), open_message=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 720}, locale="en-US")
+    try:
+        page = context.new_page()
+        page.goto(app.url)
+        page.get_by_text("Simulation", exact=True).first.wait_for(timeout=30_000)
+        assert page.evaluate("document.documentElement.lang") == "fr"
+        assert page.evaluate("navigator.language") == "fr-FR"
+        assert page.evaluate("new Intl.NumberFormat(navigator.language).format(0.25)") == "0,25"
+        renderer = page.evaluate(
+            "(() => { const gl = document.createElement('canvas').getContext('webgl2');"
+            " const i = gl && gl.getExtension('WEBGL_debug_renderer_info');"
+            " return i ? gl.getParameter(i.UNMASKED_RENDERER_WEBGL) : ''; })()"
+        )
+        if re.search("swiftshader|llvmpipe|software", renderer, re.I):  # headless CI
+            assert wait_for(lambda: "Rendu 3D sans carte graphique" in page.inner_text("body"))
+        body = page.inner_text("body")
+        for english in FRENCH:
+            assert english not in body, english
+    finally:
+        context.close()
+        app.stop()
