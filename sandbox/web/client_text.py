@@ -10,7 +10,8 @@ short script added at the top of the page, which
 - declares the page French (``<html lang="fr">``) and gives ``navigator.language`` as
   ``fr-FR``, so that chart ticks are written with a decimal comma;
 - replaces, as soon as it appears, any text or tooltip that is exactly one of the English
-  sentences of :data:`FRENCH` by its French version.
+  sentences of :data:`FRENCH` by its French version, and closes the software-rendering
+  warning after a few seconds (:data:`CLOSING`).
 
 The bundle itself is not changed (it is copied as is); when a viser release moves the
 things this relies on, :func:`install` leaves viser's page untouched and the browser tests
@@ -54,11 +55,20 @@ FRENCH: dict[str, str] = {
 }
 """viser's English sentences (exactly as its client writes them) -> the page's French."""
 
+CLOSING = ("Software WebGL rendering detected",)
+"""Warnings (by their English title) that close themselves after :data:`CLOSE_AFTER_S`:
+viser keeps them until clicked, over the 3D view of a projected page, though nothing is
+wrong with the page (a PC without a graphics driver draws the 3D more slowly)."""
+
+CLOSE_AFTER_S = 8.0
+"""Seconds a :data:`CLOSING` warning stays: time to read its two sentences."""
+
 LOCALE = "fr-FR"
 """The locale the page's own number formatting follows (uPlot's chart ticks)."""
 
 _SCRIPT = """<script>(function () {
-  var fr = %(french)s, locale = %(locale)s, attrs = ["title", "aria-label", "placeholder"];
+  var fr = %(french)s, locale = %(locale)s, closing = %(closing)s;
+  var attrs = ["title", "aria-label", "placeholder"];
   document.documentElement.lang = "fr";
   try {
     Object.defineProperty(navigator, "language", {get: function () { return locale; }});
@@ -66,7 +76,13 @@ _SCRIPT = """<script>(function () {
   } catch (e) {}
   function text(node) {
     var t = node.nodeValue.trim();
-    if (Object.prototype.hasOwnProperty.call(fr, t)) node.nodeValue = fr[t];
+    if (!Object.prototype.hasOwnProperty.call(fr, t)) return;
+    node.nodeValue = fr[t];
+    if (closing.indexOf(t) >= 0) {  // a warning that needs no answer leaves the 3D view
+      var box = node.parentElement && node.parentElement.closest("[role=alert]");
+      var close = box && box.querySelector("button");
+      if (close) setTimeout(function () { close.click(); }, %(close_ms)d);
+    }
   }
   function element(node) {
     attrs.forEach(function (a) {
@@ -100,7 +116,12 @@ def page_script() -> str:
     """The ``<script>`` added at the top of viser's page (the JSON is escaped so that no
     sentence can close the script element)."""
     french = json.dumps(FRENCH, ensure_ascii=True).replace("<", "\\u003c")
-    return _SCRIPT % {"french": french, "locale": json.dumps(LOCALE)}
+    return _SCRIPT % {
+        "french": french,
+        "locale": json.dumps(LOCALE),
+        "closing": json.dumps(list(CLOSING)),
+        "close_ms": round(CLOSE_AFTER_S * 1000),
+    }
 
 
 def french_page(html: str) -> str | None:
