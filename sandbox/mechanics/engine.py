@@ -139,6 +139,13 @@ def _cylinder_forces(e: Engine, theta: np.ndarray, exact: bool) -> np.ndarray:
     return np.stack([-u * np.sin(psi), axial + u * np.cos(psi)], axis=-1)
 
 
+def cylinder_forces(e: Engine, theta: np.ndarray | float, *, exact: bool = True) -> np.ndarray:
+    """Force [N] each cylinder (piston, rod, throw and its counterweight) transmits to the
+    block, components (x0, y0), shape ``theta.shape + (n, 2)`` (the Lanchester pair apart).
+    """
+    return _cylinder_forces(e, np.asarray(theta, dtype=float), exact)
+
+
 def _shaft_force(e: Engine, theta: np.ndarray) -> np.ndarray:
     """(x0, y0) force of the Lanchester pair: −β Σ m R ω² λ cos 2ψ_i along y0."""
     second = np.cos(2 * (theta[..., None] - e.throws)).sum(axis=-1)

@@ -10,13 +10,15 @@ from sandbox.errors import UnknownScene, choices
 from sandbox.physics.model import Source, register_scenes, resolve
 from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
+from sandbox.scenes.engine import SCENE as ENGINE
 from sandbox.scenes.gyroscope import SCENE as GYROSCOPE
 from sandbox.scenes.heavy_gyroscope import SCENE as HEAVY_GYROSCOPE
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
 
 SCENES: dict[str, Scene] = {
-    s.name: s for s in (ROTOR, COMPRESSOR, ROLLING_CYLINDER, GYROSCOPE, HEAVY_GYROSCOPE)
+    s.name: s
+    for s in (ROTOR, COMPRESSOR, ROLLING_CYLINDER, GYROSCOPE, HEAVY_GYROSCOPE, ENGINE)
 }
 """Every registered scene by name."""
 

@@ -330,6 +330,9 @@ class Scene:
             accuracy the scene promises (e.g. a contact that softens).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
+        overlay: The 3-4 key readouts written large over the 3D view (projector mode), by
+            name, with the short French words written there ("" keeps the readout's
+            label); empty: the scene's kinetic and potential energies.
         zero: Round-off of the scene by unit (contract unit -> absolute value in that
             unit): the page shows a number whose magnitude is at most this as 0 (e.g. a
             bearing force of 6e-12 N where the course says 0). Far below anything the
@@ -363,6 +366,7 @@ class Scene:
     start_paused: bool = False
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
     zero: Mapping[str, float] = field(default_factory=dict)
+    overlay: Mapping[str, str] = field(default_factory=dict)
 
     def zero_for(self, unit: str) -> float:
         """Round-off [``unit``] below which the page shows 0 (0.0: every digit shown)."""

@@ -585,6 +585,12 @@ def _peak_error(series, values) -> float:
 
 SCENE = Scene(
     name="compressor",
+    overlay={
+        "theta": "θ",
+        "pilon": "Effet de pilon",
+        "tamis": "Effet de tamis",
+        "motor_torque": "Couple moteur",
+    },
     title="Micro-compresseur : effets de pilon et de tamis",
     summary=(
         "A slider-crank held at constant speed by a motor. The moving parts shake the frame "

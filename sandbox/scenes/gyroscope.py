@@ -167,6 +167,11 @@ def _sigma_drift(series: Series, values: Values) -> float:
 
 SCENE = Scene(
     name="gyroscope",
+    overlay={
+        "gimbal_outer": "Cadre extérieur",
+        "gimbal_inner": "Cadre intérieur",
+        "axis_drift": "Dérive de l'axe",
+    },
     title="Gyromètre : le rotor garde sa direction",
     summary=(
         "A fast rotor in two gimbals keeps its axis fixed in R0 while the case turns: "

@@ -189,6 +189,11 @@ def _precession_error(series: Series, values: Values) -> float:
 
 SCENE = Scene(
     name="heavy_gyroscope",
+    overlay={
+        "precession_rate": "Vitesse de précession",
+        "nutation": "Nutation",
+        "spin": "Rotation propre",
+    },
     title="Gyroscope pesant : précession",
     summary=(
         "A spinning rotor on a fixed point, its centre of mass off the point: weight makes "

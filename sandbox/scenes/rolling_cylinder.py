@@ -539,6 +539,7 @@ integrator at 1 ms; this one separates them."""
 
 SCENE = Scene(
     name="rolling_cylinder",
+    overlay={"v": "v", "a": "a", "contact": "Contact"},
     title="Cylindre qui roule : V(A∈S) et V(A), frottement, énergie",
     summary=(
         "A cylinder rolls (or slips) down an inclined plane. The material point at the "

@@ -384,6 +384,7 @@ ARROWS = (
 
 SCENE = Scene(
     name="rotor",
+    overlay={"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
     title="Rotor déséquilibré : équilibrage statique et dynamique",
     summary=(
         "A rotor on two bearings turns at constant speed. A defect mass and a skewed disk "

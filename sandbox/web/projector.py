@@ -14,6 +14,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
+from sandbox.scenes.base import as_scene
 from sandbox.web.fields import display_unit, on_user, set_value
 from sandbox.web.text import html_text, number
 
@@ -21,30 +22,6 @@ if TYPE_CHECKING:
     import viser
 
     from sandbox.physics.simulation import Simulation
-
-KEY_READOUTS: dict[str, dict[str, str]] = {
-    "rotor": {"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
-    "compressor": {
-        "theta": "θ",
-        "pilon": "Effet de pilon",
-        "tamis": "Effet de tamis",
-        "motor_torque": "Couple moteur",
-    },
-    "rolling_cylinder": {"v": "v", "a": "a", "contact": "Contact"},
-    "gyroscope": {
-        "gimbal_outer": "Cadre extérieur",
-        "gimbal_inner": "Cadre intérieur",
-        "axis_drift": "Dérive de l'axe",
-    },
-    "heavy_gyroscope": {
-        "precession_rate": "Vitesse de précession",
-        "nutation": "Nutation",
-        "spin": "Rotation propre",
-    },
-}
-"""The 3-4 readouts shown in large print over the 3D view, per scene, with the short
-words written there (a scene that is not listed, or a user's MJCF file, shows its
-energies with their labels)."""
 
 ANGLES = frozenset({"theta"})
 """Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
@@ -102,12 +79,14 @@ def style_html(font_px: int, *, left: int = 16, right: int = 16) -> str:
     )
 
 
-def key_readouts(sim: Simulation) -> list[str]:
-    """Names of the overlay's readouts for ``sim`` (those it has)."""
+def key_readouts(sim: Simulation) -> dict[str, str]:
+    """The overlay's readouts for ``sim`` (those it has) with their short words ("": the
+    readout's label): the scene's ``overlay``, else its energies."""
     known = set(sim.readout_names())
-    scene = sim.scene.name if sim.scene is not None else ""
-    names = KEY_READOUTS.get(scene, dict.fromkeys(FALLBACK_READOUTS, ""))
-    return [n for n in names if n in known]
+    spec = as_scene(sim.scene)
+    names = dict(spec.overlay) if spec is not None and spec.overlay else {}
+    names = names or dict.fromkeys(FALLBACK_READOUTS, "")
+    return {n: short for n, short in names.items() if n in known}
 
 
 def overlay_lines(
@@ -157,9 +136,9 @@ class Projector:
         self.left, self.right = left, right
         self.font = FONT_SIZES[0]
         infos = {i.name: i for i in sim.readout_infos()}
-        self.names = key_readouts(sim)
-        short = KEY_READOUTS.get(sim.scene.name if sim.scene is not None else "", {})
-        self.labels = {n: short.get(n) or infos[n].label for n in self.names}
+        short = key_readouts(sim)
+        self.names = list(short)
+        self.labels = {n: short[n] or infos[n].label for n in self.names}
         self.units = {n: infos[n].unit for n in self.names}
         self.style = gui.add_html(style_html(self.font, left=left, right=right), order=-1000.0)
         self.overlay = gui.add_html(overlay_html([]), order=-999.0)

@@ -10,6 +10,7 @@ import pytest
 from sandbox.mechanics.engine import (
     RPM,
     Engine,
+    cylinder_forces,
     lanchester_unbalance,
     pilon_orders,
     piston_acceleration,
@@ -113,6 +114,20 @@ def test_inline_four_cancels_first_order_and_moments_keeps_four_second_orders():
     # rotating masses on the throws cancel as well (forces and moments)
     assert shaking_force_h1(engine(4, m_rot=0.1)) == pytest.approx(0.0, abs=1e-12 * F1)
     assert shaking_moment_amplitude(engine(4, m_rot=0.1)) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_cylinder_forces_add_up_to_the_shaking_force():
+    """The per-cylinder forces sum to the block's force (no shafts); cylinder 2 of the
+    twin is cylinder 1 half a turn later."""
+    e = engine(2, m_rot=0.05, k_rot=0.5, k_rec=0.3)
+    per = cylinder_forces(e, THETA)
+    assert per.shape == (THETA.size, 2, 2)
+    assert per.sum(axis=-2) == pytest.approx(shaking_force(e, THETA), abs=1e-12 * F1)
+    assert per[:, 1] == pytest.approx(
+        cylinder_forces(engine(1, m_rot=0.05, k_rot=0.5, k_rec=0.3), THETA + math.pi)[:, 0]
+    )
+    shafts = engine(4, balance_shaft=1.0)
+    assert cylinder_forces(shafts, THETA) == pytest.approx(cylinder_forces(engine(4), THETA))
 
 
 def test_twin_cancels_first_order_force_not_its_rocking_moment():

@@ -223,3 +223,17 @@ def test_round_off_of_the_rotor_is_shown_as_zero():
     assert abs(values["dyn_R_z"]) <= scene.zero_for("N")
     assert number(values["dyn_R_z"], zero=scene.zero_for("N")) == "0"
     assert number(values["bearing_A"], zero=scene.zero_for("N")) != "0"
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_overlay_writes_three_or_four_key_readouts_in_french(name):
+    """Projector mode writes a scene's key readouts large over the 3D view: each one a
+    readout of the scene, with French short words (or its label)."""
+    scene = SCENES[name]
+    known = set(Simulation(name).readout_names())
+    assert 2 <= len(scene.overlay) <= 4, scene.overlay
+    for readout, short in scene.overlay.items():
+        assert readout in known, readout
+        if short:
+            _check_characters(short, readout)
+            assert not {w.lower() for w in _words(short)} & (ENGLISH - {"omega", "theta"})
