@@ -13,12 +13,21 @@ from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.engine import SCENE as ENGINE
 from sandbox.scenes.gyroscope import SCENE as GYROSCOPE
 from sandbox.scenes.heavy_gyroscope import SCENE as HEAVY_GYROSCOPE
+from sandbox.scenes.robot_axis import SCENE as ROBOT_AXIS
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
 
 SCENES: dict[str, Scene] = {
     s.name: s
-    for s in (ROTOR, COMPRESSOR, ROLLING_CYLINDER, GYROSCOPE, HEAVY_GYROSCOPE, ENGINE)
+    for s in (
+        ROTOR,
+        COMPRESSOR,
+        ROLLING_CYLINDER,
+        GYROSCOPE,
+        HEAVY_GYROSCOPE,
+        ENGINE,
+        ROBOT_AXIS,
+    )
 }
 """Every registered scene by name."""
 

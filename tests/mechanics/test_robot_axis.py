@@ -13,9 +13,12 @@ from sandbox.mechanics.robot_axis import (
     arm_acceleration,
     arm_damping_ratio,
     arm_natural_frequency,
+    chain_mass,
     energy_balance,
     equivalent_inertia,
+    expm,
     free_axis_frequency,
+    frequency_response,
     inertia_terms,
     kinetic_energy,
     motor_torque,
@@ -24,6 +27,7 @@ from sandbox.mechanics.robot_axis import (
     reducer_loss,
     series_efficiency,
     speeds,
+    step_response,
 )
 
 AXIS = RobotAxis()
@@ -223,3 +227,62 @@ def test_efficiency_outside_zero_one_raises_naming_rho(rho):
         series_efficiency([0.9, rho])
     with pytest.raises(ValueError, match="empty"):
         series_efficiency([])
+
+
+# --- the linear motion of the axis -----------------------------------------------------------
+
+
+def test_expm_matches_closed_exponentials():
+    """e^{A t} of a rotation generator is the rotation; of a nilpotent matrix, I + N."""
+    angle = 7.3  # large: several squarings
+    gen = np.array([[0.0, -angle], [angle, 0.0]])
+    rot = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+    assert expm(gen) == pytest.approx(rot, abs=1e-12)
+    nil = np.array([[0.0, 3.0], [0.0, 0.0]])
+    assert expm(nil) == pytest.approx(np.eye(2) + nil, abs=1e-15)
+    assert expm(np.diag([-50.0, 2.0])) == pytest.approx(np.diag([math.exp(-50), math.exp(2)]))
+
+
+def test_chain_mass_is_j_eq_over_the_ratio_squared_and_loses_rho_upstream():
+    """J_eq / (R_p k)² = 2.7208e-3 / 1.6e-5 = 170.05 kg; with ρ the motor and the reducer
+    (5.4e-4 kg·m² = 33.75 kg on the belt) count for ρ times that."""
+    assert chain_mass(AXIS) == pytest.approx(170.05, rel=1e-12)
+    assert chain_mass(AXIS, flexible=False) == pytest.approx(216.05, rel=1e-12)
+    assert chain_mass(AXIS, rho=0.8) == pytest.approx(170.05 - 0.2 * 33.75, rel=1e-12)
+
+
+def test_rigid_step_response_is_the_first_order_start_of_the_course():
+    """Rigid arm, constant C_m: J_eq ω̇ = C_m − f_v ω, so ω = (C_m/f_v)(1 − e^{−f_v t/J_eq})
+    (J_eq = 3.4568e-3 kg·m², time constant 0.2022 s, 58.48 rad/s for 1 N·m)."""
+    t = np.array([0.0, 0.05, 0.2022, 1.0, 3.0])
+    got = step_response(AXIS, t, 1.0, flexible=False)
+    tau = 3.4568e-3 / 0.0171
+    expected = (1 / 0.0171) * (1 - np.exp(-t / tau))
+    assert got["omega_m"] == pytest.approx(expected, rel=1e-10, abs=1e-12)
+    assert got["V_ch"] == pytest.approx(0.004 * expected, rel=1e-10, abs=1e-14)
+    assert got["V_2"] == pytest.approx(got["V_ch"]) and not got["y"].any()
+
+
+def test_flexible_step_response_starts_on_j_eq_alone_and_ends_on_the_same_speed():
+    """At t → 0 the arm is unloaded: ω ≈ C_m t / J_eq with the flexible J_eq (2.7208e-3);
+    in the end the arm rides along (y → 0) at the common speed C_m / f_v."""
+    early = step_response(AXIS, [1e-5], 2.0)
+    assert early["omega_m"][0] == pytest.approx(2.0 * 1e-5 / 2.7208e-3, rel=1e-4)
+    late = step_response(AXIS, [20.0], 2.0)
+    assert late["omega_m"][0] == pytest.approx(2.0 / 0.0171, rel=1e-9)
+    assert late["V_2"][0] == pytest.approx(late["V_ch"][0], rel=1e-9)
+    assert abs(late["y"][0]) < 1e-12
+
+
+def test_frequency_response_peaks_at_the_free_axis_frequency():
+    """The deflection per N·m is largest near √(K_t (1/M2 + (R_p k)²/J_eq)) = 58.5 rad/s,
+    and at low frequency it is the quasi-static −M2 a / K_t of the chain's acceleration."""
+    freqs = np.linspace(40.0, 80.0, 401)
+    amps = np.array([abs(frequency_response(AXIS, w)[1]) for w in freqs])
+    assert freqs[np.argmax(amps)] == pytest.approx(free_axis_frequency(AXIS), rel=5e-3)
+    w = 0.5  # rad/s, far below: the chain's speed follows C_m / (f_v + i ω J_rigid)
+    omega_m, y = frequency_response(AXIS, w)
+    speed = 1 / (0.0171 + 1j * w * equivalent_inertia(AXIS, flexible=False))
+    assert omega_m == pytest.approx(speed, rel=1e-3)
+    accel = 1j * w * omega_m * AXIS.ratio
+    assert y == pytest.approx(-AXIS.M2 * accel / AXIS.K_t, rel=1e-3)
