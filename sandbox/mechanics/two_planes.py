@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import cmath
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -240,3 +240,208 @@ def influence_correction(
     g_in, a_in = _clip(complex(u[0]), radius_inner)
     g_out, a_out = _clip(complex(u[1]), radius_outer)
     return Clips(g_in, a_in, g_out, a_out)
+
+
+# -- the machine's two bearings, and the lab bench's soft supports ---------------------------
+def split_across_axis(
+    resultant: np.ndarray, moment_o: np.ndarray, p_a: np.ndarray, p_b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Forces F_a, F_b [N] across the line AB of two bearings at ``p_a``, ``p_b`` [m] whose
+    sum is the action (R [N], M_O [N·m] at the origin O), world components, shape (3,).
+
+    A ball joint at A and a linear annular joint at B make the guidance isostatic: the
+    moment at A gives ``AB ∧ F_b = M_A⊥`` so ``F_b = (M_A ∧ n) / |AB|`` (n = AB/|AB|), and
+    ``F_a = R⊥ − F_b``. The components along AB (an axial stop, the motor's torque) are
+    dropped.
+
+    Raises:
+        ValueError: A and B coincide.
+    """
+    r = np.asarray(resultant, dtype=float)
+    a, b = np.asarray(p_a, dtype=float), np.asarray(p_b, dtype=float)
+    length = float(np.linalg.norm(b - a))
+    if not length > 0:
+        raise ValueError(f"p_a and p_b must differ (one bearing), both {a.tolist()!r}")
+    n = (b - a) / length
+    m_a = np.asarray(moment_o, dtype=float) - np.cross(a, r)
+    f_b = np.cross(m_a, n) / length
+    return r - np.dot(r, n) * n - f_b, f_b
+
+
+@dataclass(frozen=True)
+class SoftSupports:
+    """A rigid rotor whose bearing housing hangs on isotropic springs (figure 40's bench).
+
+    The housing and the rotor move together across the axis by small amounts: the point of
+    the axis at abscissa ξ from the supports' centre M moves by ``w(ξ) = u + ξ ψ`` (complex
+    ``y + i z``: u the translation of M, ψ the axis' slope). Springs and dampers act on u
+    (``k_t``, ``c_t``) and on the tilt (``k_r``, ``c_r``); the rotor spins at ω with polar
+    inertia A, whose gyroscopic moment stiffens the forward whirl (the ``+ω²A`` below).
+    Linearised (course 7.2.1 with a moving axis), the synchronous response to the rotating
+    unbalance is ``u = U e^{iωt}``, ``ψ = Ψ e^{iωt}`` (rotor-frame phases) with
+
+        [k_t + iωc_t − ω²M    −ω²Q               ] [U]        [S  ]
+        [−ω²Q                 k_r + iωc_r − ω²(J − A)] [Ψ] = ω² [C_M],
+
+    S and C_M the static and couple unbalance about M.
+
+    Attributes:
+        mass: M, everything that vibrates (housing and rotor) [kg].
+        first_moment: Q = Σ m ξ_G about M [kg·m].
+        inertia: J, transverse moment of inertia of everything about M [kg·m²].
+        polar: A, polar moment of inertia of the spinning rotor [kg·m²].
+        k_t: Translational stiffness [N/m]; c_t its damping [N·s/m].
+        k_r: Tilt stiffness [N·m/rad]; c_r its damping [N·m·s/rad].
+    """
+
+    mass: float
+    first_moment: float
+    inertia: float
+    polar: float
+    k_t: float
+    c_t: float
+    k_r: float
+    c_r: float
+
+    def response(self, static: complex, couple: complex, omega: float) -> tuple[complex, complex]:
+        """(U [m], Ψ [rad]): steady synchronous motion of M and slope of the axis, in the
+        rotor frame, for the unbalance S [kg·m] and C_M [kg·m²] about M at ω [rad/s]."""
+        w2 = omega * omega
+        a = np.array(
+            [
+                [self.k_t + 1j * omega * self.c_t - w2 * self.mass, -w2 * self.first_moment],
+                [
+                    -w2 * self.first_moment,
+                    self.k_r + 1j * omega * self.c_r - w2 * (self.inertia - self.polar),
+                ],
+            ]
+        )
+        u, psi = np.linalg.solve(a, w2 * np.array([static, couple], dtype=complex))
+        return complex(u), complex(psi)
+
+    def critical_speeds(self) -> tuple[float, ...]:
+        """Speeds [rad/s] at which the undamped synchronous response is infinite (forward
+        whirl resonances), increasing: det = 0 is a quadratic in ω²."""
+        j = self.inertia - self.polar
+        a = self.mass * j - self.first_moment**2
+        b = -(self.k_t * j + self.k_r * self.mass)
+        c = self.k_t * self.k_r
+        roots = np.roots([a, b, c]) if a != 0 else np.array([-c / b])
+        real = [float(r.real) for r in np.atleast_1d(roots) if abs(r.imag) < 1e-9 * abs(r)]
+        return tuple(sorted(math.sqrt(s) for s in real if s > 0))
+
+
+def vibration(u: complex, psi: complex, xi: float, omega: float) -> complex:
+    """Acceleration [m/s²] of the housing at abscissa ξ [m] from M, rotor-frame complex
+    (amplitude and phase an accelerometer with a tachometer reads): −ω² (U + ξ Ψ)."""
+    return -omega * omega * (u + xi * psi)
+
+
+@dataclass(frozen=True)
+class Whirl:
+    """Steady synchronous vibration of a rotor and its housing on soft supports, in the
+    rotor frame (components x, y, z; constant while everything turns together at ω).
+
+    Attributes:
+        d: Translation of the supports' centre M [m], shape (3,), no x component.
+        phi: Small rotation vector of the housing (and the rotor's axis) [rad], shape (3,).
+        omega: The speed [rad/s] it was computed for.
+        rotor_resultant: The rotor's dynamic resultant [N] (= the bearings' action on it),
+            rotor-frame components, shape (3,).
+        rotor_moment: Its dynamic moment at M [N·m] (the bearings' action, the motor's
+            axial torque aside), shape (3,).
+    """
+
+    d: np.ndarray
+    phi: np.ndarray
+    omega: float
+    rotor_resultant: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rotor_moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def bearing_forces(self, xi_a: float, xi_b: float) -> tuple[np.ndarray, np.ndarray]:
+        """Forces [N] of the bearings at abscissae ξ_a, ξ_b from M on the rotor, rotor-frame
+        components (:func:`split_across_axis` at their displaced positions)."""
+        points = [xi * _X + self.displacement(xi) for xi in (xi_a, xi_b)]
+        return split_across_axis(self.rotor_resultant, self.rotor_moment, *points)
+
+    def displacement(self, xi: float) -> np.ndarray:
+        """Displacement across the axis of the housing's point at abscissa ξ [m] from M."""
+        return self.d + xi * np.cross(self.phi, _X)
+
+    def acceleration(self, xi: float) -> complex:
+        """Acceleration [m/s²] of the housing at ξ, rotor-frame complex ``y + i z``: the
+        point runs on a circle at ω, so −ω² times its displacement."""
+        w = self.displacement(xi)
+        return -(self.omega**2) * complex(w[1], w[2])
+
+
+_X = np.array([1.0, 0.0, 0.0])
+
+
+def synchronous_whirl(
+    *,
+    omega: float,
+    rotor_mass: float,
+    rotor_com: np.ndarray,
+    rotor_inertia: np.ndarray,
+    housing_mass: float,
+    housing_com: float,
+    housing_inertia: float,
+    supports: SoftSupports,
+) -> Whirl:
+    """The exact first-order steady vibration of figure 40's bench (no isotropy assumed).
+
+    In the frame turning with the rotor, the steady state is a fixed pose: the housing
+    translated by d and tilted by φ about M. The rotor then turns rigidly about the fixed
+    axis (M, x) at ω, so course 7.2.1 gives its action exactly: resultant −ω² m G⊥ and
+    moment at M ``ω² x ∧ (I_M x)``, with G and I_M those of the displaced, tilted rotor
+    (to first order: ``I_M x`` gains ``φ ∧ I x − I (φ ∧ x) − m ξ_G d``). The housing (not
+    turning) adds −ω² m_h times its centre's displacement and −ω² J_h φ. Springs and
+    dampers give −k d − c ω x ∧ d (and the same with k_r, c_r on φ). Unlike
+    :meth:`SoftSupports.response`, the rotor's own asymmetry (the unbalance masses' share
+    of the inertia) is kept: the two differ by the ratio of the unbalance to the rotor.
+
+    Args:
+        omega: Speed [rad/s].
+        rotor_mass: m [kg].
+        rotor_com: G − M in the rotor frame [m], shape (3,) (its y, z: S / m).
+        rotor_inertia: I at M in the rotor frame [kg·m²], shape (3, 3), products included.
+        housing_mass: m_h [kg].
+        housing_com: Abscissa of the housing's centre from M [m].
+        housing_inertia: J_h, its transverse moment of inertia at its centre [kg·m²].
+        supports: Stiffnesses and dampings (its inertia fields are not used).
+    """
+    w2 = omega * omega
+    g0 = np.asarray(rotor_com, dtype=float)
+    i0 = np.asarray(rotor_inertia, dtype=float)
+    ix0 = i0 @ _X
+    s = supports
+
+    def rotor(d: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        g = g0 + d + np.cross(phi, g0)
+        ix = ix0 + np.cross(phi, ix0) - i0 @ np.cross(phi, _X) - rotor_mass * g0[0] * d
+        force = -w2 * rotor_mass * g
+        force[0] = 0.0
+        return force, w2 * np.cross(_X, ix)
+
+    def residual(q: np.ndarray) -> np.ndarray:
+        d = np.array([0.0, q[0], q[1]])
+        phi = np.array([0.0, q[2], q[3]])
+        w_h = d + housing_com * np.cross(phi, _X)
+        r_force, r_moment = rotor(d, phi)
+        force = r_force - w2 * housing_mass * w_h
+        force[0] = 0.0
+        moment = (
+            np.cross(housing_com * _X, -w2 * housing_mass * w_h)
+            - w2 * housing_inertia * phi
+            + r_moment
+        )
+        f_ext = -s.k_t * d - s.c_t * omega * np.cross(_X, d)
+        m_ext = -s.k_r * phi - s.c_r * omega * np.cross(_X, phi)
+        return np.concatenate([(force - f_ext)[1:], (moment - m_ext)[1:]])
+
+    b = residual(np.zeros(4))
+    a = np.stack([residual(e) - b for e in np.eye(4)], axis=1)
+    q = np.linalg.solve(a, -b)
+    d, phi = np.array([0.0, q[0], q[1]]), np.array([0.0, q[2], q[3]])
+    return Whirl(d, phi, float(omega), *rotor(d, phi))

@@ -16,6 +16,7 @@ from sandbox.scenes.heavy_gyroscope import SCENE as HEAVY_GYROSCOPE
 from sandbox.scenes.robot_axis import SCENE as ROBOT_AXIS
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
+from sandbox.scenes.wheel_balancer import SCENE as WHEEL_BALANCER
 
 SCENES: dict[str, Scene] = {
     s.name: s
@@ -27,6 +28,7 @@ SCENES: dict[str, Scene] = {
         HEAVY_GYROSCOPE,
         ENGINE,
         ROBOT_AXIS,
+        WHEEL_BALANCER,
     )
 }
 """Every registered scene by name."""

@@ -7,17 +7,22 @@ import math
 import numpy as np
 import pytest
 
+from sandbox.mechanics.inertia import hollow_cylinder
 from sandbox.mechanics.two_planes import (
     Clips,
+    SoftSupports,
     bearing_forces,
     clip_unbalance,
     clips_from_bearings,
     correction,
     influence_correction,
     influence_matrix,
+    split_across_axis,
+    synchronous_whirl,
     to_complex,
     to_vector,
     unbalance_from_bearings,
+    vibration,
 )
 from sandbox.mechanics.unbalance import PointMass, rotating_loads, two_planes
 
@@ -151,6 +156,7 @@ def test_influence_on_soft_supports_finds_the_machines_clips():
         (lambda: unbalance_from_bearings(1.0, 1.0, x_a=X_A, x_b=X_B, omega=0.0), "omega"),
         (lambda: influence_matrix(np.ones(2), np.ones(2), np.ones(2), 0j, 1j), "trial_inner"),
         (lambda: influence_matrix(np.ones(3), np.ones(2), np.ones(2), 1j, 1j), "v0"),
+        (lambda: split_across_axis(np.ones(3), np.ones(3), np.ones(3), np.ones(3)), "p_a and p_b"),
         (
             lambda: influence_correction(
                 np.ones(2),
@@ -168,3 +174,129 @@ def test_influence_on_soft_supports_finds_the_machines_clips():
 def test_bad_inputs_name_the_parameter(call, name):
     with pytest.raises(ValueError, match=f"^{name}"):
         call()
+
+
+# -- the machine's bearings and the lab bench's soft supports ------------------------------------
+def test_split_across_axis_by_hand():
+    """Frame's action R = (7, 10, −4) N, M_O = (3, 1.5, 3) N·m on bearings A (−0.15, 0, 0)
+    and B (0.15, 0, 0): F_A = (0, −5, 3) N and F_B = (0, 15, −7) N (the rotor scene's hand
+    computation); the axial 7 N and 3 N·m are dropped."""
+    f_a, f_b = split_across_axis(
+        np.array([7.0, 10.0, -4.0]),
+        np.array([3.0, 1.5, 3.0]),
+        np.array([-0.15, 0.0, 0.0]),
+        np.array([0.15, 0.0, 0.0]),
+    )
+    assert f_a == pytest.approx([0.0, -5.0, 3.0], abs=1e-12)
+    assert f_b == pytest.approx([0.0, 15.0, -7.0], abs=1e-12)
+
+
+def test_split_of_an_overhung_force_is_the_lever_rule():
+    """10 N along y at x = 0.10 m, bearings at x = −0.30 and −0.10 m (the wheel balancer):
+    F_B = 10 × 0.40/0.20 = 20 N, F_A = −10 N; the same with the bearings off the origin
+    (a housing moved by 1 mm along z)."""
+    r, m_o = np.array([0.0, 10.0, 0.0]), np.array([0.0, 0.0, 1.0])
+    for shift in (np.zeros(3), np.array([0.0, 0.0, 1e-3])):
+        p_a, p_b = np.array([-0.30, 0.0, 0.0]) + shift, np.array([-0.10, 0.0, 0.0]) + shift
+        f_a, f_b = split_across_axis(r, m_o, p_a, p_b)
+        assert f_a + f_b == pytest.approx(r, abs=1e-12)
+        moment = np.cross(p_a, f_a) + np.cross(p_b, f_b)
+        # across the axis; the axial −0.01 N·m of the shifted case goes to the motor
+        assert moment[1:] == pytest.approx(m_o[1:], abs=1e-12)
+    f_a, f_b = split_across_axis(r, m_o, np.array([-0.3, 0, 0]), np.array([-0.1, 0, 0]))
+    assert f_a == pytest.approx([0.0, -10.0, 0.0]) and f_b == pytest.approx([0.0, 20.0, 0.0])
+
+
+def _bench(**kw: float) -> SoftSupports:
+    base = dict(mass=40.0, first_moment=0.0, inertia=2.0, polar=0.0, k_t=2e5, c_t=0.0)
+    return SoftSupports(**(base | dict(k_r=2e3, c_r=0.0) | kw))
+
+
+def test_critical_speeds_of_uncoupled_supports():
+    """Q = 0, no spin inertia: bounce √(k_t/M) = √(2e5/40) = 70.711 rad/s and tilt
+    √(k_r/J) = √(2e3/2) = 31.623 rad/s; a polar inertia A stiffens the tilt: √(k_r/(J − A))."""
+    assert _bench().critical_speeds() == pytest.approx((31.6228, 70.7107), rel=1e-5)
+    assert _bench(polar=1.0).critical_speeds() == pytest.approx((44.7214, 70.7107), rel=1e-5)
+    assert len(_bench(polar=3.0).critical_speeds()) == 1  # A > J: no tilt resonance
+
+
+def test_response_of_one_degree_of_freedom_by_hand():
+    """Bounce alone (C_M = 0, Q = 0): U = ω² S / (k_t + iωc_t − ω² M). S = 1e-3 kg·m,
+    ω = 50 rad/s, c_t = 400 N·s/m: U = 2.5 / (2e5 − 1e5 + 2e4 i) m, |U| = 2.4515e-5 m."""
+    u, psi = _bench(c_t=400.0).response(1e-3, 0j, 50.0)
+    assert u == pytest.approx(2.5 / complex(1e5, 2e4), rel=1e-12)
+    assert abs(u) == pytest.approx(2.4515e-5, rel=1e-4) and psi == 0
+
+
+def test_first_order_whirl_of_a_symmetric_rotor_is_the_textbook_response():
+    """A rotor symmetric about its axis except for a small point mass: synchronous_whirl and
+    SoftSupports.response agree to the ratio of that mass's inertia to the rotor's (here
+    1e-4), and exactly once the point mass's own share of inertia is removed."""
+    m_r, xi_r = 20.0, 0.3
+    tube = hollow_cylinder(m_r, 0.3, 0.2, 0.15)  # axis z: A = tube[2, 2], J_G = tube[0, 0]
+    a, j_g = tube[2, 2], tube[0, 0]
+    i_m = np.diag([a, j_g + m_r * xi_r**2, j_g + m_r * xi_r**2])
+    s, c_m = 1e-4 * np.exp(0.7j), 2e-5 * np.exp(-1.9j)  # S [kg·m], C at M [kg·m²]
+    com = np.array([xi_r, s.real / m_r, s.imag / m_r])
+    i_m = i_m.copy()
+    i_m[0, 1] = i_m[1, 0] = -c_m.real  # course signs: −F
+    i_m[0, 2] = i_m[2, 0] = -c_m.imag  # −E
+    m_h, j_h = 15.0, 0.1
+    bench = SoftSupports(
+        mass=m_r + m_h,
+        first_moment=m_r * xi_r,
+        inertia=i_m[1, 1] + j_h,
+        polar=a,
+        k_t=2e5,
+        c_t=1200.0,
+        k_r=2e3,
+        c_r=12.0,
+    )
+    for w in (20.0, 35.0, 120.0):
+        whirl = synchronous_whirl(
+            omega=w,
+            rotor_mass=m_r,
+            rotor_com=com,
+            rotor_inertia=i_m,
+            housing_mass=m_h,
+            housing_com=0.0,
+            housing_inertia=j_h,
+            supports=bench,
+        )
+        u, psi = bench.response(s, c_m, w)
+        for xi in (-0.1, 0.1):
+            want = vibration(u, psi, xi, w)  # −ω² (U + ξ Ψ)
+            assert whirl.acceleration(xi) == pytest.approx(want, rel=1e-3)
+        # M's displacement is U, the slope of the axis is Ψ (the rotor-frame phases)
+        assert complex(whirl.d[1], whirl.d[2]) == pytest.approx(u, rel=1e-3)
+        slope = np.cross(whirl.phi, [1.0, 0.0, 0.0])
+        assert complex(slope[1], slope[2]) == pytest.approx(psi, rel=1e-3)
+
+
+def test_stiff_supports_give_the_rigid_machines_bearing_forces():
+    """Springs 1e6 times stiffer: the housing hardly moves and the whirl's bearing forces
+    are bearing_forces(S, C) of the rigid machine (forces on the rotor: −P)."""
+    s, c = unbalance(LUMPS)  # about O; M at O here
+    mass = 20.0
+    com = np.array([0.15, s.real / mass, s.imag / mass])
+    inertia = np.diag([0.7, 1.2, 1.2])
+    inertia[0, 1] = inertia[1, 0] = -c.real
+    inertia[0, 2] = inertia[2, 0] = -c.imag
+    stiff = SoftSupports(
+        mass=0, first_moment=0, inertia=0, polar=0, k_t=2e11, c_t=0.0, k_r=2e9, c_r=0.0
+    )
+    whirl = synchronous_whirl(
+        omega=W,
+        rotor_mass=mass,
+        rotor_com=com,
+        rotor_inertia=inertia,
+        housing_mass=10.0,
+        housing_com=0.0,
+        housing_inertia=0.1,
+        supports=stiff,
+    )
+    f_a, f_b = whirl.bearing_forces(X_A, X_B)
+    p_a, p_b = bearing_forces(s, c, **MACHINE)
+    assert complex(f_a[1], f_a[2]) == pytest.approx(-p_a, rel=1e-6)
+    assert complex(f_b[1], f_b[2]) == pytest.approx(-p_b, rel=1e-6)
+    assert np.abs(whirl.d).max() < 1e-9
