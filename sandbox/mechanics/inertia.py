@@ -175,3 +175,50 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     com = sum((p.mass * p.com for p in items), np.zeros(3)) / mass
     inertia_o = sum(p.inertia_at(com) for p in items)
     return MassProperties(mass, com, np.asarray(inertia_o))
+
+
+def elliptic_k(k: float) -> float:
+    """Complete elliptic integral of the first kind K(k), modulus ``k`` in [0, 1), by the
+    arithmetic-geometric mean: K = π / (2 AGM(1, √(1 − k²)))."""
+    if not 0.0 <= k < 1.0:
+        raise ValueError(f"modulus k must be in [0, 1), got {k!r}")
+    a, b = 1.0, float(np.sqrt(1.0 - k * k))
+    for _ in range(60):
+        if abs(a - b) <= 1e-16 * a:
+            break
+        a, b = (a + b) / 2.0, float(np.sqrt(a * b))
+    return float(np.pi / (2.0 * a))
+
+
+def torque_free_period(moments: ArrayLike, omega: ArrayLike) -> float:
+    """Period [s] of ω seen from the solid in a torque-free rotation about G (Euler).
+
+    ``moments`` are the principal moments I₁ < I₂ < I₃ [kg·m²] and ``omega`` the initial
+    rotation vector in the principal basis [rad/s]. With 2T = Σ Iᵢωᵢ² and σ² = Σ Iᵢ²ωᵢ²,
+    the components follow Jacobi's functions sn, cn, dn of modulus k (Landau and Lifshitz,
+    Mechanics §37); for σ² > 2T I₂ (ω closer to axis 3, or near axis 2 leaning to 3):
+    λ² = (I₃ − I₂)(σ² − 2T I₁)/(I₁I₂I₃), k² = (I₂ − I₁)(2T I₃ − σ²)/((I₃ − I₂)(σ² − 2T I₁)),
+    and axes 1 and 3 swap roles for σ² < 2T I₂. The components ω₁ (or ω₃) and ω₂ return
+    after 4K(k)/λ: the period of a flip about the intermediate axis and back. Axes 1 and 3
+    themselves come back after half of it (their angle to ω has period 2K(k)/λ).
+
+    Raises:
+        ValueError: if the moments are not strictly increasing or ω sits on the separatrix
+            (σ² = 2T I₂: an infinitely slow flip).
+    """
+    i1, i2, i3 = (float(x) for x in np.asarray(moments, dtype=float))
+    if not 0.0 < i1 < i2 < i3:
+        raise ValueError(f"moments must be 0 < I1 < I2 < I3, got {moments!r}")
+    w = np.asarray(omega, dtype=float)
+    i = np.array([i1, i2, i3])
+    two_t = float(np.sum(i * w * w))
+    s2 = float(np.sum((i * w) ** 2))
+    if s2 > two_t * i2:
+        lam2 = (i3 - i2) * (s2 - two_t * i1) / (i1 * i2 * i3)
+        k2 = (i2 - i1) * (two_t * i3 - s2) / ((i3 - i2) * (s2 - two_t * i1))
+    elif s2 < two_t * i2:
+        lam2 = (i2 - i1) * (two_t * i3 - s2) / (i1 * i2 * i3)
+        k2 = (i3 - i2) * (s2 - two_t * i1) / ((i2 - i1) * (two_t * i3 - s2))
+    else:
+        raise ValueError("ω lies on the separatrix (σ² = 2T I2): the flip never ends")
+    return 4.0 * elliptic_k(float(np.sqrt(max(k2, 0.0)))) / float(np.sqrt(lam2))

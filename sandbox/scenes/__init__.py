@@ -13,6 +13,7 @@ from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.engine import SCENE as ENGINE
 from sandbox.scenes.gyroscope import SCENE as GYROSCOPE
 from sandbox.scenes.heavy_gyroscope import SCENE as HEAVY_GYROSCOPE
+from sandbox.scenes.inertia import SCENE as INERTIA
 from sandbox.scenes.robot_axis import SCENE as ROBOT_AXIS
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
@@ -28,6 +29,7 @@ SCENES: dict[str, Scene] = {
         HEAVY_GYROSCOPE,
         ENGINE,
         ROBOT_AXIS,
+        INERTIA,
         WHEEL_BALANCER,
     )
 }

@@ -23,6 +23,7 @@ from sandbox.mechanics import (
     rotation_matrix,
     sphere,
 )
+from sandbox.mechanics.inertia import elliptic_k, torque_free_period
 
 
 def _integrate(points: np.ndarray, mass: float) -> np.ndarray:
@@ -118,3 +119,66 @@ def test_bad_dimensions_are_refused():
         sphere(-1.0, 0.1)
     with pytest.raises(ValueError, match="inner_radius"):
         hollow_cylinder(1.0, 0.1, 0.2, 0.1)
+
+
+def test_elliptic_k_known_values():
+    """K(0) = π/2; K(1/√2) = Γ(1/4)² / (4√π) = 1.8540746773013719."""
+    assert elliptic_k(0.0) == pytest.approx(np.pi / 2, rel=1e-15)
+    assert elliptic_k(2**-0.5) == pytest.approx(1.8540746773013719, rel=1e-14)
+    assert elliptic_k(0.999999) > 7.0  # K → ∞ as k → 1 (a launch near the separatrix)
+    with pytest.raises(ValueError, match="modulus"):
+        elliptic_k(1.0)
+
+
+def _euler_crossings(moments: np.ndarray, omega: np.ndarray, axis: int, dt: float, n: int):
+    """Times ω_axis rises through 0, integrating Euler's equations (RK4) from ``omega``."""
+
+    def rate(w: np.ndarray) -> np.ndarray:
+        i1, i2, i3 = moments
+        return np.array(
+            [
+                (i2 - i3) * w[1] * w[2] / i1,
+                (i3 - i1) * w[2] * w[0] / i2,
+                (i1 - i2) * w[0] * w[1] / i3,
+            ]
+        )
+
+    w, t, ups = np.asarray(omega, dtype=float), 0.0, []
+    for _ in range(n):
+        k1 = rate(w)
+        k2 = rate(w + dt / 2 * k1)
+        k3 = rate(w + dt / 2 * k2)
+        k4 = rate(w + dt * k3)
+        new = w + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if w[axis] < 0 <= new[axis]:
+            ups.append(t + dt * -w[axis] / (new[axis] - w[axis]))
+        w, t = new, t + dt
+    return np.array(ups)
+
+
+@pytest.mark.parametrize(
+    ("omega", "axis"),
+    [
+        ([0.0, 2 * np.pi * np.cos(0.0175), 2 * np.pi * np.sin(0.0175)], 1),  # flip, σ² > 2T I₂
+        ([2 * np.pi * np.cos(0.0175), 2 * np.pi * np.sin(0.0175), 0.0], 1),  # near 1, σ² < 2T I₂
+        ([1.0, 2.0, 3.0], 0),
+    ],
+    ids=["intermediate", "smallest", "generic"],
+)
+def test_torque_free_period_against_eulers_equations(omega, axis):
+    """Block 0.1 × 0.2 × 0.3 m, 1 kg: the closed form (Jacobi functions) against a fine
+    RK4 integration of Euler's equations: the component that changes sign comes back
+    after one period (6.7132 s for the 60 rpm flip, 1° off the middle axis)."""
+    moments = np.array([0.05, 0.10, 0.13]) / 12
+    period = torque_free_period(moments, omega)
+    ups = _euler_crossings(moments, np.array(omega), axis, 1e-3, int(2.5 * period / 1e-3))
+    assert np.diff(ups) == pytest.approx(period, rel=1e-6)
+    if axis == 1 and omega[0] == 0.0:
+        assert period == pytest.approx(6.713204, rel=1e-6)
+
+
+def test_torque_free_period_refuses_equal_moments_and_the_separatrix():
+    with pytest.raises(ValueError, match="I1 < I2 < I3"):
+        torque_free_period([1.0, 1.0, 2.0], [0.0, 1.0, 0.1])
+    with pytest.raises(ValueError, match="separatrix"):
+        torque_free_period([1.0, 2.0, 3.0], [0.0, 1.0, 0.0])
