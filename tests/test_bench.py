@@ -262,3 +262,13 @@ def test_merge_refreshes_the_named_scenes_and_keeps_the_others():
         assert doc[name]["runs"] == original[name]["runs"], name
         assert doc[name]["session"] == original[name]["session"], name
     assert doc["rotor"]["runs"][0]["error"] == 1e-3 and "session" not in doc["rotor"]
+
+
+def test_a_timestep_the_scene_refuses_is_left_out_of_the_grid():
+    """The wheel balancer's soft bench defaults to 3 ms and refuses more than 10 ms: its
+    grid (0.1 to 10 times the default) drops 30 ms instead of failing the benchmark."""
+    scene = SCENES["wheel_balancer"]
+    res = bench_scene(scene, quick=True, integrators=("rk4",), factors=(1.0, 3.0, 10.0))
+    steps = [r.timestep for r in res.runs]
+    assert steps and max(steps) <= scene.max_timestep < 10 * res.default_timestep
+    assert res.default is not None and not res.default.diverged
