@@ -20,7 +20,7 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Arrow
 from sandbox.web.renderer import mechanism_size
-from sandbox.web.text import number
+from sandbox.web.text import number, with_unit
 
 if TYPE_CHECKING:
     import viser
@@ -180,7 +180,7 @@ class ArrowLayer:
         if not getattr(arrow, "magnitude", True):
             return arrow.label
         value = number(magnitude, 3, zero=self.zero.get(unit, 0.0))
-        return f"{arrow.label} : {value} {display_unit(unit)}".rstrip()
+        return f"{arrow.label} : {with_unit(value, display_unit(unit))}"
 
     def relabel(self) -> None:
         """Write the current magnitudes in the labels (called at the panel rate)."""

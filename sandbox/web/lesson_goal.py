@@ -21,7 +21,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from sandbox.lessons import Check, CheckError, number_of
-from sandbox.web.text import html_text, number
+from sandbox.web.text import html_text, number, with_unit
 
 SYMBOLS: dict[type, str] = {
     ast.Lt: "<", ast.LtE: "≤", ast.Gt: ">", ast.GtE: "≥", ast.Eq: "=", ast.NotEq: "≠",
@@ -151,7 +151,7 @@ class Words:
 
     def quantity(self, value: float, name: str) -> str:
         unit = self.units.get(name, "")
-        return f"{number(value, 3, zero=self.zeros.get(name, 0.0))} {unit}".rstrip()
+        return with_unit(number(value, 3, zero=self.zeros.get(name, 0.0)), unit)
 
 
 def lines(

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from sandbox.scenes.base import as_scene
 from sandbox.web.fields import display_unit, on_user, set_value
-from sandbox.web.text import html_text, number
+from sandbox.web.text import html_text, number, with_unit
 
 if TYPE_CHECKING:
     import viser
@@ -95,7 +95,8 @@ def overlay_lines(
     labels: Mapping[str, str],
     units: Mapping[str, str],
 ) -> list[str]:
-    """One line per readout: "label = value unit" (French number, "—" when missing)."""
+    """One line per readout: "label = value unit" (French number, "—" when missing; an
+    angle's degree sign follows the number)."""
     lines = []
     for name in names:
         value = values.get(name, math.nan)
@@ -109,7 +110,7 @@ def overlay_lines(
             shown, unit = number(value * 30.0 / math.pi, 4), "tr/min"
         elif name in FLAGS and math.isfinite(value):
             shown, unit = ("oui" if value > 0.5 else "non"), ""
-        lines.append(f"{labels.get(name) or name} = {shown} {unit}".rstrip())
+        lines.append(f"{labels.get(name) or name} = {with_unit(shown, unit)}")
     return lines
 
 

@@ -53,3 +53,11 @@ def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
     mantissa = mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa
     superscript = str(int(power)).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
     return f"{mantissa.replace('.', ',')}×10{superscript}"
+
+
+def with_unit(shown: str, unit: str) -> str:
+    """A written number and its unit as French typography has them: "54,4 N", "29°"
+    (an angle's degree sign follows the number), the number alone without a unit."""
+    if not unit:
+        return shown
+    return f"{shown}{unit}" if unit == "°" else f"{shown} {unit}"

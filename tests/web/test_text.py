@@ -37,3 +37,11 @@ def test_html_text_cuts_long_values_and_blanks_control_characters():
 )
 def test_numbers_have_a_decimal_comma_and_no_round_off_noise(value, digits, zero, expected):
     assert number(value, digits, zero=zero) == expected
+
+
+def test_a_number_and_its_unit_as_french_typography_writes_them():
+    from sandbox.web.text import with_unit
+
+    assert with_unit("54,4", "N") == "54,4 N"
+    assert with_unit("29", "°") == "29°"  # the degree sign of an angle follows the number
+    assert with_unit("0,25", "") == "0,25"
