@@ -387,23 +387,31 @@ def chain_mass(axis: RobotAxis, *, flexible: bool = True, rho: float = 1.0) -> f
 
 
 def state_matrices(
-    axis: RobotAxis, *, flexible: bool = True, rho: float = 1.0, servo_gain: float = 0.0
+    axis: RobotAxis,
+    *,
+    flexible: bool = True,
+    rho: float = 1.0,
+    servo_gain: float = 0.0,
+    position_gain: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(A, b) of ẋ = A x + b u for the driving-mode model of the axis.
 
     State x = (y_ch, V_ch, y, v) with y = y_2 − y_ch, v = V_2 − V_ch (rigid arm: (y_ch, V_ch)).
     Input u: the motor torque C_m [N·m], or with ``servo_gain`` K_v > 0 [N·m·s/rad] the
     speed set point ω_c [rad/s] of a speed servo with friction feedforward,
-    C_m = K_v (ω_c − ω_m) + f_v ω_c (its steady speed is ω_c itself).
+    C_m = K_v (ω_c − ω_m) + f_v ω_c (its steady speed is ω_c itself). A ``position_gain``
+    K_p [1/s] adds a position loop to that set point, ω_c = u − K_p y_ch / (R_p k): u is
+    then the speed feedforward plus K_p y_ref / (R_p k) for a reference position y_ref.
     """
     r = axis.ratio
     m = chain_mass(axis, flexible=flexible, rho=rho)
     drag = rho * (axis.f_v + servo_gain) / r**2  # N·s/m on V_ch
     push = rho * (servo_gain + axis.f_v if servo_gain > 0 else 1.0) / r
+    hold = push * position_gain / r if servo_gain > 0 else 0.0  # N/m on y_ch
     if not flexible:
-        return np.array([[0.0, 1.0], [0.0, -drag / m]]), np.array([0.0, push / m])
+        return np.array([[0.0, 1.0], [-hold / m, -drag / m]]), np.array([0.0, push / m])
     k, mu = axis.K_t, axis.mu_t
-    a_ch = np.array([0.0, -drag, k, mu]) / m
+    a_ch = np.array([-hold, -drag, k, mu]) / m
     a = np.zeros((4, 4))
     a[0, 1] = a[2, 3] = 1.0
     a[1] = a_ch
@@ -475,3 +483,65 @@ def frequency_response(
     a, b = state_matrices(axis, rho=rho)
     x = np.linalg.solve(1j * omega * np.eye(4) - a, b.astype(complex))
     return complex(x[1] / axis.ratio), complex(x[2])
+
+
+def arm_ringing(
+    axis: RobotAxis, *, rho: float = 1.0, servo_gain: float = 0.0, position_gain: float = 0.0
+) -> tuple[float, float]:
+    """(σ [1/s], ω_d [rad/s]) of the arm's free oscillation y ∝ e^{−σ t} cos(ω_d t) once the
+    command is constant (e.g. after a stop): the complex eigenvalue −σ ± i ω_d of
+    :func:`state_matrices` (flexible arm) with the largest imaginary part.
+
+    With a stiff speed servo the carriage is nearly held still and ω_d nears the arm's own
+    ω_n √(1 − ζ²) (:func:`arm_natural_frequency`, :func:`arm_damping_ratio`); with the
+    torque command it is the arm against the free chain (:func:`free_axis_frequency`).
+    """
+    a, _ = state_matrices(axis, rho=rho, servo_gain=servo_gain, position_gain=position_gain)
+    eig = np.linalg.eigvals(a)
+    top = eig[int(np.argmax(eig.imag))]
+    return float(-top.real), float(top.imag)
+
+
+# --- the back-and-forth move of a transfer robot ---------------------------------------------
+
+
+def back_and_forth(
+    t: float, stroke: float, top_speed: float, accel_time: float, pause: float
+) -> tuple[float, float]:
+    """(position [m], speed [m/s]) of a point-to-point cycle between 0 and ``stroke``.
+
+    Trapezoidal speed profile: accelerate at a = top_speed / accel_time, cruise at
+    ``top_speed``, decelerate at −a, stand still for ``pause``; then the same move back
+    to 0 and a pause; the cycle repeats for ever (period 2 (t_move + pause)). A stroke too
+    short to reach ``top_speed`` gives a triangle of peak √(stroke a). Zero top speed or
+    stroke: at rest at 0.
+
+    Args:
+        t: Time [s] since the start of the first move (t < 0: at rest at 0).
+        stroke: Distance of one move [m] (>= 0).
+        top_speed: Cruise speed [m/s] (its magnitude is used).
+        accel_time: Time to reach ``top_speed`` from rest [s] (0: a speed step).
+        pause: Standstill at each end [s] (>= 0).
+    """
+    v_top = abs(top_speed)
+    if stroke <= 0 or v_top <= 0 or t <= 0:
+        return 0.0, 0.0
+    ramp = max(accel_time, 0.0)
+    if ramp > 0 and stroke < v_top * ramp:  # triangle: never reaches v_top
+        v_top = math.sqrt(stroke * v_top / ramp)
+        ramp = stroke / v_top
+    move = stroke / v_top + ramp  # two half ramps add one ramp to stroke / v_top
+    t = t % (2.0 * (move + pause))
+    back = t >= move + pause
+    if back:
+        t -= move + pause
+    if t >= move:
+        x, v = stroke, 0.0
+    elif ramp > 0 and t < ramp:
+        x, v = 0.5 * v_top * t * t / ramp, v_top * t / ramp
+    elif ramp > 0 and t > move - ramp:
+        left = move - t
+        x, v = stroke - 0.5 * v_top * left * left / ramp, v_top * left / ramp
+    else:
+        x, v = v_top * (t - 0.5 * ramp), v_top
+    return (stroke - x, -v) if back else (x, v)

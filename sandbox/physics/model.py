@@ -77,6 +77,8 @@ class SceneSpec(Protocol):
     @property
     def drive(self) -> Callable[..., None] | None: ...  # (model, data, values)
     @property
+    def control(self) -> Callable[..., None] | None: ...  # (model, data, values), per step
+    @property
     def initial_state(self) -> Callable[..., None] | None: ...  # (model, data, values)
     @property
     def reference(self) -> Callable[[Mapping[str, float]], dict[str, float]] | None: ...

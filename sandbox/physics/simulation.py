@@ -115,6 +115,7 @@ class Simulation:
             self._apply_drive()
             if self.scene is not None and self.scene.initial_state is not None:
                 self.scene.initial_state(self.model, self.data, self.values)
+                self._apply_control()  # the command of the initial state
             mujoco.mj_forward(self.model, self.data)
             self._warnings = self._warning_count()
         self._emit("reset")
@@ -130,6 +131,13 @@ class Simulation:
     def _apply_drive(self) -> None:
         if self.scene is not None and self.scene.drive is not None:
             self.scene.drive(self.model, self.data, self.values)
+        self._apply_control()
+
+    def _apply_control(self) -> None:
+        """The scene's per-step command at the current state (readouts between two steps
+        then show the command the next step applies)."""
+        if self.scene is not None and self.scene.control is not None:
+            self.scene.control(self.model, self.data, self.values)
 
     def set_value(self, name: str, value: object) -> float:
         """Change a parameter; non-live ones rebuild the model and keep the motion going.
@@ -252,7 +260,10 @@ class Simulation:
         return sum(int(self.data.warning[w].number) for w, _ in _BAD_WARNINGS)
 
     def step(self, nstep: int = 1) -> None:
-        """Advance ``nstep`` timesteps in C, then check for divergence.
+        """Advance ``nstep`` timesteps, then check for divergence.
+
+        One batched ``mj_step`` call in C, or for a scene with a per-step ``control`` a
+        Python loop calling it before each ``mj_step`` (:func:`step_model`).
 
         Raises:
             Diverged: NaN/Inf in the state or a MuJoCo bad-state warning.
@@ -260,7 +271,8 @@ class Simulation:
         if nstep <= 0:
             return
         with self.lock:
-            mujoco.mj_step(self.model, self.data, nstep)
+            control = self.scene.control if self.scene is not None else None
+            step_model(self.model, self.data, nstep, control, self.values)
             self._guard()
             self._follow_state()
 
@@ -368,6 +380,31 @@ class Simulation:
         if self.scene is None or self.scene.reference is None:
             return {}
         return self.scene.reference(self.values)
+
+
+def step_model(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    nstep: int,
+    control: Callable[[mujoco.MjModel, mujoco.MjData, Mapping[str, float]], None] | None = None,
+    values: Mapping[str, float] | None = None,
+) -> None:
+    """Advance ``nstep`` timesteps: ``mj_step(model, data, nstep)`` in one call without a
+    control; with one, ``control(model, data, values)`` then ``mj_step(model, data)`` at
+    every timestep (a time-varying command held over each step), and the control once more
+    at the end, so that the state left (read, drawn, recorded) carries the command of its
+    own time, as after a reset (a pure control computes the same again before the next
+    step). Every loop that steps a scene's model goes through here, so that a scene's
+    control is never skipped."""
+    if control is None:
+        mujoco.mj_step(model, data, nstep)
+        return
+    values = values if values is not None else {}
+    for _ in range(nstep):
+        control(model, data, values)
+        mujoco.mj_step(model, data)
+    if nstep > 0:
+        control(model, data, values)
 
 
 def finite(values: Mapping[str, float]) -> bool:

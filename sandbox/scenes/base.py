@@ -302,6 +302,15 @@ class Scene:
         readouts: Scene readouts, added to the generic ones.
         edit: Applies the non-live parameters to the MjSpec before compiling.
         drive: Applies live parameters (motor set points) to ``data.ctrl``.
+        control: Per-step command, called before every ``mj_step`` (and after ``drive``,
+            ``initial_state`` and the last step of a ``Simulation.step`` call, so that the
+            state shown carries the command of its own time) for a command that varies
+            in time (a back-and-forth move, a sinusoidal torque). It must be a pure
+            function of (model, data, values): ``data.time`` and the state (``qpos``,
+            ``qvel``, ``act``; derived quantities may be stale), no Python state
+            of its own, so that a reset, a replay or a recording re-simulates the same
+            motion. A scene with a control is stepped in a Python loop, one ``mj_step`` per
+            timestep; every other scene in one batched ``mj_step(model, data, nstep)``.
         initial_state: Sets a consistent initial qpos/qvel after reset.
         reference: Closed-form values of some readouts from the course.
         integrator: Default integrator name.
@@ -348,6 +357,7 @@ class Scene:
     readouts: tuple[SceneReadout, ...] = ()
     edit: Callable[[mujoco.MjSpec, Values], None] | None = None
     drive: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
+    control: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     initial_state: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     reference: Callable[[Values], dict[str, float]] | None = None
     integrator: str = "rk4"

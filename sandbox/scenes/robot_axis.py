@@ -9,8 +9,14 @@ Model: the rigid chain is ONE slide joint (y_ch): V_ch = R_p k ω_m ties the mot
 and the pulleys to it, so their inertia is an armature on that slide and the friction a
 joint damping, and no constraint is needed. The arm is a second slide on the carriage
 (y = y_2 − y_ch) with stiffness K_t and damping μ_t; ``flexible`` = 0 removes it (M2 rides on
-the carriage). The motor applies C_m (a torque step, or a speed servo with a filtered set
-point). The reducer's efficiency ρ (parameter ``eta``) is simulated in driving mode, the
+the carriage). The motor applies C_m, by ``profile``: 0 a torque step, 1 a speed servo with a
+filtered set point, 2 (default) the transfer robot's back-and-forth point-to-point moves (the
+servo follows a trapezoidal speed profile, with a slow position loop), 3 a sinusoidal torque
+(the arm's resonance). Commands 2 and 3 vary in time: the scene's per-step ``control`` sets
+them from the time and the state. The carriage's slide has end stops (a joint limit at the
+rail's ends, -0.05 and 2.05 m): the back-and-forth move never reaches them; a constant torque
+or speed runs the carriage onto one, which then holds it (readout F_stop; the course has no
+stop, so the theorem's residual and C_m_gap show the stop's share). The reducer's efficiency ρ (parameter ``eta``) is simulated in driving mode, the
 motor always feeding the load: C_m − (J_m + J_r) ω̇_m − f_v ω_m = C_s / ρ, i.e. the chain is
 pushed by ρ C_m with ρ (J_m + J_r) and ρ f_v upstream (see
 :func:`sandbox.mechanics.robot_axis.chain_mass`). When the load drives the motor back
@@ -29,6 +35,7 @@ import numpy as np
 
 from sandbox.mechanics.robot_axis import (
     RobotAxis,
+    back_and_forth,
     equivalent_inertia,
     free_axis_frequency,
     motor_torque,
@@ -51,6 +58,14 @@ from sandbox.scenes.base import (
 RPM = 2 * math.pi / 60
 SERVO_TIME = 0.01
 """Time constant [s] of the speed servo on the rigid chain: K_v = J_eq / SERVO_TIME."""
+POSITION_TIME = 0.1
+"""Time constant [s] of the position loop of the back-and-forth move (K_p = 1 / it), ten
+times the speed servo's: it only removes the servo's lag from the carriage's position."""
+RAIL = (-0.05, 2.05)
+"""Travel of the carriage's centre between its two end stops [m] (a 2.2 m rail, the
+carriage 0.24 m long): the slide's range in robot_axis.xml."""
+TORQUE, SPEED, BACK_AND_FORTH, SINE = 0, 1, 2, 3
+"""Values of the parameter ``profile``."""
 STEP_ANGLE = 0.3
 """Largest |λ| dt of the model's eigenvalues [-]: RK4 keeps the arm's oscillation within
 1e-5 per period (the arm turns 0.06 rad per step at the default 1 ms)."""
@@ -62,12 +77,18 @@ def _p(name: str, unit: str, default: float, lo: float, hi: float, doc: str, **k
 
 
 DRIVE, ARM, CHAIN, INERTIAS = "Entraînement", "Bras flexible", "Transmission", "Inerties"
+MOVE, SINE_GROUP = "Aller-retour", "Couple sinusoïdal"
 
 PARAMS = (
-    _p("profile", "", 1, 0, 1, "0: constant motor torque from rest; 1: speed set point reached through a first-order filter.", step=1, label="Commande du moteur", hint="Couple constant appliqué dès le départ, ou consigne de vitesse atteinte avec la constante de temps τ.", group=DRIVE, choices=("Couple constant", "Consigne de vitesse")),
+    _p("profile", "", 2, 0, 3, "0: constant motor torque from rest; 1: speed set point reached through a first-order filter; 2: back-and-forth point-to-point moves (trapezoidal speed profile); 3: sinusoidal motor torque.", step=1, label="Commande du moteur", hint="Couple constant, consigne de vitesse filtrée, allers-retours d'un bout à l'autre de la course, ou couple sinusoïdal.", group=DRIVE, choices=("Couple constant", "Consigne de vitesse", "Aller-retour", "Couple sinusoïdal")),
     _p("torque_Nm", "N·m", 1.0, -20.0, 20.0, "Motor torque C_m of the constant-torque command.", live=True, step=0.05, label="Couple moteur Cₘ", hint="Couple que le moteur applique à son arbre quand la commande est un couple constant.", group=DRIVE),
-    _p("speed_rpm", "rpm", 500.0, -3000.0, 3000.0, "Motor speed set point of the speed command.", live=True, step=10.0, label="Consigne de vitesse du moteur ωₘ", hint="Vitesse de l'arbre moteur que l'asservissement vise quand la commande est une consigne de vitesse.", group=DRIVE),
+    _p("speed_rpm", "rpm", 500.0, -3000.0, 3000.0, "Motor speed set point of the speed command; top motor speed of the back-and-forth move (its magnitude).", live=True, step=10.0, label="Consigne de vitesse du moteur ωₘ", hint="Vitesse de l'arbre moteur visée par l'asservissement, ou vitesse de croisière des allers-retours.", group=DRIVE),
     _p("ramp_s", "s", 0.1, 0.0, 2.0, "Time constant of the speed set point's first-order filter (0: a step).", step=0.01, label="Temps de montée de la consigne τ", hint="Constante de temps du filtre du premier ordre appliqué à la consigne de vitesse (0 : un échelon).", group=DRIVE),
+    _p("stroke", "m", 1.5, 0.0, 2.0, "Distance of one move of the back-and-forth command, from the rail's start.", live=True, step=0.01, label="Course d'un déplacement L", hint="Distance que le chariot parcourt à chaque aller, puis à chaque retour, depuis le début du rail.", group=MOVE),
+    _p("accel_s", "s", 0.05, 0.0, 2.0, "Time of the back-and-forth move to reach the top speed from rest (trapezoidal profile; 0: a speed step).", live=True, step=0.01, label="Durée d'accélération tₐ", hint="Durée de la rampe de vitesse au départ et à l'arrivée de chaque déplacement.", group=MOVE),
+    _p("pause_s", "s", 1.0, 0.0, 10.0, "Standstill at each end of the back-and-forth move.", live=True, step=0.1, label="Pause à chaque extrémité", hint="Durée de l'arrêt du chariot à chaque bout de sa course, pendant laquelle le bras oscille librement.", group=MOVE),
+    _p("sine_Nm", "N·m", 1.0, 0.0, 20.0, "Amplitude C_0 of the sinusoidal motor torque C_m = C_0 sin(2π f t).", live=True, step=0.05, label="Amplitude du couple sinusoïdal C₀", hint="Amplitude du couple moteur qui varie sinusoïdalement avec le temps.", group=SINE_GROUP),
+    _p("sine_Hz", "Hz", 2.0, 0.1, 50.0, "Frequency f of the sinusoidal motor torque.", live=True, step=0.01, label="Fréquence du couple sinusoïdal f", hint="Nombre de périodes du couple sinusoïdal par seconde ; le bras résonne vers 9,3 Hz.", group=SINE_GROUP),
     _p("flexible", "", 1, 0, 1, "1: the arm is a mass on a spring and a damper; 0: the arm is rigid (M2 moves with the carriage).", step=1, label="Modèle du bras", hint="Bras souple (masse M₂ sur un ressort et un amortisseur) ou rigide (M₂ comptée dans l'inertie équivalente).", group=ARM, choices=("Bras rigide", "Bras flexible")),
     _p("M2", "kg", 46.0, 0.5, 500.0, "Equivalent mass of the flexible parts (arm z).", step=0.5, label="Masse des parties flexibles M₂", hint="Masse équivalente du bras z, qui oscille par rapport au chariot.", group=ARM),
     _p("K_t", "N/m", 124000.0, 1000.0, 1e7, "Equivalent stiffness of the arm.", step=1000.0, label="Raideur équivalente du bras Kₜ", hint="Raideur du ressort qui relie le bras au chariot.", group=ARM, advanced=True),
@@ -97,18 +118,31 @@ def flexible(v: Values) -> bool:
     return v["flexible"] >= 0.5
 
 
+def profile(v: Values) -> int:
+    """The command: TORQUE, SPEED, BACK_AND_FORTH or SINE."""
+    return int(round(v["profile"]))
+
+
 def servo_gain(v: Values) -> float:
-    """K_v [N·m·s/rad] of the speed servo (0 for the torque command)."""
-    if v["profile"] < 0.5:
+    """K_v [N·m·s/rad] of the speed servo (0 for the torque commands)."""
+    if profile(v) in (TORQUE, SINE):
         return 0.0
     return equivalent_inertia(axis_of(v), flexible=False) / SERVO_TIME
+
+
+def position_gain(v: Values) -> float:
+    """K_p [1/s] of the back-and-forth move's position loop (0 for the other commands)."""
+    return 1.0 / POSITION_TIME if profile(v) == BACK_AND_FORTH else 0.0
 
 
 def default_timestep(v: Values, data: mujoco.MjData | None = None) -> float:
     """RK4 step [s] turning the model's fastest eigenvalue by at most STEP_ANGLE (1 ms at
     the course's numbers: the arm against the free chain is 58.5 rad/s)."""
     v = {**DEFAULTS, **v}
-    a, _ = state_matrices(axis_of(v), flexible=flexible(v), rho=v["eta"], servo_gain=servo_gain(v))
+    a, _ = state_matrices(
+        axis_of(v), flexible=flexible(v), rho=v["eta"], servo_gain=servo_gain(v),
+        position_gain=position_gain(v),
+    )  # fmt: skip
     fastest = float(np.max(np.abs(np.linalg.eigvals(a))))
     return per_revolution_timestep(STEP_ANGLE, fastest, largest=LARGEST_TIMESTEP)
 
@@ -136,7 +170,7 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     motor.gainprm[0] = kv + v["f_v"] if kv > 0 else 1.0
     motor.biastype = mujoco.mjtBias.mjBIAS_AFFINE
     motor.biasprm[:3] = [0.0, 0.0, -kv / rho]
-    if kv > 0 and v["ramp_s"] > 0:
+    if profile(v) == SPEED and v["ramp_s"] > 0:
         motor.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
         motor.dynprm[0] = v["ramp_s"]
     else:
@@ -144,8 +178,39 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
 
 
 def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
-    """The torque C_m [N·m], or the speed set point [rad/s] of the servo."""
-    data.ctrl[0] = v["torque_Nm"] if v["profile"] < 0.5 else v["speed_rpm"] * RPM
+    """The constant torque C_m [N·m] or speed set point [rad/s] (the time-varying
+    commands are :func:`control`'s)."""
+    if profile(v) == TORQUE:
+        data.ctrl[0] = v["torque_Nm"]
+    elif profile(v) == SPEED:
+        data.ctrl[0] = v["speed_rpm"] * RPM
+
+
+def move_reference(v: Values, t: float) -> tuple[float, float]:
+    """(position [m], speed [m/s]) of the carriage that the back-and-forth move asks for
+    at time ``t`` [s] (:func:`sandbox.mechanics.robot_axis.back_and_forth`)."""
+    r = v["R_p"] * v["k"]
+    return back_and_forth(t, v["stroke"], v["speed_rpm"] * RPM * r, v["accel_s"], v["pause_s"])
+
+
+def control(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """The time-varying commands, before every step (a pure function of the time and the
+    state: a reset or a replay repeats them).
+
+    Back-and-forth: the speed servo's set point is the trapezoid's speed plus a position
+    loop, ω_c = V_ref / (R_p k) + K_p (y_ref − y_ch) / (R_p k), the correction kept within
+    the top speed (a stroke changed mid-move brings the carriage back at that speed).
+    Sinusoidal torque: C_m = C_0 sin(2π f t).
+    """
+    command, t = profile(v), float(data.time)
+    if command == BACK_AND_FORTH:
+        r = v["R_p"] * v["k"]
+        y_ref, v_ref = move_reference(v, t)
+        top = abs(v["speed_rpm"]) * RPM
+        correction = (y_ref - float(data.qpos[0])) / (POSITION_TIME * r)
+        data.ctrl[0] = v_ref / r + min(max(correction, -top), top)
+    elif command == SINE:
+        data.ctrl[0] = v["sine_Nm"] * math.sin(2.0 * math.pi * v["sine_Hz"] * t)
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
@@ -231,11 +296,17 @@ def _arm_force(s: Snapshot) -> float:
 
 
 def _belt_force(s: Snapshot) -> float:
-    """Force of the belt on the carriage along y [N]: M1 a_ch minus the arm's force (rigid
-    arm: (M1 + M2) a_ch, the arm riding on the carriage)."""
+    """Force of the belt on the carriage along y [N]: M1 a_ch minus the arm's and the end
+    stops' forces (rigid arm: (M1 + M2) a_ch, the arm riding on the carriage)."""
     st, v = _state(s), s.values
     mass = v["M1"] if s.model.nv > 1 else v["M1"] + v["M2"]
-    return mass * st["a_ch"] - _arm_force(s)
+    return mass * st["a_ch"] - _arm_force(s) - _stop_force(s)
+
+
+def _stop_force(s: Snapshot) -> float:
+    """Force of the end stops on the carriage along y [N] (0 away from them): the slide's
+    limit force, the only constraint of the model."""
+    return float(s.data.qfrc_constraint[0])
 
 
 def _swing(s: Snapshot) -> float:
@@ -286,6 +357,8 @@ READOUTS = (
     SceneReadout("F_belt", "N", "Force of the belt on the carriage along y.", _belt_force, label="Effort de la courroie sur le chariot", hint="Effort de la courroie sur le chariot le long de y, qui l'accélère et retient le bras."),
     SceneReadout("F_arm", "N", "Force of the arm on the carriage along y: K_t y + μ_t v.", _arm_force, label="Effort du bras sur le chariot", hint="Effort du ressort et de l'amortisseur du bras sur le chariot le long de y."),
     SceneReadout("P_diss", "W", "f_v ω_m² + μ_t v² + K_t y v: minus the course's inter-effort power.", _dissipated, label="Puissance des frottements et du bras", hint="Puissance fᵥ·ωₘ² + μₜ·v² + Kₜ·y·v, l'opposé de la puissance des inter-efforts du cours."),
+    SceneReadout("y_ch", "m", "Position of the carriage's centre along the rail (end stops at -0.05 and 2.05 m).", lambda s: float(s.data.qpos[0]), label="Position du chariot ych", hint="Position du centre du chariot le long du rail, dont les butées sont à −0,05 m et 2,05 m."),
+    SceneReadout("F_stop", "N", "Force of the end stops on the carriage along y (0 away from them; outside the course's model).", _stop_force, label="Effort des butées sur le chariot", hint="Effort qu'une butée de fin de rail exerce sur le chariot quand il l'atteint, absent du modèle du cours."),
 )  # fmt: skip
 
 ARROW_SCALE = 1e-3
@@ -330,16 +403,21 @@ SCENE = Scene(
     name="robot_axis",
     title="Axe de robot : inertie équivalente et rendement",
     summary=(
-        "The y axis of a transfer robot: a motor and reducer drive a carriage by a belt, "
-        "and a flexible arm oscillates on it. The motor sees the chain as one equivalent "
-        "inertia J_eq; the arm's mass M2 stays outside it unless the arm is rigid."
+        "The y axis of a transfer robot: a motor and reducer drive a carriage by a belt "
+        "back and forth along its rail, and a flexible arm rings on it after each stop. The "
+        "motor sees the chain as one equivalent inertia J_eq; the arm's mass M2 stays "
+        "outside it unless the arm is rigid."
     ),
     mjcf="robot_axis.xml",
     params=PARAMS,
-    effects=Effects(joint_damping=True, springs=True, actuation=True),
+    # limits: the end stops of the rail, met only by the constant commands (a torque or a
+    # speed set point runs the carriage to an end; the stop's force shows in F_stop, and as
+    # the gap of the energy theorem and of C_m_ref, which the course does not model).
+    effects=Effects(joint_damping=True, springs=True, actuation=True, limits=True),
     readouts=READOUTS,
     edit=edit,
     drive=drive,
+    control=control,
     initial_state=initial_state,
     reference=reference,
     # RK4: the arm's oscillation (58.5 rad/s against the free chain) keeps its amplitude
@@ -351,7 +429,7 @@ SCENE = Scene(
     # Beyond 10 ms RK4 loses the arm's oscillation (0.6 rad per step: 1e-3 on V_2 at 10 ms)
     # and nears its stability limit on the speed servo (time constant 10 ms).
     max_timestep=1e-2,
-    plots=("omega_m", "deflection", "C_m", "C_m_ref"),
+    plots=("y_ch", "omega_m", "deflection", "C_m"),
     arrows=ARROWS,
     body_frame="carriage",
     sections="6.3, 6.4",

@@ -13,6 +13,8 @@ from sandbox.mechanics.robot_axis import (
     arm_acceleration,
     arm_damping_ratio,
     arm_natural_frequency,
+    arm_ringing,
+    back_and_forth,
     chain_mass,
     energy_balance,
     equivalent_inertia,
@@ -27,6 +29,7 @@ from sandbox.mechanics.robot_axis import (
     reducer_loss,
     series_efficiency,
     speeds,
+    state_matrices,
     step_response,
 )
 
@@ -286,3 +289,57 @@ def test_frequency_response_peaks_at_the_free_axis_frequency():
     assert omega_m == pytest.approx(speed, rel=1e-3)
     accel = 1j * w * omega_m * AXIS.ratio
     assert y == pytest.approx(-AXIS.M2 * accel / AXIS.K_t, rel=1e-3)
+
+
+def test_back_and_forth_is_a_trapezoid_whose_speed_integrates_to_the_stroke():
+    """1.5 m at 0.2094 m/s (500 tr/min), ramps of 0.05 s, pauses of 1 s: each move lasts
+    1.5 / 0.2094 + 0.05 = 7.212 s; the speed is the position's derivative; the cycle goes
+    0 -> 1.5 -> 0 every 16.42 s and repeats."""
+    v_top = 500 * 2 * math.pi / 60 * 0.004
+    args = (1.5, v_top, 0.05, 1.0)
+    move = 1.5 / v_top + 0.05
+    assert move == pytest.approx(7.2120, abs=1e-4)
+    t = np.linspace(0.0, 2 * (2 * (move + 1.0)), 200_001)
+    got = np.array([back_and_forth(ti, *args) for ti in t])
+    x, v = got[:, 0], got[:, 1]
+    assert np.min(x) == 0.0 and np.max(x) == pytest.approx(1.5, rel=1e-12)
+    assert np.max(np.abs(v)) == pytest.approx(v_top, rel=1e-12)
+    assert np.max(np.abs(np.diff(v))) <= v_top / 0.05 * (t[1] - t[0]) * (1 + 1e-9)  # ramps
+    dxdt = np.gradient(x, t)
+    assert np.max(np.abs(dxdt - v)[1:-1]) < 1e-3 * v_top  # one-sided at the ends
+    assert back_and_forth(move, *args) == (1.5, 0.0)  # stopped at the far end
+    assert back_and_forth(move + 1.0 + 0.5 * move, *args)[1] == pytest.approx(-v_top)
+    period = 2 * (move + 1.0)
+    assert back_and_forth(3.3 + period, *args) == pytest.approx(back_and_forth(3.3, *args))
+    # a stroke too short for the top speed: a triangle of peak √(stroke a), a = v_top/t_a
+    peak = math.sqrt(0.005 * v_top / 0.05)
+    assert peak < v_top
+    tri = np.array([back_and_forth(ti, 0.005, v_top, 0.05, 0.2)[1] for ti in t[t < 0.2]])
+    assert np.max(tri) <= peak * (1 + 1e-12)
+    assert back_and_forth(0.005 / peak, 0.005, v_top, 0.05, 0.2)[1] == pytest.approx(peak)
+    assert back_and_forth(2 * 0.005 / peak, 0.005, v_top, 0.05, 0.2) == (0.005, 0.0)
+    # at rest: zero speed, zero stroke, before the start; a speed step without ramp
+    assert back_and_forth(1.0, 1.5, 0.0, 0.05, 1.0) == (0.0, 0.0)
+    assert back_and_forth(1.0, 0.0, v_top, 0.05, 1.0) == (0.0, 0.0)
+    assert back_and_forth(-1.0, *args) == (0.0, 0.0)
+    assert back_and_forth(1.0, 1.5, v_top, 0.0, 1.0) == pytest.approx((v_top, v_top))
+
+
+def test_arm_ringing_is_the_oscillating_eigenvalue_between_its_two_limits():
+    """Torque command: the arm rings against the free chain at √(ω² − σ²) with
+    ω = 58.52 rad/s; a stiff speed servo (K_v = J_eq,rigid / 10 ms) nearly holds the
+    carriage, so the arm rings close to its own ω_n √(1 − ζ²) = 51.91 rad/s, and the
+    servo's damping on the carriage adds to μ_t's (σ = 3.46 instead of ζ ω_n = 0.70 1/s)."""
+    sigma, wd = arm_ringing(AXIS)
+    assert wd == pytest.approx(free_axis_frequency(AXIS), rel=2e-3)
+    kv = equivalent_inertia(AXIS, flexible=False) / 0.01
+    sigma, wd = arm_ringing(AXIS, servo_gain=kv, position_gain=10.0)
+    zeta = arm_damping_ratio(AXIS)
+    held = arm_natural_frequency(AXIS) * math.sqrt(1 - zeta**2)
+    assert held == pytest.approx(51.91, rel=1e-3)
+    assert wd == pytest.approx(52.31, rel=1e-3) and wd == pytest.approx(held, rel=1e-2)
+    assert sigma == pytest.approx(3.463, rel=1e-3) and sigma > 4 * zeta * held
+    # the position loop is ten times slower than the servo: it moves the arm's mode < 1 %
+    assert arm_ringing(AXIS, servo_gain=kv)[1] == pytest.approx(wd, rel=1e-2)
+    a, _ = state_matrices(AXIS, servo_gain=kv, position_gain=10.0)
+    assert np.all(np.linalg.eigvals(a).real < 0)  # the loop is stable

@@ -11,12 +11,14 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import mujoco
 import numpy as np
 import pytest
 
 from sandbox.mechanics.robot_axis import (
     RobotAxis,
     arm_natural_frequency,
+    arm_ringing,
     chain_mass,
     equivalent_inertia,
     free_axis_frequency,
@@ -25,10 +27,22 @@ from sandbox.mechanics.robot_axis import (
 )
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.scenes.robot_axis import DEFAULTS, RPM, SCENE, axis_of, default_timestep, servo_gain
+from sandbox.scenes.robot_axis import (
+    DEFAULTS,
+    RAIL,
+    RPM,
+    SCENE,
+    axis_of,
+    default_timestep,
+    move_reference,
+    position_gain,
+    servo_gain,
+)
 
 REL = 5e-3  # the issue's target for the course's numbers
 TORQUE = {"profile": 0.0}
+SPEED = {"profile": 1.0}
+SINE = {"profile": 3.0}
 COURSE = RobotAxis()
 
 
@@ -50,6 +64,11 @@ def test_registered_with_the_course_defaults():
     assert SCENES["robot_axis"] is SCENE and SCENE.sections == "6.3, 6.4"
     assert axis_of(DEFAULTS) == COURSE
     assert SCENE.param("eta").default == 1.0 and SCENE.param("flexible").choices[1]
+    # the first two commands are contracts (0, 1); the back-and-forth one is the default
+    assert SCENE.param("profile").choices == (
+        "Couple constant", "Consigne de vitesse", "Aller-retour", "Couple sinusoïdal"
+    )  # fmt: skip
+    assert DEFAULTS["profile"] == 2.0 and SCENE.control is not None
 
 
 @pytest.mark.parametrize(("flexible", "j_eq"), [(1.0, 2.7208e-3), (0.0, 3.4568e-3)])
@@ -98,11 +117,16 @@ def test_rigid_arm_without_friction_gives_c_m_equal_j_eq_omega_dot():
 )
 def test_torque_step_follows_the_exact_motion_of_6_3(values):
     """Constant C_m from rest: the simulated ω_m and V_2 match the exact solution of the
-    linear equations (matrix exponential) within 1e-5 of their peak, over 2 s (12 periods
-    of the arm); the carriage, C_m_ref and the theorem residual too."""
+    linear equations (matrix exponential) within 1e-5 of their peak, over 1.5 s (9 periods
+    of the arm) on the rail; the carriage, C_m_ref and the theorem residual too."""
     sim = _sim(**TORQUE, **values)
+    if values["torque_Nm"] < 0:  # start at the far end, to run back along the rail
+        sim.data.qpos[0] = 2.0
+        mujoco.mj_forward(sim.model, sim.data)
     v = {**DEFAULTS, **TORQUE, **values}
-    got = _run(sim, 2.0, ("omega_m", "V_2", "V_ch", "deflection", "C_m_gap", "energy_residual"))
+    names = ("omega_m", "V_2", "V_ch", "deflection", "C_m_gap", "energy_residual", "F_stop")
+    got = _run(sim, 1.5, names)
+    assert not got["F_stop"].any()  # the end stops play no part
     ref = step_response(
         axis_of(v), got["time"], v["torque_Nm"], flexible=v["flexible"] > 0.5, rho=v["eta"]
     )
@@ -123,7 +147,7 @@ def test_torque_step_follows_the_exact_motion_of_6_3(values):
 def test_speed_servo_reaches_the_set_point_and_matches_its_closed_form():
     """Speed set point as a step (τ = 0): the servo C_m = K_v (ω_c − ω_m) + f_v ω_c is linear,
     so the motion is still exact; the speed settles on the set point itself."""
-    values = {"ramp_s": 0.0, "speed_rpm": 800.0}
+    values = {"ramp_s": 0.0, "speed_rpm": 800.0, **SPEED}
     sim = _sim(**values)
     v = {**DEFAULTS, **values}
     got = _run(sim, 1.0, ("omega_m", "V_2"))
@@ -134,20 +158,22 @@ def test_speed_servo_reaches_the_set_point_and_matches_its_closed_form():
 
 
 def test_high_speed_is_stable_and_keeps_the_kinematics():
-    """Top set point 3000 tr/min reached in 50 ms: V_ch = R_p k ω_m, the arm settles back on
-    the carriage, C_m = f_v ω_m in steady state, the theorem residual stays at round-off."""
-    sim = _sim(speed_rpm=3000.0, ramp_s=0.05)
-    got = _run(sim, 5.0, ("omega_m", "energy_residual", "P_motor", "deflection"))
+    """Top set point 3000 tr/min reached in 50 ms, over 1.55 s (1.9 m of the rail): V_ch =
+    R_p k ω_m, the arm settles back on the carriage, C_m = f_v ω_m in steady state, the
+    theorem residual stays at round-off."""
+    sim = _sim(speed_rpm=3000.0, ramp_s=0.05, **SPEED)
+    got = _run(sim, 1.55, ("omega_m", "energy_residual", "P_motor", "deflection", "F_stop"))
+    assert not got["F_stop"].any()
     assert np.isfinite(got["omega_m"]).all()
     assert np.max(np.abs(got["energy_residual"])) < 1e-9 * np.max(np.abs(got["P_motor"]))
     end = sim.readouts(["omega_m", "V_ch", "V_2", "deflection", "C_m"])
-    assert end["omega_m"] == pytest.approx(3000 * RPM, rel=1e-5)  # 314.16 rad/s
+    assert end["omega_m"] == pytest.approx(3000 * RPM, rel=1e-3)  # 314.16 rad/s, arm ringing
     assert end["V_ch"] == pytest.approx(0.004 * end["omega_m"], rel=1e-12)  # 1.2566 m/s
     assert end["V_2"] == pytest.approx(end["V_ch"], rel=1e-4)
-    # the start bends the arm by ~3.6 mm; it rings down to a thousandth of that
+    # the start bends the arm by ~3.6 mm; it rings down to a hundredth of that
     peak = np.max(np.abs(got["deflection"]))
-    assert peak > 1e-3 and np.max(np.abs(got["deflection"][-200:])) < 1e-3 * peak
-    assert end["C_m"] == pytest.approx(0.0171 * end["omega_m"], rel=1e-3)
+    assert peak > 1e-3 and np.max(np.abs(got["deflection"][-100:])) < 1e-2 * peak
+    assert end["C_m"] == pytest.approx(0.0171 * end["omega_m"], rel=1e-2)  # servo on ringing
 
 
 def test_arm_driven_at_its_resonance_reaches_the_closed_form_amplitude():
@@ -163,11 +189,12 @@ def test_arm_driven_at_its_resonance_reaches_the_closed_form_amplitude():
     assert amplitude == pytest.approx(8.08e-3, rel=2e-3)
     assert amplitude > 25 * abs(frequency_response(COURSE, 5.0)[1])
     assert amplitude > 3 * abs(frequency_response(COURSE, arm_natural_frequency(COURSE))[1])
-    sim = _sim(**TORQUE)
+    # the "Couple sinusoïdal" command, tuned to that frequency (9.314 Hz)
+    sim = _sim(sine_Nm=1.0, sine_Hz=omega / (2 * math.pi), **SINE)
     ys = []
     for _ in range(15000):  # 15 s at 1 ms
-        sim.data.ctrl[0] = math.sin(omega * sim.data.time)
         sim.step()
+        assert sim.data.ctrl[0] == math.sin(omega * sim.data.time)  # C_m of the next step
         ys.append(float(sim.data.qpos[1]))
     tail = np.abs(np.array(ys[-1000:]))  # the last 9 periods
     assert np.max(tail) == pytest.approx(amplitude, rel=5e-3)
@@ -184,23 +211,150 @@ def test_arm_driven_at_its_resonance_reaches_the_closed_form_amplitude():
     assert single == pytest.approx(14.21e-3, rel=1e-3)
 
 
-@pytest.mark.slow  # 60 000 steps with the readouts after each: ~13 s
-def test_long_run_keeps_the_integrated_energy_theorem():
-    """60 s of a torque step then the steady run (the arm rings down over ~1 s): E_c(t) −
-    E_c(0) equals the work of C_m, of the friction, of the arm's damper and spring and of
-    the reducer's loss, integrated step by step (trapezoids), within 1e-5 of E_c: the
-    trapezoids' O(dt²) error during the start, with no drift afterwards."""
-    sim = _sim(eta=0.9, torque_Nm=3.0, **TORQUE)
-    got = _run(sim, 60.0, ("E_c", "P_motor", "P_loss", "P_diss", "omega_m"))
-    p = got["P_motor"] - got["P_loss"] - got["P_diss"]
-    t = np.concatenate([[0.0], got["time"]])
-    p = np.concatenate([[0.0], p])  # at rest at t = 0 every power is 0
-    work = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(t))])
-    e = np.concatenate([[0.0], got["E_c"]])
-    gap = np.abs(e - work)
-    assert np.max(gap) < 1e-5 * np.max(e)
-    assert abs(gap[-1] - gap[10000]) < 1e-8 * np.max(e)  # 10 s to 60 s: no drift
-    assert got["omega_m"][-1] == pytest.approx(3.0 / 0.0171, rel=1e-6)  # ω = C_m / f_v
+@pytest.mark.slow  # 60 000 steps with the readouts after each: ~5 s
+def test_default_back_and_forth_stays_on_its_rail_and_keeps_the_theorem():
+    """60 s of the default back-and-forth (a lossy reducer, ρ = 0.9: seven moves, the motor
+    driving and braking): the carriage stays between 0 and the 1.5 m stroke within 2 mm,
+    away from the end stops, and follows the trapezoid within 3 mm; the theorem's residual
+    (with the reducer's simulated, driving-mode loss) stays at round-off at every step."""
+    sim = _sim(eta=0.9)
+    got = _run(sim, 60.0, ("y_ch", "F_stop", "energy_residual", "P_motor"))
+    y = got["y_ch"]
+    assert -2e-3 < np.min(y) and np.max(y) < 1.5 + 2e-3 and RAIL == (-0.05, 2.05)
+    assert not got["F_stop"].any()
+    ref = np.array([move_reference(sim.values, t)[0] for t in got["time"]])
+    assert np.max(np.abs(y - ref)) < 3e-3
+    assert np.max(y) > 1.5 - 1e-4 and np.min(y[got["time"] > 10]) < 1e-4  # both ends
+    assert np.max(np.abs(got["energy_residual"])) < 1e-9 * np.max(np.abs(got["P_motor"]))
+
+
+def _resonance_energy_gap(dt: float, duration: float) -> tuple[np.ndarray, float]:
+    """|E_c(t) − E_c(0) − (W_motor − W_loss − W_diss)| for the sinusoidal torque at the
+    arm's resonance through a lossy reducer (ρ = 0.9), and max E_c. The torque is held over
+    each step, so W_motor = Σ C_m Δθ_m exactly and W_loss = (1 − ρ)(W_motor − ½ (J_m + J_r)
+    ω_m² − ∫ f_v ω_m² dt); ∫ f_v ω_m² and W_diss = ∫ (f_v ω_m² + μ_t v² + K_t y v) dt by
+    trapezoids."""
+    omega = free_axis_frequency(COURSE)
+    sim = Simulation(
+        "robot_axis", values={"eta": 0.9, "sine_Hz": omega / (2 * math.pi), **SINE}, timestep=dt
+    )
+    names = ["E_c", "C_m", "P_diss", "omega_m"]
+    rows = [[0.0, 0.0, *sim.readouts(names).values()]]
+    for _ in range(int(round(duration / dt))):
+        sim.step()
+        rows.append([sim.data.time, float(sim.data.qpos[0]), *sim.readouts(names).values()])
+    t, y_ch, e, c_m, p_diss, w = np.array(rows).T
+    rho, j_up, f_v = 0.9, 5.4e-4, 0.0171
+    motor = np.concatenate([[0.0], np.cumsum(c_m[:-1] * np.diff(y_ch) / 0.004)])
+    w2 = np.concatenate([[0.0], np.cumsum(0.5 * (w[1:] ** 2 + w[:-1] ** 2) * np.diff(t))])
+    diss = np.concatenate([[0.0], np.cumsum(0.5 * (p_diss[1:] + p_diss[:-1]) * np.diff(t))])
+    loss = (1 - rho) * (motor - 0.5 * j_up * w**2 - f_v * w2)
+    assert np.max(np.abs(y_ch)) < 1e-2  # the carriage stays within a centimetre
+    return np.abs(e - e[0] - (motor - loss - diss)), float(np.max(e))
+
+
+@pytest.mark.slow  # 30 000 steps with the readouts after each: ~2 s
+def test_resonance_keeps_the_integrated_energy_theorem():
+    """10 s at the arm's resonance (the ringing built up, E_c up to 3.6 J): the integrated
+    theorem holds within 1 % of max E_c at 1 ms, and the gap shrinks 4 times at 0.5 ms. A
+    torque held over each step makes ω̇ jump at every step, so the trapezoids of the
+    dissipated powers miss −dt²/12 of those jumps: an O(dt²) sampling error of the check,
+    which the model itself does not have (without damping the balance closes to 1e-9 J)."""
+    coarse, top = _resonance_energy_gap(1e-3, 10.0)
+    fine, _ = _resonance_energy_gap(5e-4, 10.0)
+    assert top > 3.0
+    assert np.max(coarse) < 1e-2 * top
+    assert np.max(fine) == pytest.approx(np.max(coarse) / 4, rel=0.1)
+    values = {"mu_t": 0.0, "f_v": 0.0, "sine_Hz": 3.0, **SINE}
+    sim = _sim(**values)
+    work, y_ch = 0.0, 0.0
+    for _ in range(5000):
+        c_m = sim.readouts(["C_m"])["C_m"]  # held over the coming step
+        sim.step()
+        work += c_m * (float(sim.data.qpos[0]) - y_ch) / 0.004
+        y_ch = float(sim.data.qpos[0])
+    got = sim.readouts(["E_c", "deflection"])
+    assert got["E_c"] + 0.5 * 124_000 * got["deflection"] ** 2 == pytest.approx(work, abs=1e-7)
+
+
+def test_arm_rings_after_each_stop_at_the_closed_form_damped_frequency():
+    """Default move (1.5 m at 500 tr/min, 50 ms ramps): the arm rings by ~2.8 mm after the
+    carriage stops. During the pause the command is constant, so the deflection is the free
+    mode of the servoed axis, y ∝ e^{−σ t} cos(ω_d t): −σ ± i ω_d the eigenvalue of the
+    linear model (speed servo and position loop), ω_d = 52.31 rad/s, σ = 3.46 1/s. The
+    zero crossings give ω_d within 0.2 % and the peaks σ within 2 %, at both ends."""
+    v = dict(DEFAULTS)
+    sigma, wd = arm_ringing(axis_of(v), servo_gain=servo_gain(v), position_gain=position_gain(v))
+    assert wd == pytest.approx(52.31, rel=1e-3) and sigma == pytest.approx(3.463, rel=1e-3)
+    sim = _sim()
+    move = 1.5 / (500 * RPM * 0.004) + 0.05  # 7.212 s, then a pause of 1 s
+    for stop in (move, 2 * move + 1.0):  # at the far end, back at the start
+        sim.advance(stop - sim.data.time)
+        assert move_reference(sim.values, sim.data.time)[1] == 0.0  # stopped
+        got = _run(sim, 0.9, ("deflection", "y_ch"))
+        t, y = got["time"] - stop, got["deflection"]
+        assert 2e-3 < np.max(np.abs(y)) < 4e-3  # millimetres: the course's flexible arm
+        keep = t > 0.05  # past the servo's own 10 ms transient
+        t, y = t[keep], y[keep]
+        i = np.nonzero(np.diff(np.sign(y)) != 0)[0]
+        zeros = t[i] - y[i] * (t[i + 1] - t[i]) / (y[i + 1] - y[i])
+        assert len(zeros) >= 12
+        assert math.pi / np.mean(np.diff(zeros)) == pytest.approx(wd, rel=2e-3)
+        spans = zip(zeros[:-1], zeros[1:], strict=True)
+        peaks = [np.max(np.abs(y[(t >= a) & (t < b)])) for a, b in spans]
+        mid = 0.5 * (zeros[1:] + zeros[:-1])
+        assert -np.polyfit(mid, np.log(peaks), 1)[0] == pytest.approx(sigma, rel=2e-2)
+        # not the arm on a carriage held still, nor against the free chain
+        assert abs(wd / arm_natural_frequency(COURSE) - 1) > 5e-3
+        assert abs(wd / free_axis_frequency(COURSE) - 1) > 0.1
+
+
+def test_back_and_forth_is_pure_and_recovers_from_a_live_change():
+    """The command depends on the time and the state only: after a reset the same steps
+    give the same motion bit for bit. A stroke shortened mid-move (live) brings the carriage
+    back within the new stroke at the top speed, without reaching an end stop."""
+    sim = _sim()
+    sim.advance(3.0)
+    first = sim.data.qpos.copy(), sim.data.qvel.copy()
+    sim.reset()
+    sim.advance(1.0)
+    sim.advance(2.0)
+    assert np.array_equal(sim.data.qpos, first[0]) and np.array_equal(sim.data.qvel, first[1])
+    sim.advance(2.0)  # 5 s: the carriage at ~1 m
+    sim.set_value("stroke", 0.5)
+    got = _run(sim, 20.0, ("y_ch", "V_ch", "F_stop"))
+    assert not got["F_stop"].any()
+    # the new schedule's speed plus a correction held within the top speed (0.21 m/s)
+    assert np.max(np.abs(got["V_ch"])) < 500 * RPM * 0.004 * 2.3
+    late = got["y_ch"][got["time"] > 12.0]
+    assert -2e-3 < np.min(late) and np.max(late) < 0.5 + 2e-3
+
+
+def test_a_constant_command_ends_on_the_end_stops():
+    """A constant torque or speed runs the carriage to the end of the rail: it stops on the
+    end stop (the slide's limit, the only constraint) with its centre at 2.05 m or −0.05 m,
+    a few millimetres in at most; the stop then holds the motor's push, F_stop = −ρ C_m /
+    (R_p k) (−250 N for 1 N·m), and its power F_stop V_ch is exactly the gap of the course's
+    energy theorem (the course has no stop)."""
+    sim = _sim(torque_Nm=1.0, **TORQUE)
+    got = _run(sim, 25.0, ("y_ch", "F_stop", "V_ch", "energy_residual", "P_motor"))
+    assert np.max(got["y_ch"]) < RAIL[1] + 5e-3 and got["y_ch"][-1] > RAIL[1] - 1e-3
+    hit = np.argmax(got["F_stop"] != 0)
+    assert 8.5 < got["time"][hit] < 9.5  # ~0.23 m/s: 2.05 m in about 9 s
+    # 16 s later the arm has rung down on the stopped carriage (ζ ω_n = 0.70 1/s)
+    end = sim.readouts(["F_stop", "V_ch", "C_m", "C_m_gap", "F_belt", "F_arm"])
+    assert end["F_stop"] == pytest.approx(-1.0 / 0.004, rel=1e-3)
+    assert end["F_belt"] == pytest.approx(1.0 / 0.004, rel=1e-3) and abs(end["F_arm"]) < 0.1
+    assert abs(end["V_ch"]) < 1e-4
+    stop_power = got["F_stop"] * got["V_ch"]
+    scale = np.max(np.abs(got["P_motor"]))
+    assert np.max(np.abs(got["energy_residual"] - stop_power)) < 1e-9 * scale
+    assert np.max(np.abs(stop_power)) > 1e-2 * scale  # the impact shows
+    assert end["C_m_gap"] == pytest.approx(-0.004 * end["F_stop"], rel=1e-3)  # the stop's share
+    back = _sim(speed_rpm=-3000.0, **SPEED)  # the servo pushes hard into the first stop
+    back.advance(2.0)
+    assert np.isfinite(back.data.qvel).all()
+    assert RAIL[0] - 5e-3 < back.readouts(["y_ch"])["y_ch"] < RAIL[0]
 
 
 def test_rigid_and_flexible_arms_share_the_steady_speed_not_the_transient():
@@ -240,7 +394,7 @@ def test_braking_through_a_lossy_reducer_shows_the_gap_to_the_course():
     """The simulated reducer keeps its driving-mode loss; when the load drives the motor back
     (a lower set point) the course's ρ multiplies instead of dividing: C_m_gap says so,
     while it stays at round-off as long as the motor drives."""
-    sim = _sim(eta=0.8, speed_rpm=1000.0, ramp_s=0.05)
+    sim = _sim(eta=0.8, speed_rpm=1000.0, ramp_s=0.05, **SPEED)
     driving = _run(sim, 0.1, ("C_m_gap", "C_m"))
     assert np.max(np.abs(driving["C_m_gap"])) < 1e-9
     sim.advance(0.4)
@@ -294,3 +448,30 @@ def test_a_lossy_reducer_makes_the_motor_feel_more_than_the_course_j_eq():
     assert got["J_eq"] == pytest.approx(felt, rel=1e-9)
     assert SCENE.reference is not None
     assert SCENE.reference(sim.values)["J_eq"] == pytest.approx(2.7208e-3, rel=1e-9)
+
+
+def test_a_recording_of_the_time_varying_commands_replays_bit_for_bit(tmp_path):
+    """The per-step control is a pure function of the time and the state: a recording with
+    live changes of the move, a switch to the sinusoidal torque and a reset re-simulates
+    with a deviation of exactly 0."""
+    from sandbox.recording import Recorder, load
+    from sandbox.replay import resimulate
+
+    sim = _sim()
+    path = tmp_path / "robot.sbx"
+    rec = Recorder(path, sim)
+    changes = {
+        10: lambda: sim.set_value("stroke", 0.4),
+        20: lambda: sim.set_value("accel_s", 0.2),
+        30: lambda: sim.set_value("profile", 3),
+        40: lambda: sim.set_value("sine_Hz", 9.3),
+        50: sim.reset,
+    }
+    for k in range(70):
+        sim.step(37)
+        rec.frame(sim.readouts())
+        if k in changes:
+            changes[k]()
+    rec.close()
+    worst, frames = resimulate(load(path))
+    assert frames == 70 and worst == 0.0
