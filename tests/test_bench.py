@@ -272,3 +272,22 @@ def test_a_timestep_the_scene_refuses_is_left_out_of_the_grid():
     steps = [r.timestep for r in res.runs]
     assert steps and max(steps) <= scene.max_timestep < 10 * res.default_timestep
     assert res.default is not None and not res.default.diverged
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_every_scene_ships_its_benchmark_with_the_default_on_the_front(name):
+    """bench/results.json (shown in README and the accuracy panel) holds every registered
+    scene at its current default: within 0.5 % on its key quantity, admissible, on the
+    Pareto front of the stored measurements, its web session at least 20x real time."""
+    from sandbox.bench import load_results
+
+    scene = SCENES[name]
+    res = load_results(name)
+    assert res is not None, f"run: sandbox bench {name} --out bench --merge"
+    assert res.default_integrator == scene.integrator
+    assert scene.accuracy is not None
+    assert math.isclose(res.default_timestep, scene.default_timestep(scene.accuracy.values))
+    default = res.default
+    assert default is not None and default.pareto and res.admissible(default), name
+    assert default.error <= 5e-3, (name, default.error)
+    assert res.session is not None and res.session.meets_goal, name
