@@ -61,7 +61,8 @@ class SceneSpec(Protocol):
     @property
     def mjcf(self) -> str: ...  # file name under the scenes folder
     @property
-    def effects(self) -> Any: ...  # has disable_flags() -> int
+    def effects(self) -> Any: ...  # every effect the scene may call for
+    def effects_at(self, values: Mapping[str, float] | None = None) -> Any: ...  # disable_flags()
     @property
     def integrator(self) -> str: ...
     @property
@@ -225,7 +226,7 @@ def build(
             f"{shown(str(source.path))} is not a text MJCF file; give an .xml file"
         ) from None
     if source.scene is not None:
-        model.opt.disableflags = source.scene.effects.disable_flags()
+        model.opt.disableflags = source.scene.effects_at(values).disable_flags()
         model.opt.integrator = check_integrator(source.scene.integrator)
         model.opt.timestep = source.scene.default_timestep(values)
     model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)

@@ -298,7 +298,11 @@ class Scene:
         summary: Two or three sentences on what the scene shows.
         mjcf: File name inside the top-level ``scenes/`` folder.
         params: Parameters in display order.
-        effects: Effects simulated; all others are switched off.
+        effects: Effects simulated; all others are switched off. With ``effects_for``,
+            every effect the scene may call for (their union).
+        effects_for: The effects at given parameter values when a variant calls for fewer
+            (the wheel balancer's rigid bearings need no springs, its soft bench does);
+            None: always ``effects``. What it returns must be within ``effects``.
         readouts: Scene readouts, added to the generic ones.
         edit: Applies the non-live parameters to the MjSpec before compiling.
         drive: Applies live parameters (motor set points) to ``data.ctrl``.
@@ -377,6 +381,13 @@ class Scene:
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
     zero: Mapping[str, float] = field(default_factory=dict)
     overlay: Mapping[str, str] = field(default_factory=dict)
+    effects_for: Callable[[Values], Effects] | None = None
+
+    def effects_at(self, values: Values | None = None) -> Effects:
+        """The effects simulated at ``values`` (missing ones at their defaults)."""
+        if self.effects_for is None:
+            return self.effects
+        return self.effects_for({**self.defaults(), **(values or {})})
 
     def zero_for(self, unit: str) -> float:
         """Round-off [``unit``] below which the page shows 0 (0.0: every digit shown)."""

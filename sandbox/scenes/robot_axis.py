@@ -113,6 +113,12 @@ def axis_of(v: Values) -> RobotAxis:
     )  # fmt: skip
 
 
+def effects(v: Values) -> Effects:
+    """Friction f_v and the end stops always; the arm's spring and damper only when it is
+    flexible."""
+    return Effects(joint_damping=True, springs=flexible(v), actuation=True, limits=True)
+
+
 def flexible(v: Values) -> bool:
     """True for the flexible arm (parameter ``flexible`` = 1)."""
     return v["flexible"] >= 0.5
@@ -414,6 +420,7 @@ SCENE = Scene(
     # speed set point runs the carriage to an end; the stop's force shows in F_stop, and as
     # the gap of the energy theorem and of C_m_ref, which the course does not model).
     effects=Effects(joint_damping=True, springs=True, actuation=True, limits=True),
+    effects_for=effects,
     readouts=READOUTS,
     edit=edit,
     drive=drive,

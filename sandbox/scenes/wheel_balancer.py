@@ -198,6 +198,18 @@ def omega(values: Values) -> float:
     return values["speed_rpm"] * RPM
 
 
+def effects(values: Values) -> Effects:
+    """Rigid bearings: a perfect pivot, nothing else; the soft bench adds the springs and
+    dampers of its blades."""
+    return Effects(
+        gravity=False,
+        contacts=False,
+        actuation=True,
+        springs=soft(values),
+        joint_damping=soft(values),
+    )
+
+
 def soft(values: Values) -> bool:
     """True for the lab bench's bearings on springs."""
     return int(round(values["supports"])) == 1
@@ -777,6 +789,7 @@ SCENE = Scene(
     effects=Effects(
         gravity=False, contacts=False, actuation=True, springs=True, joint_damping=True
     ),
+    effects_for=effects,
     readouts=READOUTS,
     edit=edit,
     drive=drive,

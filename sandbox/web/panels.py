@@ -80,7 +80,7 @@ def hypotheses(sim: Simulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
     scene = as_scene(sim.scene)
     if scene is not None:
-        return tuple(scene.effects.hypotheses())
+        return tuple(scene.effects_at(sim.values).hypotheses())
     flags = int(sim.model.opt.disableflags)
     dsbl = mujoco.mjtDisableBit
     g = float(np.linalg.norm(sim.model.opt.gravity))

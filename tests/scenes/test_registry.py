@@ -138,3 +138,30 @@ def test_the_registry_passes_itself_down_to_physics():
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert "import sandbox.scenes" in out.stdout
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_a_variant_switches_off_what_it_does_not_call_for(name):
+    """``Scene.effects_at`` (a variant's effects) stays within ``Scene.effects`` and is what
+    the compiled model simulates: the wheel balancer's rigid bearings have no springs."""
+    scene = SCENES[name]
+    union = set(scene.effects.simulated())
+    variants = [{}] + [{p.name: v} for p in scene.params for v in (p.min, p.max)]
+    for values in variants:
+        assert set(scene.effects_at(values).simulated()) <= union, values
+    for values in variants[:3]:
+        try:
+            sim = Simulation(name, values=values)
+        except BadParameter:
+            continue
+        flags = sim.model.opt.disableflags & ~int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
+        assert flags == scene.effects_at(values).disable_flags(), values
+
+
+def test_the_rigid_wheel_balancer_simulates_no_spring():
+    scene = SCENES["wheel_balancer"]
+    rigid, soft = scene.effects_at({"supports": 0}), scene.effects_at({"supports": 1})
+    assert not rigid.springs and not rigid.joint_damping and soft.springs
+    assert "Liaisons parfaites" in rigid.hypotheses()
+    flags = Simulation("wheel_balancer").model.opt.disableflags
+    assert flags & mujoco.mjtDisableBit.mjDSBL_SPRING and flags & mujoco.mjtDisableBit.mjDSBL_DAMPER
