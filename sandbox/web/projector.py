@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 ANGLES = frozenset({"theta"})
 """Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
 
-SPEEDS = frozenset({"omega"})
+SPEEDS = frozenset({"omega", "omega_m"})
 """Rotation speeds [rad/s] that the overlay shows in tr/min, the unit of the speed slider."""
 
 FLAGS = frozenset({"contact", "on_plane", "gimbal_lock"})
@@ -94,6 +94,7 @@ def overlay_lines(
     values: Mapping[str, float],
     labels: Mapping[str, str],
     units: Mapping[str, str],
+    zeros: Mapping[str, float] | None = None,
 ) -> list[str]:
     """One line per readout: "label = value unit" (French number, "—" when missing; an
     angle's degree sign follows the number)."""
@@ -101,7 +102,7 @@ def overlay_lines(
     for name in names:
         value = values.get(name, math.nan)
         unit = display_unit(units.get(name, ""))
-        shown = number(value, 3)
+        shown = number(value, 3, zero=(zeros or {}).get(name, 0.0))
         if name in ANGLES and math.isfinite(value):
             shown, unit = str(round(math.degrees(value) % 360.0) % 360), "°"
         elif units.get(name) == "rad" and math.isfinite(value):  # a gimbal angle, a drift
@@ -141,6 +142,8 @@ class Projector:
         self.names = list(short)
         self.labels = {n: short[n] or infos[n].label for n in self.names}
         self.units = {n: infos[n].unit for n in self.names}
+        spec = as_scene(sim.scene)  # the scene's round-off: 5e-15 W is written 0
+        self.zeros = {n: spec.zero_for(self.units[n]) if spec else 0.0 for n in self.names}
         self.style = gui.add_html(style_html(self.font, left=left, right=right), order=-1000.0)
         self.overlay = gui.add_html(overlay_html([]), order=-999.0)
         with gui.add_folder(DISPLAY_FOLDER) as self.folder:
@@ -177,7 +180,7 @@ class Projector:
         elif values is None:
             return
         else:
-            lines = overlay_lines(self.names, values, self.labels, self.units)
+            lines = overlay_lines(self.names, values, self.labels, self.units, self.zeros)
         if lines != self._lines:
             self._lines = lines
             self.overlay.content = overlay_html(lines)

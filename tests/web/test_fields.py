@@ -175,4 +175,6 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
     )
     assert lines == ["theta = 29°", "contact = oui"]
     (gimbal,) = overlay_lines(["gimbal_outer"], {"gimbal_outer": -0.5}, {}, {"gimbal_outer": "rad"})
+    (residual,) = overlay_lines(["r"], {"r": -5.5e-15}, {"r": "Écart"}, {"r": "W"}, {"r": 1e-9})
+    assert residual == "Écart = 0 W"  # below the scene's round-off
     assert gimbal == "gimbal_outer = -28,6°"  # not modulo: a gimbal swings both ways
