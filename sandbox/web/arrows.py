@@ -151,6 +151,8 @@ class ArrowLayer:
         longest: dict[str, float] = {}
         for arrow, unit in zip(self.arrows, self.units, strict=True):
             start, end, magnitude = arrow_points(arrow, snapshot)
+            if abs(magnitude) <= self.zero.get(unit, 0.0):  # round-off: no arrow, not
+                end = start  # one blown up to a visible length by the automatic scale
             points.append((start, end, magnitude))
             length = float(np.linalg.norm(end - start))
             wanted = self.enabled is None or arrow.name in self.enabled

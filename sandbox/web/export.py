@@ -68,7 +68,9 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         spec = as_scene(sim.scene)
         arrows = None
         if spec is not None and spec.arrows:
-            arrows = ArrowLayer(scene, spec.arrows, extent=float(sim.model.stat.extent))
+            arrows = ArrowLayer(
+                scene, spec.arrows, extent=float(sim.model.stat.extent), zero=spec.zero
+            )
         names = [r.name for r in spec.readouts] if spec else ["T", "V", "P_acc"]
         names = [n for n in names if n in rec.names][:8]
         overlay = scene.add_label(

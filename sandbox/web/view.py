@@ -120,6 +120,7 @@ def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> 
         spec.arrows,
         extent=float(sim.model.stat.extent),
         units=[units.get(a.name, "") for a in spec.arrows],
+        zero=spec.zero,
         prefix=prefix,
     )
 

@@ -205,6 +205,10 @@ class HandleScene:
         ("rolling_cylinder", {}),
         ("gyroscope", {}),
         ("heavy_gyroscope", {}),
+        ("engine", {"cylinders": 1.0}),
+        ("robot_axis", {}),
+        ("wheel_balancer", {}),
+        ("inertia", {}),
     ],
 )
 def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
@@ -262,3 +266,25 @@ def test_the_user_scale_multiplies_the_lengths():
     assert np.linalg.norm(layer.ends[0] - layer.origins[0]) == pytest.approx(2 * before)
     layer.set_scale(100.0)
     assert layer.user_scale == 4.0
+
+
+def test_a_round_off_force_draws_no_arrow():
+    """The inline four's rocking moment is 0 to 4e-15 N·m: without the scene's round-off
+    the automatic scale blew it up into a violet arrow as long as the force's."""
+    from sandbox.physics.simulation import Simulation
+    from sandbox.scenes.base import as_scene
+    from sandbox.web.arrows import ArrowLayer
+
+    sim = Simulation("engine", values={"cylinders": 4.0})
+    sim.advance(0.05)
+    spec = as_scene(sim.scene)
+    assert spec is not None
+    names = [a.name for a in spec.arrows]
+    layer = ArrowLayer(HandleScene(), spec.arrows, extent=1.0, zero=spec.zero)
+    layer.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
+    assert layer.shown[names.index("frame_force")]
+    assert not layer.shown[names.index("shaking_moment")]
+    layer.relabel()
+    bare = ArrowLayer(HandleScene(), spec.arrows, extent=1.0)  # no round-off given
+    bare.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
+    assert bare.shown[names.index("shaking_moment")]
