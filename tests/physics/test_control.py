@@ -72,6 +72,9 @@ class _Spec:
     def effects(self) -> _Effects:
         return _Effects()
 
+    def effects_at(self, values: Any = None) -> _Effects:
+        return _Effects()
+
     def defaults(self) -> dict[str, float]:
         return {}
 
