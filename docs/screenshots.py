@@ -52,9 +52,8 @@ def main(out: Path, scenes: list[str]) -> None:
                     page.goto(f"http://127.0.0.1:{app.port}/")
                     time.sleep(SETTLE_S)
                     # viser's software-rendering warning (headless, no GPU) closes itself
-                    # after 8 s on a projector; the README shows the page as on a GPU.
-                    for close in page.locator("[role=alert] button").all():
-                        close.click()
+                    # after 8 s; the README shows the page as on a GPU, without it.
+                    page.wait_for_selector("[role=alert]", state="detached", timeout=20_000)
                     time.sleep(0.5)
                     path = out / f"{name}-{width}x{height}.png"
                     page.screenshot(path=str(path))

@@ -513,7 +513,7 @@ def edit(spec: mujoco.MjSpec, values: Values) -> None:
         "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
         "tube": mujoco.mjtGeom.mjGEOM_MESH,
     }
-    colours = ((0.8, 0.7, 0.5, 0.75), (0.65, 0.67, 0.72, 0.85), (0.75, 0.55, 0.35, 0.85))
+    colours = ((0.8, 0.7, 0.5, 0.45), (0.65, 0.67, 0.72, 0.5), (0.75, 0.55, 0.35, 0.5))  # see G
     for n, p in enumerate(items):
         quat = np.zeros(4)
         mujoco.mju_mat2Quat(quat, p.rotation().ravel())
@@ -938,6 +938,8 @@ def timestep_for(values: Values, data: mujoco.MjData | None = None) -> float:
 
 SCENE = Scene(
     name="inertia",
+    # G stays at the origin; the drawn basis and arrows reach ~0.4 m from it
+    look_at=((0.0, 0.0, 0.0), 0.8),
     overlay={"spin_angle": "Angle entre ω et l'axe", "omega": "ω", "sigma_G": "σ en G"},
     title="Matrice d'inertie d'un solide : point, base, axes principaux",
     summary=(
