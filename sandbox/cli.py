@@ -207,13 +207,15 @@ def cmd_list() -> int:
     from sandbox.lessons import lessons
     from sandbox.scenes import DEFAULT_SCENE, SCENES
 
+    found = lessons()
+    width = max(len(n) for n in (*SCENES, *found))  # one column for every name
     print("Scenes:")
     for scene in SCENES.values():
         mark = " (default)" if scene.name == DEFAULT_SCENE else ""
-        print(f"  {scene.name:<18} {scene.title}{mark}")
+        print(f"  {scene.name:<{width}} {scene.title}{mark}")
     print("Lessons (sandbox serve LESSON):")
-    for name, lesson in lessons().items():
-        print(f"  {name:<18} {lesson.title} [{lesson.scene}, {len(lesson.steps)} steps]")
+    for name, lesson in found.items():
+        print(f"  {name:<{width}} {lesson.title} [{lesson.scene}, {len(lesson.steps)} steps]")
     return 0
 
 

@@ -207,3 +207,16 @@ def test_a_run_longer_than_one_recording_holds_keeps_a_replayable_file_and_says_
     from sandbox.recording import load
 
     assert load(out).complete
+
+
+def test_list_shows_every_scene_and_lesson_in_one_column(capsys):
+    """The longest lesson name ("inertie-equivalente") ran into its title."""
+    from sandbox.lessons import lessons
+    from sandbox.scenes import SCENES
+
+    assert main(["list"]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("  ")]
+    names = [row.split()[0] for row in rows]
+    assert set(names) == set(SCENES) | set(lessons())
+    starts = {len(row) - len(row[2:].split(" ", 1)[1].lstrip()) for row in rows}
+    assert len(starts) == 1, starts  # every title starts in the same column
