@@ -9,6 +9,8 @@ short script added at the top of the page, which
 
 - declares the page French (``<html lang="fr">``) and gives ``navigator.language`` as
   ``fr-FR``, so that chart ticks are written with a decimal comma;
+- draws over every number box that is not being edited (viser's boxes write "0.25" and
+  accept only the point) the same value with a decimal comma, "0,25";
 - replaces, as soon as it appears, any text or tooltip that is exactly one of the English
   sentences of :data:`FRENCH` by its French version, and closes the software-rendering
   warning after a few seconds (:data:`CLOSING`).
@@ -63,6 +65,10 @@ wrong with the page (a PC without a graphics driver draws the 3D more slowly).""
 CLOSE_AFTER_S = 8.0
 """Seconds a :data:`CLOSING` warning stays: time to read its two sentences."""
 
+COMMA_EVERY_S = 0.2
+"""Seconds between two readings of the number boxes (a box's value changes without any
+event the page can watch when the server moves its slider)."""
+
 LOCALE = "fr-FR"
 """The locale the page's own number formatting follows (uPlot's chart ticks)."""
 
@@ -97,6 +103,40 @@ _SCRIPT = """<script>(function () {
     var walk = document.createTreeWalker(node, 5);  // elements and texts
     for (var n = walk.nextNode(); n; n = walk.nextNode()) n.nodeType === 3 ? text(n) : element(n);
   }
+  // viser's number boxes (Mantine NumberInput) write their value with a decimal point
+  // and take no other option: while a box is not being edited, a label drawn over it
+  // shows the same value with a decimal comma (the box, its value and typing unchanged).
+  function comma(input) {
+    var wrap = input.parentElement, shown = input.nextElementSibling;
+    var mine = shown && shown.className === "sandbox-comma";
+    var v = input.value;
+    if (!wrap || document.activeElement === input || v.indexOf(".") === -1) {
+      if (mine) { shown.remove(); input.style.color = input.dataset.sandboxColor || ""; }
+      return;
+    }
+    var cs = getComputedStyle(input);
+    if (!mine) {
+      input.dataset.sandboxColor = input.style.color;
+      shown = document.createElement("span");
+      shown.className = "sandbox-comma";
+      shown.setAttribute("aria-hidden", "true");
+      shown.style.cssText = "position:absolute;pointer-events:none;white-space:nowrap;" +
+        "overflow:hidden;box-sizing:border-box;left:" + input.offsetLeft + "px;top:" +
+        input.offsetTop + "px;width:" + input.offsetWidth + "px;height:" +
+        input.offsetHeight + "px;line-height:" + input.offsetHeight + "px;padding-left:" +
+        cs.paddingLeft + ";font:" + cs.font + ";color:" + cs.color + ";";
+      input.insertAdjacentElement("afterend", shown);
+      input.style.color = "transparent";
+    }
+    var text = v.replace(".", ",");
+    if (shown.textContent !== text) shown.textContent = text;
+  }
+  function commas() {
+    document.querySelectorAll("input.mantine-NumberInput-input").forEach(comma);
+  }
+  setInterval(commas, %(comma_ms)d);
+  document.addEventListener("focusin", commas, true);
+  document.addEventListener("focusout", function () { setTimeout(commas, 0); }, true);
   new MutationObserver(function (changes) {
     changes.forEach(function (c) {
       if (c.type === "childList") c.addedNodes.forEach(visit); else visit(c.target);
@@ -121,6 +161,7 @@ def page_script() -> str:
         "locale": json.dumps(LOCALE),
         "closing": json.dumps(list(CLOSING)),
         "close_ms": round(CLOSE_AFTER_S * 1000),
+        "comma_ms": round(COMMA_EVERY_S * 1000),
     }
 
 

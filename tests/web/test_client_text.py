@@ -78,3 +78,38 @@ def test_the_page_reads_french_in_an_english_browser(browser):
     finally:
         context.close()
         app.stop()
+
+
+def test_number_boxes_read_with_a_decimal_comma(browser):
+    """viser's number box writes "0.25"; a label over it reads "0,25" while it is not being
+    edited; a student may type "0,5" (the box takes it as 0.5)."""
+    from conftest import free_port
+
+    from sandbox.scenes import SCENES
+    from sandbox.web.app import start
+    from sandbox.web.fields import param_label
+
+    label = param_label(SCENES["wheel_balancer"].param("skew_deg"))  # 0.25° by default
+    app = start("wheel_balancer", port=free_port(), open_message=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 720})
+    try:
+        page = context.new_page()
+        page.goto(app.url)
+        page.get_by_text("Simulation", exact=True).first.wait_for(timeout=30_000)
+        row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True))
+        box = row.last.locator("input.mantine-NumberInput-input")
+        shown = box.locator("xpath=following-sibling::span[@class='sandbox-comma']")
+        assert wait_for(lambda: shown.count() == 1 and shown.inner_text() == "0,25")
+        assert box.input_value() == "0.25"  # the box itself is viser's, unchanged
+        assert box.evaluate("e => getComputedStyle(e).color") == "rgba(0, 0, 0, 0)"
+        box.click()
+        assert wait_for(lambda: shown.count() == 0)  # editing: the box's own text
+        box.press("Control+a")
+        box.type("0,5")
+        box.press("Enter")
+        page.locator("body").click(position={"x": 400, "y": 650})
+        assert wait_for(lambda: shown.count() == 1 and shown.inner_text() == "0,5")
+        assert box.input_value() == "0.5"
+    finally:
+        context.close()
+        app.stop()
