@@ -49,7 +49,7 @@ def test_the_page_reads_french_in_an_english_browser(browser):
     chart ticks (``Intl.NumberFormat(navigator.language)``): with a decimal comma."""
     from conftest import free_port
 
-    from sandbox.web.app import start
+    from sandbox.web.app import PAGE_TITLE, start
 
     app = start("rotor", port=free_port(), open_message=False)
     context = browser.new_context(viewport={"width": 1280, "height": 720}, locale="en-US")
@@ -75,6 +75,14 @@ def test_the_page_reads_french_in_an_english_browser(browser):
             gone = lambda: "Rendu 3D sans carte graphique" not in page.inner_text("body")  # noqa: E731
             assert not gone()
             assert wait_for(gone, timeout=CLOSE_AFTER_S + 10)
+        title = page.get_by_text(PAGE_TITLE, exact=True).first  # its settings button
+        title.locator("xpath=ancestor::*[.//button][1]//button").last.click()
+        page.get_by_text("Réglages de l'affichage", exact=True).click()  # English until now
+        assert wait_for(lambda: "Résolution du rendu" in page.inner_text("body"))
+        settings = page.inner_text("body")
+        for english in ("Save Canvas", "Reset View", "Dev Settings", "Dark Mode", "Scene tree"):
+            assert english not in settings, english
+        page.get_by_text("Réglages de l'affichage", exact=True).click()
     finally:
         context.close()
         app.stop()
