@@ -588,7 +588,7 @@ SCENE = Scene(
     sections="1, 7.3, figure 1",
     camera=((1.0, 0.45, 0.8), (0.0, 1.0, 0.0)),
     # framed with room for the arrows: the force on the block reaches ~0.22 m from C
-    look_at=((0.0, 0.03, 0.0), 0.5),
+    look_at=((0.0, 0.03, 0.0), 0.42),
     cycle=revolution,
     extra={"solid_names": SOLID_NAMES, "engine": engine_of},
     zero={

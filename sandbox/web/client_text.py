@@ -153,20 +153,24 @@ _SCRIPT = """<script>(function () {
       if (mine) { shown.remove(); input.style.color = input.dataset.sandboxColor || ""; }
       return;
     }
-    var cs = getComputedStyle(input);
     if (!mine) {
       input.dataset.sandboxColor = input.style.color;
+      input.dataset.sandboxInk = getComputedStyle(input).color;
       shown = document.createElement("span");
       shown.className = "sandbox-comma";
       shown.setAttribute("aria-hidden", "true");
-      shown.style.cssText = "position:absolute;pointer-events:none;white-space:nowrap;" +
-        "overflow:hidden;box-sizing:border-box;left:" + input.offsetLeft + "px;top:" +
-        input.offsetTop + "px;width:" + input.offsetWidth + "px;height:" +
-        input.offsetHeight + "px;line-height:" + input.offsetHeight + "px;padding-left:" +
-        cs.paddingLeft + ";font:" + cs.font + ";color:" + cs.color + ";";
       input.insertAdjacentElement("afterend", shown);
       input.style.color = "transparent";
     }
+    // placed again at every reading: the text size setting and the panels' layout move it
+    var cs = getComputedStyle(input);
+    var css = "position:absolute;pointer-events:none;white-space:nowrap;" +
+      "overflow:hidden;box-sizing:border-box;left:" + input.offsetLeft + "px;top:" +
+      input.offsetTop + "px;width:" + input.offsetWidth + "px;height:" +
+      input.offsetHeight + "px;line-height:" + input.offsetHeight + "px;padding-left:" +
+      cs.paddingLeft + ";font-family:" + cs.fontFamily + ";font-size:" + cs.fontSize +
+      ";font-weight:" + cs.fontWeight + ";color:" + input.dataset.sandboxInk + ";";
+    if (shown.dataset.css !== css) { shown.style.cssText = css; shown.dataset.css = css; }
     var text = v.replace(".", ",");
     if (shown.textContent !== text) shown.textContent = text;
   }
