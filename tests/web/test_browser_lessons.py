@@ -77,3 +77,26 @@ def test_the_polar_diagram_is_drawn_for_the_rotor_and_follows_the_masses(open_pa
     if getattr(view, "polar", None) is None:
         panel.refresh()
     page.locator(".sandbox-polar").get_by_text("0,0005 à 0°").first.wait_for(timeout=10_000)
+
+
+def test_the_engine_lesson_check_passes_in_the_page_with_the_drawn_state(open_page):
+    """Step 2 of "moteur" asks the first order to fall below 1 % of the single cylinder's:
+    the page checks the drawn state (between two physics steps), whose loop used to open
+    by 0.2 mm and read the twin's first order 10-15 N instead of 0 (check never passed)."""
+    from sandbox.web.app import start
+
+    app = start("engine", port=free_port(), lesson="moteur", open_message=False)
+    try:
+        page = open_page(app.url)
+        page.get_by_text("étape 1/5", exact=False).first.wait_for(timeout=30_000)
+        session = _session(app)
+        page.get_by_text("Suivant ▶").first.click()
+        page.get_by_text("étape 2/5", exact=False).first.wait_for(timeout=10_000)
+        goal = page.locator(".sandbox-goal").first
+        goal.get_by_text("Objectif — En cours").wait_for(timeout=10_000)
+        session.controller.submit(Request("set_value", 2.0, name="cylinders"))
+        goal.get_by_text("Objectif — Réussi").wait_for(timeout=15_000)
+        shown = session.controller.shown_readouts(["shaking_force_h1", "shaking_force_h2"])
+        assert shown["shaking_force_h1"] < 1e-3 * shown["shaking_force_h2"]
+    finally:
+        app.stop()
