@@ -180,6 +180,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     b.add_argument("--follow", action="store_true", help="--classroom: serve with --follow")
     b.add_argument(
+        "--all", action="store_true", help="--classroom: every scene in turn, then one table"
+    )
+    b.add_argument(
+        "--save",
+        type=Path,
+        metavar="FILE.json",
+        help="--classroom: keep these runs in FILE.json (other saved runs stay)",
+    )
+    b.add_argument(
+        "--compare",
+        type=Path,
+        metavar="FILE.json",
+        help="--classroom: print each figure's ratio to the run saved in FILE.json",
+    )
+    b.add_argument(
         "--seconds",
         type=_positive_float("--seconds"),
         metavar="S",
@@ -367,7 +382,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_bench(args: argparse.Namespace) -> int:
     """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
     if args.classroom is not None:
-        from sandbox.classroom import cli_classroom
+        from sandbox.classroom_suite import cli_classroom
 
         return cli_classroom(args)
     from sandbox import bench

@@ -14,6 +14,7 @@ import zstandard
 from viser import _messages as vm
 
 from sandbox import classroom as cr
+from sandbox import classroom_suite as suite
 from sandbox.cli import build_parser
 from sandbox.errors import BadOption
 
@@ -202,12 +203,14 @@ def test_find_slider_by_parameter_name() -> None:
     assert choice.updates == {"value": "Tous les panneaux"}
 
 
-def _results(fps: float, idle: float, refused: bool) -> dict:
+def _results(fps: float, idle: float, refused: bool, split: tuple[int, ...] = (15, 15)) -> dict:
     main = {
         "clients": 30,
         "fps": {"min": fps - 3, "median": fps},
         "sim_rate": {"min": 0.99, "median": 1.0},
         "server_cpu_cores": 0.8,
+        "server_cpu_ms_per_frame": 0.3,
+        "clients_per_process": list(split),
     }
     return {
         "scene": "rotor",
@@ -215,39 +218,135 @@ def _results(fps: float, idle: float, refused: bool) -> dict:
         "main": main,
         "drop": {"idle_cores": idle},
         "origin": {"refused": refused},
+        "worker_count": 2,
     }
 
 
 def test_targets_give_pass_and_fail() -> None:
-    good = {t["target"]: t["verdict"] for t in cr.targets(_results(31.0, 0.01, True))}
-    assert set(good.values()) == {"PASS"} and len(good) == 5
-    bad = {t["key"]: t["verdict"] for t in cr.targets(_results(24.0, 0.2, False))}
+    good = {t["target"]: t["verdict"] for t in cr.targets(_results(46.0, 0.01, True))}
+    assert set(good.values()) == {"PASS"} and len(good) == 7
+    bad = {t["key"]: t["verdict"] for t in cr.targets(_results(40.0, 0.2, False, (22, 8)))}
     assert bad == {
         "fps.median": "FAIL",
         "fps.min": "PASS",
         "sim_rate.min": "PASS",
+        "server_cpu_ms_per_frame": "PASS",
+        "split": "FAIL",
         "idle": "FAIL",
         "origin": "FAIL",
     }
+    # a worker that got no browser at all is counted (it is absent from /proc's list)
+    assert cr.split(_results(46.0, 0.0, True, (30,))) == 30
     follow = cr.targets({**_results(31.0, 0.01, True), "follow": True})
     assert [t["key"] for t in follow][:2] == ["fps.median", "server_cpu_cores"]
-    no_drop = _results(31.0, 0.01, True)
+    crowd = _results(31.0, 0.01, True)
+    crowd["main"]["clients"] = 60
+    assert {t["key"]: t["verdict"] for t in cr.targets(crowd)}["fps.median"] == "PASS"
+    no_drop = _results(46.0, 0.01, True)
     del no_drop["drop"]  # phase not run: its target is left out, not failed
     assert "idle" not in [t["key"] for t in cr.targets(no_drop)]
     assert cr.jsonable({"a": (math.nan, 1.0)}) == {"a": [None, 1.0]}
 
 
-def test_cli_options_and_their_checks() -> None:
+def test_cli_options_and_their_checks(tmp_path) -> None:
     args = build_parser().parse_args(
         ["bench", "--classroom", "3", "rotor", "--seconds", "4", "--follow"]
     )
     assert (args.classroom, args.scenes, args.seconds, args.follow) == (3, ["rotor"], 4.0, True)
     with pytest.raises(BadOption, match="1 to 200"):
-        cr.cli_classroom(build_parser().parse_args(["bench", "--classroom", "0"]))
+        suite.cli_classroom(build_parser().parse_args(["bench", "--classroom", "0"]))
     with pytest.raises(BadOption, match="one scene"):
-        cr.cli_classroom(
+        suite.cli_classroom(
             build_parser().parse_args(["bench", "--classroom", "2", "rotor", "gyroscope"])
         )
+    with pytest.raises(BadOption, match="--all runs every scene"):
+        suite.cli_classroom(
+            build_parser().parse_args(["bench", "--classroom", "2", "rotor", "--all"])
+        )
+    with pytest.raises(BadOption, match="needs a .json file"):
+        suite.cli_classroom(
+            build_parser().parse_args(["bench", "--classroom", "2", "--save", "x.txt"])
+        )
+    with pytest.raises(BadOption, match="no saved classroom run"):
+        suite.cli_classroom(
+            build_parser().parse_args(
+                ["bench", "--classroom", "2", "--compare", str(tmp_path / "none.json")]
+            )
+        )
+
+
+def _run(scene: str, clients: int, fps: float, cpu: float, **_: object) -> dict:
+    """A run's results with every figure the report prints."""
+    results = _results(fps, 0.0, True)
+    nothing = {"min": 0.0, "median": 0.0, "p95": 0.0, "max": 0.0}
+    results["main"].update(
+        clients=clients,
+        connected=clients,
+        ready_s=0.1,
+        seconds=10.0,
+        warmup_s=3.0,
+        server_cpu_ms_per_frame=cpu,
+        server_rss_bytes=3e8,
+        slider_delay_s=nothing,
+        slider_param="x",
+        slider_samples=0,
+        slider_not_shown=0,
+        sim_rate_samples=clients,
+        server_processes=3,
+        server_threads=9,
+        server_top_thread_cores=[0.5],
+        per_client_ws_messages_per_s=60.0,
+        per_client_kbytes_per_s=20.0,
+        bytes_per_ws_message=300.0,
+        viser_messages_per_ws_message=4.0,
+        longest_frame_gap_s=nothing,
+        big_messages_per_client_per_s=0.0,
+        largest_message_bytes=1000,
+        bench_cpu_cores=0.05,
+        errors=[],
+    )
+    results["fps"] = results["main"]["fps"]
+    results["main"]["fps"] = {**nothing, **results["main"]["fps"]}
+    results["main"]["sim_rate"] = {**nothing, "min": 0.99, "median": 1.0}
+    results["origin"] = {"origin": "x", "refused": True, "detail": "403"}
+    del results["drop"]
+    results.update(scene=scene, date="then")
+    results["targets"] = cr.targets(results)
+    return results
+
+
+def test_all_scenes_one_table_saved_and_compared(tmp_path, capsys) -> None:
+    """``--all`` runs every scene (here a fake run per scene), prints one table; ``--save``
+    keeps them; ``--compare`` divides each figure by the saved one and says which way."""
+    from sandbox.scenes import SCENES
+
+    saved = tmp_path / "ref.json"
+    args = build_parser().parse_args(["bench", "--classroom", "30", "--all", "--save", str(saved)])
+    seen: list[str] = []
+
+    def fake(scene, clients, **kw):
+        seen.append(scene)
+        assert kw["drop_clients"] == 0  # --all skips the 13 s idle phase
+        return _run(scene, clients, 40.0, 0.8)
+
+    assert suite.cli_classroom(args, run=fake) == 0
+    assert seen == list(SCENES)
+    out = capsys.readouterr().out
+    assert out.count("| rotor×30 |") == 1 and "| compressor×30 |" in out
+    runs = suite.load(saved)
+    assert set(runs) == {f"{s}×30" for s in SCENES}
+    again = build_parser().parse_args(
+        ["bench", "--classroom", "30", "compressor", "--compare", str(saved)]
+    )
+    assert suite.cli_classroom(again, run=lambda s, c, **kw: _run(s, c, 50.0, 0.4)) == 0
+    text = capsys.readouterr().out
+    assert "compressor×30 (saved then):" in text
+    assert "×1.25 better" in text  # frames/s: 50 against 40
+    assert "×0.50 better" in text  # CPU per frame: 0.4 against 0.8 ms
+    # a crafted or foreign file is refused in one line
+    (tmp_path / "bad.json").write_text('{"schema": 99, "runs": {}}')
+    with pytest.raises(BadOption, match="not a saved classroom run"):
+        suite.load(tmp_path / "bad.json")
 
 
 @pytest.mark.slow  # a real server: ~6-13 s on the shared 2 cores

@@ -1,0 +1,254 @@
+"""The classroom benchmark over several scenes: one table, a saved run, ratios to it.
+
+Usage::
+
+    sandbox bench --classroom 30 --all [--seconds 10] [--save bench/classroom.json]
+    sandbox bench --classroom 30 --all --compare bench/classroom.json
+    sandbox bench --classroom 60 rotor --compare bench/classroom.json
+
+Each scene runs as :func:`sandbox.classroom.run_classroom` does alone (its own server, N
+headless browsers, each pressing « Lecture » when the scene opens paused); ``--all``
+leaves out the connect-and-drop phase (13 s a scene) that a single run keeps. ``--save``
+writes the runs to a JSON file (the runs of other scenes or sizes already in it are kept);
+``--compare`` prints, for each figure, the new value divided by the saved one, and says
+whether it is better or worse. Nothing here is asserted: timings depend on the machine.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from sandbox.classroom import jsonable, report, run_classroom, split
+from sandbox.errors import BadOption
+
+if TYPE_CHECKING:
+    import argparse
+
+SCHEMA = 1
+"""Version of the saved file."""
+
+MAX_SAVED_BYTES = 20_000_000
+"""Largest saved file read back (a run is ~10 kB; a crafted file must not fill memory)."""
+
+FIGURES: tuple[tuple[str, str, str, str], ...] = (
+    ("fps.median", "frames/s median", "higher", ".1f"),
+    ("fps.min", "frames/s min", "higher", ".1f"),
+    ("sim_rate.min", "sim/real min", "higher", ".3f"),
+    ("server_cpu_ms_per_frame", "CPU ms/frame", "lower", ".2f"),
+    ("server_cpu_cores", "server cores", "", ".2f"),
+    ("split", "session split", "lower", ".0f"),
+    ("server_rss_bytes", "RSS MB", "lower", ".0f"),
+)
+"""(key, column, which way is better, format) of the figures a run is summed up by ("":
+neither way: the cores a server uses grow with the frames it delivers)."""
+
+
+def run_key(results: Mapping[str, Any]) -> str:
+    """How a run is named in a saved file: ``rotor×30``, ``rotor --follow×120``."""
+    mode = " --follow" if results.get("follow") else ""
+    return f"{results['scene']}{mode}×{results['main']['clients']}"
+
+
+def figure(results: Mapping[str, Any], key: str) -> float:
+    """One figure of a run (NaN when missing); ``split`` counts sessions per worker."""
+    if key == "split":
+        return split(dict(results))
+    value: Any = results["main"]
+    for part in key.split("."):
+        if not isinstance(value, Mapping) or part not in value:
+            return math.nan
+        value = value[part]
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return math.nan
+    return number / 1e6 if key == "server_rss_bytes" else number
+
+
+def verdicts(results: Mapping[str, Any]) -> str:
+    """``PASS`` or the failed targets, in a few words."""
+    failed = [t["target"] for t in results.get("targets", ()) if t["verdict"] != "PASS"]
+    return "PASS" if not failed else "FAIL: " + "; ".join(failed)
+
+
+def _fmt(value: float, spec: str) -> str:
+    return format(value, spec) if math.isfinite(value) else "—"
+
+
+def table(runs: Sequence[Mapping[str, Any]]) -> str:
+    """One Markdown row per run: the figures of :data:`FIGURES` and the targets' verdict."""
+    head = ["run", *(label for _, label, _, _ in FIGURES), "clients per process", "targets"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in runs:
+        cells = [run_key(r)]
+        cells += [_fmt(figure(r, key), spec) for key, _, _, spec in FIGURES]
+        cells.append("/".join(str(n) for n in r["main"]["clients_per_process"]) or "—")
+        cells.append(verdicts(r))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def load(path: Path) -> dict[str, dict[str, Any]]:
+    """The runs of a saved file, by :func:`run_key`.
+
+    Raises:
+        BadOption: the file is missing, too large, not JSON or not a saved run.
+    """
+    try:
+        size = path.stat().st_size
+        if size > MAX_SAVED_BYTES:
+            raise BadOption(
+                f"{str(path)!r} is {size} bytes, more than a saved classroom run can be "
+                f"({MAX_SAVED_BYTES}); give the file --save wrote"
+            )
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise BadOption(
+            f"no saved classroom run at {str(path)!r}; make one with --save {path}"
+        ) from None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise BadOption(
+            f"cannot read {str(path)!r} as a saved classroom run ({type(exc).__name__}); "
+            "give the file --save wrote"
+        ) from None
+    runs = data.get("runs") if isinstance(data, dict) else None
+    if not isinstance(runs, dict) or data.get("schema") != SCHEMA:
+        raise BadOption(
+            f"{str(path)!r} is not a saved classroom run (schema {SCHEMA}); "
+            "give the file --save wrote"
+        )
+    good = {}
+    for key, run in runs.items():
+        if isinstance(run, dict) and isinstance(run.get("main"), dict) and "scene" in run:
+            good[str(key)] = run
+    return good
+
+
+def save(path: Path, runs: Sequence[Mapping[str, Any]]) -> None:
+    """Write ``runs`` to ``path``, keeping the saved runs of other scenes and sizes."""
+    kept: dict[str, Any] = {}
+    if path.exists():
+        try:
+            kept = load(path)
+        except BadOption:
+            kept = {}
+    for r in runs:
+        kept[run_key(r)] = jsonable(dict(r))
+    out = {"schema": SCHEMA, "saved": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "runs": kept}
+    path.write_text(json.dumps(out, indent=1) + "\n", encoding="utf-8")
+
+
+def compare(runs: Sequence[Mapping[str, Any]], saved: Mapping[str, Mapping[str, Any]]) -> str:
+    """For each run with a saved counterpart, each figure: new, saved, new / saved."""
+    lines = []
+    for r in runs:
+        key = run_key(r)
+        old = saved.get(key)
+        if old is None:
+            lines.append(f"{key}: no saved run to compare with")
+            continue
+        lines.append(f"{key} (saved {old.get('date', '?')}):")
+        for fkey, label, better, spec in FIGURES:
+            new_v, old_v = figure(r, fkey), figure(old, fkey)
+            if not (math.isfinite(new_v) and math.isfinite(old_v)):
+                continue
+            if old_v == 0:
+                ratio = "same" if new_v == 0 else "new"
+                word = ""
+            else:
+                q = new_v / old_v
+                ratio = f"×{q:.2f}"
+                up = q > 1.0
+                word = (
+                    ""
+                    if abs(q - 1.0) < 0.05 or not better
+                    else ("better" if up == (better == "higher") else "WORSE")
+                )
+            lines.append(
+                f"  {label:<16} {_fmt(new_v, spec):>8}  saved {_fmt(old_v, spec):>8}  "
+                f"{ratio:>7} {word}".rstrip()
+            )
+    return "\n".join(lines)
+
+
+def scenes_of(args: argparse.Namespace) -> list[str]:
+    """The scenes a ``--classroom`` command runs (``--all``: every registered scene)."""
+    from sandbox.scenes import DEFAULT_SCENE, SCENES
+
+    scenes = list(args.scenes or ())
+    if getattr(args, "all", False):
+        if scenes:
+            raise BadOption(
+                f"--all runs every scene: drop {' '.join(scenes)}, or drop --all to run those"
+            )
+        return list(SCENES)
+    if len(scenes) > 1:
+        raise BadOption(
+            f"--classroom takes one scene, got {len(scenes)}: {' '.join(scenes)} "
+            "(--all runs every scene)"
+        )
+    return scenes or [DEFAULT_SCENE]
+
+
+def _json_path(value: Path | None, option: str) -> Path | None:
+    if value is None:
+        return None
+    if value.suffix.lower() != ".json":
+        raise BadOption(f"{option} needs a .json file, got {str(value)!r}")
+    if not value.parent.exists():
+        raise BadOption(f"folder {str(value.parent)!r} of {option} does not exist; create it")
+    return value
+
+
+def cli_classroom(
+    args: argparse.Namespace, *, run: Callable[..., dict[str, Any]] = run_classroom
+) -> int:
+    """``sandbox bench --classroom N [SCENE | --all] [--follow] [--seconds S]
+    [--out FILE.json] [--save FILE.json] [--compare FILE.json]``."""
+    clients = int(args.classroom)
+    if not 1 <= clients <= 200:
+        raise BadOption(f"--classroom needs 1 to 200 clients, got {clients!r}")
+    scenes = scenes_of(args)
+    seconds = float(args.seconds) if getattr(args, "seconds", None) else 15.0
+    out: Path | None = getattr(args, "out", None)
+    if out is not None and out.suffix.lower() != ".json":
+        out = None  # the grid's --out folder: not for this command
+    if out is not None and not out.parent.exists():
+        raise BadOption(f"folder {str(out.parent)!r} of --out does not exist; create it first")
+    save_to = _json_path(getattr(args, "save", None), "--save")
+    compare_to = _json_path(getattr(args, "compare", None), "--compare")
+    saved = load(compare_to) if compare_to is not None else {}
+    many = len(scenes) > 1
+    runs = []
+    for scene in scenes:
+        results = run(
+            scene,
+            clients,
+            seconds=seconds,
+            follow=bool(getattr(args, "follow", False)),
+            workers=getattr(args, "workers", None),
+            drop_clients=0 if many else 20,
+            progress=lambda line: print(line, file=sys.stderr, flush=True),
+        )
+        runs.append(results)
+        print(report(results), flush=True)
+    if many:
+        print()
+        print(table(runs))
+    if compare_to is not None:
+        print()
+        print(compare(runs, saved))
+    if out is not None:
+        data = runs[0] if not many else {run_key(r): r for r in runs}
+        out.write_text(json.dumps(jsonable(data), indent=2) + "\n")
+        print(f"written: {out}")
+    if save_to is not None:
+        save(save_to, runs)
+        print(f"saved: {save_to}")
+    return 0
