@@ -337,7 +337,11 @@ class Simulation:
         return Snapshot(self.model, self.data, self.values)
 
     def readouts(
-        self, names: Iterable[str] | None = None, *, data: mujoco.MjData | None = None
+        self,
+        names: Iterable[str] | None = None,
+        *,
+        data: mujoco.MjData | None = None,
+        snapshot: Snapshot | None = None,
     ) -> dict[str, float]:
         """Values of the requested readouts (all when ``names`` is None).
 
@@ -346,6 +350,10 @@ class Simulation:
             data: Another state of this model to read instead of the simulation's own
                 (the web page's display state, between two physics steps); its derived
                 quantities are brought up to date here.
+            snapshot: A state already brought up to date for these readouts (and for
+                forces, ``sup_R_x`` and ``dyn_R_x``, when scene readouts are asked): read
+                as it is, sharing its cached torsors with whatever else read it (a drawn
+                frame's arrows).
 
         Raises:
             KeyError: an unknown name (the message lists the valid ones).
@@ -362,7 +370,9 @@ class Simulation:
             needs = [n for n in wanted if n in known]
             if len(needs) < len(wanted):
                 needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
-            if data is None:
+            if snapshot is not None:
+                snap = snapshot
+            elif data is None:
                 snap = self.snapshot(needs)
             else:
                 generic.prepare(self.model, data, needs)

@@ -19,6 +19,7 @@ import numpy as np
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Arrow
+from sandbox.web import wire
 from sandbox.web.renderer import mechanism_size
 from sandbox.web.text import number, with_unit
 
@@ -64,8 +65,18 @@ def auto_factor(current: float, longest: float, size: float) -> float:
     return 0.75 * MAX_REACH * size / longest
 
 
+MOVE = 2e-4
+"""Smallest move worth a message, as a fraction of the mechanism's size (a fifth of a
+pixel when the mechanism spans a 1000-pixel view): a still arrow or label sends nothing."""
+
+
 class ArrowLayer:
-    """One arrow node and one label per scene arrow, in a client's scene.
+    """The scene's arrows as one viser arrows node, and one label per arrow, in a client's
+    (or the broadcast) scene.
+
+    Each drawn frame sends one message for every arrow that moved (the node's points) and
+    one per label that moved more than :data:`MOVE`; which arrows show (round-off, a
+    lesson's choice) changes the points and colours together.
 
     Args:
         scene: A viser ``SceneApi``.
@@ -99,37 +110,45 @@ class ArrowLayer:
         self._measured = size is not None and size > 0
         self.user_scale = 1.0
         self.factors: dict[str, float] = {}  # unit -> automatic length factor
-        self.nodes: list[tuple[viser.ArrowsHandle, viser.LabelHandle]] = []
+        self.colors = np.array([a.color for a in self.arrows], dtype=np.uint8).reshape(-1, 3)
         shaft = SHAFT * self.size
-        for a in self.arrows:
-            node = scene.add_arrows(
-                f"{prefix}/arrows/{a.name}",
-                points=np.zeros((1, 2, 3), dtype=np.float32),
-                colors=a.color,
-                shaft_radius=shaft,
-                head_radius=2.5 * shaft,
-                head_length=6 * shaft,
-                visible=False,
-            )
-            label = scene.add_label(
+        self.node = scene.add_arrows(
+            f"{prefix}/arrows",
+            points=np.zeros((1, 2, 3), dtype=np.float32),
+            colors=self.colors[:1] if len(self.colors) else (0, 0, 0),
+            shaft_radius=shaft,
+            head_radius=2.5 * shaft,
+            head_length=6 * shaft,
+            visible=False,
+        )
+        self.labels: list[viser.LabelHandle] = [
+            scene.add_label(
                 f"{prefix}/arrow_labels/{a.name}",
                 a.label,
                 visible=False,
                 anchor="bottom-center",
                 font_screen_scale=0.9,
             )
-            self.nodes.append((node, label))
+            for a in self.arrows
+        ]
         self.enabled: set[str] | None = None  # None: every arrow
-        self.magnitudes = [0.0] * len(self.arrows)
-        self.shown = [False] * len(self.arrows)
+        n = len(self.arrows)
+        self.magnitudes = [0.0] * n
+        self.shown = [False] * n
         self.origins = [np.zeros(3) for _ in self.arrows]
         self.ends = [np.zeros(3) for _ in self.arrows]
+        self._sent_points = np.zeros((0, 2, 3), dtype=np.float32)
+        self._sent_mask: tuple[bool, ...] = (False,) * n
+        self._label_at = np.full((n, 3), np.nan)
+        self.messages = 0  # messages queued so far (the counted guard of the tests)
+        self.dirty = False  # a setting changed since the last draw: draw again
 
     def set_scale(self, factor: float) -> None:
         """The user's factor on every arrow's length (clipped to :data:`USER_SCALES`)."""
         low, high = USER_SCALES
         if math.isfinite(factor):
             self.user_scale = min(max(float(factor), low), high)
+            self.dirty = True
 
     def resize(self, size: float) -> None:
         """Size the shafts and heads, and the reach, to a mechanism of ``size`` metres."""
@@ -138,19 +157,37 @@ class ArrowLayer:
         self.size, self._measured = float(size), True
         self.factors.clear()
         shaft = SHAFT * self.size
-        for node, _ in self.nodes:
-            node.shaft_radius = shaft
-            node.head_radius = 2.5 * shaft
-            node.head_length = 6 * shaft
+        wire.set_props(
+            self.node, shaft_radius=shaft, head_radius=2.5 * shaft, head_length=6 * shaft
+        )
+        self.messages += 1
+
+    @property
+    def shaft_radius(self) -> float:
+        """Radius of the shafts [m] (heads are 2.5 and 6 shafts)."""
+        return SHAFT * self.size
 
     def update(self, snapshot: Snapshot) -> None:
-        """Move every arrow to its current origin and vector (hidden if not finite)."""
+        """Evaluate the arrows on ``snapshot`` and draw them (a replay's export, tests):
+        a live view draws the frame's own picture with :meth:`draw`."""
         if not self._measured:
             self.resize(mechanism_size(snapshot.model, snapshot.data))
+        ends = np.full((len(self.arrows), 2, 3), np.nan)
+        sizes = np.full(len(self.arrows), np.nan)
+        for k, arrow in enumerate(self.arrows):
+            start, end, magnitude = arrow_points(arrow, snapshot)
+            ends[k, 0], ends[k, 1], sizes[k] = start, end, magnitude
+        self.draw(ends, sizes)
+
+    def draw(self, ends: np.ndarray, magnitudes: np.ndarray) -> None:
+        """Move every arrow to its start and end ``ends`` (A, 2, 3) [m, at the scene's
+        scale] with the norms ``magnitudes`` (A,) of their vectors; an arrow whose values
+        are not finite is hidden."""
+        self.dirty = False
         points = []
         longest: dict[str, float] = {}
-        for arrow, unit in zip(self.arrows, self.units, strict=True):
-            start, end, magnitude = arrow_points(arrow, snapshot)
+        for k, (arrow, unit) in enumerate(zip(self.arrows, self.units, strict=True)):
+            start, end, magnitude = ends[k, 0], ends[k, 1], float(magnitudes[k])
             if abs(magnitude) <= self.zero.get(unit, 0.0):  # round-off: no arrow, not
                 end = start  # one blown up to a visible length by the automatic scale
             points.append((start, end, magnitude))
@@ -160,21 +197,61 @@ class ArrowLayer:
                 longest[unit] = max(longest.get(unit, 0.0), length)
         for unit, length in longest.items():
             self.factors[unit] = auto_factor(self.factors.get(unit, 1.0), length, self.size)
-        for k, (arrow, (node, label)) in enumerate(zip(self.arrows, self.nodes, strict=True)):
+        drawn = []
+        for k, arrow in enumerate(self.arrows):
             start, end, magnitude = points[k]
             factor = self.factors.get(self.units[k], 1.0) * self.user_scale
             end = start + factor * (end - start)
             ok = bool(np.isfinite(end).all() and np.isfinite(start).all())
             wanted = self.enabled is None or arrow.name in self.enabled
             show = ok and wanted and float(np.linalg.norm(end - start)) > MIN_LENGTH
-            if show:
-                node.points = np.stack([start, end])[None].astype(np.float32)
-                label.position = end
-            if show != self.shown[k]:
-                node.visible = label.visible = self.shown[k] = show
+            self.shown[k] = show
             self.magnitudes[k] = magnitude if ok else float("nan")
             if ok:
                 self.origins[k], self.ends[k] = start, end
+            if show:
+                drawn.append((start, end))
+        self._send(drawn)
+        self._place_labels()
+
+    def _send(self, drawn: list[tuple[np.ndarray, np.ndarray]]) -> None:
+        """One message for the node: its points when they moved, with the colours when
+        the set of arrows shown changed; its visibility when none or some show."""
+        mask = tuple(self.shown)
+        if not drawn:
+            if self.node.visible:
+                self.node.visible = False
+                self.messages += 1
+            self._sent_mask = mask
+            return
+        points = np.asarray(drawn, dtype=np.float32)
+        if mask != self._sent_mask or points.shape != self._sent_points.shape:
+            colors = self.colors[np.asarray(mask, dtype=bool)]
+            wire.set_props(self.node, points=points, colors=colors)
+            self.messages += 1
+        elif np.abs(points - self._sent_points).max() > MOVE * self.size:
+            wire.set_props(self.node, points=points)
+            self.messages += 1
+        else:
+            points = self._sent_points  # below what a pixel shows: keep the sent one
+        self._sent_points, self._sent_mask = points, mask
+        if not self.node.visible:
+            self.node.visible = True
+            self.messages += 1
+
+    def _place_labels(self) -> None:
+        """Each shown arrow's label at its end (sent when it moved), the others hidden."""
+        for k, label in enumerate(self.labels):
+            show = self.shown[k]
+            if show:
+                end = self.ends[k]
+                if not (np.abs(end - self._label_at[k]) <= MOVE * self.size).all():
+                    wire.set_position(label, end)
+                    self._label_at[k] = end
+                    self.messages += 1
+            if label.visible != show:
+                label.visible = show
+                self.messages += 1
 
     def caption(self, k: int) -> str:
         """The label of arrow ``k``: its words, magnitude and unit ("Palier A : 0,91 N")."""
@@ -186,7 +263,7 @@ class ArrowLayer:
 
     def relabel(self) -> None:
         """Write the current magnitudes in the labels (called at the panel rate)."""
-        for k, (_, label) in enumerate(self.nodes):
+        for k, label in enumerate(self.labels):
             text = self.caption(k)
             if label.text != text:
                 label.text = text
@@ -194,9 +271,14 @@ class ArrowLayer:
     def only(self, names: Sequence[str] | None) -> None:
         """Show only the arrows called ``names`` (None: all), from the next update on."""
         self.enabled = None if names is None else set(names)
+        self.dirty = True
 
     def hide(self) -> None:
         """Hide every arrow (e.g. after a divergence)."""
-        for k, (node, label) in enumerate(self.nodes):
-            if self.shown[k]:
-                node.visible = label.visible = self.shown[k] = False
+        if self.node.visible:
+            self.node.visible = False
+        for k, label in enumerate(self.labels):
+            if label.visible:
+                label.visible = False
+            self.shown[k] = False
+        self._sent_mask = tuple(self.shown)

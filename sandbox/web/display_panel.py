@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
-from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.display import main_joint
+from sandbox.physics.picture import Picture
 from sandbox.scenes.base import as_scene
 from sandbox.web.arrows import USER_SCALES, ArrowLayer
-from sandbox.web.motion import main_joint
-from sandbox.web.renderer import MARKER, mechanism_size
+from sandbox.web.renderer import MARKER, SceneRenderer, mechanism_size
 from sandbox.web.session import SPEEDS, Controller, Request
 from sandbox.web.text import number
 
@@ -119,7 +119,9 @@ class DisplayPanel:
     Args:
         gui: A viser ``GuiApi`` (``client.gui``).
         controller: The session's controller (speed and "Pas" requests go to its queue).
-        scene: The client's ``SceneApi`` for the marks (None: no marks).
+        scene: The client's ``SceneApi`` for the point P (None: not drawn).
+        renderer: The view's renderer, which carries the masses' labels on the moving
+            geoms (None: no labels).
         camera: The client's camera, moved by "Suivre l'objet" (None: no such box).
         arrows: The view's arrow layer, whose lengths "Échelle des flèches" scales.
         point: The reduction point chosen in the torsors' folder (drawn when typed: P).
@@ -131,12 +133,14 @@ class DisplayPanel:
         controller: Controller,
         *,
         scene: viser.SceneApi | None = None,
+        renderer: SceneRenderer | None = None,
         camera: viser.CameraHandle | None = None,
         arrows: ArrowLayer | None = None,
         point: Point | None = None,
     ) -> None:
         self.controller = controller
         self.scene = scene
+        self.renderer = renderer
         self.camera = camera
         self.arrows = arrows
         self.point = point
@@ -206,7 +210,7 @@ class DisplayPanel:
                 )
                 self.scale.on_update(self._on_scale)
         self._speed_shown = 1.0
-        self._marks: dict[int, viser.LabelHandle] = {}
+        self._marks: dict[int, str] = {}  # geom -> words of its label
         self._marks_model: mujoco.MjModel | None = None
         self._point: tuple[viser.SceneNodeHandle, viser.LabelHandle] | None = None
 
@@ -236,18 +240,13 @@ class DisplayPanel:
                 return
 
     # -- loop thread ---------------------------------------------------------------------
-    def draw(self, snapshot: Snapshot) -> None:
-        """On every drawn frame (``snapshot``: the drawn state): the camera follows the
-        object, the masses' labels follow the rotor."""
-        data = snapshot.data
-        if self.following and self.camera is not None and 0 <= self.body < snapshot.model.nbody:
-            self._follow(np.asarray(data.xpos[self.body], dtype=float))
-        if self._marks_model is not snapshot.model:
-            self._rebuild_marks(snapshot.model)
-        for g, label in self._marks.items():
-            p = np.asarray(data.geom_xpos[g], dtype=float)
-            if np.isfinite(p).all():
-                label.position = p
+    def draw(self, picture: Picture) -> None:
+        """On every drawn frame: the camera follows the object; on a new model, the
+        masses' labels (which ride on the rotor: no message a frame)."""
+        if self.following and self.camera is not None and 0 <= self.body < len(picture.body_xpos):
+            self._follow(np.asarray(picture.body_xpos[self.body], dtype=float))
+        if self._marks_model is not picture.model:
+            self._rebuild_marks(picture.model)
 
     def _follow(self, target: np.ndarray) -> None:
         camera = self.camera
@@ -262,20 +261,10 @@ class DisplayPanel:
 
     def _rebuild_marks(self, model: mujoco.MjModel) -> None:
         self._marks_model = model
-        if self.scene is None:
+        if self.renderer is None:
             return
-        wanted = set(markers(model))
-        for g in [g for g in self._marks if g not in wanted]:
-            self._marks.pop(g).remove()
-        for g in sorted(wanted):
-            text = marker_text(model, g, self.words)
-            label = self._marks.get(g)
-            if label is None:
-                self._marks[g] = self.scene.add_label(
-                    f"/marks/mass{g}", text, anchor="bottom-center", font_screen_scale=0.9
-                )
-            elif label.text != text:
-                label.text = text
+        self._marks = {g: marker_text(model, g, self.words) for g in markers(model)}
+        self.renderer.label_geoms(self._marks)
 
     def refresh(self) -> None:
         """At the panel rate: "Ralenti" shows the speed in force; the typed point P."""

@@ -33,10 +33,10 @@ from sandbox.web.arrows import ArrowLayer
 from sandbox.web.fields import display_unit
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import Controller, Frame, Notice, Request, Session, drawn_snapshot
+from sandbox.web.session import Controller, Frame, Notice, Request, Session
 from sandbox.web.tables import fmt
 from sandbox.web.text import plain
-from sandbox.web.view import SNAPSHOT_NAMES, WebView, arrow_layer, point_camera
+from sandbox.web.view import WebView, arrow_layer, point_camera
 
 log = logging.getLogger(__name__)
 
@@ -89,8 +89,12 @@ class BroadcastView:
         self.summary = ""
         self.version = 0
         self.teachers: list[WebView[Controller]] = []
-        self._drawn: tuple[object, ...] | None = None
         self._summary_at = -math.inf
+
+    @property
+    def draws(self) -> bool:
+        """True while a browser watches: nobody watching, nothing is drawn nor sent."""
+        return bool(self.server.get_clients())
 
     def wants(self, now: float) -> list[str] | None:
         """The followers' table readouts, :data:`SUMMARY_RATE` times a second."""
@@ -100,22 +104,18 @@ class BroadcastView:
         return self.names
 
     def render(self, frame: Frame) -> None:
-        if not self.server.get_clients():  # nobody watches: no drawing, no messages
-            self._drawn = None
+        """The picture (once for every follower: the broadcast scene), and the followers'
+        table at :data:`SUMMARY_RATE`."""
+        if frame.picture is None and frame.readouts is None and not frame.diverged:
             return
-        sim = self.controller.sim
         with self.server.atomic():
             if frame.diverged:
                 if self.arrows is not None:
                     self.arrows.hide()
-            elif frame.key != self._drawn:
-                self._drawn = frame.key
-                with sim.lock:
-                    names = SNAPSHOT_NAMES if self.arrows is not None else ()
-                    snapshot = drawn_snapshot(self.controller, names)
-                    self.renderer.sync(snapshot.model, snapshot.data)
-                    if self.arrows is not None:
-                        self.arrows.update(snapshot)
+            elif frame.picture is not None:
+                self.renderer.draw(frame.picture)
+                if self.arrows is not None:
+                    self.arrows.draw(frame.picture.arrows, frame.picture.magnitudes)
             if frame.readouts is not None or frame.diverged:
                 self._summarise(frame)
                 if self.arrows is not None:
@@ -171,6 +171,8 @@ class FollowerView:
                 "du professeur",
             )
         self.own.on_click(lambda _: on_own())
+
+    draws = False  # the broadcast draws the scene once for every follower
 
     def wants(self, now: float) -> None:
         return None  # the broadcast computes the table once for every follower

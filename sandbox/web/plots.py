@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import viser
+from numpy.typing import ArrayLike
 from viser import uplot
 
 from sandbox.physics.snapshot import Snapshot
@@ -278,11 +279,20 @@ class ComponentPlot(Plot):
         return f"{arrows} : composantes dans {self.spec.words}{unit}"
 
     def values(self, snapshot: Snapshot, basis: np.ndarray) -> dict[str, float]:
-        """The components now: ``basis`` is 3x3, columns = its unit vectors in world."""
-        out: dict[str, float] = {"time": float(snapshot.data.time)}
+        """The components at ``snapshot``: ``basis`` is 3x3, columns = its unit vectors
+        in world."""
+        vectors = {arrow.name: arrow.fn(snapshot)[1] for arrow in self.arrows}
+        return self.components(float(snapshot.data.time), vectors, basis)
+
+    def components(
+        self, time: float, vectors: Mapping[str, ArrayLike], basis: np.ndarray
+    ) -> dict[str, float]:
+        """The components of the arrows' world ``vectors`` (by arrow name) at ``time`` [s]
+        in ``basis`` (3x3, columns = its unit vectors in world): a frame's picture gives
+        them, already evaluated."""
+        out: dict[str, float] = {"time": float(time)}
         for arrow in self.arrows:
-            _, vector = arrow.fn(snapshot)
-            local = np.asarray(basis, dtype=float).T @ np.asarray(vector, dtype=float)
+            local = np.asarray(basis, dtype=float).T @ np.asarray(vectors[arrow.name], dtype=float)
             for axis in self.spec.axes:
                 out[f"{arrow.name}.{axis}"] = float(local[axis])
         return out

@@ -8,6 +8,7 @@ import mujoco
 import numpy as np
 import viser
 
+from sandbox.physics.picture import Picture
 from sandbox.physics.readouts import GENERIC_NAMES
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
@@ -27,9 +28,6 @@ ENERGY_FOLDER = "Énergie et puissances"
 
 ENERGY_NAMES = ("T", "V", "P_ext", "P_int", "P_acc")
 """Readouts of the energy table."""
-
-COMPONENT_NAMES = ("sup_R_x", "dyn_R_x")
-"""Readouts brought up to date before the arrows' vectors are read (as for the 3D view)."""
 
 TORSOR_NAMES = tuple(n for n in GENERIC_NAMES if n[:4] in ("kin_", "dyn_", "sup_"))
 """Readouts of the torsor table."""
@@ -80,6 +78,7 @@ class ReadoutPanel:
         self.body = -1
         if scene is not None and scene.body_frame:
             self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
+        self.scene_arrows = tuple(scene.arrows) if scene is not None else ()
         self.components: ComponentPlot | None = component_plot(scene)
         if self.components is not None and self.components.spec.basis == "B1" and self.body <= 0:
             self.components = None
@@ -171,33 +170,40 @@ class ReadoutPanel:
             return list(ENERGY_NAMES)
         return []
 
-    def sample(self, values: Mapping[str, float], *, push: bool = True) -> None:
-        """Add the current readouts (and arrow components) to the plots; send them when
-        ``push``."""
+    def sample(
+        self,
+        values: Mapping[str, float],
+        *,
+        push: bool = True,
+        picture: Picture | None = None,
+    ) -> None:
+        """Add the current readouts (and the arrow components of the frame's ``picture``)
+        to the plots; send them when ``push``."""
         for plot in self.plots:
             plot.append(values)
             if push:
                 plot.push()
-        if self.components is not None:
-            self.sample_components()
+        if self.components is not None and picture is not None:
+            self.sample_components(picture)
             if push:
                 self.components.push()
 
-    def sample_components(self) -> None:
-        """Add the arrows' components now (in B0, or in B1 of the scene's body frame)."""
-        if self.components is None:
+    def sample_components(self, picture: Picture) -> None:
+        """Add the arrows' components of a frame's picture (in B0, or in B1 of the scene's
+        body frame): evaluated once with the frame, not again here."""
+        if self.components is None or len(picture.vectors) != len(self.scene_arrows):
             return
-        sim = self.sim
-        with sim.lock:
-            snapshot = sim.snapshot(COMPONENT_NAMES)
-            basis = np.eye(3)
-            if self.components.spec.basis == "B1" and 0 < self.body < sim.model.nbody:
-                basis = sim.data.xmat[self.body].reshape(3, 3).copy()
-            try:
-                values = self.components.values(snapshot, basis)
-            except (ValueError, FloatingPointError, IndexError):
-                return
-        self.components.append(values)
+        vectors = {a.name: picture.vectors[k] for k, a in enumerate(self.scene_arrows)}
+        basis = np.eye(3)
+        if self.components.spec.basis == "B1" and 0 < self.body < len(picture.body_xquat):
+            flat = np.zeros(9)
+            mujoco.mju_quat2Mat(flat, np.asarray(picture.body_xquat[self.body], dtype=float))
+            basis = flat.reshape(3, 3)
+        try:
+            row = self.components.components(picture.time, vectors, basis)
+        except (ValueError, FloatingPointError, IndexError, KeyError):
+            return
+        self.components.append(row)
 
     def refresh(
         self, sim: Simulation, values: Mapping[str, float], folder: str | None = None

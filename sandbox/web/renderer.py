@@ -15,6 +15,9 @@ import mujoco
 import numpy as np
 import viser
 
+from sandbox.physics.picture import Picture, body_groups, geom_local_poses
+from sandbox.web import wire
+
 _T = mujoco.mjtGeom
 KINDS: dict[int, str] = {
     int(_T.mjGEOM_PLANE): "plane",
@@ -83,9 +86,9 @@ class GeomShape:
         rgba: Colour and opacity in [0, 1].
         moving: False for geoms welded to the world (posed once).
         mesh_id: Mesh index for ``kind == "mesh"``, else -1.
-        body: Body carrying a moving geom (its node is a child of the body's frame),
-            else -1.
-        local: Pose (x, y, z, w, qx, qy, qz) of a moving geom in its body's frame.
+        body: Root body of the rigid group carrying a moving geom (its node is a child of
+            the group's frame: :func:`sandbox.physics.picture.body_groups`), else -1.
+        local: Pose (x, y, z, w, qx, qy, qz) of a moving geom in its group's frame.
     """
 
     geom_id: int
@@ -147,13 +150,15 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
     shapes = []
     extent = float(model.stat.extent) or 1.0
     marker = MARKER * mechanism_size(model)
+    _, groups = body_groups(model)
+    locals_ = geom_local_poses(model)
     for i in range(model.ngeom):
         kind = KINDS.get(int(model.geom_type[i]))
         rgba = _rgba(model, i)
         if kind is None or rgba[3] <= 0.0 or int(model.geom_group[i]) >= HIDDEN_GROUP:
             continue
-        body = int(model.geom_bodyid[i])
-        moving = int(model.body_weldid[body]) != 0 or int(model.body_mocapid[body]) >= 0
+        body = int(groups[int(model.geom_bodyid[i])])
+        moving = body != 0
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom{i}"
         size = tuple(float(x) for x in _size(kind, model.geom_size[i], extent))
         mesh_id = int(model.geom_dataid[i]) if kind == "mesh" else -1
@@ -163,7 +168,7 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
         if moving and kind == "sphere" and size[0] < marker:
             size = (marker,)
         if moving:
-            local = tuple(float(x) for x in (*model.geom_pos[i], *model.geom_quat[i]))
+            local = tuple(float(x) for x in locals_[i])
             node = f"{body_frame(prefix, body)}/{i}_{name}"
             shapes.append(GeomShape(i, node, kind, size, rgba, True, mesh_id, body, local))
         else:
@@ -172,7 +177,8 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
 
 
 def body_frame(prefix: str, body: int) -> str:
-    """Scene-tree name of the frame that carries a moving body's geoms."""
+    """Scene-tree name of the frame that carries the geoms of a moving group (``body``:
+    the group's root)."""
     return f"{prefix}/body{body}"
 
 
@@ -282,11 +288,17 @@ def _triple(size: tuple[float, ...]) -> tuple[float, float, float]:
     return (x, y, z)
 
 
-class SceneRenderer:
-    """Keeps one client's scene nodes in step with a model and its data.
+POSE_MOVE = 1e-4
+"""Smallest move of a group worth a message, as a fraction of the mechanism's size (a
+tenth of a pixel when it spans a 1000-pixel view), in position or in angle [rad]."""
 
-    Moving geoms are children of their body's frame, placed once at their pose in the
-    body; every frame then sends one pose per moving body (not one per geom).
+
+class SceneRenderer:
+    """Keeps one client's scene nodes in step with a model and its drawn pictures.
+
+    Moving geoms are children of their group's frame, placed once at their pose in the
+    group; every frame then sends a position and an orientation per group that moved (not
+    one per geom, nor per welded body), and nothing for a still one.
 
     Args:
         scene: A viser ``SceneApi`` (``client.scene``, or ``server.scene`` for all).
@@ -299,25 +311,53 @@ class SceneRenderer:
         self.model: mujoco.MjModel | None = None
         self.nodes: dict[int, tuple[GeomShape, viser.SceneNodeHandle]] = {}
         self.bodies: dict[int, viser.FrameHandle] = {}
+        self.labels: dict[int, tuple[str, viser.LabelHandle, int]] = {}  # geom: text, node, group
+        self._sent = np.zeros((0, 7))  # last pose sent of each group of ``_roots``
+        self._roots = np.zeros(0, dtype=int)
+        self._move = 0.0  # POSE_MOVE times the mechanism's size [m]
+        self.messages = 0  # pose messages queued so far (the counted guard of the tests)
 
     def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Rebuild changed nodes when the model object changed, then pose the moving bodies."""
-        fresh: list[int] = []
+        """Draw ``data`` (its bodies' poses up to date): rebuild the nodes if the model
+        object changed, then pose the groups that moved."""
+        roots, _ = body_groups(model)
+        poses = np.concatenate([data.xpos[roots], data.xquat[roots]], axis=1)
+        self.show(model, roots, poses)
+
+    def draw(self, picture: Picture) -> None:
+        """Draw a frame's picture (:func:`sandbox.physics.picture.picture`)."""
+        self.show(picture.model, picture.roots, picture.poses)
+
+    def show(self, model: mujoco.MjModel, roots: np.ndarray, poses: np.ndarray) -> None:
+        """Rebuild changed nodes when the model object changed, then send the pose of each
+        group (``roots``: their root bodies; ``poses``: x, y, z, w, qx, qy, qz) that moved
+        by more than :data:`POSE_MOVE`."""
         if model is not self.model:
-            fresh = self._rebuild(model)
+            self._rebuild(model)
             self.model = model
-        for gid in fresh:
-            shape, node = self.nodes[gid]
-            if not shape.moving:
-                pos, wxyz = geom_pose(data, gid)
-                if np.isfinite(pos).all() and np.isfinite(wxyz).all():
-                    node.position = pos
-                    node.wxyz = wxyz
-        for body, frame in self.bodies.items():
-            pos, wxyz = data.xpos[body], data.xquat[body]
-            if np.isfinite(pos).all() and np.isfinite(wxyz).all():
-                frame.position = pos.copy()
-                frame.wxyz = wxyz.copy()
+        if roots.shape != self._roots.shape or (roots != self._roots).any():
+            self._roots = roots.copy()
+            self._sent = np.full((len(roots), 7), np.nan)
+        if len(roots) == 0:
+            return
+        sent = self._sent
+        ok = np.isfinite(poses).all(axis=1)
+        moved = ~(np.abs(poses[:, :3] - sent[:, :3]).max(axis=1) <= self._move)  # NaN: never sent
+        # |q·q'| = cos(θ/2) for the rotation θ between two orientations
+        dots = np.abs((poses[:, 3:] * sent[:, 3:]).sum(axis=1))
+        turned = ~(1.0 - dots <= 0.125 * POSE_MOVE**2)
+        for k in np.flatnonzero(ok & (moved | turned)):
+            frame = self.bodies.get(int(roots[k]))
+            if frame is None:
+                continue
+            if moved[k]:
+                wire.set_position(frame, poses[k, :3])
+                sent[k, :3] = poses[k, :3]
+                self.messages += 1
+            if turned[k]:
+                wire.set_orientation(frame, poses[k, 3:])
+                sent[k, 3:] = poses[k, 3:]
+                self.messages += 1
 
     def world_pose(self, geom_id: int) -> tuple[np.ndarray, np.ndarray]:
         """Where the browser draws a geom: world position [m] and (w, x, y, z)."""
@@ -331,6 +371,40 @@ class SceneRenderer:
         mujoco.mju_rotVecQuat(offset, np.asarray(shape.local[:3]), np.asarray(frame.wxyz, float))
         return np.asarray(frame.position, float) + offset, quat
 
+    def label_geoms(self, texts: dict[int, str]) -> None:
+        """Labels riding on moving geoms (``texts``: geom -> words), children of their
+        group's frame: they move with it and cost no message a frame. Labels of geoms no
+        longer given are removed; a geom on no moving group gets none."""
+        model = self.model
+        for g in [g for g in self.labels if g not in texts]:
+            self.labels.pop(g)[1].remove()
+        if model is None:
+            return
+        _, groups = body_groups(model)
+        local = geom_local_poses(model)
+        for g, text in texts.items():
+            if not 0 <= g < model.ngeom:
+                continue
+            root = int(groups[int(model.geom_bodyid[g])])
+            if root not in self.bodies:
+                continue
+            old = self.labels.get(g)
+            if old is not None and old[2] == root:
+                if old[0] != text:
+                    old[1].text = text
+                    self.labels[g] = (text, old[1], root)
+                continue
+            if old is not None:
+                old[1].remove()
+            label = self.scene.add_label(
+                f"{body_frame(self.prefix, root)}/label{g}",
+                text,
+                position=np.array(local[g, :3]),
+                anchor="bottom-center",
+                font_screen_scale=0.9,
+            )
+            self.labels[g] = (text, label, root)
+
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:
         """Keep nodes whose shape is unchanged, replace the others; returns new ids."""
         wanted = {s.geom_id: s for s in geom_shapes(model, prefix=self.prefix)}
@@ -342,21 +416,40 @@ class SceneRenderer:
         moving = {s.body for s in wanted.values() if s.moving}
         for body in [b for b in self.bodies if b not in moving or b >= model.nbody]:
             self.bodies.pop(body).remove()
+            for g in [g for g, (_, _, root) in self.labels.items() if root == body]:
+                del self.labels[g]  # removed with its frame
         for body in sorted(moving - set(self.bodies)):
             self.bodies[body] = self.scene.add_frame(body_frame(self.prefix, body), show_axes=False)
+        self._sent[:] = np.nan  # the new frames know no pose yet
+        self._move = POSE_MOVE * mechanism_size(model)
         fresh = []
+        data = None
         for gid, shape in wanted.items():
             if gid not in self.nodes:
-                self.nodes[gid] = (shape, add_node(self.scene, model, shape))
+                node = add_node(self.scene, model, shape)
+                self.nodes[gid] = (shape, node)
                 fresh.append(gid)
+                if not shape.moving:  # posed once, where the world holds it
+                    if data is None:
+                        data = mujoco.MjData(model)
+                        mujoco.mj_kinematics(model, data)
+                    pos, wxyz = geom_pose(data, gid)
+                    if np.isfinite(pos).all() and np.isfinite(wxyz).all():
+                        node.position = pos
+                        node.wxyz = wxyz
         return fresh
 
     def clear(self) -> None:
         """Remove every node."""
         for _, node in self.nodes.values():
             node.remove()
+        for _, label, _ in self.labels.values():
+            label.remove()
         for frame in self.bodies.values():
             frame.remove()
         self.nodes.clear()
+        self.labels.clear()
         self.bodies.clear()
+        self._sent = np.zeros((0, 7))
+        self._roots = np.zeros(0, dtype=int)
         self.model = None

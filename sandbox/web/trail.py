@@ -8,23 +8,20 @@ from typing import Any
 
 import numpy as np
 
-from sandbox.physics.snapshot import Snapshot
-
 MAXLEN = 600
 """Points kept (one per panel refresh: a minute at 10 Hz)."""
 
 
 class Trail:
-    """Polyline of ``scene.trail(snapshot)`` over time, in one client's scene.
+    """Polyline of the points a scene's trail follows over time (``Scene.trail``, given
+    by each frame's picture), in one client's scene.
 
     Args:
         scene: A viser ``SceneApi``.
-        fn: The scene's trail function (world point [m] from a snapshot).
         extent: Size of the model [m] (line thickness).
     """
 
-    def __init__(self, scene: Any, fn: Any, *, extent: float) -> None:
-        self.fn = fn
+    def __init__(self, scene: Any, *, extent: float) -> None:
         self.points: deque[np.ndarray] = deque(maxlen=MAXLEN)
         self.last_time = -np.inf
         self.node = scene.add_line_segments(
@@ -35,14 +32,14 @@ class Trail:
             visible=False,
         )
 
-    def update(self, snapshot: Snapshot) -> None:
-        """Add the current point; time going back (reset) starts a new trail."""
-        t = float(snapshot.data.time)
+    def add(self, t: float, point: np.ndarray) -> None:
+        """Add the point drawn at time ``t`` [s]; time going back (reset) starts a new
+        trail."""
         if t < self.last_time:
             self.points.clear()
         self.last_time = t
-        p = np.asarray(self.fn(snapshot), dtype=float)
-        if not np.isfinite(p).all():
+        p = np.asarray(point, dtype=float)
+        if p.shape != (3,) or not np.isfinite(p).all():
             return
         self.points.append(p)
         if len(self.points) >= 2:

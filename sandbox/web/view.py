@@ -23,13 +23,14 @@ from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.polar_panel import PolarPanel
 from sandbox.web.projector import Projector
 from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
-from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import EVERY, Controller, Frame, Notice, drawn_snapshot
+from sandbox.web.renderer import SceneRenderer, mechanism_size
+from sandbox.web.session import EVERY, Controller, Frame, Notice
 from sandbox.web.trail import Trail
 
 if TYPE_CHECKING:
     import viser
 
+    from sandbox.physics.picture import Picture
     from sandbox.physics.simulation import Simulation
 
 PANEL_RATE = 10.0
@@ -47,9 +48,6 @@ beside the simulation controls on a 1280×720 projector, with no scrolling."""
 CONTROLS_WIDTH = 430
 """Width [px] of the control panel, docked right of the 3D view (labels of 16 px text on
 two lines at most)."""
-
-SNAPSHOT_NAMES = ("sup_R_x", "dyn_R_x")
-"""Readouts brought up to date before the scene's arrows are evaluated."""
 
 Vec3 = tuple[float, float, float]
 
@@ -119,6 +117,7 @@ def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> 
         scene,
         spec.arrows,
         extent=float(sim.model.stat.extent),
+        size=mechanism_size(sim.model, sim.data),
         units=[units.get(a.name, "") for a in spec.arrows],
         zero=spec.zero,
         prefix=prefix,
@@ -171,7 +170,7 @@ class WebView(Generic[D]):
             self.arrows = arrow_layer(client.scene, sim)
             scene = as_scene(sim.scene)
             if scene is not None and scene.trail is not None:
-                self.trail = Trail(client.scene, scene.trail, extent=float(model.stat.extent))
+                self.trail = Trail(client.scene, extent=float(model.stat.extent))
         self.controls: Controls
         self.lesson: LessonPanel | None = None
         if controls is not None:
@@ -193,6 +192,7 @@ class WebView(Generic[D]):
                 client.gui,
                 controller,
                 scene=client.scene if draw else None,
+                renderer=self.renderer,
                 camera=client.camera if draw else None,
                 arrows=self.arrows,
                 point=lambda: self.readouts.chosen_point(),
@@ -212,7 +212,7 @@ class WebView(Generic[D]):
         # Panels of other modules go here, and their folder in _add_picker's list so that
         # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
-        self._drawn: tuple[object, ...] | None = None
+        self._picture: Picture | None = None  # the last one drawn
         self._last_panel = -math.inf
         self._resync_controls = False
         self._add_picker(client.gui)
@@ -260,6 +260,12 @@ class WebView(Generic[D]):
         return self.shown in (folder, ALL_FOLDERS)
 
     # -- View protocol -------------------------------------------------------------------
+    @property
+    def draws(self) -> bool:
+        """True: this view draws the 3D scene (False for the teacher's panels in follow
+        mode, whose scene the broadcast draws)."""
+        return self.renderer is not None
+
     def wants(self, now: float) -> Collection[str] | None:
         """Readouts this tick needs: those of the shown folder, the plots, the live
         accuracy and an open lesson, at :data:`PANEL_RATE`; None between refreshes."""
@@ -277,9 +283,9 @@ class WebView(Generic[D]):
         return names
 
     def render(self, frame: Frame) -> None:
-        """Poses and arrows when the state changed; the shown folder, plots and lesson
-        when the frame brings readouts (:data:`PANEL_RATE`)."""
-        sim = self.controller.sim
+        """The frame's picture when it brings one (the drawn state changed): poses and
+        arrows that moved; the shown folder, plots and lesson when it brings readouts
+        (:data:`PANEL_RATE`)."""
         with self.client.atomic():
             if self._resync_controls:
                 self._resync_controls = False
@@ -287,17 +293,16 @@ class WebView(Generic[D]):
             if frame.diverged:
                 if self.arrows is not None:
                     self.arrows.hide()
-            elif frame.key != self._drawn and self.renderer is not None:
-                self._drawn = frame.key
-                with sim.lock:
-                    # the display state, between physics steps (a replay: its own state)
-                    names = SNAPSHOT_NAMES if self.arrows is not None else ()
-                    snapshot = drawn_snapshot(self.controller, names)
-                    self.renderer.sync(snapshot.model, snapshot.data)
-                    if self.arrows is not None:
-                        self.arrows.update(snapshot)
-                    if self.display is not None:
-                        self.display.draw(snapshot)
+            elif frame.picture is not None and self.renderer is not None:
+                drawing = self._picture = frame.picture
+                self.renderer.draw(drawing)
+                if self.arrows is not None:
+                    self.arrows.draw(drawing.arrows, drawing.magnitudes)
+                if self.display is not None:
+                    self.display.draw(drawing)
+            elif self.arrows is not None and self.arrows.dirty and self._picture is not None:
+                # a scale or a lesson's choice changed while nothing moves
+                self.arrows.draw(self._picture.arrows, self._picture.magnitudes)
             if frame.readouts is not None or (
                 frame.diverged and frame.now - self._last_panel >= 1.0 / PANEL_RATE
             ):
@@ -318,16 +323,16 @@ class WebView(Generic[D]):
         if frame.diverged or frame.readouts is None:
             return
         values = frame.readouts
-        self.readouts.sample(values, push=self._showing(PLOTS_FOLDER))
+        self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
         if self.shown != PLOTS_FOLDER:
             self.readouts.refresh(sim, values, None if self.shown == ALL_FOLDERS else self.shown)
         if self.lesson is not None:
             self.lesson.refresh(values)
         if self._showing(CYCLE_FOLDER):
             self.cycle.refresh(sim, now)
-        if self.trail is not None:
-            with sim.lock:
-                self.trail.update(sim.snapshot(()))
+        drawing = self._picture
+        if self.trail is not None and drawing is not None and drawing.trail is not None:
+            self.trail.add(drawing.time, drawing.trail)
         if self._showing(ISOLATE_FOLDER):
             self.isolate.refresh(sim)
         cost = getattr(controller, "cost", None)

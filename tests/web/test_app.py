@@ -57,6 +57,8 @@ class FakeServer:
 
 
 class NullView:
+    draws = False
+
     def wants(self, now) -> None:
         return None
 

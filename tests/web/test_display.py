@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 
 from sandbox.errors import BadModel, BadOption, BadParameter, Diverged
+from sandbox.physics.display import angle_between, main_joint
+from sandbox.physics.picture import picture
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import session as session_module
-from sandbox.web.motion import angle_between, main_joint
 from sandbox.web.session import (
     SPEEDS,
     Controller,
@@ -282,10 +283,20 @@ class Camera:
 
 def _panel(server, scene: str, **values):
     from sandbox.web.display_panel import DisplayPanel
+    from sandbox.web.renderer import SceneRenderer
 
     ctl = Controller(Simulation(scene, values=values), clock=Clock())
     point = (np.array([0.1, 0.0, 0.05]), "P")
-    panel = DisplayPanel(server.gui, ctl, scene=server.scene, camera=Camera(), point=lambda: point)
+    renderer = SceneRenderer(server.scene)
+    renderer.draw(picture(ctl.drawn()))
+    panel = DisplayPanel(
+        server.gui,
+        ctl,
+        scene=server.scene,
+        renderer=renderer,
+        camera=Camera(),
+        point=lambda: point,
+    )
     return ctl, panel
 
 
@@ -320,7 +331,7 @@ def test_the_camera_follows_the_rolling_cylinder(server):
         ctl.clock.now += 1 / 30
         ctl.frame()
     shown = ctl.drawn()
-    panel.draw(shown)
+    panel.draw(picture(shown))
     body = panel.body
     assert np.asarray(panel.camera.position) - np.asarray(panel.camera.look_at) == pytest.approx(
         np.array([0.0, -1.0, 0.5])
@@ -331,9 +342,19 @@ def test_the_camera_follows_the_rolling_cylinder(server):
 
 def test_the_masses_are_labelled_with_their_angle_and_p_is_drawn(server):
     ctl, panel = _panel(server, "rotor", mass1_g=30.0, angle1_deg=-90.0)
-    panel.draw(ctl.drawn())
-    texts = sorted(label.text for label in panel._marks.values())
+    panel.draw(picture(ctl.drawn()))
+    assert panel.renderer is not None
+    labels = panel.renderer.labels
+    texts = sorted(text for text, _, _ in labels.values())
     assert texts == ["à -90°", "à 0°"] or all(" : " in t for t in texts), texts
+    # they ride on the rotor's frame: no message a frame, and where the masses are
+    rotor = mujoco.mj_name2id(ctl.sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
+    data = ctl.drawn().data
+    for g, (_, label, root) in labels.items():
+        assert root == rotor and label.name.startswith(f"/model/body{rotor}/")
+        local = np.asarray(label.position)
+        world = data.xpos[rotor] + data.xmat[rotor].reshape(3, 3) @ local
+        assert world == pytest.approx(data.geom_xpos[g], abs=1e-9)
     panel.refresh()
     assert panel._point is not None
     dot, label = panel._point
@@ -390,8 +411,8 @@ def test_a_closed_loop_drawn_between_two_steps_stays_closed(scene, order):
     """Carried forward along its velocities, a slider-crank opens by 0.2 mm in 0.7 of a
     step: its forces then held the constraint's correction and the revolution simulated
     ahead from it read the second order 3 % off (the engine's first order 14 N instead of
-    0). The drawn state is brought back onto the loop (motion.close_loops)."""
-    from sandbox.web.motion import DisplayState
+    0). The drawn state is brought back onto the loop (display.close_loops)."""
+    from sandbox.physics.display import DisplayState
 
     physics = Simulation(scene)
     physics.advance(0.5)

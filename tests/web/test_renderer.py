@@ -228,11 +228,11 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
         sim.advance(0.01)
     size = mechanism_size(sim.model, sim.data)
     assert layer.size == pytest.approx(size, rel=0.2)
-    for (node, _label), shown, start, end in zip(
-        layer.nodes, layer.shown, layer.origins, layer.ends, strict=True
-    ):
-        assert node.shaft_radius == pytest.approx(SHAFT * layer.size)
-        assert node.head_length < 0.2 * size
+    node = layer.node  # one node draws every arrow: one message a frame
+    assert node.shaft_radius == pytest.approx(SHAFT * layer.size)
+    assert node.head_length < 0.2 * size
+    assert len(node.points) == sum(layer.shown) and node.visible == any(layer.shown)
+    for shown, start, end in zip(layer.shown, layer.origins, layer.ends, strict=True):
         if shown:
             length = float(np.linalg.norm(end - start))
             assert length <= MAX_REACH * size + 1e-9
@@ -243,7 +243,7 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
             by_unit[layer.units[k]] = max(by_unit.get(layer.units[k], 0.0), length)
     assert all(v >= MIN_REACH * size * 0.99 for v in by_unit.values()), by_unit
     layer.relabel()
-    for k, (_, label) in enumerate(layer.nodes):
+    for k, label in enumerate(layer.labels):
         if getattr(spec.arrows[k], "magnitude", True) and layer.units[k]:
             assert label.text.endswith(layer.units[k].replace("rpm", "tr/min")), label.text
             assert "." not in label.text.split(":")[-1], label.text  # decimal comma

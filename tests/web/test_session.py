@@ -30,6 +30,8 @@ class Clock:
 class Recorder:
     """A View that remembers what it was asked to show."""
 
+    draws = False
+
     def __init__(self) -> None:
         self.frames = 0
         self.notices: list[Notice] = []

@@ -1,0 +1,198 @@
+"""What one session costs per drawn frame, counted (CI cannot time, it can count): the
+viser messages it queues for its browser and the readout evaluations it makes, for every
+scene, against bounds that fail when a frame starts doing more than it needs.
+
+A real viser server and a real websocket client; the session's frames are run by the
+test with a fake clock (1/60 s a frame), so every frame is a drawn frame.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+from conftest import wait_for
+
+from sandbox import classroom
+from sandbox.physics import readouts as generic
+from sandbox.physics import simulation as simulation_module
+from sandbox.physics.picture import body_groups
+from sandbox.scenes import SCENES
+from sandbox.web import app as web_app
+from sandbox.web import session as session_module
+from sandbox.web.session import Request, Session
+
+FRAMES = 120
+"""Frames counted (two seconds at 60 frames/s: 20 panel refreshes)."""
+
+WARMUP = 30
+"""Frames run first (first draw of every node, a scene's cached revolution)."""
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = time.perf_counter()
+
+    def __call__(self) -> float:
+        return self.now
+
+
+@dataclass
+class Counts:
+    """What the counted frames did."""
+
+    frames: int = 0
+    pictures: int = 0
+    panel_ticks: int = 0
+    messages: list[int] = field(default_factory=list)  # per frame, drawn-only frames
+    panel_messages: list[int] = field(default_factory=list)  # per frame with a refresh
+    prepares: int = 0
+    supports: int = 0
+    readout_calls: int = 0
+
+
+@pytest.fixture
+def served(monkeypatch) -> Iterator[callable]:
+    """``open(scene)`` -> a session of ``scene`` with a browser connected, whose frames
+    the test runs."""
+    made: list[Session] = []
+    monkeypatch.setattr(Session, "start", lambda self: made.append(self))
+    apps: list[web_app.App] = []
+    stop = threading.Event()
+
+    def open_scene(scene: str) -> Session:
+        made.clear()
+        app = web_app.start(scene, port=0, open_message=False)
+        apps.append(app)
+        url, origin = f"ws://127.0.0.1:{app.port}", f"http://127.0.0.1:{app.port}"
+
+        async def read() -> None:
+            stats = classroom.ClientStats(0)
+            task = asyncio.create_task(
+                classroom.run_client(url, stats, classroom.Window(), origin=origin, param=None)
+            )
+            while not stop.is_set():
+                await asyncio.sleep(0.05)
+            task.cancel()
+
+        threading.Thread(target=asyncio.run, args=(read(),), daemon=True).start()
+        assert wait_for(lambda: len(made) == 1, timeout=30)
+        return made[0]
+
+    yield open_scene
+    stop.set()
+    for app in apps:
+        app.stop()
+
+
+def _count(session: Session, monkeypatch) -> Counts:
+    """Run :data:`WARMUP` then :data:`FRAMES` frames, counting."""
+    counts = Counts()
+    ctl = session.controller
+    clock = Clock()
+    ctl.clock = clock
+    ctl.submit(Request("play"))  # scenes that open paused are counted while they move
+    buffer = session.view.client._websock_connection.get_message_buffer()
+    real_prepare, real_support = generic.prepare, generic.support_torsor
+    real_readouts = type(ctl.sim).readouts
+
+    def prepare(*args, **kwargs):
+        counts.prepares += 1
+        return real_prepare(*args, **kwargs)
+
+    def support(*args, **kwargs):
+        counts.supports += 1
+        return real_support(*args, **kwargs)
+
+    def readouts(self, *args, **kwargs):
+        counts.readout_calls += 1
+        return real_readouts(self, *args, **kwargs)
+
+    monkeypatch.setattr(generic, "prepare", prepare)
+    monkeypatch.setattr(generic, "support_torsor", support)
+    monkeypatch.setattr(simulation_module.Simulation, "readouts", readouts)
+    render = session.view.render
+    seen: list[session_module.Frame] = []
+    monkeypatch.setattr(session.view, "render", lambda frame: (seen.append(frame), render(frame)))
+    for i in range(WARMUP + FRAMES):
+        if i == WARMUP:
+            counts.prepares = counts.supports = counts.readout_calls = 0
+        before = buffer.message_counter
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+        if i < WARMUP:
+            continue
+        sent = buffer.message_counter - before
+        frame = seen[-1]
+        counts.frames += 1
+        counts.pictures += frame.picture is not None
+        if frame.readouts is not None:
+            counts.panel_ticks += 1
+            counts.panel_messages.append(sent)
+        else:
+            counts.messages.append(sent)
+    return counts
+
+
+@pytest.mark.slow  # a server per scene: ~1 s each
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, monkeypatch):
+    session = served(scene)
+    model = session.controller.sim.model
+    groups = len(body_groups(model)[0])
+    arrows = len(SCENES[scene].arrows)
+    counts = _count(session, monkeypatch)
+    assert counts.frames == FRAMES and not session.controller.diverged
+    # every frame draws a new state, computed once (one picture, one forward pass)
+    assert counts.pictures == FRAMES
+    assert counts.prepares <= FRAMES + counts.panel_ticks // 10, counts
+    # the frame's forces are computed once, for the arrows and the readouts alike
+    if arrows:
+        assert counts.supports <= FRAMES + counts.panel_ticks // 10, counts
+    # readouts: once a panel refresh (10 a second), never at the frame rate
+    assert 15 <= counts.panel_ticks <= 25
+    assert counts.readout_calls <= counts.panel_ticks, counts
+    # messages of a drawn frame: a position and an orientation per moving group at most,
+    # one message for every arrow, and a label per arrow
+    per_frame = max(counts.messages)
+    assert per_frame <= 2 * groups + 1 + arrows, (scene, counts.messages)
+    # on average a frame sends what moves: far fewer than one message per geom
+    assert np.mean(counts.messages) <= 2 * groups + 1 + arrows
+    assert np.mean(counts.messages) < model.ngeom + 2 * arrows
+    # a panel refresh (tables, plots, status, labels) stays a few dozen messages
+    assert max(counts.panel_messages) <= 60, counts.panel_messages
+
+
+def test_a_still_scene_sends_nothing(served):
+    """Paused, nothing moves: no picture, and no message at the frame rate; the panels'
+    refreshes, whose tables do not change, send next to nothing."""
+    session = served("rotor")
+    ctl = session.controller
+    clock = Clock()
+    ctl.clock = clock
+    buffer = session.view.client._websock_connection.get_message_buffer()
+    ctl.submit(Request("pause"))
+    for _ in range(20):  # the pause, then the status line and buttons saying it
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+    quiet, pictures = [], 0
+    render = session.view.render
+
+    def counted(frame):
+        nonlocal pictures
+        pictures += frame.picture is not None
+        render(frame)
+
+    session.view.render = counted
+    for _ in range(60):
+        before = buffer.message_counter
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+        quiet.append(buffer.message_counter - before)
+    assert pictures == 0
+    assert sum(quiet) <= 6, quiet
