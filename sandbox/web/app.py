@@ -93,10 +93,11 @@ class App:
         factory: Callable[[viser.ClientHandle], Session],
         *,
         max_sessions: int = MAX_SESSIONS,
+        port: int | None = None,
     ) -> None:
         self.server = server
         self.host = host
-        self.port = server.get_port()
+        self.port = server.get_port() if port is None else port
         self.factory = factory
         self.max_sessions = max_sessions
         self.sessions: dict[int, Session] = {}
@@ -210,6 +211,8 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
     rich.reconfigure(quiet=True)
     client_text.install()  # viser's own warnings and chart ticks in French
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
+    if network.handing_off():  # a worker: the front listens on the port, not viser
+        return server
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()
         raise BadOption(f"port {port} is in use; choose another one with --port")
@@ -297,7 +300,8 @@ def start(
     }
     Simulation(target, **options)
     server = open_server(host, port, PAGE_TITLE, check=check_port)
-    urls = join_urls(host, server.get_port(), public_url)
+    bound = port if network.handing_off() else server.get_port()
+    urls = join_urls(host, bound, public_url)
 
     if follow:
         from sandbox.web.follow import FollowApp
@@ -312,7 +316,7 @@ def start(
             view = WebView(client, controller, lesson=lesson, join_urls=urls)
             return Session(controller, view)
 
-        app = App(server, host, session, max_sessions=max_sessions)
+        app = App(server, host, session, max_sessions=max_sessions, port=bound)
     if open_message:
         teacher = getattr(app, "teacher_url", None)
         print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)

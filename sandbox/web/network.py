@@ -9,13 +9,14 @@ add two of them:
   own address (a web page the teacher happens to visit must not open sessions or press
   buttons on a classroom server); a handshake without ``Origin`` comes from a program,
   not from a page, and is let through.
-* ``reuse_port`` (``SO_REUSEPORT``, Linux) lets the worker processes of one
-  ``sandbox serve`` listen on the same port: the kernel spreads new connections over
-  them, behind the single address printed at start.
+* ``handoff``: in a worker process of ``sandbox serve --workers N``, the server listens
+  on no address of its own; the connections come from the parent's front, which hands
+  each to the least busy worker (:mod:`sandbox.web.front`, :mod:`sandbox.web.handoff`).
 """
 
 from __future__ import annotations
 
+import asyncio
 import dataclasses
 import http
 import ipaddress
@@ -35,6 +36,8 @@ if TYPE_CHECKING:
     from websockets.asyncio.server import ServerConnection
     from websockets.http11 import Request, Response
 
+    from sandbox.web.handoff import Adopter
+
     ProcessRequest = Callable[
         [ServerConnection, Request], Awaitable[Response | None] | Response | None
     ]
@@ -45,7 +48,7 @@ log = logging.getLogger(__name__)
 _DEFAULT_PORTS = {"http": 80, "https": 443, "ws": 80, "wss": 443}
 _lock = threading.Lock()
 _installed = False
-_reuse_port = False
+_handoff: Adopter | None = None
 _aliases: set[str] = set()
 
 
@@ -88,18 +91,18 @@ def _netloc(url: str, *, default_scheme_of: str | None = None) -> tuple[str, int
     return parts.hostname.lower(), port
 
 
-def install(*, reuse_port: bool | None = None) -> None:
-    """Wrap the websocket server of viser with the Origin check (and ``SO_REUSEPORT``).
+def install(*, handoff: Adopter | None = None) -> None:
+    """Wrap the websocket server of viser with the Origin check (and, in a worker, the
+    handover of the front's connections).
 
-    Idempotent; ``reuse_port`` (None: unchanged) applies to the servers opened after
-    the call.
+    Idempotent; ``handoff`` (None: unchanged) applies to the servers opened after the call.
     """
-    global _installed, _reuse_port
+    global _installed, _handoff
     import websockets.asyncio.server as ws_server
 
     with _lock:
-        if reuse_port is not None:
-            _reuse_port = reuse_port and hasattr(socket, "SO_REUSEPORT")
+        if handoff is not None:
+            _handoff = handoff
         if _installed:
             return
         original = ws_server.serve
@@ -108,14 +111,42 @@ def install(*, reuse_port: bool | None = None) -> None:
             handler: Callable[[ServerConnection], Awaitable[None]], *args: Any, **kwargs: Any
         ) -> ws_server.serve:  # viser's arguments, passed through
             kwargs["process_request"] = _guarded(kwargs.get("process_request"))
-            if _reuse_port:
-                kwargs["reuse_port"] = True
-            return original(handler, *args, **kwargs)
+            adopter = _handoff
+            if adopter is None:
+                return original(handler, *args, **kwargs)
+            return _adopting(original, adopter, handler, **kwargs)
 
         # serve is a class in websockets; a function returning its instance does the same
         # job for viser's single call (mypy sees a class replaced by a function).
         ws_server.serve = serve  # type: ignore[assignment,misc]
         _installed = True
+
+
+def handing_off() -> bool:
+    """True in a worker whose connections come from the front (it listens on no address
+    of its own: viser's port is not the one browsers use)."""
+    return _handoff is not None
+
+
+def _adopting(original: Any, adopter: Adopter, handler: Any, **kwargs: Any) -> Any:
+    """viser's server on a loopback port of its own that nobody is told (websockets
+    answers 503 while its server does not serve), its protocol factory given to
+    ``adopter`` for the connections the front hands over. The factory is what websockets
+    passes to the running loop's ``create_server``, caught for that one call."""
+    loop = asyncio.get_running_loop()
+    create = loop.create_server
+
+    def create_server(factory: Any, *args: Any, **options: Any) -> Any:
+        adopter.attach(loop, factory)
+        return create(factory, *args, **options)
+
+    idle = socket.socket(socket.AF_INET, socket.SOCK_STREAM)  # closed with the server
+    idle.bind(("127.0.0.1", 0))
+    loop.create_server = create_server  # type: ignore[method-assign,assignment]
+    try:
+        return original(handler, sock=idle, **kwargs)
+    finally:
+        del loop.create_server  # the loop's own method again
 
 
 class OneLine(logging.Filter):

@@ -1,11 +1,12 @@
 """Several server processes behind one address: every core serves its share of browsers.
 
 ``sandbox serve`` starts ``workers`` processes (spawned, so each has its own Python
-interpreter and its own lock). Each runs a complete web app on the same host and port
-(``SO_REUSEPORT``: the kernel hands every new connection to one of them) and owns the
-sessions of the browsers it accepted. The parent only starts them, prints the address,
-restarts a worker that dies, and stops them all on Ctrl-C or SIGTERM; a stopping worker
-closes its sessions, so recordings in progress are finished, never lost.
+interpreter and its own lock). Each runs a complete web app and owns the sessions of the
+browsers it was handed. The parent listens on the address, hands every new connection to
+the worker serving the fewest browsers (:class:`sandbox.web.front.Front`, on every
+platform), prints the address, restarts a worker that dies, and stops them all on Ctrl-C
+or SIGTERM; a stopping worker closes its sessions, so recordings in progress are
+finished, never lost.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import multiprocessing
 import os
 import queue
 import signal
+import socket
 import sys
 import time
 from collections.abc import Mapping
@@ -25,6 +27,7 @@ from types import FrameType
 from typing import Any
 
 from sandbox.errors import BadOption, SandboxError
+from sandbox.web.front import Front
 
 log = logging.getLogger(__name__)
 
@@ -36,6 +39,9 @@ START_TIMEOUT = 60.0
 
 STOP_TIMEOUT = 5.0
 """Seconds a worker gets to close its sessions before it is killed."""
+
+LISTEN_BACKLOG = 128
+"""Connections the kernel queues before the front accepts them (a class arriving at once)."""
 
 MAX_RESTARTS = 5
 """Restarts of dead workers allowed per minute before the server gives up."""
@@ -66,14 +72,19 @@ class WorkerSpec:
     options: Mapping[str, Any] = field(default_factory=dict)
 
 
-def _worker_main(spec: WorkerSpec, index: int, events: Queue[Event]) -> None:
-    """Body of a worker process: serve until SIGTERM or SIGINT, then close sessions."""
+def _worker_main(
+    spec: WorkerSpec, index: int, events: Queue[Event], pipe: Any, closed: Any
+) -> None:
+    """Body of a worker process: serve the connections the front hands over on ``pipe``
+    until SIGTERM or SIGINT, then close sessions."""
     from sandbox.web import network
     from sandbox.web.app import run_forever, start
+    from sandbox.web.handoff import Adopter
 
     logging.basicConfig(level=logging.WARNING, format=f"sandbox[w{index}] %(message)s")
     sys.stdout = open(os.devnull, "w")  # viser's banners: the parent prints the address
-    network.install(reuse_port=True)
+    adopter = Adopter(pipe, closed, index)
+    network.install(handoff=adopter)
     try:
         app = start(
             spec.target,
@@ -91,6 +102,7 @@ def _worker_main(spec: WorkerSpec, index: int, events: Queue[Event]) -> None:
     except Exception as exc:  # reported by the parent as one line
         events.put(("error", index, f"{type(exc).__name__}: {exc}"))
         return
+    adopter.start()
     events.put(("ready", index, app.port))
     try:
         run_forever(app)
@@ -115,16 +127,27 @@ class WorkerPool:
         self._events: Queue[Event] = self._ctx.Queue()
         self.processes: dict[int, BaseProcess] = {}
         self._restarts: list[float] = []
+        self.closed = self._ctx.Array("q", workers, lock=False)  # websockets closed, by worker
+        self.pipes: dict[int, Any] = {}  # the front's end of each worker's pipe
+        self.front: Front | None = None
 
     def _spawn(self, index: int) -> None:
+        receiver, sender = self._ctx.Pipe(duplex=False)
         proc = self._ctx.Process(
             target=_worker_main,
-            args=(self.spec, index, self._events),
+            args=(self.spec, index, self._events, receiver, self.closed),
             name=f"sandbox-worker-{index}",
             daemon=False,
         )
         proc.start()
+        receiver.close()  # the worker has its own
+        old = self.pipes.get(index)
+        if old is not None:
+            old.close()
+        self.pipes[index] = sender
         self.processes[index] = proc
+        if self.front is not None:
+            self.front.replace(index, sender)
 
     def start(self) -> None:
         """Start every worker and wait until all listen.
@@ -184,6 +207,8 @@ class WorkerPool:
                 return
             if kind == "error":
                 print(f"sandbox: worker {index}: {detail}", flush=True)
+            elif kind == "ready" and self.front is not None:
+                self.front.set_ready(index)
 
     def alive(self) -> int:
         """How many workers are running."""
@@ -206,23 +231,47 @@ class WorkerPool:
                 proc.join(1.0)
 
 
+def listen(host: str, port: int) -> socket.socket:
+    """The public address's listening socket, in the parent (BadOption when taken)."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    if os.name != "nt":  # a restart finds the port in TIME_WAIT (Windows: would share it)
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+        sock.listen(LISTEN_BACKLOG)
+    except OSError as exc:
+        sock.close()
+        raise BadOption(
+            f"cannot listen on {host}:{port} ({exc.strerror or exc}); the port is probably "
+            f"in use: choose another one with --port, e.g. --port {port + 1}"
+        ) from None
+    return sock
+
+
 def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
-    """Run ``workers`` worker processes until Ctrl-C or SIGTERM; print ``banner`` once
-    they all listen."""
+    """Run ``workers`` worker processes behind the front until Ctrl-C or SIGTERM; print
+    ``banner`` once they all serve."""
 
     def terminate(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
     previous = signal.signal(signal.SIGTERM, terminate)
+    listener = listen(spec.host, spec.port)
     pool = WorkerPool(spec, workers)
     try:
         pool.start()
+        pool.front = Front(listener, [pool.pipes[k] for k in range(workers)], pool.closed)
         print(banner, flush=True)
         while True:
-            time.sleep(0.5)
+            pool.front.poll(0.5)
             pool.watch()
     except KeyboardInterrupt:
         pass
     finally:
+        if pool.front is not None:
+            pool.front.close()
+        else:
+            listener.close()
         pool.stop()
         signal.signal(signal.SIGTERM, previous)
