@@ -37,6 +37,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import largest, residual_over_peak
+from sandbox.scenes.revolutions import PerModel
 
 RPM = 2 * math.pi / 60
 HARMONIC_SAMPLES = 64
@@ -397,7 +398,7 @@ def _closure(s: Snapshot) -> float:
     return float(np.linalg.norm(d.site_xpos[a] - d.site_xpos[b]))
 
 
-_REVOLUTIONS: dict[tuple, dict[str, np.ndarray]] = {}
+_REVOLUTIONS: PerModel[dict[str, np.ndarray]] = PerModel()
 
 
 def fit_orders(theta: np.ndarray, values: np.ndarray, orders: int = 4) -> np.ndarray:
@@ -418,10 +419,9 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
 
     model, v = s.model, s.values
     omega = float(s.data.qvel[0])
-    key = (id(model), tuple(sorted(v.items())), float(model.opt.timestep),
-           round(math.log(max(abs(omega), 1e-9)) / 1e-3))  # fmt: skip
-    if key in _REVOLUTIONS:
-        return _REVOLUTIONS[key]
+    kept = _REVOLUTIONS.get(model, v, omega)
+    if kept is not None:
+        return kept
     data = mujoco.MjData(model)
     mujoco.mj_copyData(data, model, s.data)
     period = 2 * math.pi / max(abs(omega), 1e-9)
@@ -450,9 +450,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
         "tamis_ref": a[:, 5],
         "motor_torque_ref": a[:, 6],
     }
-    if len(_REVOLUTIONS) > 64:
-        _REVOLUTIONS.clear()
-    _REVOLUTIONS[key] = out
+    _REVOLUTIONS.put(model, v, omega, out)
     return out
 
 

@@ -78,6 +78,7 @@ from sandbox.scenes.base import (
 )
 from sandbox.scenes.compressor import RPM, fit_orders, kinematics
 from sandbox.scenes.measures import largest, residual_over_peak
+from sandbox.scenes.revolutions import PerModel
 
 MAX_CYLINDERS = 4
 SHAFT_ECCENTRICITY = 0.01
@@ -390,7 +391,7 @@ def _closure(s: Snapshot) -> float:
     return worst
 
 
-_REVOLUTIONS: dict[tuple, dict[str, np.ndarray]] = {}
+_REVOLUTIONS: PerModel[dict[str, np.ndarray]] = PerModel()
 _FITS: dict[int, tuple[dict[str, np.ndarray], np.ndarray]] = {}
 
 
@@ -404,11 +405,9 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
 
     model, v = s.model, s.values
     omega = s.joint_qvel("crank")
-    key = (id(model), tuple(sorted(v.items())), float(model.opt.timestep),
-           round(math.log(max(abs(omega), 1e-9)) / 1e-3))  # fmt: skip
-    hit = _REVOLUTIONS.get(key)
-    if hit is not None:
-        return hit
+    kept = _REVOLUTIONS.get(model, v, omega)
+    if kept is not None:
+        return kept
     data = mujoco.MjData(model)
     mujoco.mj_copyData(data, model, s.data)
     period = 2 * math.pi / max(abs(omega), 1e-9)
@@ -443,10 +442,9 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
         "moment_y_ref": a[:, 9],
         "motor_torque_ref": a[:, 10],
     }
-    if len(_REVOLUTIONS) > 64:
-        _REVOLUTIONS.clear()
+    if len(_FITS) > 64:
         _FITS.clear()
-    _REVOLUTIONS[key] = out
+    _REVOLUTIONS.put(model, v, omega, out)
     return out
 
 

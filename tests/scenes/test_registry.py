@@ -165,3 +165,23 @@ def test_the_rigid_wheel_balancer_simulates_no_spring():
     assert "Liaisons parfaites" in rigid.hypotheses()
     flags = Simulation("wheel_balancer").model.opt.disableflags
     assert flags & mujoco.mjtDisableBit.mjDSBL_SPRING and flags & mujoco.mjtDisableBit.mjDSBL_DAMPER
+
+
+def test_a_kept_revolution_serves_within_the_speed_tolerance_and_goes_with_its_model():
+    import gc
+
+    from sandbox.scenes.revolutions import SPEED_TOLERANCE, PerModel
+
+    kept: PerModel[str] = PerModel()
+    sim = Simulation("compressor")
+    model, values = sim.model, dict(sim.values)
+    assert kept.get(model, values, 314.0) is None
+    kept.put(model, values, 314.0, "one turn")
+    assert kept.get(model, values, 314.0 * (1 + 0.5 * SPEED_TOLERANCE)) == "one turn"
+    assert kept.get(model, values, 314.0 * (1 + 2 * SPEED_TOLERANCE)) is None
+    assert kept.get(model, {**values, "R": values["R"] * 1.01}, 314.0) is None
+    other = Simulation("compressor").model  # another session: its own revolution
+    assert kept.get(other, values, 314.0) is None
+    del sim, model
+    gc.collect()
+    assert len(kept._kept) == 0  # freed with its model

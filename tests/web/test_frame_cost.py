@@ -23,6 +23,7 @@ from sandbox.physics import readouts as generic
 from sandbox.physics import simulation as simulation_module
 from sandbox.physics.picture import body_groups
 from sandbox.scenes import SCENES
+from sandbox.scenes.revolutions import PerModel
 from sandbox.web import app as web_app
 from sandbox.web import session as session_module
 from sandbox.web.session import Request, Session
@@ -54,6 +55,7 @@ class Counts:
     prepares: int = 0
     supports: int = 0
     readout_calls: int = 0
+    revolutions: int = 0  # revolutions simulated ahead (compressor, engine)
 
 
 @pytest.fixture
@@ -113,6 +115,13 @@ def _count(session: Session, monkeypatch) -> Counts:
         counts.readout_calls += 1
         return real_readouts(self, *args, **kwargs)
 
+    real_put = PerModel.put
+
+    def put(self, *args, **kwargs):
+        counts.revolutions += 1
+        return real_put(self, *args, **kwargs)
+
+    monkeypatch.setattr(PerModel, "put", put)
     monkeypatch.setattr(generic, "prepare", prepare)
     monkeypatch.setattr(generic, "support_torsor", support)
     monkeypatch.setattr(simulation_module.Simulation, "readouts", readouts)
@@ -121,7 +130,7 @@ def _count(session: Session, monkeypatch) -> Counts:
     monkeypatch.setattr(session.view, "render", lambda frame: (seen.append(frame), render(frame)))
     for i in range(WARMUP + FRAMES):
         if i == WARMUP:
-            counts.prepares = counts.supports = counts.readout_calls = 0
+            counts.prepares = counts.supports = counts.readout_calls = counts.revolutions = 0
         before = buffer.message_counter
         clock.now += 1 / 60
         session.run_once(clock.now)
@@ -157,6 +166,8 @@ def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, m
     # readouts: once a panel refresh (10 a second), never at the frame rate
     assert 15 <= counts.panel_ticks <= 25
     assert counts.readout_calls <= counts.panel_ticks, counts
+    # a revolution simulated ahead serves every reading while nothing changes
+    assert counts.revolutions == 0, counts
     # messages of a drawn frame: a position and an orientation per moving group at most,
     # one message for every arrow, and a label per arrow
     per_frame = max(counts.messages)
