@@ -12,6 +12,7 @@ import socket
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import FrameType
@@ -293,6 +294,9 @@ def start(
     """
     network.install()
     sys.setswitchinterval(SWITCH_INTERVAL)
+    # A session draws until it sees its browser gone (ALIVE_CHECK, half a second): viser
+    # warns of the messages of that last half second, which nobody will receive.
+    warnings.filterwarnings("ignore", message=r"Queued a \w+ on a closed connection")
     options: SimOptions = {
         "values": dict(values or {}),
         "integrator": integrator,

@@ -82,6 +82,10 @@ MAX_REQUESTS = 64
 """Requests applied in one frame once repeated settings are merged (the last value of a
 slider, the timestep, the speed or the integrator wins); the rest are dropped."""
 
+REQUEST_BUDGET = 0.005
+"""CPU seconds the requests of one frame may spend (model rebuilds); those left wait for
+the next frame, so a flood of settings slows its own session only."""
+
 SNAP = 0.1
 """While playing, a display time ahead of the physics by less than this fraction of a
 frame's simulated advance (speed / :data:`FPS`) is drawn at the physics time itself: a
@@ -218,6 +222,10 @@ class Controller:
         self.refusals = 0  # requests refused so far (the panels then show the real values)
         self.slow_until = -math.inf  # wall clock until which the status says "slower"
         self._limited = 0  # consecutive frames the step budget held back
+        self._spent = 0.0  # CPU seconds of stepping in the current frame
+        self._owed = 0  # timesteps of a "Pas" still to run, a budget's worth a frame
+        self._owed_target: float | None = None  # display time once they are run
+        self._backlog: list[Request] = []  # requests past a frame's REQUEST_BUDGET
         self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
         self.display = DisplayState(sim)
         self._resync(clock())
@@ -240,8 +248,10 @@ class Controller:
                 the readouts of its frame).
         """
         now = self.clock() if now is None else now
+        self._spent = 0.0
         notices = self.advance(now)
         notices += self.drain(now)
+        notices += self._run_owed(now)  # a "Pas" just asked starts within this frame
         if record:
             self.record()
         return notices
@@ -375,7 +385,8 @@ class Controller:
         """
         now = self.clock() if now is None else now
         notices, self.later = self.later, []
-        requests = merged(list(pending(self.requests)))
+        requests = merged(self._backlog + list(pending(self.requests)))
+        self._backlog = []
         if len(requests) > MAX_REQUESTS:
             dropped = len(requests) - MAX_REQUESTS
             requests = requests[:MAX_REQUESTS]
@@ -385,7 +396,11 @@ class Controller:
                     "error", "Trop de commandes", f"{dropped} commandes ignorées : une à la fois."
                 )
             )
-        for request in requests:
+        start = time.thread_time()
+        for i, request in enumerate(requests):
+            if i and time.thread_time() - start > REQUEST_BUDGET:
+                self._backlog = requests[i:]  # the next frame goes on with them
+                break
             try:
                 notice = self._apply(request)
             except Diverged as exc:
@@ -417,6 +432,8 @@ class Controller:
         core. A timestep that is not a positive number pauses, said once.
         """
         now = self.clock() if now is None else now
+        if self._owed and not self.diverged:
+            return self._run_owed(now)
         if not self.playing or self.diverged:
             self._resync(now)
             return []
@@ -435,24 +452,9 @@ class Controller:
         cap = max(1, int(math.ceil(min(MAX_LAG * self.speed / dt, 1e9))))
         budget = self.frame_steps()
         n = min(steps, cap, budget)
-        start = time.thread_time()
-        try:
-            self.sim.step(n)
-        except Diverged as exc:
-            return [self._diverge(exc)]
-        except Exception as exc:  # stepping again would fail again: pause, say it once
-            self.playing = False
-            log.warning("stepping failed: %s: %s", type(exc).__name__, exc)
-            return [
-                Notice(
-                    "error",
-                    "Calcul impossible",
-                    f"Le calcul du mouvement a échoué ({type(exc).__name__}) : simulation "
-                    "en pause. Changez le réglage puis cliquez sur « Réinitialiser ».",
-                )
-            ]
-        finally:
-            self._count(time.thread_time() - start, n * dt, n)
+        failed = self._step(n)
+        if failed is not None:
+            return [failed]
         if n < steps <= cap:  # the budget, not a stall, held it back
             self._limited += 1
             if self._limited >= 3:  # not one late frame: the timestep is too small
@@ -467,12 +469,64 @@ class Controller:
             self.display_time = max(target, t)
         return []
 
+    def _step(self, n: int) -> Notice | None:
+        """Run ``n`` timesteps, counted against this frame's budget; a failure pauses and
+        comes back as its notice."""
+        start = time.thread_time()
+        try:
+            self.sim.step(n)
+        except Diverged as exc:
+            return self._diverge(exc)
+        except Exception as exc:  # stepping again would fail again: pause, say it once
+            self.playing = False
+            log.warning("stepping failed: %s: %s", type(exc).__name__, exc)
+            return Notice(
+                "error",
+                "Calcul impossible",
+                f"Le calcul du mouvement a échoué ({type(exc).__name__}) : simulation "
+                "en pause. Changez le réglage puis cliquez sur « Réinitialiser ».",
+            )
+        finally:
+            cost = time.thread_time() - start
+            self._spent += cost
+            self._count(cost, n * self.sim.timestep, n)
+        return None
+
+    def _run_owed(self, now: float) -> list[Notice]:
+        """Run what this frame's budget allows of a "Pas" (:attr:`_owed` timesteps): a
+        long one is spread over frames, the drawn state showing its progress, so that a
+        session asking for many steps only slows itself."""
+        if self._owed <= 0 or self.diverged:
+            return []
+        n = min(self._owed, self.frame_steps())
+        if n <= 0:
+            return []
+        failed = self._step(n)
+        if failed is not None:
+            self._owed, self._owed_target = 0, None
+            return [failed]
+        self._owed -= n
+        t = float(self.sim.data.time)
+        if self._owed == 0:
+            self.display_time = t if self._owed_target is None else max(self._owed_target, t)
+            self._owed_target = None
+        else:
+            self.display_time = t
+        self._resync(now)
+        return []
+
+    @property
+    def stepping(self) -> bool:
+        """True while a "Pas" is being run over several frames."""
+        return self._owed > 0
+
     def frame_steps(self) -> int:
-        """Timesteps one frame may run: :data:`STEP_BUDGET` at the measured cost of a
-        step, at most :data:`MAX_FRAME_STEPS`."""
+        """Timesteps the rest of this frame may run: what is left of :data:`STEP_BUDGET`
+        at the measured cost of a step, at least 1, at most :data:`MAX_FRAME_STEPS`."""
+        left = STEP_BUDGET - self._spent
         if self.step_count > 0 and self.step_cpu > 0:
             per_step = self.step_cpu / self.step_count
-            return max(1, min(MAX_FRAME_STEPS, int(STEP_BUDGET / per_step)))
+            return max(1, min(MAX_FRAME_STEPS, int(left / per_step)))
         return MAX_FRAME_STEPS
 
     def slowed(self, now: float | None = None) -> bool:
@@ -499,6 +553,26 @@ class Controller:
         self._sync_wall = now
         self._sync_sim = self.display_time
 
+    def _owe(self, count: int, target: float | None) -> None:
+        """Pause and owe ``count`` more timesteps (run by :meth:`_run_owed`), drawing
+        ``target`` [s] once they are run (None: the physics time).
+
+        Raises:
+            Refused: more than :data:`MAX_ADVANCE_STEPS` would be owed (a "Pas" in
+                progress plus this one).
+        """
+        if self._owed + count > MAX_ADVANCE_STEPS:
+            raise Refused(
+                f"Pas refusé : le pas en cours demande encore {self._owed} pas de calcul "
+                f"(au plus {MAX_ADVANCE_STEPS} en tout). Attendez qu'il finisse."
+            )
+        self.playing = False
+        self._owed += count
+        self._owed_target = target
+        if self._owed == 0 and target is not None:  # less than a step: drawn at once
+            self.display_time = max(target, float(self.sim.data.time))
+            self._owed_target = None
+
     def _diverge(self, exc: Diverged) -> Notice:
         self.playing = False
         self.diverged = divergence_message(exc)
@@ -508,6 +582,7 @@ class Controller:
         kind, value, sim = request.kind, request.value, self.sim
         if kind == "reset":
             sim.reset()
+            self._owed, self._owed_target = 0, None
             self.display_time = float(sim.data.time)
             self.diverged = None
             self.generation += 1
@@ -517,30 +592,31 @@ class Controller:
             if want and self.diverged:
                 return _reset_first()
             self.playing = want
+            if want:  # playing takes over from a "Pas" in progress
+                self._owed, self._owed_target = 0, None
             return None
         if kind == "step":
             if self.diverged:
                 return _reset_first()
             count = step_count(value)
-            self.playing = False
-            sim.step(count)
+            self._owe(count, None)
             return None
         if kind == "advance":
             if self.diverged:
                 return _reset_first()
             seconds = advance_seconds(sim, value, request.name)
-            target = self.display_time + seconds
+            start = self._owed_target if self._owed_target is not None else self.display_time
+            target = start + seconds
             dt = sim.timestep
-            count = math.floor((target - float(sim.data.time)) / dt * (1 + 1e-9) + 1e-9)
+            reach = float(sim.data.time) + self._owed * dt  # where the steps owed lead
+            count = math.floor((target - reach) / dt * (1 + 1e-9) + 1e-9)
             if count > MAX_ADVANCE_STEPS:
                 raise Refused(
                     f"Pas de {text.number(seconds, 3)} s refusé : il demanderait "
                     f"{count} pas de calcul (au plus {MAX_ADVANCE_STEPS}). Choisissez un pas "
                     "plus court."
                 )
-            self.playing = False
-            sim.step(max(count, 0))
-            self.display_time = max(target, float(sim.data.time))
+            self._owe(max(count, 0), target)
             return None
         if kind == "speed":
             self.speed = check_speed(value)
