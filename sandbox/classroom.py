@@ -81,6 +81,9 @@ from sandbox.errors import BadOption
 
 T = TypeVar("T")
 
+Side = Callable[[str, str, "Window", list["ClientStats"]], Coroutine[Any, Any, dict[str, Any]]]
+"""A task beside the clients of :func:`main_phase`: (url, origin, window, clients)."""
+
 PROBE_PERIOD = 5.0
 """Seconds between two slider changes of one client."""
 
@@ -369,6 +372,7 @@ class ClientStats:
     max_bytes: int = 0  # largest message in the window [bytes]
     error: str | None = None
     frames: int = 0
+    frame_times: list[float] = field(default_factory=list)  # perf_counter, in the window
     ws_messages: int = 0
     viser_messages: int = 0
     wire_bytes: int = 0
@@ -400,6 +404,8 @@ class ClientStats:
                 self.max_gap = max(self.max_gap, now - max(self.last_frame, window.start))
             self.viser_messages += inner.count(TYPE_MARKER)
             self.frames += frame
+            if frame:
+                self.frame_times.append(now)
             t = status_time(inner)
             if t is not None:
                 self.times.append((now, t))
@@ -679,6 +685,7 @@ async def main_phase(
     param: str | None,
     teacher: str | None = None,
     panel: str | None = None,
+    side: Side | None = None,
 ) -> dict[str, Any]:
     """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS.
 
@@ -692,6 +699,9 @@ async def main_phase(
             client opens it and toggles ``param`` on the shared simulation, and the
             delay is measured on every follower; the teacher is not in the statistics.
         panel: Readout folder every client picks (None: the default one).
+        side: A task run beside the clients once they all draw (a hostile student:
+            :mod:`sandbox.classroom_flood`), given the URL, the Origin, the window and
+            the clients; what it returns is kept as ``main["side"]``.
     """
     url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
     window = Window()
@@ -715,6 +725,9 @@ async def main_phase(
     try:
         await _wait_first_frames(stats, tasks[:clients], 30.0 + 0.5 * clients)
         ready = time.perf_counter() - connect_start
+        beside = None
+        if side is not None:
+            beside = asyncio.create_task(side(url, origin, window, stats))
         await asyncio.sleep(warmup)
         own0, cpu0, threads0 = time.process_time(), tree_cpu(server.pid), thread_cpu(server.pid)
         window.start = time.perf_counter()
@@ -727,6 +740,9 @@ async def main_phase(
         rss.append(tree_rss(server.pid))
         processes = len(process_tree(server.pid))
         spread = sorted(connections_per_process(server.pid, server.port).values(), reverse=True)
+        side_result = None
+        if beside is not None:
+            side_result = await asyncio.wait_for(beside, timeout=30.0)
     finally:
         for t in tasks:
             t.cancel()
@@ -777,6 +793,7 @@ async def main_phase(
         "longest_frame_gap_s": summary([s.longest_gap(window) for s in stats]),
         "big_messages_per_client_per_s": sum(s.big for s in stats) / seconds / clients,
         "largest_message_bytes": max((s.max_bytes for s in stats), default=0),
+        "side": side_result,
     }
 
 
@@ -878,6 +895,7 @@ def run_classroom(
     idle_seconds: float = 10.0,
     panel: str | None = None,
     progress: Callable[[str], None] | None = None,
+    side: Side | None = None,
 ) -> dict[str, Any]:
     """Start a server, run the main phase, the connect-and-drop phase and the Origin probe.
 
@@ -894,6 +912,7 @@ def run_classroom(
         panel: Readout folder every client picks in :data:`PANEL_PICKER` (e.g.
             ``"Tous les panneaux"``, ``"Précision et coût"``); None keeps the default.
         progress: Called with one line per phase.
+        side: A task beside the clients (:func:`main_phase`).
 
     Returns:
         JSON-able results (see :func:`report`).
@@ -917,6 +936,7 @@ def run_classroom(
                 param=param if (teacher or not follow) else None,
                 teacher=teacher,
                 panel=panel,
+                side=side,
             )
             out: dict[str, Any] = {"main": main}
             if drop_clients > 0:
@@ -970,6 +990,12 @@ FOLLOW_TARGETS = (
     Target("--follow: median update frames/s >= 30", "fps.median", ">=", 30, 120),
     Target("--follow: server CPU <= 1 core", "server_cpu_cores", "<=", 1.0, 120),
 )
+FLOOD_TARGET = Target(
+    'a student flooding "Pas" leaves the others >= 80 % of their frames/s',
+    "side.ratio_min",
+    ">=",
+    0.8,
+)
 COMMON_TARGETS = (
     Target("idle after 20 connect-and-drop: < 0.05 cores within 10 s", "idle", "<", 0.05),
     Target("a foreign Origin gets no session", "origin", "is", 1.0),
@@ -1008,6 +1034,8 @@ def targets(results: dict[str, Any]) -> list[dict[str, Any]]:
         chosen = CROWD_TARGETS
     else:
         chosen = CLASS_TARGETS
+    if isinstance(results["main"].get("side"), dict) and "ratio_min" in results["main"]["side"]:
+        chosen += (FLOOD_TARGET,)
     out = []
     for t in chosen + COMMON_TARGETS:
         if t.key == "idle" and "drop" not in results:
@@ -1073,6 +1101,14 @@ def report(results: dict[str, Any]) -> str:
     ]
     if m["errors"]:
         lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")
+    side = m.get("side")
+    if isinstance(side, dict) and "ratio_min" in side:
+        lines.append(
+            f'  a student flooding "Pas"    {side["clicks"]} clicks ({side["refused"]} refused'
+            f"): the others' frames/s median {side['fps_before']:.1f} before, "
+            f"{side['fps_during']:.1f} during; worst client keeps {side['ratio_min']:.2f}"
+            + (f"; flooder error: {side['error']}" if side.get("error") else "")
+        )
     if "drop" in results:
         d = results["drop"]
         series = " ".join(f"{c:.2f}" for c in d["cores_per_s"])

@@ -5,6 +5,7 @@ Usage::
     sandbox bench --classroom 30 --all [--seconds 10] [--save bench/classroom.json]
     sandbox bench --classroom 30 --all --compare bench/classroom.json
     sandbox bench --classroom 60 rotor --compare bench/classroom.json
+    sandbox bench --classroom 30 rotor --flood     # plus a student flooding "Pas"
 
 Each scene runs as :func:`sandbox.classroom.run_classroom` does alone (its own server, N
 headless browsers, each pressing « Lecture » when the scene opens paused); ``--all``
@@ -24,6 +25,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sandbox import classroom_flood
 from sandbox.classroom import jsonable, report, run_classroom, split
 from sandbox.errors import BadOption
 
@@ -44,6 +46,7 @@ FIGURES: tuple[tuple[str, str, str, str], ...] = (
     ("server_cpu_cores", "server cores", "", ".2f"),
     ("split", "session split", "lower", ".0f"),
     ("server_rss_bytes", "RSS MB", "lower", ".0f"),
+    ("side.ratio_min", "flood ratio", "higher", ".2f"),
 )
 """(key, column, which way is better, format) of the figures a run is summed up by ("":
 neither way: the cores a server uses grow with the frames it delivers)."""
@@ -227,14 +230,16 @@ def cli_classroom(
     many = len(scenes) > 1
     runs = []
     for scene in scenes:
+        follow = bool(getattr(args, "follow", False))
         results = run(
             scene,
             clients,
             seconds=seconds,
-            follow=bool(getattr(args, "follow", False)),
+            follow=follow,
             workers=getattr(args, "workers", None),
             drop_clients=0 if many else 20,
             progress=lambda line: print(line, file=sys.stderr, flush=True),
+            side=classroom_flood.side(follow=follow) if getattr(args, "flood", False) else None,
         )
         runs.append(results)
         print(report(results), flush=True)

@@ -183,6 +183,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--all", action="store_true", help="--classroom: every scene in turn, then one table"
     )
     b.add_argument(
+        "--flood",
+        action="store_true",
+        help='--classroom: one more student floods "Pas" at dt = 1e-6 s halfway through '
+        "(the others' frame rate before and during it)",
+    )
+    b.add_argument(
         "--save",
         type=Path,
         metavar="FILE.json",

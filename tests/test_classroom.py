@@ -370,3 +370,35 @@ def test_status_time_reads_the_french_status_line():
         line = f"t = {_seconds(t)} s · vitesse ×1 · **lecture**".encode()
         assert cr.status_time(line) == pytest.approx(t, abs=0.005)
     assert "," in _seconds(12.345) and "." not in _seconds(12.345)
+
+
+def test_the_flood_finds_its_controls_and_measures_the_others_before_and_during() -> None:
+    from sandbox import classroom_flood as fl
+
+    def number(uuid: str, label: str) -> vm.GuiNumberMessage:
+        props = vm.GuiNumberProps(
+            order=1.0,
+            label=label,
+            hint=None,
+            visible=True,
+            disabled=False,
+            precision=3,
+            step=0.001,
+            min=None,
+            max=None,
+        )
+        return vm.GuiNumberMessage(uuid, value=0.01, container_uuid="c", props=props)
+
+    flooder = fl.Flooder()
+    fl._learn(flooder, cr.unpack(wire(number("n1", fl.TIMESTEP), number("n2", fl.STEP_LENGTH))))
+    assert flooder.uuids == {fl.TIMESTEP: "n1", fl.STEP_LENGTH: "n2"}
+    fl._learn(flooder, cr.unpack(wire(number("n3", fl.STEP_LENGTH))))  # rebuilt panels
+    assert flooder.uuids[fl.STEP_LENGTH] == "n3"
+    window = cr.Window(100.0, 110.0)
+    assert fl.flood_start(window) == 105.0
+    steady, starved = cr.ClientStats(0), cr.ClientStats(1)
+    steady.frame_times = [100 + k / 50 for k in range(500)]  # 50 frames/s throughout
+    starved.frame_times = [100 + k / 50 for k in range(250)] + [105 + k for k in range(5)]
+    out = fl.flood_ratio([steady, starved], window, 105.0)
+    assert out["fps_before"] == pytest.approx(50.0)
+    assert out["ratio_min"] == pytest.approx(1 / 50)  # the starved client: 1 frame/s

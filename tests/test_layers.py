@@ -47,6 +47,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.bench_plot",
             "sandbox.classroom",
             "sandbox.classroom_suite",
+            "sandbox.classroom_flood",
             "sandbox.lessons",
             "sandbox.replay",
         ),
