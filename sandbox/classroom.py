@@ -98,8 +98,16 @@ would, so that every scene is measured while it moves)."""
 PAUSED = b"**en pause**"
 """What the status line says of a paused simulation (UTF-8, as on the wire)."""
 
-PROBE_PARAMS = {"rotor": "mass1_g", "compressor": "counterweight_mass"}
-"""Parameter slider toggled by the slider-delay probe (other scenes: their first)."""
+PROBE_PARAMS = {
+    "rotor": "mass1_g",
+    "compressor": "counterweight_mass",
+    "engine": "L",
+}
+"""Parameter slider toggled by the slider-delay probe (other scenes: their first). Each
+changes what is drawn (the delay is seen as a 3D node made or removed) and hardly what a
+step costs: the engine's first slider, its speed, would take half the class to 7250 rpm,
+where the timestep is 3.5 times shorter (a class there costs what it costs: the benchmark
+measures the scenes at their defaults); a longer rod keeps its timestep."""
 
 POSE_MARKERS = (
     b"\xa4type\xb2SetPositionMessage",
@@ -453,6 +461,7 @@ async def run_client(
     seed: int = 0,
     watchers: Sequence[ClientStats] | None = None,
     panel: str | None = None,
+    play: bool = True,
 ) -> None:
     """One browser: connect, send the camera, read until cancelled, probe a slider.
 
@@ -466,6 +475,8 @@ async def run_client(
         watchers: Clients whose view should show the slider change (default this one).
         panel: Readout folder to pick in the :data:`PANEL_PICKER` dropdown, as a
             student would (None: the page's default).
+        play: Press « Lecture » when the simulation shows paused (a scene that opens
+            paused is measured while it moves).
     """
     try:
         async with connect_as_browser(url, origin, open_timeout=30) as ws:
@@ -481,7 +492,8 @@ async def run_client(
                         if stats.buttons is None:
                             found = find_gui(unpack(raw), "ButtonGroup", TIME_BUTTONS)
                             stats.buttons = None if found is None else str(found["uuid"])
-                        if stats.buttons is not None and not stats.played and PAUSED in unpack(raw):
+                        paused = stats.buttons is not None and PAUSED in unpack(raw)
+                        if play and paused and not stats.played and stats.buttons is not None:
                             stats.played = True  # the scene opened paused: press "Lecture"
                             await ws.send(gui_message(stats.buttons, PLAY))
                         if param is not None and stats.slider is None:

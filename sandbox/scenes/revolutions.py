@@ -48,9 +48,7 @@ class PerModel(Generic[T]):
             return None
         return kept[2]
 
-    def put(
-        self, model: mujoco.MjModel, values: Mapping[str, float], omega: float, result: T
-    ) -> T:
+    def put(self, model: mujoco.MjModel, values: Mapping[str, float], omega: float, result: T) -> T:
         """Keep ``result`` for ``model`` (replacing the one it had) and return it."""
         self.misses += 1
         self._kept[model] = (self._inputs(model, values), float(omega), result)

@@ -274,7 +274,12 @@ def _rotor_id(s: Snapshot) -> int:
 
 
 def _bearings(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
-    return bearing_split(*s.support)
+    """Forces of the frame on the rotor at A and B: split once a snapshot (both arrows
+    and the readouts share it)."""
+    cached = s.cache.get("rotor_bearings")
+    if cached is None:
+        cached = s.cache["rotor_bearings"] = bearing_split(*s.support)
+    return cached
 
 
 def _products(s: Snapshot) -> float:

@@ -135,8 +135,12 @@ class ArrowLayer:
         n = len(self.arrows)
         self.magnitudes = [0.0] * n
         self.shown = [False] * n
-        self.origins = [np.zeros(3) for _ in self.arrows]
-        self.ends = [np.zeros(3) for _ in self.arrows]
+        self.origins = np.zeros((n, 3))
+        self.ends = np.zeros((n, 3))
+        self._zero = np.array([self.zero.get(u, 0.0) for u in self.units])
+        self._by_unit: dict[str, list[int]] = {}
+        for k, unit in enumerate(self.units):
+            self._by_unit.setdefault(unit, []).append(k)
         self._sent_points = np.zeros((0, 2, 3), dtype=np.float32)
         self._sent_mask: tuple[bool, ...] = (False,) * n
         self._label_at = np.full((n, 3), np.nan)
@@ -182,52 +186,55 @@ class ArrowLayer:
     def draw(self, ends: np.ndarray, magnitudes: np.ndarray) -> None:
         """Move every arrow to its start and end ``ends`` (A, 2, 3) [m, at the scene's
         scale] with the norms ``magnitudes`` (A,) of their vectors; an arrow whose values
-        are not finite is hidden."""
+        are not finite is hidden. Vectorised over the arrows (a frame's cost)."""
         self.dirty = False
-        points = []
-        longest: dict[str, float] = {}
-        for k, (arrow, unit) in enumerate(zip(self.arrows, self.units, strict=True)):
-            start, end, magnitude = ends[k, 0], ends[k, 1], float(magnitudes[k])
-            if abs(magnitude) <= self.zero.get(unit, 0.0):  # round-off: no arrow, not
-                end = start  # one blown up to a visible length by the automatic scale
-            points.append((start, end, magnitude))
-            length = float(np.linalg.norm(end - start))
-            wanted = self.enabled is None or arrow.name in self.enabled
-            if wanted and math.isfinite(length):
-                longest[unit] = max(longest.get(unit, 0.0), length)
-        for unit, length in longest.items():
-            self.factors[unit] = auto_factor(self.factors.get(unit, 1.0), length, self.size)
-        drawn = []
-        for k, arrow in enumerate(self.arrows):
-            start, end, magnitude = points[k]
-            factor = self.factors.get(self.units[k], 1.0) * self.user_scale
-            end = start + factor * (end - start)
-            ok = bool(np.isfinite(end).all() and np.isfinite(start).all())
-            wanted = self.enabled is None or arrow.name in self.enabled
-            show = ok and wanted and float(np.linalg.norm(end - start)) > MIN_LENGTH
-            self.shown[k] = show
-            self.magnitudes[k] = magnitude if ok else float("nan")
-            if ok:
-                self.origins[k], self.ends[k] = start, end
-            if show:
-                drawn.append((start, end))
-        self._send(drawn)
-        self._place_labels()
+        starts = np.asarray(ends[:, 0], dtype=float)
+        sizes = np.asarray(magnitudes, dtype=float)
+        vectors = np.asarray(ends[:, 1], dtype=float) - starts
+        with np.errstate(invalid="ignore"):
+            vectors[np.abs(sizes) <= self._zero] = 0.0  # round-off: no arrow, not one
+            # blown up to a visible length by the automatic scale
+            lengths = np.sqrt((vectors * vectors).sum(axis=1))
+        wanted = self._wanted()
+        scale = np.empty(len(self.arrows))
+        for unit, members in self._by_unit.items():
+            pick = [k for k in members if wanted[k] and math.isfinite(lengths[k])]
+            if pick:
+                longest = float(lengths[pick].max())
+                self.factors[unit] = auto_factor(self.factors.get(unit, 1.0), longest, self.size)
+            scale[members] = self.factors.get(unit, 1.0) * self.user_scale
+        tips = starts + scale[:, None] * vectors
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(tips).all(axis=1) & np.isfinite(starts).all(axis=1)
+            show = ok & wanted & (scale * lengths > MIN_LENGTH)
+        self.magnitudes = [
+            float(m) if good else math.nan for m, good in zip(sizes, ok, strict=True)
+        ]
+        self.origins = np.where(ok[:, None], starts, self.origins)
+        self.ends = np.where(ok[:, None], tips, self.ends)
+        self.shown = [bool(x) for x in show]
+        self._send(np.stack([starts[show], tips[show]], axis=1), show)
+        self._place_labels(show)
 
-    def _send(self, drawn: list[tuple[np.ndarray, np.ndarray]]) -> None:
+    def _wanted(self) -> np.ndarray:
+        """The arrows a lesson's step asks for (all when it asks for none)."""
+        if self.enabled is None:
+            return np.ones(len(self.arrows), dtype=bool)
+        return np.array([a.name in self.enabled for a in self.arrows], dtype=bool)
+
+    def _send(self, points: np.ndarray, show: np.ndarray) -> None:
         """One message for the node: its points when they moved, with the colours when
         the set of arrows shown changed; its visibility when none or some show."""
-        mask = tuple(self.shown)
-        if not drawn:
+        mask = tuple(bool(x) for x in show)
+        if not len(points):
             if self.node.visible:
                 self.node.visible = False
                 self.messages += 1
             self._sent_mask = mask
             return
-        points = np.asarray(drawn, dtype=np.float32)
+        points = points.astype(np.float32)
         if mask != self._sent_mask or points.shape != self._sent_points.shape:
-            colors = self.colors[np.asarray(mask, dtype=bool)]
-            wire.set_props(self.node, points=points, colors=colors)
+            wire.set_props(self.node, points=points, colors=self.colors[show])
             self.messages += 1
         elif np.abs(points - self._sent_points).max() > MOVE * self.size:
             wire.set_props(self.node, points=points)
@@ -239,18 +246,17 @@ class ArrowLayer:
             self.node.visible = True
             self.messages += 1
 
-    def _place_labels(self) -> None:
+    def _place_labels(self, show: np.ndarray) -> None:
         """Each shown arrow's label at its end (sent when it moved), the others hidden."""
-        for k, label in enumerate(self.labels):
-            show = self.shown[k]
-            if show:
-                end = self.ends[k]
-                if not (np.abs(end - self._label_at[k]) <= MOVE * self.size).all():
-                    wire.set_position(label, end)
-                    self._label_at[k] = end
-                    self.messages += 1
-            if label.visible != show:
-                label.visible = show
+        with np.errstate(invalid="ignore"):
+            moved = show & ~(np.abs(self.ends - self._label_at) <= MOVE * self.size).all(axis=1)
+        for k in np.flatnonzero(moved).tolist():
+            wire.set_position(self.labels[k], self.ends[k])
+            self._label_at[k] = self.ends[k]
+            self.messages += 1
+        for label, wanted in zip(self.labels, show.tolist(), strict=True):
+            if label.visible != wanted:
+                label.visible = wanted
                 self.messages += 1
 
     def caption(self, k: int) -> str:

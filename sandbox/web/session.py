@@ -1194,15 +1194,25 @@ class Scheduler:
     def run_due(self) -> int:
         """Run, in the calling thread, every frame due by :attr:`clock` (each session at
         most once); returns how many ran. For a scheduler made with ``threaded=False``."""
-        ran = 0
         with self._cond:
-            due_now = []
-            while self._heap and self._heap[0][0] <= self.clock():
-                due_now.append(heapq.heappop(self._heap))
+            due_now = self._pop_due()
+        self._burst(due_now)
+        return len(due_now)
+
+    def _pop_due(self) -> list[tuple[float, int, Session]]:
+        """Every entry due by now, earliest first (the caller holds the condition)."""
+        now = self.clock()
+        due_now = []
+        while self._heap and self._heap[0][0] <= now:
+            due_now.append(heapq.heappop(self._heap))
+        return due_now
+
+    def _burst(self, due_now: list[tuple[float, int, Session]]) -> None:
+        """Serve the sessions due at one tick, in turn. (Holding every browser's messages
+        until the last frame of the burst was measured: viser's sending thread, woken
+        only between bursts, then coalesced frames and the class got fewer of them.)"""
         for due, seq, session in due_now:
             self._serve(due, seq, session)
-            ran += 1
-        return ran
 
     def _run(self) -> None:
         while True:
@@ -1213,13 +1223,12 @@ class Scheduler:
                             self._thread = None  # idle: the thread ends, add() restarts it
                             return
                         continue
-                    due, seq, session = self._heap[0]
-                    delay = due - self.clock()
+                    delay = self._heap[0][0] - self.clock()
                     if delay <= 0:
-                        heapq.heappop(self._heap)
+                        due_now = self._pop_due()
                         break
                     self._cond.wait(delay)
-            self._serve(due, seq, session)
+            self._burst(due_now)
 
     def _serve(self, due: float, seq: int, session: Session) -> None:
         """One turn of ``session``, then its next frame is due one period later."""

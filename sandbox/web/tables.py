@@ -12,6 +12,7 @@ docs and labels are escaped (:func:`cell`): a user's file may name a body
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -41,11 +42,19 @@ def cell(value: object, limit: int = 200) -> str:
     return html_text(value, limit).replace("|", "&#124;")
 
 
+@functools.lru_cache(maxsize=4096)
+def _cell_of(name: str) -> str:
+    """:func:`cell` of a readout's name or unit, escaped once (tables are rewritten ten
+    times a second; their words do not change)."""
+    return cell(name)
+
+
 def _span(name: str, text: str, value: float | None = None) -> str:
     exact = f' data-value="{value!r}"' if value is not None else ""
-    return f'<span data-readout="{cell(name)}"{exact}>{text}</span>'
+    return f'<span data-readout="{_cell_of(name)}"{exact}>{text}</span>'
 
 
+@functools.lru_cache(maxsize=1024)
 def unit_suffix(unit: str) -> str:
     """`` [unit]`` as the page writes it (tr/min, °), or "" for a pure number."""
     shown = display_unit(unit)
@@ -252,9 +261,7 @@ def scene_markdown(
         row = _row(item)
         v = values.get(row.name, math.nan)
         ref = reference.get(row.name)
-        words = row.label or row.name
-        label = f'<span title="{cell(row.hint or row.doc)}">{cell(words)}</span>'
-        label += unit_suffix(row.unit)
+        label = _label_cell(row)
         course = fmt(ref, floor=row.zero) if ref is not None else "—"
         lines.append(
             f"| {label} | {_span(row.name, fmt(v, floor=row.zero), v)} | {course} | "
@@ -262,6 +269,14 @@ def scene_markdown(
         )
     note = "*Cours* : forme close du cours ; *Écart* : (simulation − cours) / |cours|."
     return "\n".join(lines) + "\n\n" + note.replace("|", "&#124;")
+
+
+@functools.lru_cache(maxsize=4096)
+def _label_cell(row: Row) -> str:
+    """The words of a scene row with their tooltip and unit, escaped once per row."""
+    words = row.label or row.name
+    label = f'<span title="{cell(row.hint or row.doc)}">{cell(words)}</span>'
+    return label + unit_suffix(row.unit)
 
 
 def hypotheses_markdown(lines: Sequence[str], *, integrator: str, timestep: float) -> str:

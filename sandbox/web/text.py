@@ -15,6 +15,7 @@ MAX_SHOWN = 200
 
 _MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+\-.!|~])")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
 def _clip(value: object, limit: int) -> str:
@@ -51,7 +52,7 @@ def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
         return text.replace(",", "\u202f").replace(".", ",")
     mantissa, power = f"{value:.{max(digits - 1, 0)}e}".split("e")
     mantissa = mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa
-    superscript = str(int(power)).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    superscript = str(int(power)).translate(_SUPERSCRIPT)
     return f"{mantissa.replace('.', ',')}×10{superscript}"
 
 

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike
 
 from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
+from sandbox.web import wire
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.cycle_panel import CyclePanel
@@ -262,9 +263,11 @@ class WebView(Generic[D]):
     # -- View protocol -------------------------------------------------------------------
     @property
     def draws(self) -> bool:
-        """True: this view draws the 3D scene (False for the teacher's panels in follow
-        mode, whose scene the broadcast draws)."""
-        return self.renderer is not None
+        """True when this view draws the 3D scene now: not for the teacher's panels in
+        follow mode (the broadcast draws), nor while its browser has not been sent the
+        previous frame yet (a slow link or a busy server: that session draws fewer frames,
+        and spends nothing on frames nobody would see)."""
+        return self.renderer is not None and not wire.unsent(self.client)
 
     def wants(self, now: float) -> Collection[str] | None:
         """Readouts this tick needs: those of the shown folder, the plots, the live

@@ -94,3 +94,17 @@ def set_props(node: Any, **props: Any) -> None:
         setattr(impl.props, name, kept)
         queued[name] = value.copy() if isinstance(value, np.ndarray) else value
     impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, queued))
+
+
+def unsent(client: Any) -> bool:
+    """True while a browser's sender has not taken every message queued for it (it is
+    still sending an earlier frame: a slow network, a busy server). Drawing a new frame
+    then is work thrown away: viser would merge it with the waiting one. False when this
+    viser does not tell."""
+    try:
+        connection = client._websock_connection
+        buffer = connection.get_message_buffer()
+        cursor = buffer.generator_cursors.get(connection.client_id)
+    except AttributeError:
+        return False
+    return cursor is not None and cursor < buffer.message_counter - 1

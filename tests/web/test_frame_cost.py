@@ -26,6 +26,7 @@ from sandbox.scenes import SCENES
 from sandbox.scenes.revolutions import PerModel
 from sandbox.web import app as web_app
 from sandbox.web import session as session_module
+from sandbox.web import wire
 from sandbox.web.session import Request, Session
 
 FRAMES = 120
@@ -76,7 +77,9 @@ def served(monkeypatch) -> Iterator[callable]:
         async def read() -> None:
             stats = classroom.ClientStats(0)
             task = asyncio.create_task(
-                classroom.run_client(url, stats, classroom.Window(), origin=origin, param=None)
+                classroom.run_client(
+                    url, stats, classroom.Window(), origin=origin, param=None, play=False
+                )
             )
             while not stop.is_set():
                 await asyncio.sleep(0.05)
@@ -131,6 +134,8 @@ def _count(session: Session, monkeypatch) -> Counts:
     for i in range(WARMUP + FRAMES):
         if i == WARMUP:
             counts.prepares = counts.supports = counts.readout_calls = counts.revolutions = 0
+        # as a browser's frames are paced: its sender has taken the previous frame
+        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
         before = buffer.message_counter
         clock.now += 1 / 60
         session.run_once(clock.now)
@@ -189,6 +194,7 @@ def test_a_still_scene_sends_nothing(served):
     buffer = session.view.client._websock_connection.get_message_buffer()
     ctl.submit(Request("pause"))
     for _ in range(20):  # the pause, then the status line and buttons saying it
+        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
         clock.now += 1 / 60
         session.run_once(clock.now)
     quiet, pictures = [], 0
@@ -201,9 +207,39 @@ def test_a_still_scene_sends_nothing(served):
 
     session.view.render = counted
     for _ in range(60):
+        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
         before = buffer.message_counter
         clock.now += 1 / 60
         session.run_once(clock.now)
         quiet.append(buffer.message_counter - before)
     assert pictures == 0
     assert sum(quiet) <= 6, quiet
+
+
+def test_a_browser_still_sending_its_last_frame_gets_no_new_one(served):
+    """A slow link (or a busy server's sender): the session skips drawing frames its
+    browser could not be sent yet (viser would merge them with the waiting one), then
+    draws again once the sender has caught up."""
+    session = served("rotor")
+    ctl = session.controller
+    clock = Clock()
+    ctl.clock = clock
+    view = session.view
+    real = wire.unsent
+    behind = [True]
+    pictures = []
+    render = view.render
+    view.render = lambda frame: (pictures.append(frame.picture is not None), render(frame))
+    try:
+        wire.unsent = lambda client: behind[0] or real(client)
+        for _ in range(10):
+            clock.now += 1 / 60
+            session.run_once(clock.now)
+        assert not any(pictures) and not view.draws
+        behind[0] = False
+        assert wait_for(lambda: view.draws, timeout=5)
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+        assert pictures[-1]  # drawn again, at the current state
+    finally:
+        wire.unsent = real
