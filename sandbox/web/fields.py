@@ -11,6 +11,7 @@ control holding that value, retyping it sent nothing).
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import time
@@ -117,9 +118,11 @@ def parse_number(text: object) -> float | object:
     return value if math.isfinite(value) else text
 
 
+@functools.lru_cache(maxsize=4096)
 def engineering(value: float) -> str:
     """A parameter in a number box: four digits, decimal comma, ×10ⁿ when tiny or huge
-    (``0,0002``, ``1,2×10⁻⁷``), never ``0.00000``."""
+    (``0,0002``, ``1,2×10⁻⁷``), never ``0.00000`` (kept: every control is compared with
+    the value in force ten times a second, and parameters seldom change)."""
     return number(value, 4)
 
 
