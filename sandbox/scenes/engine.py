@@ -372,8 +372,12 @@ def _block(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _cylinder_pilons(s: Snapshot) -> np.ndarray:
-    """Each cylinder's −Σ m Γ(G)·y0 [N], 0 for the absent ones, shape (4,)."""
-    out = np.zeros(MAX_CYLINDERS)
+    """Each cylinder's −Σ m Γ(G)·y0 [N], 0 for the absent ones, shape (4,): computed once a
+    snapshot for the four readouts that read it."""
+    cached = s.cache.get("engine_pilons")
+    if cached is not None:
+        return cached
+    out = s.cache["engine_pilons"] = np.zeros(MAX_CYLINDERS)
     acc = s.kinematics.a_g
     mass = s.model.body_mass
     for i in range(1, cylinder_count(s.values) + 1):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
@@ -42,6 +43,12 @@ CYCLE_FOLDER = "Sur un tour"
 ISOLATE_FOLDER = "Isoler un solide"
 ACCURACY_FOLDER = "Précision et coût"
 HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+IN_FLIGHT = 3
+"""Frames a browser's sender may hold before its session stops drawing new ones. viser
+takes a window every 1/60 s, in no step with the frames, and its thread waits for the
+interpreter lock on a busy server: with one frame allowed, a session waited on a sender
+that waited on it, and an engine class got 9 frames/s instead of 18."""
+
 LESSON_TAB = "Leçon"
 LESSON_WIDTH = 380
 """Width [px] of the lesson's column, docked left of the 3D view: the step's text stays
@@ -214,6 +221,8 @@ class WebView(Generic[D]):
         # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
         self._picture: Picture | None = None  # the last one drawn
+        self._marks: deque[int] = deque(maxlen=IN_FLIGHT)  # viser's last message id
+        # before each of the last frames drawn
         self._last_panel = -math.inf
         self._resync_controls = False
         self._add_picker(client.gui)
@@ -264,10 +273,20 @@ class WebView(Generic[D]):
     @property
     def draws(self) -> bool:
         """True when this view draws the 3D scene now: not for the teacher's panels in
-        follow mode (the broadcast draws), nor while its browser has not been sent the
-        previous frame yet (a slow link or a busy server: that session draws fewer frames,
-        and spends nothing on frames nobody would see)."""
-        return self.renderer is not None and not wire.unsent(self.client)
+        follow mode (the broadcast draws), nor while its browser's sender still holds
+        :data:`IN_FLIGHT` frames (a slow link: that session draws fewer frames, and spends
+        nothing on frames viser would merge)."""
+        if self.renderer is None:
+            return False
+        marks = wire.sent_marks(self.client)
+        return marks is None or len(self._marks) < IN_FLIGHT or marks[1] >= self._marks[0]
+
+    def _note_sent(self) -> None:
+        """Before a new frame's messages: the last message queued so far, which must have
+        gone out before :data:`IN_FLIGHT` more frames are drawn."""
+        marks = wire.sent_marks(self.client)
+        if marks is not None:
+            self._marks.append(marks[0])
 
     def wants(self, now: float) -> Collection[str] | None:
         """Readouts this tick needs: those of the shown folder, the plots, the live
@@ -297,6 +316,7 @@ class WebView(Generic[D]):
                 if self.arrows is not None:
                     self.arrows.hide()
             elif frame.picture is not None and self.renderer is not None:
+                self._note_sent()
                 drawing = self._picture = frame.picture
                 self.renderer.draw(drawing)
                 if self.arrows is not None:

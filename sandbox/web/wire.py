@@ -96,15 +96,15 @@ def set_props(node: Any, **props: Any) -> None:
     impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, queued))
 
 
-def unsent(client: Any) -> bool:
-    """True while a browser's sender has not taken every message queued for it (it is
-    still sending an earlier frame: a slow network, a busy server). Drawing a new frame
-    then is work thrown away: viser would merge it with the waiting one. False when this
-    viser does not tell."""
+def sent_marks(client: Any) -> tuple[int, int] | None:
+    """(last message queued for a browser, last one its sender has taken), as viser's
+    message ids; None when this viser does not tell. A view compares the mark of a frame
+    it queued with the second number to know whether that frame went out."""
     try:
         connection = client._websock_connection
         buffer = connection.get_message_buffer()
         cursor = buffer.generator_cursors.get(connection.client_id)
+        queued = buffer.message_counter - 1
     except AttributeError:
-        return False
-    return cursor is not None and cursor < buffer.message_counter - 1
+        return None
+    return None if cursor is None else (int(queued), int(cursor))

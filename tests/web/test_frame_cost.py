@@ -28,6 +28,7 @@ from sandbox.web import app as web_app
 from sandbox.web import session as session_module
 from sandbox.web import wire
 from sandbox.web.session import Request, Session
+from sandbox.web.view import IN_FLIGHT
 
 FRAMES = 120
 """Frames counted (two seconds at 60 frames/s: 20 panel refreshes)."""
@@ -135,7 +136,7 @@ def _count(session: Session, monkeypatch) -> Counts:
         if i == WARMUP:
             counts.prepares = counts.supports = counts.readout_calls = counts.revolutions = 0
         # as a browser's frames are paced: its sender has taken the previous frame
-        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
+        assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
         before = buffer.message_counter
         clock.now += 1 / 60
         session.run_once(clock.now)
@@ -194,7 +195,7 @@ def test_a_still_scene_sends_nothing(served):
     buffer = session.view.client._websock_connection.get_message_buffer()
     ctl.submit(Request("pause"))
     for _ in range(20):  # the pause, then the status line and buttons saying it
-        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
+        assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
         clock.now += 1 / 60
         session.run_once(clock.now)
     quiet, pictures = [], 0
@@ -207,7 +208,7 @@ def test_a_still_scene_sends_nothing(served):
 
     session.view.render = counted
     for _ in range(60):
-        assert wait_for(lambda: not wire.unsent(session.view.client), timeout=5, poll=0.001)
+        assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
         before = buffer.message_counter
         clock.now += 1 / 60
         session.run_once(clock.now)
@@ -217,29 +218,35 @@ def test_a_still_scene_sends_nothing(served):
 
 
 def test_a_browser_still_sending_its_last_frame_gets_no_new_one(served):
-    """A slow link (or a busy server's sender): the session skips drawing frames its
-    browser could not be sent yet (viser would merge them with the waiting one), then
-    draws again once the sender has caught up."""
+    """A slow link: the session skips drawing while its browser's sender holds
+    IN_FLIGHT frames (viser would merge them), then draws again once it has caught up."""
     session = served("rotor")
     ctl = session.controller
     clock = Clock()
     ctl.clock = clock
     view = session.view
-    real = wire.unsent
-    behind = [True]
+    real = wire.sent_marks
+    stuck = [False]
     pictures = []
     render = view.render
     view.render = lambda frame: (pictures.append(frame.picture is not None), render(frame))
+
+    def marks(client):
+        got = real(client)
+        return (got[0], -1) if got is not None and stuck[0] else got  # nothing taken
+
     try:
-        wire.unsent = lambda client: behind[0] or real(client)
+        wire.sent_marks = marks
+        stuck[0] = True
         for _ in range(10):
             clock.now += 1 / 60
             session.run_once(clock.now)
-        assert not any(pictures) and not view.draws
-        behind[0] = False
+        # IN_FLIGHT frames go while nothing is taken; then none until the sender catches up
+        assert all(pictures[:IN_FLIGHT]) and not any(pictures[IN_FLIGHT:]) and not view.draws
+        stuck[0] = False
         assert wait_for(lambda: view.draws, timeout=5)
         clock.now += 1 / 60
         session.run_once(clock.now)
         assert pictures[-1]  # drawn again, at the current state
     finally:
-        wire.unsent = real
+        wire.sent_marks = real
