@@ -190,9 +190,12 @@ PANEL_RATE = 10.0
 """Readout rows per second of a web session (tables, plots, lesson checks)."""
 ARROW_READOUTS = ("sup_R_x", "dyn_R_x")
 """Readouts brought up to date for the arrows at every frame (the web app's
-``SNAPSHOT_NAMES``): one forward pass and the torsors the arrows use."""
+``physics.picture.FORCES``): one forward pass and the torsors the arrows use."""
 GOAL = 20.0
-"""Real-time factor a session's default should reach on one core (2 cores, 30 sessions)."""
+"""Real-time factor every session's default must reach on one core (tested)."""
+TARGET = 60.0
+"""Real-time factor a session's default should reach on one core for a class of 30 on two
+cores to leave room for drawing (issue 20): printed, never asserted."""
 
 
 @dataclass
@@ -615,7 +618,8 @@ def _fmt(x: float | None, spec: str = ".2e") -> str:
 
 
 def session_markdown(results: Sequence[SceneResult]) -> str:
-    """One row per scene: its default session's cost on one core and the 20× goal."""
+    """One row per scene: its default session's cost on one core, the 20× goal and the 60×
+    target."""
     rows = [r for r in results if r.session is not None]
     if not rows:
         return ""
@@ -626,8 +630,8 @@ def session_markdown(results: Sequence[SceneResult]) -> str:
         "Default parameters (the grids below may use harder ones: the benchmark's "
         "default run is also given).\n",
         "| scene | default | stepping × real time | snapshot [ms] | row [ms] | "
-        "session × real time | ≥ 20× | benchmark case |",
-        "|:--|:--|--:|--:|--:|--:|:--|:--|",
+        f"session × real time | ≥ {GOAL:g}× | ≥ {TARGET:g}× | benchmark case |",
+        "|:--|:--|--:|--:|--:|--:|:--|:--|:--|",
     ]
     for res in rows:
         c = res.session
@@ -641,7 +645,8 @@ def session_markdown(results: Sequence[SceneResult]) -> str:
         lines.append(
             f"| {res.scene} | {c.integrator}, dt = {c.timestep:.3g} s | "
             f"{_fmt(c.step_factor, '.1f')} | {c.snapshot_s * 1e3:.3f} | {c.row_s * 1e3:.3f} | "
-            f"{c.realtime_factor:.1f} | {'yes' if c.meets_goal else '**no**'} | {case} |"
+            f"{c.realtime_factor:.1f} | {'yes' if c.meets_goal else '**no**'} | "
+            f"{'yes' if c.realtime_factor >= TARGET else 'no'} | {case} |"
         )
     return "\n".join(lines) + "\n\n"
 

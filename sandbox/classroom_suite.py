@@ -53,8 +53,11 @@ neither way: the cores a server uses grow with the frames it delivers)."""
 
 
 def run_key(results: Mapping[str, Any]) -> str:
-    """How a run is named in a saved file: ``rotor×30``, ``rotor --follow×120``."""
+    """How a run is named in a saved file: ``rotor×30``, ``rotor --follow×120``,
+    ``rotor --flood×30``."""
     mode = " --follow" if results.get("follow") else ""
+    if isinstance(results["main"].get("side"), Mapping):
+        mode += " --flood"
     return f"{results['scene']}{mode}×{results['main']['clients']}"
 
 

@@ -76,6 +76,25 @@ def free_port() -> int:
         return int(sock.getsockname()[1])
 
 
+def serve_workers(cwd: Path, workers: int = 2, scene: str = "rotor") -> tuple[object, int]:
+    """``sandbox serve SCENE --workers N`` on a free port, in its own process group:
+    (the Popen, its port); the caller reads its first line and stops it."""
+    import subprocess
+    import sys
+
+    port = free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sandbox.cli", "serve", scene, "--port", str(port)]
+        + ["--workers", str(workers)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=cwd,
+        start_new_session=True,
+    )
+    return proc, port
+
+
 def chromium_path() -> str:
     """Debian's Chromium; CI (SANDBOX_REQUIRE_BROWSER=1) fails instead of skipping."""
     path = os.environ.get("CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"

@@ -7,7 +7,6 @@ import os
 import signal
 import socket
 import subprocess
-import sys
 import threading
 import time
 
@@ -147,18 +146,9 @@ def test_thirty_one_browsers_split_16_15_over_two_workers_without_so_reuseport(t
     import asyncio
 
     from sandbox import classroom
-    from tests.conftest import free_port
+    from tests.conftest import serve_workers
 
-    port = free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sandbox.cli", "serve", "rotor", "--port", str(port)]
-        + ["--workers", "2"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        cwd=tmp_path,
-        start_new_session=True,
-    )
+    proc, port = serve_workers(tmp_path)
     try:
         assert "by 2 worker processes" in proc.stdout.readline()
         window = classroom.Window()

@@ -145,23 +145,12 @@ def test_workers_share_one_port_and_stop_cleanly(tmp_path):
     accept handshakes, and SIGTERM stops everything."""
     import os
     import signal
-    import subprocess
-    import sys
     import time
     import urllib.request
 
-    from tests.conftest import free_port
+    from tests.conftest import serve_workers
 
-    port = free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sandbox.cli", "serve", "rotor", "--port", str(port)]
-        + ["--workers", "2"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        cwd=tmp_path,
-        start_new_session=True,
-    )
+    proc, port = serve_workers(tmp_path)
     try:
         first = proc.stdout.readline()
         assert f"http://127.0.0.1:{port} by 2 worker processes" in first, first
