@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from collections import deque
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
@@ -43,6 +44,10 @@ CYCLE_FOLDER = "Sur un tour"
 ISOLATE_FOLDER = "Isoler un solide"
 ACCURACY_FOLDER = "Précision et coût"
 HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+MAX_HELD = 0.5
+"""Seconds a session may go without drawing while its sender holds frames; then it
+draws anyway (a browser never waits for its 3D view longer, whatever held it)."""
+
 IN_FLIGHT = 3
 """Frames a browser's sender may hold before its session stops drawing new ones. viser
 takes a window every 1/60 s, in no step with the frames, and its thread waits for the
@@ -221,6 +226,7 @@ class WebView(Generic[D]):
         # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
         self._picture: Picture | None = None  # the last one drawn
+        self._held_since: float | None = None  # first frame not drawn for the sender
         self._marks: deque[int] = deque(maxlen=IN_FLIGHT)  # viser's last message id
         # before each of the last frames drawn
         self._last_panel = -math.inf
@@ -279,7 +285,13 @@ class WebView(Generic[D]):
         if self.renderer is None:
             return False
         marks = wire.sent_marks(self.client)
-        return marks is None or len(self._marks) < IN_FLIGHT or marks[1] >= self._marks[0]
+        if marks is None or len(self._marks) < IN_FLIGHT or marks[1] >= self._marks[0]:
+            self._held_since = None
+            return True
+        now = time.monotonic()
+        if self._held_since is None:
+            self._held_since = now
+        return now - self._held_since > MAX_HELD  # never silent for long, whatever holds
 
     def _note_sent(self) -> None:
         """Before a new frame's messages: the last message queued so far, which must have

@@ -28,7 +28,7 @@ from sandbox.web import app as web_app
 from sandbox.web import session as session_module
 from sandbox.web import wire
 from sandbox.web.session import Request, Session
-from sandbox.web.view import IN_FLIGHT
+from sandbox.web.view import IN_FLIGHT, MAX_HELD
 
 FRAMES = 120
 """Frames counted (two seconds at 60 frames/s: 20 panel refreshes)."""
@@ -243,6 +243,9 @@ def test_a_browser_still_sending_its_last_frame_gets_no_new_one(served):
             session.run_once(clock.now)
         # IN_FLIGHT frames go while nothing is taken; then none until the sender catches up
         assert all(pictures[:IN_FLIGHT]) and not any(pictures[IN_FLIGHT:]) and not view.draws
+        # ... or until MAX_HELD has passed: a browser is never left without its 3D view
+        time.sleep(MAX_HELD + 0.1)
+        assert view.draws
         stuck[0] = False
         assert wait_for(lambda: view.draws, timeout=5)
         clock.now += 1 / 60
