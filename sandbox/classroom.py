@@ -780,6 +780,7 @@ async def main_phase(
         "warmup_s": warmup,
         "fps": summary(fps),
         "fps_per_client": fps,
+        "messages_per_client": [s.ws_messages for s in stats],
         "sim_rate": summary(rates),
         "sim_rate_per_client": [s.sim_rate() for s in stats],
         "sim_rate_samples": len(rates),
