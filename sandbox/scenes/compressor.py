@@ -419,7 +419,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
 
     model, v = s.model, s.values
     omega = float(s.data.qvel[0])
-    kept = _REVOLUTIONS.get(model, v, omega)
+    kept = _REVOLUTIONS.get(model, v, omega, float(s.data.time))
     if kept is not None:
         return kept
     data = mujoco.MjData(model)
@@ -450,7 +450,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
         "tamis_ref": a[:, 5],
         "motor_torque_ref": a[:, 6],
     }
-    _REVOLUTIONS.put(model, v, omega, out)
+    _REVOLUTIONS.put(model, v, omega, out, float(s.data.time))
     return out
 
 

@@ -409,7 +409,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
 
     model, v = s.model, s.values
     omega = s.joint_qvel("crank")
-    kept = _REVOLUTIONS.get(model, v, omega)
+    kept = _REVOLUTIONS.get(model, v, omega, float(s.data.time))
     if kept is not None:
         return kept
     data = mujoco.MjData(model)
@@ -448,7 +448,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     }
     if len(_FITS) > 64:
         _FITS.clear()
-    _REVOLUTIONS.put(model, v, omega, out)
+    _REVOLUTIONS.put(model, v, omega, out, float(s.data.time))
     return out
 
 

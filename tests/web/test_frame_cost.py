@@ -167,13 +167,14 @@ def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, m
     assert counts.pictures == FRAMES
     assert counts.prepares <= FRAMES + counts.panel_ticks // 10, counts
     # the frame's forces are computed once, for the arrows and the readouts alike
-    if arrows:
-        assert counts.supports <= FRAMES + counts.panel_ticks // 10, counts
+    if arrows:  # (a revolution simulated ahead samples at most 64 angles of its own)
+        assert counts.supports <= FRAMES + counts.panel_ticks // 10 + 65 * counts.revolutions
     # readouts: once a panel refresh (10 a second), never at the frame rate
     assert 15 <= counts.panel_ticks <= 25
     assert counts.readout_calls <= counts.panel_ticks, counts
-    # a revolution simulated ahead serves every reading while nothing changes
-    assert counts.revolutions == 0, counts
+    # a revolution simulated ahead serves every reading while nothing changes (the one
+    # simulated as the session started is simulated once more when it has settled)
+    assert counts.revolutions <= 1, counts
     # messages of a drawn frame: a position and an orientation per moving group at most,
     # one message for every arrow, and a label per arrow
     per_frame = max(counts.messages)
