@@ -10,7 +10,7 @@ Requires ``mj_forward`` and ``mj_rnePostConstraint`` at the current state.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -109,33 +109,76 @@ def moved(action: Action, point: np.ndarray) -> Action:
     return Action(action.label, t.resultant, t.moment)
 
 
-def pfd_residual(dynamic: Action, acts: list[Action]) -> float:
-    """|Σ R(actions) − R({D})| / |R({D})|: 0 when the PFD's resultant equation closes."""
-    total = np.sum([a.resultant for a in acts], axis=0) if acts else np.zeros(3)
-    gap = float(np.linalg.norm(total - dynamic.resultant))
-    return gap / max(float(np.linalg.norm(dynamic.resultant)), 1e-300)
+def _largest(vectors: list[np.ndarray]) -> float:
+    return max((float(np.linalg.norm(v)) for v in vectors), default=0.0)
+
+
+def pfd_gap(dynamic: Action, acts: list[Action]) -> tuple[float, float]:
+    """(‖Σ R − R{D}‖ [N], ‖Σ M − M{D}‖ [N·m]): the PFD's absolute gaps (moments at the
+    same point for every torsor)."""
+    total_r = np.sum([a.resultant for a in acts], axis=0) if acts else np.zeros(3)
+    total_m = np.sum([a.moment for a in acts], axis=0) if acts else np.zeros(3)
+    return (
+        float(np.linalg.norm(total_r - dynamic.resultant)),
+        float(np.linalg.norm(total_m - dynamic.moment)),
+    )
+
+
+def pfd_residual(dynamic: Action, acts: list[Action], length: float = 1.0) -> float:
+    """The PFD's relative gap: the absolute gaps (:func:`pfd_gap`, the moment's over
+    ``length`` [m], a size of the mechanism) over the largest torsor they are gaps between
+    (an action's or {D}'s resultant, or moment over ``length``); 0 when all are 0. Never
+    over a round-off: divided by {D}, which is 0 for a solid at constant speed, the
+    engine's read 3×10²⁸⁶; divided by moments that are all round-off (a piston's, at
+    its centre of mass), 2×10⁻⁴."""
+    gap_r, gap_m = pfd_gap(dynamic, acts)
+    scale = max(
+        _largest([dynamic.resultant, *(a.resultant for a in acts)]),
+        _largest([dynamic.moment, *(a.moment for a in acts)]) / length,
+    )
+    return max(gap_r, gap_m / length) / scale if scale > 0 else 0.0
 
 
 @dataclass(frozen=True)
 class Balance:
-    """The PFD of one isolated solid, every torsor reduced at its centre of mass G.
+    """The PFD of one isolated solid, every torsor reduced at one point (its centre of
+    mass G unless another is asked for).
 
     Attributes:
         centre: G, world coordinates [m], shape (3,).
-        dynamic: {D} of the solid (moment at G).
-        actions: Every action on it, as :func:`actions` lists them (moments at G).
-        residual: :func:`pfd_residual` (relative, 0 when the PFD closes).
+        point: Where the moments are reduced, world coordinates [m], shape (3,).
+        dynamic: {D} of the solid (moment at ``point``).
+        actions: Every action on it, as :func:`actions` lists them (moments at ``point``).
+        residual: :func:`pfd_residual` (relative to the largest torsor, 0 when it closes).
+        gap: :func:`pfd_gap` (‖ΔR‖ [N], ‖ΔM‖ [N·m]).
+        axes: The solid's own basis B1, columns = its unit vectors in world, (3, 3).
     """
 
     centre: np.ndarray
     dynamic: Action
     actions: list[Action]
     residual: float
+    point: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    gap: tuple[float, float] = (0.0, 0.0)
+    axes: np.ndarray = field(default_factory=lambda: np.eye(3))
 
 
-def balance(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> Balance:
-    """{D} of the solid and the actions on it at G, with the PFD's residual."""
+def balance(
+    model: mujoco.MjModel, data: mujoco.MjData, solid: int, point: np.ndarray | None = None
+) -> Balance:
+    """{D} of the solid and the actions on it at ``point`` (default: its centre of mass),
+    with the PFD's gaps."""
     g = centre_of_mass(model, data, solid)
+    at = g if point is None else np.asarray(point, dtype=float)
     d = dynamic_torsor(model, data, solid)
     acts = actions(model, data, solid)
-    return Balance(g, moved(d, g), [moved(a, g) for a in acts], pfd_residual(d, acts))
+    d_at, acts_at = moved(d, at), [moved(a, at) for a in acts]
+    return Balance(
+        g,
+        d_at,
+        acts_at,
+        pfd_residual(d_at, acts_at, float(model.stat.extent) or 1.0),
+        point=at,
+        gap=pfd_gap(d_at, acts_at),
+        axes=np.asarray(data.xmat[solid], dtype=float).reshape(3, 3).copy(),
+    )

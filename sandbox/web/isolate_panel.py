@@ -47,6 +47,18 @@ class IsolatePanel:
             return
         with gui.add_folder("Isoler un solide") as self.folder:
             self.picker = gui.add_dropdown("Solide", tuple(self.choices))
+            self.point = gui.add_dropdown(
+                "Point de réduction",
+                (POINT_G, POINT_O),
+                hint="Point où les moments sont réduits : le centre de gravité G du solide "
+                "isolé, ou l'origine O du repère R₀",
+            )
+            self.basis = gui.add_dropdown(
+                "Base des composantes",
+                (BASIS_0, BASIS_1),
+                hint="Base des composantes : B₀, fixe, ou B₁, liée au solide isolé "
+                "(elle tourne avec lui)",
+            )
             self.text = gui.add_markdown("")
         self._good = self.picker.value
 
@@ -77,8 +89,15 @@ class IsolatePanel:
             if body < 0:
                 return
             sim.snapshot(("sup_R_x", "dyn_R_x"))
-            pfd = isolate.balance(model, sim.data, body)
-        text = isolate_markdown(pfd, label=self._label, zero=self.zero)
+            at_o = self.point.value == POINT_O
+            pfd = isolate.balance(model, sim.data, body, np.zeros(3) if at_o else None)
+        text = isolate_markdown(
+            pfd,
+            label=self._label,
+            zero=self.zero,
+            point="O" if at_o else "G",
+            basis="B1" if self.basis.value == BASIS_1 else "B0",
+        )
         if self.refused is not None:
             text = f"*Solide « {plain(self.refused, 40)} » inconnu : choix refusé.*\n\n" + text
             self.refused = None
@@ -96,41 +115,68 @@ GAP = "\u2002"
 """En space before each number: right-aligned columns of a narrow panel otherwise touch
 ("73,23-72,95")."""
 
+POINT_G = "G, centre de gravité du solide"
+POINT_O = "O, origine du repère R₀"
+BASIS_0 = "B₀, fixe"
+BASIS_1 = "B₁, liée au solide"
+
+_SUB = {"B0": "₀", "B1": "₁"}
+
 
 def isolate_markdown(
     pfd: isolate.Balance,
     *,
     label: Callable[[str], str] = str,
     zero: Mapping[str, float] | None = None,
+    point: str = "G",
+    basis: str = "B0",
 ) -> str:
-    """The actions on the isolated solid and its dynamic torsor, one column per
-    component (R_x, R_y [N], M_G,z [N·m], ‖M_G‖ [N·m]), numbers the French way.
+    """The actions on the isolated solid and its dynamic torsor in three dimensions: a
+    table of resultants and one of moments at ``point``, each with its three components
+    in ``basis`` ("B0", fixed, or "B1", the solid's own), numbers the French way; then
+    the PFD's gap, absolute, and relative to the largest torsor (0 when it is round-off).
 
     Args:
         pfd: The balance of the solid (:func:`sandbox.physics.isolate.balance`).
         label: Turns an action's label into the words shown (e.g. body names).
         zero: The scene's round-off by unit: smaller components are shown 0.
+        point: The name of the point the moments are reduced at (``pfd.point``).
+        basis: "B0" or "B1".
     """
     zero = zero or {}
     n_floor, m_floor = zero.get("N", 0.0), zero.get("N·m", 0.0)
-    rows = [
-        "| Action sur le solide | R<sub>x</sub> [N] | R<sub>y</sub> [N] "
-        "| M<sub>G,z</sub> [N·m] | ‖M<sub>G</sub>‖ [N·m] |",
-        "|:--|--:|--:|--:|--:|",
-    ]
+    sub = _SUB.get(basis, "₀")
+    axes = pfd.axes if basis == "B1" else np.eye(3)
     d = pfd.dynamic
-    for a in [*pfd.actions, d]:
-        name = "**{𝒟}** (somme des actions)" if a is d else plain(label(a.label))
-        numbers = (
-            fmt(a.resultant[0], floor=n_floor),
-            fmt(a.resultant[1], floor=n_floor),
-            fmt(a.moment[2], floor=m_floor),
-            fmt(float(np.linalg.norm(a.moment)), floor=m_floor),
-        )
-        rows.append(f"| {name} | " + " | ".join(GAP + x for x in numbers) + " |")
+
+    def name(a: isolate.Action) -> str:
+        return "**{𝒟}** (somme des actions)" if a is d else plain(label(a.label))
+
+    def table(
+        title: str, unit: str, pick: Callable[[isolate.Action], np.ndarray], floor: float
+    ) -> str:
+        head = " | ".join(f"{title}<sub>{c}{sub}</sub>" for c in "xyz")
+        rows = [f"| Action sur le solide [{unit}] | {head} |", "|:--|--:|--:|--:|"]
+        for a in [*pfd.actions, d]:
+            local = axes.T @ pick(a)
+            cells = " | ".join(GAP + fmt(float(x), floor=floor) for x in local)
+            rows.append(f"| {name(a)} | {cells} |")
+        return "\n".join(rows)
+
     centre = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in pfd.centre)
+    gap_r, gap_m = pfd.gap
+    closed = gap_r <= n_floor and gap_m <= m_floor
+    relative = "0" if closed else fmt(pfd.residual, digits=2)
+    where = "G" if point == "G" else "O"
+    words = "B₁, liée au solide" if basis == "B1" else "B₀, fixe"
     return (
-        f"Moments en G = ({centre}) m, composantes dans B0.\n\n"
-        + "\n".join(rows)
-        + f"\n\nÉcart du PFD (Σ actions − {{𝒟}}), relatif : {fmt(pfd.residual, digits=2)}."
+        f"G = ({centre}) m ; composantes dans {words}.\n\n"
+        + table("R", "N", lambda a: a.resultant, n_floor)
+        + "\n\n"
+        + table(f"M<sub>{where},</sub>", "N·m", lambda a: a.moment, m_floor).replace(
+            "</sub><sub>", ""
+        )
+        + f"\n\nÉcart du PFD (Σ actions − {{𝒟}}) : ‖ΔR‖ = {fmt(gap_r, digits=2, floor=n_floor)}"
+        f" N, ‖ΔM<sub>{where}</sub>‖ = {fmt(gap_m, digits=2, floor=m_floor)} N·m, soit "
+        f"{relative} de la plus grande action."
     )

@@ -58,11 +58,76 @@ def test_balance_reduces_everything_at_g_and_closes_the_pfd():
         assert b.residual < 1e-9
 
 
-def test_pfd_residual_by_hand():
+def test_pfd_gap_by_hand_is_relative_to_the_largest_torsor():
     d = isolate.Action("{D}", np.array([3.0, 4.0, 0.0]), np.zeros(3))
     acts = [
         isolate.Action("a", np.array([1.0, 0.0, 0.0]), np.zeros(3)),
         isolate.Action("b", np.array([2.0, 4.0, 5.0]), np.zeros(3)),
     ]
-    assert isolate.pfd_residual(d, acts) == pytest.approx(1.0)  # |(0, 0, 5)| / |(3, 4, 0)|
+    assert isolate.pfd_gap(d, acts) == pytest.approx((5.0, 0.0))  # |(0, 0, 5)|
+    # over the largest resultant, |(2, 4, 5)| = √45, not over |{D}|
+    assert isolate.pfd_residual(d, acts) == pytest.approx(5.0 / 45**0.5)
     assert isolate.pfd_residual(d, []) == pytest.approx(1.0)
+    # a solid at constant speed: {D} = 0 and two opposite actions of round-off size
+    still = isolate.Action("{D}", np.zeros(3), np.zeros(3))
+    tiny = [
+        isolate.Action("a", np.array([1e-300, 0.0, 0.0]), np.zeros(3)),
+        isolate.Action("b", np.array([-1e-300, 0.0, 0.0]), np.zeros(3)),
+    ]
+    assert isolate.pfd_residual(still, tiny) == 0.0
+    assert isolate.pfd_residual(still, []) == 0.0
+
+
+def test_the_heavy_tops_weight_reads_minus_m_g_along_z0():
+    """Issue 21: the planar table read "poids | 0 | 0 | 0 | 0" for the heavy top."""
+    import mujoco
+
+    sim = Simulation("heavy_gyroscope")
+    sim.advance(0.2)
+    sim.snapshot(["sup_R_x"])
+    rotor = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
+    b = isolate.balance(sim.model, sim.data, rotor)
+    (weight,) = [a for a in b.actions if a.label == "poids"]
+    m, g = float(sim.model.body_subtreemass[rotor]), 9.81
+    assert weight.resultant == pytest.approx([0.0, 0.0, -m * g], abs=1e-12)
+    assert np.linalg.norm(weight.moment) < 1e-12  # at G, the weight has no moment
+    assert b.residual < 1e-9
+
+
+def test_the_rotors_rotating_bearing_force_is_m_e_omega_squared_and_fixed_in_the_rotor():
+    """A static unbalance m e at ω: the frame's action on the rotor is m e ω², in the
+    plane of the disc, turning with it (constant in B1)."""
+    import math
+
+    import mujoco
+
+    sim = Simulation("rotor", values={"mass1_g": 0.0, "mass2_g": 0.0})
+    sim.advance(0.2)
+    rotor = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
+    seen = []
+    for _ in range(3):
+        sim.advance(0.013)
+        sim.snapshot(["sup_R_x"])
+        b = isolate.balance(sim.model, sim.data, rotor)
+        frame = b.actions[0]
+        omega = abs(float(sim.data.qvel[0]))
+        m = float(sim.model.body_subtreemass[rotor])
+        e = math.hypot(*b.centre[1:])  # G off the axis x0
+        assert np.linalg.norm(frame.resultant) == pytest.approx(m * e * omega**2, rel=1e-6)
+        assert abs(frame.resultant[0]) < 1e-9 * np.linalg.norm(frame.resultant)
+        seen.append(b.axes.T @ frame.resultant)
+        assert b.residual < 1e-9
+    assert np.ptp(np.array(seen), axis=0).max() < 1e-6 * np.linalg.norm(seen[0])
+
+
+def test_the_engines_pfd_gap_is_round_off_of_its_largest_action():
+    """Issue 21: divided by {D} (0 for the crank at constant speed), the engine's relative
+    gap read 3×10²⁸⁶."""
+    sim = Simulation("engine")
+    sim.advance(0.1)
+    sim.snapshot(["sup_R_x"])
+    for solid in isolate.solids(sim.model):
+        b = isolate.balance(sim.model, sim.data, solid)
+        assert b.residual <= 1e-9, (solid, b.residual)
+        at_o = isolate.balance(sim.model, sim.data, solid, np.zeros(3))
+        assert at_o.residual <= 1e-9 and np.allclose(at_o.point, 0.0)

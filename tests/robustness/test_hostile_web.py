@@ -395,7 +395,10 @@ def test_a_crafted_reduction_point_falls_back_to_the_origin(page, quiet, value):
     assert "Réduits en **P** = (0 ; 0 ; 0) m" in page.markdown()
 
 
-@pytest.mark.parametrize("label", ["Point", "Base", "Panneau affiché", "Leçon"])
+@pytest.mark.parametrize(
+    "label",
+    ["Point", "Base", "Panneau affiché", "Leçon", "Point de réduction", "Base des composantes"],
+)
 def test_unknown_choices_in_the_other_dropdowns_change_nothing(page, quiet, label):
     page.show("Tous les panneaux")
     page.send(page.find("dropdown", label), "<script>alert(1)</script>")

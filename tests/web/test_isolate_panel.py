@@ -33,10 +33,14 @@ def test_every_number_sits_in_its_own_column():
         pfd = isolate.balance(sim.model, sim.data, body)
         md = isolate_markdown(pfd, label=relabel, zero=scene.zero)
         rows = [line for line in md.splitlines() if line.startswith("| ")]
-        assert "[N]" in rows[0] and "[N·m]" in rows[0]
-        for line in rows[1:]:
+        heads = [line for line in rows if line.startswith("| Action sur le solide")]
+        assert len(heads) == 2 and "[N]" in heads[0] and "[N·m]" in heads[1]
+        assert "R<sub>z₀</sub>" in heads[0] and "M<sub>G,z₀</sub>" in heads[1]
+        for line in rows:
+            if line in heads:
+                continue
             cells = line.strip().strip("|").split("|")
-            assert len(cells) == 5, line
+            assert len(cells) == 4, line
             for value in cells[1:]:
                 assert value.strip(" ").startswith(GAP), line
                 assert re.fullmatch(
@@ -45,3 +49,24 @@ def test_every_number_sits_in_its_own_column():
         assert raw not in re.sub(r"<[^>]*>", "", md).replace(names[raw], "")
         assert not re.search(r"\d\.\d", md)
         assert "({𝒟}" not in md and "**{𝒟}** (somme des actions)" in md
+
+
+def test_b1_at_o_and_a_gap_of_round_off_that_reads_0():
+    """The rotor's frame action in the rotor's own basis B1 at O; the PFD's gap is
+    round-off and reads 0, absolute and relative (issue 21: 3,2×10²⁸⁶ in the engine)."""
+    import numpy as np
+
+    for scene_name in ("rotor", "engine"):
+        sim = Simulation(scene_name)
+        sim.advance(0.05)
+        scene = as_scene(sim.scene)
+        assert scene is not None
+        sim.snapshot(("sup_R_x", "dyn_R_x"))
+        for body in isolate.solids(sim.model):
+            pfd = isolate.balance(sim.model, sim.data, body, np.zeros(3))
+            md = isolate_markdown(pfd, zero=scene.zero, point="O", basis="B1")
+            assert "R<sub>x₁</sub>" in md and "M<sub>O,z₁</sub>" in md
+            assert "liée au solide" in md
+            last = md.splitlines()[-1]
+            assert last.endswith("soit 0 de la plus grande action."), last
+            assert "‖ΔR‖ = 0 N" in last, last
