@@ -558,7 +558,9 @@ def _rotor_frame(s: Snapshot, v: np.ndarray) -> complex:
 
 
 MIN_OMEGA = 1.0
-"""Below this speed [rad/s] (10 tr/min) the machine does not compute clips (nan)."""
+"""Below this speed [rad/s] (10 tr/min) the machine does not compute clips (nan); nor on
+the soft bench (``supports`` = 1), where its fixed-bearing formula does not hold: the
+influence-coefficient method is what that bench offers."""
 
 
 def machine_clips(s: Snapshot) -> dict[str, float]:
@@ -566,7 +568,8 @@ def machine_clips(s: Snapshot) -> dict[str, float]:
     cached = s.cache.get("wheel_clips")
     if cached is None:
         w = s.joint_qvel("spin")
-        if not abs(w) >= MIN_OMEGA:
+        if not abs(w) >= MIN_OMEGA or soft(s.values):  # a soft bench: the machine's
+            # formula assumes fixed bearings (issue 21: 96 g for a wheel needing 22 g)
             cached = dict.fromkeys(
                 ("clip_inner_g", "clip_inner_deg", "clip_outer_g", "clip_outer_deg"), math.nan
             )
@@ -634,10 +637,12 @@ READOUTS = (
         "Norme de l'effort du palier B, près de la roue, sur l'arbre de la roue.",
     ),
     _readout(
-        "clip_inner_g", "g", "Inner clip the machine asks for, from its bearing forces.",
+        "clip_inner_g", "g",
+        "Inner clip the machine asks for, from its bearing forces (NaN on the soft bench).",
         lambda s: machine_clips(s)["clip_inner_g"],
         "Masselotte intérieure demandée",
-        "Masse que la machine demande de sertir sur le bord intérieur de la jante.",
+        "Masse que la machine demande de sertir sur le bord intérieur de la jante ; « — » sur "
+        "le banc à paliers souples, où son calcul pour paliers fixes ne vaut plus.",
     ),
     _readout(
         "clip_inner_deg", "deg", "Angle of the inner clip the machine asks for, from the valve.",
@@ -646,10 +651,12 @@ READOUTS = (
         "Angle, compté depuis la valve, où la machine demande la masselotte intérieure.",
     ),
     _readout(
-        "clip_outer_g", "g", "Outer clip the machine asks for, from its bearing forces.",
+        "clip_outer_g", "g",
+        "Outer clip the machine asks for, from its bearing forces (NaN on the soft bench).",
         lambda s: machine_clips(s)["clip_outer_g"],
         "Masselotte extérieure demandée",
-        "Masse que la machine demande de sertir sur le bord extérieur de la jante.",
+        "Masse que la machine demande de sertir sur le bord extérieur de la jante ; « — » sur "
+        "le banc à paliers souples, où son calcul pour paliers fixes ne vaut plus.",
     ),
     _readout(
         "clip_outer_deg", "deg", "Angle of the outer clip the machine asks for, from the valve.",

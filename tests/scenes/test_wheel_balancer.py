@@ -298,8 +298,14 @@ def test_influence_coefficients_from_three_simulated_runs_balance_the_bench(myst
 def test_machine_formula_is_wrong_on_soft_supports():
     """The rigid machine's clips assume fixed bearings: on the soft bench near its first
     critical speed the housing's motion spoils them (why the lab uses trial masses)."""
+    from sandbox.physics.snapshot import Snapshot
+
     sim = _run(SOFT | {"speed_rpm": 300.0}, duration=1.0)
-    got = sim.readouts(["clip_outer_g"])["clip_outer_g"]
+    assert math.isnan(sim.readouts(["clip_outer_g"])["clip_outer_g"])  # not offered
+    snap = sim.snapshot(("sup_R_x",))
+    as_if_fixed = Snapshot(sim.model, sim.data, {**sim.values, "supports": 0.0})
+    got = wb.machine_clips(as_if_fixed)["clip_outer_g"]  # the formula, forced
+    assert snap.data is as_if_fixed.data
     assert abs(got / machine_solution(sim.values)["mass_outer_g"] - 1.0) > 0.2
 
 
@@ -361,3 +367,20 @@ def test_the_lessons_resonance_peaks_of_bearing_b():
     for peak, below, above in ((350.0, 250.0, 450.0), (1200.0, 1000.0, 1400.0)):
         top = accel(peak)
         assert top > accel(below) and top > accel(above), peak
+
+
+def test_the_machines_clips_are_blank_on_the_soft_bench():
+    """Issue 21: on the lab bench (supports = 1) the fixed-bearing formula gave 96 g at
+    48° and 45 g at 212° for a wheel needing 22 g at 334° and 55 g at 217°: the machine's
+    clips read NaN there ("—" in the page); the influence-coefficient method remains."""
+    import math
+
+    sim = Simulation("wheel_balancer", values={"supports": 1.0, "speed_rpm": 600.0})
+    sim.advance(0.5)
+    names = ["clip_inner_g", "clip_inner_deg", "clip_outer_g", "clip_outer_deg"]
+    out = sim.readouts([*names, "accel_inner", "accel_outer"])
+    assert all(math.isnan(out[n]) for n in names), out
+    assert out["accel_inner"] > 0 and out["accel_outer"] > 0
+    rigid = Simulation("wheel_balancer", values={"supports": 0.0})
+    rigid.advance(0.2)
+    assert all(math.isfinite(v) for v in rigid.readouts(names).values())
