@@ -8,6 +8,8 @@ with a middle dot and superscripts, as the course writes them) unchanged.
 
 from __future__ import annotations
 
+import math
+
 FRENCH_UNITS: dict[str, str] = {"rpm": "tr/min", "deg": "°"}
 """Contract units that a French reader writes differently."""
 
@@ -25,3 +27,38 @@ DISPLAY_UNITS: frozenset[str] = frozenset(
 def display_unit(unit: str) -> str:
     """The unit the web page shows for the contract unit ``unit`` ("rpm" -> "tr/min")."""
     return FRENCH_UNITS.get(unit, unit)
+
+
+TURN_SPEEDS: frozenset[str] = frozenset({"omega", "omega_m", "spin"})
+"""Readouts of a solid's rotation speed [rad/s] whose scene sets that speed in tr/min
+(the slider "Vitesse … [tr/min]"): the page shows them in tr/min too, one unit for one
+quantity across the tables, the overlay, the lesson and the charts."""
+
+RAD_S_TO_RPM = 30.0 / math.pi
+RAD_TO_DEG = 180.0 / math.pi
+
+
+def shown_scale(name: str, unit: str) -> tuple[str, float]:
+    """The unit the web page shows readout ``name`` in, and the factor from its contract
+    ``unit`` to it: a turning speed in tr/min (:data:`TURN_SPEEDS`), an angle in degrees
+    (the sliders' unit), any other unit as :func:`display_unit` with factor 1. Files
+    (CSV, JSON, recordings) keep the contract unit."""
+    if unit == "rad/s" and name in TURN_SPEEDS:
+        return "tr/min", RAD_S_TO_RPM
+    if unit == "rad":
+        return "°", RAD_TO_DEG
+    return display_unit(unit), 1.0
+
+
+TURN_ANGLES: frozenset[str] = frozenset({"theta"})
+"""Readouts that count turns [rad], unwrapped in files: the page shows them modulo 360°."""
+
+
+def shown_value(name: str, unit: str, value: float) -> float:
+    """``value`` of readout ``name`` (contract ``unit``) in the unit the page shows
+    (:func:`shown_scale`); a turn counter (:data:`TURN_ANGLES`) modulo 360°."""
+    factor = shown_scale(name, unit)[1]
+    shown = value * factor
+    if name in TURN_ANGLES and unit == "rad" and math.isfinite(shown):
+        shown %= 360.0
+    return shown

@@ -26,16 +26,16 @@ from pathlib import Path
 import viser
 
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.units import shown_scale
 from sandbox.scenes.base import as_scene
 from sandbox.web import network
 from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
-from sandbox.web.fields import display_unit
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Frame, Notice, Request, Session
 from sandbox.web.tables import fmt
-from sandbox.web.text import plain
+from sandbox.web.text import plain, table_row, with_unit
 from sandbox.web.view import WebView, arrow_layer, point_camera
 
 log = logging.getLogger(__name__)
@@ -84,7 +84,9 @@ class BroadcastView:
         spec = as_scene(sim.scene)
         self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
         infos = {i.name: i for i in sim.readout_infos()}
-        self.units = {n: display_unit(i.unit) for n, i in infos.items()}
+        self.units = {n: shown_scale(n, i.unit) for n, i in infos.items()}
+        zero = dict(spec.zero) if spec is not None else {}
+        self.zeros = {n: zero.get(i.unit, 0.0) for n, i in infos.items()}
         self.labels = {n: plain(i.label or n) for n, i in infos.items()}
         self.summary = ""
         self.version = 0
@@ -129,12 +131,12 @@ class BroadcastView:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:
             values = frame.readouts
-            rows = [
-                f"| {self.labels.get(name, name)} | "
-                f"{fmt(values.get(name, math.nan))} {self.units.get(name, '')} |"
-                for name in self.names
-            ]
-            lines.append("| Grandeur | Valeur |\n|:--|--:|\n" + "\n".join(rows))
+            rows = [table_row("Grandeur", "Valeur"), "|:--|--:|"]
+            for name in self.names:
+                unit, k = self.units.get(name, ("", 1.0))
+                shown = fmt(values.get(name, math.nan) * k, floor=self.zeros.get(name, 0.0) * k)
+                rows.append(table_row(self.labels.get(name, name), with_unit(shown, unit)))
+            lines.append("\n".join(rows))
         text = "\n\n".join(lines)
         if text != self.summary:
             self.summary = text

@@ -14,7 +14,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels import set_value
 from sandbox.web.tables import fmt
-from sandbox.web.text import MAX_SHOWN, plain
+from sandbox.web.text import MAX_SHOWN, plain, table_row
 
 
 class IsolatePanel:
@@ -111,10 +111,6 @@ def _one_line(text: str) -> str:
     return text if len(text) <= MAX_SHOWN else text[: MAX_SHOWN - 1] + "…"
 
 
-GAP = "\u2002"
-"""En space before each number: right-aligned columns of a narrow panel otherwise touch
-("73,23-72,95")."""
-
 POINT_G = "G, centre de gravité du solide"
 POINT_O = "O, origine du repère R₀"
 BASIS_0 = "B₀, fixe"
@@ -155,12 +151,11 @@ def isolate_markdown(
     def table(
         title: str, unit: str, pick: Callable[[isolate.Action], np.ndarray], floor: float
     ) -> str:
-        head = " | ".join(f"{title}<sub>{c}{sub}</sub>" for c in "xyz")
-        rows = [f"| Action sur le solide [{unit}] | {head} |", "|:--|--:|--:|--:|"]
+        head = [f"{title}<sub>{c}{sub}</sub>" for c in "xyz"]
+        rows = [table_row(f"Action sur le solide [{unit}]", *head), "|:--|--:|--:|--:|"]
         for a in [*pfd.actions, d]:
             local = axes.T @ pick(a)
-            cells = " | ".join(GAP + fmt(float(x), floor=floor) for x in local)
-            rows.append(f"| {name(a)} | {cells} |")
+            rows.append(table_row(name(a), *(fmt(float(x), floor=floor) for x in local)))
         return "\n".join(rows)
 
     centre = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in pfd.centre)

@@ -134,24 +134,29 @@ class Line:
 
 class Words:
     """How readouts are written: French label (else the name), unit as shown on the page,
-    and the scene's round-off by readout (values at or under it are written 0)."""
+    the factor from the contract unit to it (ω in tr/min: 30/π; default 1), and the
+    scene's round-off by readout in its contract unit (values at or under it are
+    written 0)."""
 
     def __init__(
         self,
         labels: Mapping[str, str],
         units: Mapping[str, str],
         zeros: Mapping[str, float] | None = None,
+        scales: Mapping[str, float] | None = None,
     ) -> None:
         self.labels = labels
         self.units = units
         self.zeros = zeros or {}
+        self.scales = scales or {}
 
     def label(self, name: str) -> str:
         return self.labels.get(name) or name
 
     def quantity(self, value: float, name: str) -> str:
         unit = self.units.get(name, "")
-        return with_unit(number(value, 3, zero=self.zeros.get(name, 0.0)), unit)
+        k = self.scales.get(name, 1.0)
+        return with_unit(number(value * k, 3, zero=self.zeros.get(name, 0.0) * k), unit)
 
 
 def lines(

@@ -26,12 +26,12 @@ from typing import Protocol
 import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
-from sandbox.physics.units import display_unit
+from sandbox.physics.units import shown_scale
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.lesson_goal import Words, goal_html, lines
 from sandbox.web.plots import Plot, group_by_unit
 from sandbox.web.session import Controller, Request
-from sandbox.web.text import plain
+from sandbox.web.text import plain, table_row
 
 FREE = "Exploration libre"
 NAV = ("◀ Précédent", "Suivant ▶")
@@ -83,10 +83,13 @@ class LessonPanel:
         }
         infos = sim.readout_infos()
         zero_for = getattr(sim.scene, "zero_for", None)  # the scene's round-off by unit
+        shown = {i.name: shown_scale(i.name, i.unit) for i in infos}
+        self.units = {i.name: i.unit for i in infos}
         self.words = Words(
             {i.name: i.label for i in infos},
-            {i.name: display_unit(i.unit) for i in infos},
+            {n: unit for n, (unit, _) in shown.items()},
             {i.name: zero_for(i.unit) for i in infos} if callable(zero_for) else {},
+            {n: k for n, (_, k) in shown.items()},
         )
         self.progress: Progress | None = None
         self.plots: list[Plot] = []
@@ -167,10 +170,10 @@ class LessonPanel:
         step = progress.step
         ok = progress.observe(values, self.controller.sim.values)
         rows = [
-            f"| {plain(self.words.label(n))} | {self.words.quantity(values.get(n, math.nan), n)} |"
+            table_row(plain(self.words.label(n)), self.words.quantity(values.get(n, math.nan), n))
             for n in step.show
         ]
-        table = ("| Grandeur | Valeur |\n|:--|--:|\n" + "\n".join(rows)) if rows else ""
+        table = "\n".join([table_row("Grandeur", "Valeur"), "|:--|--:|", *rows]) if rows else ""
         _set(self.table, table)
         _set(self.status, status_text(progress, ok))
         _set(self.goal, self._goal(progress, values, ok))
@@ -227,9 +230,13 @@ class LessonPanel:
             if step.plots:
                 arrows = getattr(self.controller.sim.scene, "arrows", ())
                 colours = {a.name: a.color for a in arrows}  # a curve has its arrow's colour
-                for plot in group_by_unit(step.plots, self.words.units, colours):
-                    names = ", ".join(self.words.label(n) for n in plot.names)
-                    plot.attach(self.gui, title=f"{names} [{plot.unit}]".replace(" []", ""))
+                words = {n: self.words.label(n) for n in step.plots}
+                zero_for = getattr(self.controller.sim.scene, "zero_for", None)
+                units = {n: self.units.get(n, "") for n in step.plots}
+                zero = {u: zero_for(u) for u in units.values()} if callable(zero_for) else {}
+                for plot in group_by_unit(step.plots, units, colours, labels=words, zero=zero):
+                    unit = f" [{plot.shown_unit}]" if plot.shown_unit else ""
+                    plot.attach(self.gui, title=f"{', '.join(plot.labels)}{unit}")
                     self.plots.append(plot)
                     if plot.handle is not None:
                         self._step_handles.append(plot.handle)

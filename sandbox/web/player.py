@@ -36,7 +36,7 @@ from sandbox.web.session import (
     shown_value,
     step_count,
 )
-from sandbox.web.text import number, plain
+from sandbox.web.text import number, plain, table_row
 from sandbox.web.view import WebView
 
 
@@ -243,10 +243,10 @@ class ReplayPanel:
         if self.params is not None:
             sim = ctl.sim
             rows = [
-                f"| {plain(param_label(p))} | {number(sim.values[p.name])} |"
+                table_row(plain(param_label(p)), number(sim.values[p.name]))
                 for p in self.scene_params
             ]
-            content = "| Paramètre | Valeur |\n|:--|--:|\n" + "\n".join(rows)
+            content = "\n".join([table_row("Paramètre", "Valeur"), "|:--|--:|", *rows])
             if self.params.content != content:
                 self.params.content = content
 

@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 from viser import uplot
 
 from sandbox.physics.snapshot import Snapshot
-from sandbox.physics.units import display_unit
+from sandbox.physics.units import display_unit, shown_scale
 from sandbox.scenes.base import Arrow, Scene
 
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
@@ -63,6 +63,9 @@ class Plot:
         labels: What the legend shows for each series (French words; default the names).
         zero: The scene's round-off in ``unit``: smaller samples are drawn as 0 (a range
             of 10⁻⁸ around 0 would fill the chart with noise).
+        shown: The unit the chart shows and the factor from ``unit`` to it
+            (:func:`~sandbox.physics.units.shown_scale`: ω in tr/min); default
+            ``unit`` as the page writes it.
         window: Time span kept [s].
         maxlen: Most points kept per series.
     """
@@ -77,12 +80,13 @@ class Plot:
         maxlen: int = 1000,
         labels: Sequence[str] | None = None,
         zero: float = 0.0,
+        shown: tuple[str, float] | None = None,
     ) -> None:
         self.names = tuple(names)
         self.zero = zero
         self.labels = tuple(labels) if labels is not None else self.names
         self.unit = unit
-        self.shown_unit = display_unit(unit)
+        self.shown_unit, self.scale = shown if shown is not None else (display_unit(unit), 1.0)
         self.colors = tuple(colors)
         self.window = window
         self.t: deque[float] = deque(maxlen=maxlen)
@@ -101,6 +105,7 @@ class Plot:
         for series, name in zip(self.y, self.names, strict=True):
             v = float(values.get(name, math.nan))
             shown = math.nan if not math.isfinite(v) else 0.0 if abs(v) <= self.zero else v
+            shown *= self.scale
             if same:
                 series[-1] = shown
             else:
@@ -187,21 +192,25 @@ def group_by_unit(
     labels: Mapping[str, str] | None = None,
     zero: Mapping[str, float] | None = None,
 ) -> list[Plot]:
-    """One :class:`Plot` per unit, in the order the names first appear; ``labels``: the
-    French words of each name (default the name); ``zero``: round-off by unit."""
+    """One :class:`Plot` per unit the page shows (ω in tr/min apart from other rad/s), in
+    the order the names first appear; ``units``: contract units; ``labels``: the French
+    words of each name (default the name); ``zero``: round-off by contract unit."""
     labels, zero = labels or {}, zero or {}
-    groups: dict[str, list[str]] = {}
+    groups: dict[tuple[str, tuple[str, float]], list[str]] = {}
     for name in names:
-        groups.setdefault(units.get(name, ""), []).append(name)
+        unit = units.get(name, "")
+        groups.setdefault((unit, shown_scale(name, unit)), []).append(name)
     plots = []
     k = 0
-    for unit, members in groups.items():
+    for (unit, shown_as), members in groups.items():
         cols = []
         for name in members:
             cols.append(colors.get(name, PALETTE[k % len(PALETTE)]))
             k += 1
         shown = [labels.get(n) or n for n in members]
-        plots.append(Plot(members, unit, cols, labels=shown, zero=zero.get(unit, 0.0)))
+        plots.append(
+            Plot(members, unit, cols, labels=shown, zero=zero.get(unit, 0.0), shown=shown_as)
+        )
     return plots
 
 

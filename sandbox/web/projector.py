@@ -14,20 +14,15 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
+from sandbox.physics.units import TURN_ANGLES, TURN_SPEEDS, shown_scale, shown_value
 from sandbox.scenes.base import as_scene
-from sandbox.web.fields import display_unit, on_user, set_value
+from sandbox.web.fields import on_user, set_value
 from sandbox.web.text import html_text, number, with_unit
 
 if TYPE_CHECKING:
     import viser
 
     from sandbox.physics.simulation import Simulation
-
-ANGLES = frozenset({"theta"})
-"""Readouts that count turns [rad]: the overlay shows them in degrees, modulo 360°."""
-
-SPEEDS = frozenset({"omega", "omega_m"})
-"""Rotation speeds [rad/s] that the overlay shows in tr/min, the unit of the speed slider."""
 
 FLAGS = frozenset({"contact", "on_plane", "gimbal_lock"})
 """Readouts that are 0 or 1: the overlay says "oui" or "non"."""
@@ -69,6 +64,9 @@ def style_html(font_px: int, *, left: int = 16, right: int = 16) -> str:
         ".mantine-Flex-root>div>p.mantine-Text-root{letter-spacing:0 !important}"
         # a slider's number box is 3 rem wide: "0.015" and "3000" were cut
         '.mantine-NumberInput-root[style*="width: 3rem"]{width:4.4em !important}'
+        # markdown tables have no cell padding: "0,12130,1213+0,00 %" read as one number
+        "td,th{padding:2px 0 2px 0.6em !important}td:first-child,th:first-child"
+        "{padding-left:0 !important}"
         f"#{OVERLAY_ID}{{position:fixed;left:{left + 64}px;bottom:12px;z-index:5;"
         f"max-width:calc(100vw - {left + 64 + right}px);"
         "pointer-events:none;background:rgba(255,255,255,0.82);border-radius:8px;"
@@ -101,14 +99,14 @@ def overlay_lines(
     lines = []
     for name in names:
         value = values.get(name, math.nan)
-        unit = display_unit(units.get(name, ""))
-        shown = number(value, 3, zero=(zeros or {}).get(name, 0.0))
-        if name in ANGLES and math.isfinite(value):
-            shown, unit = str(round(math.degrees(value) % 360.0) % 360), "°"
-        elif units.get(name) == "rad" and math.isfinite(value):  # a gimbal angle, a drift
-            shown, unit = number(math.degrees(value), 3), "°"
-        elif name in SPEEDS and units.get(name) == "rad/s" and math.isfinite(value):
-            shown, unit = number(value * 30.0 / math.pi, 4), "tr/min"
+        contract = units.get(name, "")
+        unit, factor = shown_scale(name, contract)
+        zero = (zeros or {}).get(name, 0.0) * factor
+        shown = number(shown_value(name, contract, value), 3, zero=zero)
+        if name in TURN_ANGLES and contract == "rad" and math.isfinite(value):
+            shown = str(round(shown_value(name, contract, value)) % 360)
+        elif name in TURN_SPEEDS and unit == "tr/min":
+            shown = number(value * factor, 4, zero=zero)
         elif name in FLAGS and math.isfinite(value):
             shown, unit = ("oui" if value > 0.5 else "non"), ""
         lines.append(f"{labels.get(name) or name} = {with_unit(shown, unit)}")

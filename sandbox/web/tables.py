@@ -21,9 +21,9 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
-from sandbox.physics.units import display_unit
+from sandbox.physics.units import shown_scale, shown_value
 from sandbox.web.fields import INTEGRATOR_LABELS
-from sandbox.web.text import html_text, number
+from sandbox.web.text import html_text, number, table_row
 
 RELATIVE_ZERO = 1e-9
 """A component below this fraction of the largest one of its table is round-off (shown 0)."""
@@ -54,20 +54,14 @@ def _span(name: str, text: str, value: float | None = None) -> str:
     return f'<span data-readout="{_cell_of(name)}"{exact}>{text}</span>'
 
 
-@functools.lru_cache(maxsize=1024)
-def unit_suffix(unit: str) -> str:
-    """`` [unit]`` as the page writes it (tr/min, °), or "" for a pure number."""
-    shown = display_unit(unit)
-    return f" [{cell(shown)}]" if shown else ""
-
-
 @dataclass(frozen=True)
 class Row:
     """One line of the scene table.
 
     Attributes:
         name: Contract name of the readout (never shown: it names the ``data-readout``).
-        unit: Contract unit (shown as :func:`~sandbox.physics.units.display_unit`).
+        unit: Contract unit (shown as :func:`~sandbox.physics.units.shown_scale`: ω in
+            tr/min, an angle in degrees).
         doc: English sentence, the tooltip while ``hint`` is empty.
         label: French words with the course's symbol ("" shows ``name``).
         hint: French tooltip.
@@ -133,22 +127,26 @@ def torsor_table(
     zero = zero or {}
     r_floor = max(floor, zero.get(spec.r_unit, 0.0))
     m_floor = max(floor, zero.get(spec.m_unit, 0.0))
-    head = f"| {spec.symbol} | " + " | ".join(axes) + " |\n|:--|" + "--:|" * len(axes) + "\n"
+    head = table_row(spec.symbol, *axes) + "\n|:--|" + "--:|" * len(axes) + "\n"
     row_r = (
-        f"| R [{spec.r_unit}] | "
-        + " | ".join(
-            _span(f"shown_{spec.prefix}_R{i}", fmt(v, floor=r_floor), float(v))
-            for i, v in enumerate(r)
+        table_row(
+            f"R [{spec.r_unit}]",
+            *(
+                _span(f"shown_{spec.prefix}_R{i}", fmt(v, floor=r_floor), float(v))
+                for i, v in enumerate(r)
+            ),
         )
-        + " |\n"
+        + "\n"
     )
     row_m = (
-        f"| M<sub>{point}</sub> [{spec.m_unit}] | "
-        + " | ".join(
-            _span(f"shown_{spec.prefix}_M{i}", fmt(v, floor=m_floor), float(v))
-            for i, v in enumerate(m)
+        table_row(
+            f"M<sub>{point}</sub> [{spec.m_unit}]",
+            *(
+                _span(f"shown_{spec.prefix}_M{i}", fmt(v, floor=m_floor), float(v))
+                for i, v in enumerate(m)
+            ),
         )
-        + " |\n"
+        + "\n"
     )
     return f"*{spec.caption}*\n\n" + head + row_r + row_m
 
@@ -209,12 +207,14 @@ def energy_markdown(values: Mapping[str, float], *, zero: Mapping[str, float] | 
     for name, symbol, unit, doc in ENERGY_ROWS:
         v = values.get(name, math.nan)
         shown = fmt(v, floor=max(floor, zero.get(unit, 0.0)))
-        lines.append(f"| {symbol} [{unit}] | {_span(name, shown, v)} | {doc} |")
+        lines.append(table_row(f"{symbol} [{unit}]", _span(name, shown, v), doc))
     frame = frame_power(values)
     lines.append(
-        f"| dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W] | "
-        f"{_span('P_frame', fmt(frame, floor=max(floor, zero.get('W', 0.0))), frame)} | "
-        "puissance des liaisons avec le bâti (0 si parfaites) |"
+        table_row(
+            "dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W]",
+            _span("P_frame", fmt(frame, floor=max(floor, zero.get("W", 0.0))), frame),
+            "puissance des liaisons avec le bâti (0 si parfaites)",
+        )
     )
     return (
         "\n".join(lines) + "\n\nThéorème de l'énergie cinétique : dT/dt = P<sub>ext</sub> "
@@ -256,16 +256,21 @@ def scene_markdown(
         values: Simulated values.
         reference: Closed-form values by name (missing names show —).
     """
-    lines = ["| Grandeur | Simulation | Cours | Écart |", "|:--|--:|--:|--:|"]
+    lines = [table_row("Grandeur", "Simulation", "Cours", "Écart"), "|:--|--:|--:|--:|"]
     for item in rows:
         row = _row(item)
         v = values.get(row.name, math.nan)
         ref = reference.get(row.name)
         label = _label_cell(row)
-        course = fmt(ref, floor=row.zero) if ref is not None else "—"
+        floor = row.zero * shown_scale(row.name, row.unit)[1]
+        course = fmt(shown_value(row.name, row.unit, ref), floor=floor) if ref is not None else "—"
         lines.append(
-            f"| {label} | {_span(row.name, fmt(v, floor=row.zero), v)} | {course} | "
-            f"{gap(v, ref) if ref is not None else '—'} |"
+            table_row(
+                label,
+                _span(row.name, fmt(shown_value(row.name, row.unit, v), floor=floor), v),
+                course,
+                gap(v, ref) if ref is not None else "—",
+            )
         )
     note = "*Cours* : forme close du cours ; *Écart* : (simulation − cours) / |cours|."
     return "\n".join(lines) + "\n\n" + note.replace("|", "&#124;")
@@ -276,7 +281,8 @@ def _label_cell(row: Row) -> str:
     """The words of a scene row with their tooltip and unit, escaped once per row."""
     words = row.label or row.name
     label = f'<span title="{cell(row.hint or row.doc)}">{cell(words)}</span>'
-    return label + unit_suffix(row.unit)
+    shown = shown_scale(row.name, row.unit)[0]
+    return label + (f" [{cell(shown)}]" if shown else "")
 
 
 def hypotheses_markdown(lines: Sequence[str], *, integrator: str, timestep: float) -> str:

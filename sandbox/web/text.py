@@ -56,6 +56,17 @@ def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
     return f"{mantissa.replace('.', ',')}×10{superscript}"
 
 
+GAP = "\u2002"
+"""An en space written before every cell of a table but the first: a table copied, read
+aloud or shown without cell padding never runs two numbers together ("0,12130,1213")."""
+
+
+def table_row(*cells: str) -> str:
+    """One markdown table row of ``cells`` (already escaped), a :data:`GAP` before each
+    cell after the first."""
+    return "| " + " | ".join([cells[0], *(GAP + c for c in cells[1:])]) + " |"
+
+
 def with_unit(shown: str, unit: str) -> str:
     """A written number and its unit as French typography has them: "54,4 N", "29°"
     (an angle's degree sign follows the number), the number alone without a unit."""

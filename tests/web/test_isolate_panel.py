@@ -9,7 +9,8 @@ import mujoco
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web.isolate_panel import GAP, isolate_markdown
+from sandbox.web.isolate_panel import isolate_markdown
+from sandbox.web.text import GAP
 
 
 def test_every_number_sits_in_its_own_column():
