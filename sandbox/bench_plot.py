@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from sandbox.bench import Run, SceneResult
+from sandbox.physics.model import INTEGRATOR_WORDS
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -33,14 +34,32 @@ COLORS = {
 }
 
 
-DRIFT_WORDS = {"energy theorem": "écart au théorème de l'énergie cinétique"}
+DRIFT_WORDS = {
+    "energy theorem": "écart au théorème de l'énergie cinétique",
+    "kinetic-energy theorem, integrated": "écart au théorème de l'énergie cinétique intégré",
+    "T and |σ_G|": "dérive de T et de |σG|",
+}
 """What the drift measures, for the invariants a scene names in words (the others are
 symbols: "dérive de T + V")."""
 
 
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
 def decimal(value: float) -> str:
-    """``value`` with 3 significant digits and a decimal comma ("0,001", "2,5")."""
-    return f"{value:.3g}".replace(".", ",").replace("-", "−")
+    """``value`` with 3 significant digits and a decimal comma ("0,001", "2,5"), powers of
+    ten as a reader writes them ("2×10⁻⁷", never "2e-07")."""
+    text = f"{value:.3g}"
+    if "e" in text:
+        mantissa, power = text.split("e")
+        text = f"{mantissa}×10{str(int(power)).translate(_SUPERSCRIPT)}"
+        text = text.removeprefix("1×")
+    return text.replace(".", ",").replace("-", "−")
+
+
+def integrator_words(name: str) -> str:
+    """An integrator in words ("Runge-Kutta 4"), an unknown one as it is."""
+    return INTEGRATOR_WORDS.get(name, name)
 
 
 def duration(seconds: float) -> str:
@@ -101,12 +120,14 @@ def new_figure(width: float, height: float) -> Figure:
 
 def draw(res: SceneResult, live: Run | None = None, *, compact: bool = False) -> Figure:
     """Error of the key quantity vs CPU cost: one curve per integrator (small to large
-    timestep), the Pareto front as a thick grey band, the default as a star, and the
-    live setting of a web session as a black diamond. Returns the matplotlib figure
-    (drawn under :data:`LOCK`; hold it too to save or render the figure).
+    timestep), the Pareto front as a thick grey band, the benchmark's default as a star,
+    and ``live`` (a web session's setting) as a black diamond. Returns the matplotlib
+    figure (drawn under :data:`LOCK`; hold it too to save or render the figure).
 
-    ``compact``: a smaller figure (5 x 4.4 in) whose words stay readable once the web
-    page shrinks it to its panel: no scene title (the panel says it), the legend below."""
+    ``compact``: the web panel's chart (4.2 x 5 in at 100 dpi, shown about 390 px wide:
+    every text at least 12 px there), without the star and the diamond, which the panel
+    puts where the settings in force are (:data:`STAR`, :data:`DIAMOND`); their legend entries
+    name their roles, the panel's table the settings."""
     with LOCK:
         return _draw(res, live, compact=compact)
 
@@ -124,8 +145,14 @@ def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
     return Comma(labelOnlyBase=label_only_base)
 
 
+STAR = "réglage par défaut"
+DIAMOND = "votre réglage"
+"""The compact chart's legend entries for the marks the web panel draws itself."""
+
+
 def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figure:
-    fig = new_figure(5.0, 4.4) if compact else new_figure(8, 5.4)
+    fig = new_figure(4.2, 5.0) if compact else new_figure(8, 5.4)
+    size = 10 if compact else 8  # points: 13 px at 100 dpi, the web chart's
     ax = fig.add_subplot()
     floor = 1e-16
     by_integrator: dict[str, list[Run]] = {}
@@ -141,7 +168,7 @@ def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figur
             [max(r.error, floor) for r in ok],
             "-",
             color=color,
-            label=name,
+            label=integrator_words(name),
             linewidth=1.4,
         )
         for r in ok:
@@ -163,61 +190,80 @@ def _draw(res: SceneResult, live: Run | None, *, compact: bool = False) -> Figur
             color="grey",
             linewidth=6,
             alpha=0.3,
-            label="front de Pareto (les meilleurs compromis)",
+            label="front de Pareto" if compact else "front de Pareto (les meilleurs compromis)",
             zorder=0,
         )
+    star = {"color": "gold", "markeredgecolor": "black", "markersize": 14 if compact else 16}
     default = res.default
-    if default is not None and _ok(default):
+    if compact:  # legend entries only: the panel draws the marks where they belong
+        ax.plot([], [], "*", label=STAR, **star)  # type: ignore[arg-type]
+        ax.plot([], [], "D", color="black", markersize=8, label=DIAMOND)
+    elif default is not None and _ok(default):
         ax.plot(
             [default.cpu_per_sim_s],
             [max(default.error, floor)],
             "*",
-            color="gold",
-            markeredgecolor="black",
-            markersize=16,
-            label=f"réglage par défaut ({default.integrator}, dt = {duration(default.timestep)})",
+            label=f"réglage par défaut ({setting_words(default)})",
+            **star,  # type: ignore[arg-type]
         )
-    if live is not None and _ok(live) and math.isfinite(live.cpu_per_sim_s):
+    if not compact and live is not None and _ok(live) and math.isfinite(live.cpu_per_sim_s):
         ax.plot(
             [live.cpu_per_sim_s],
             [max(live.error, floor)],
             "D",
             color="black",
             markersize=10,
-            label=f"réglage actuel ({live.integrator}, dt = {duration(live.timestep)})",
+            label=f"réglage actuel ({setting_words(live)})",
         )
     title, key, invariant = words(res)
     diverged = sum(r.diverged for r in res.runs)
-    if any(_ok(r) and not res.admissible(r) for r in res.runs):
+    if not compact and any(_ok(r) and not res.admissible(r) for r in res.runs):
         ax.text(
             0.01,
             0.01,
             f"cercle vide : {invariant} au-delà de {decimal(res.drift_tol)} "
             "(réglage non admissible)",
             transform=ax.transAxes,
-            fontsize=8,
+            fontsize=size,
         )
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("Coût CPU par seconde simulée [s]")
-    ax.set_ylabel(
-        f"Erreur relative sur {key}\n(par rapport au cours)"
+    ax.set_xlabel("Coût CPU par seconde simulée [s]", fontsize=size)
+    ax.set_ylabel(  # the panel's text names the key quantity: a long one would not fit
+        "Erreur relative\n(par rapport au cours)"
         if compact
-        else f"Erreur relative sur {key} (par rapport au cours)"
+        else f"Erreur relative sur {key} (par rapport au cours)",
+        fontsize=size,
     )
-    heading = "Ce que coûte la précision" if compact else f"Ce que coûte la précision\n{title}"
-    if diverged:
-        heading += f" ({diverged} calculs divergents non montrés)"
-    ax.set_title(heading, fontsize=11)
+    ax.tick_params(labelsize=size)
+    if not compact:
+        heading = f"Ce que coûte la précision\n{title}"
+        if diverged:
+            heading += f" ({diverged} calculs divergents non montrés)"
+        ax.set_title(heading, fontsize=11)
     ax.axhline(5e-3, color="green", linestyle=":", linewidth=1)
-    ax.text(ax.get_xlim()[0], 5e-3, " 0,5 %", color="green", va="bottom", fontsize=8)
+    ax.text(ax.get_xlim()[1], 5e-3, "0,5 % ", color="green", va="bottom", ha="right", fontsize=size)
     for axis in (ax.xaxis, ax.yaxis):  # 10⁻³ needs no comma; a plain 0.5 would
         axis.set_major_formatter(comma_log_formatter())
         axis.set_minor_formatter(comma_log_formatter(label_only_base=True))
     ax.grid(True, which="both", alpha=0.3)
-    if compact:
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
+    if compact:  # below the chart, as wide as the figure: every word inside the image
+        fig.subplots_adjust(left=0.22, right=0.96, top=0.96, bottom=0.35)
+        fig.legend(
+            loc="lower center",
+            ncol=2,
+            fontsize=size,
+            frameon=False,
+            handlelength=1.4,
+            columnspacing=0.8,
+            borderaxespad=0.2,
+        )
     else:
         ax.legend(fontsize=8)
-    fig.tight_layout()
+        fig.tight_layout()
     return fig
+
+
+def setting_words(run: Run) -> str:
+    """A run's setting in words: "Runge-Kutta 4, dt = 1 ms"."""
+    return f"{integrator_words(run.integrator)}, dt = {duration(run.timestep)}"

@@ -10,7 +10,8 @@ one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
 2. physics:   ``sandbox/physics/`` (MuJoCo: models, stepping, readouts)
 3. scenes:    ``sandbox/scenes/`` (the registry and the scene specs)
 4. runner:    ``sandbox/runner.py`` (the sampling loop of cli and bench)
-5. tools:     ``recording.py``, ``bench.py``, ``bench_plot.py``, ``classroom.py`` and
+5. tools:     ``recording.py``, ``bench.py``, ``bench_plot.py``, ``accuracy.py`` (a
+               setting on the scene's reference test), ``classroom.py`` and
                ``classroom_suite.py`` (the classroom load benchmark), ``lessons.py``,
                ``replay.py``
 6. web:       ``sandbox/web/`` (viser)
@@ -43,6 +44,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         "tools",
         (
             "sandbox.recording",
+            "sandbox.accuracy",
             "sandbox.bench",
             "sandbox.bench_plot",
             "sandbox.classroom",

@@ -34,6 +34,15 @@ INTEGRATORS: dict[str, int] = {
 }
 """Integrator names accepted by ``--integrator`` and the web app."""
 
+INTEGRATOR_WORDS: dict[str, str] = {
+    "euler": "Euler semi-implicite",
+    "implicit": "Implicite",
+    "implicitfast": "Implicite rapide",
+    "rk4": "Runge-Kutta 4",
+    "discrete": "Discret",
+}
+"""The integrators in words, as the web page and its charts name them."""
+
 
 def integrator_name(model: mujoco.MjModel) -> str:
     """Name of the integrator the model uses."""
@@ -83,6 +92,8 @@ class SceneSpec(Protocol):
     def initial_state(self) -> Callable[..., None] | None: ...  # (model, data, values)
     @property
     def reference(self) -> Callable[[Mapping[str, float]], dict[str, float]] | None: ...
+    @property
+    def mechanism(self) -> Callable[[Any, dict[str, float]], None] | None: ...  # (snap, out)
     def defaults(self) -> dict[str, float]: ...
     def param(self, name: str) -> Any: ...  # has check(value) -> float and live
     def default_timestep(

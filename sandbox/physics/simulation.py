@@ -25,6 +25,9 @@ from sandbox.physics.model import (
 from sandbox.physics.readouts import ReadoutInfo
 from sandbox.physics.snapshot import Snapshot
 
+ENERGIES = frozenset({"T", "P_ext", "P_int", "P_acc"})
+"""Generic readouts a scene's ``mechanism`` may correct."""
+
 SETTLE_STEPS = 50
 """Steps at the fine timestep before a state-dependent default may grow again (ten of
 the compressor's closure time constants)."""
@@ -104,6 +107,12 @@ class Simulation:
     def timestep(self) -> float:
         """Current timestep [s]."""
         return float(self.model.opt.timestep)
+
+    @property
+    def timestep_chosen(self) -> bool:
+        """True once a timestep was asked for (constructor or :meth:`set_timestep`); False
+        while the scene's default for the parameters is in force."""
+        return self._timestep is not None
 
     # -- state --------------------------------------------------------------------------
     def reset(self) -> None:
@@ -380,6 +389,9 @@ class Simulation:
             out = generic.compute(
                 self.model, snap.data, [n for n in wanted if n not in scene_fns], snap.cache
             )
+            mechanism = getattr(self.scene, "mechanism", None)
+            if mechanism is not None and not ENERGIES.isdisjoint(out):
+                mechanism(snap, out)
             for name in wanted:
                 if name in scene_fns:
                     out[name] = float(scene_fns[name](snap))

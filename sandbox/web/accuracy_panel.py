@@ -1,44 +1,49 @@
-"""Folder "Précision et coût": live cost, error against the course, invariant drift, and
-where the current integrator and timestep sit on the scene's work-precision chart."""
+"""Folder "Précision et coût": what this session costs, and where the setting in force
+and the scene's default sit on the scene's work-precision chart, with their error against
+the course and their drift measured on the scene's reference test
+(:mod:`sandbox.accuracy`: the benchmark's own numbers, never a live estimate)."""
 
 from __future__ import annotations
 
 import logging
 import math
 import threading
-from collections import deque
-from collections.abc import Mapping
 from concurrent.futures import Future
 
 import numpy as np
 import viser
+from matplotlib.path import Path as Outline
 
+from sandbox import accuracy
+from sandbox.accuracy import Setting
 from sandbox.bench import Run, SceneResult, load_results
-from sandbox.bench_plot import drift_words
+from sandbox.bench_plot import drift_words, duration, integrator_words
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import as_scene
+from sandbox.physics.units import display_unit
+from sandbox.scenes.base import Scene, as_scene
 from sandbox.web import charts
-from sandbox.web.tables import cell, fmt, integrator_words
-from sandbox.web.text import html_text
+from sandbox.web.tables import cell, fmt
+from sandbox.web.tables import integrator_words as integrator_and_name
+from sandbox.web.text import html_text, number, table_row, with_unit
 
 log = logging.getLogger(__name__)
 
-CHART_PERIOD = 30.0
-"""Seconds between two redraws of the chart while the setting stays the same (a redraw
-costs the session loop a few tenths of a second; a new integrator or dt redraws at once)."""
+SETTLE = 1.0
+"""Seconds a setting must stay in force before it is measured on the reference test (a
+timestep typed digit by digit is measured once, at its last digit)."""
 
-WINDOW = 300
-"""Samples kept for the live error and drift (30 s at the panel rate)."""
-
+ROUND_OFF = 1e-12
+"""A relative error or drift at most this is the arithmetic's own: written as a bound
+("< 10⁻¹²"), never as a number that looks measured."""
 
 _BASES: dict[tuple[str, int], tuple[np.ndarray, tuple[float, ...]]] = {}
 _BASES_LOCK = threading.Lock()
 CHART_DPI = 100
-"""Pixels per inch of the web chart (5 x 4.4 in: 500 x 440 px, shown about 390 px wide)."""
+"""Pixels per inch of the web chart (4.2 x 5 in: 420 x 500 px, shown about 390 px wide)."""
 
 
 def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
-    """The scene's chart without the live point, drawn once per process, and the map
+    """The scene's chart without its two marks, drawn once per process, and the map
     from (log10 cost, log10 error) to pixels: ``(ax, bx, ay, by, x0, x1, y0, y1)``."""
     with charts.LOCK, _BASES_LOCK:  # this order only: charts.submit holds LOCK first
         key = (res.scene, len(res.runs))  # every session loads its own copy
@@ -74,27 +79,86 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
         return image, mapping
 
 
-def chart_image(res: SceneResult, live: Run | None) -> np.ndarray:
-    """The work-precision chart as an RGB array, with the live point (a black diamond)
-    when its cost and error are known: the base is drawn once, the point in numpy."""
-    base, (ax, bx, ay, by, x0, x1, y0, y1) = chart_base(res)
+def _star(radius: float) -> Outline:
+    """A five-pointed star of outer ``radius`` [px] around (0, 0), a point upwards."""
+    angles = np.pi / 2 + np.arange(10) * np.pi / 5
+    radii = np.where(np.arange(10) % 2 == 0, radius, 0.42 * radius)
+    return Outline(np.column_stack([radii * np.cos(angles), -radii * np.sin(angles)]))
+
+
+def _place(run: Run | None, mapping: tuple[float, ...]) -> tuple[float, float] | None:
+    """Pixel of ``run``'s (cost, error) on the chart, on its edge when off it."""
+    if run is None or run.diverged:
+        return None
+    cost, error = run.cpu_per_sim_s, run.error
+    if not (math.isfinite(cost) and cost > 0 and math.isfinite(error)):
+        return None
+    ax, bx, ay, by, x0, x1, y0, y1 = mapping
+    px = ax + bx * math.log10(cost)
+    py = ay + by * math.log10(max(error, 1e-16))
+    return min(max(px, x0), x1), min(max(py, y0), y1)
+
+
+def chart_image(res: SceneResult, mine: Run | None, default: Run | None = None) -> np.ndarray:
+    """The work-precision chart as an RGB array with the scene's default (a gold star)
+    and the setting in force (a black diamond, drawn over the star: when they are the
+    same setting the diamond sits in the star's middle) where their runs on the reference
+    test put them; the base is drawn once, the marks in numpy."""
+    base, mapping = chart_base(res)
     image = base.copy()
-    if live is None or not (live.cpu_per_sim_s > 0 and live.error > 0):
-        return image
-    if not (math.isfinite(live.cpu_per_sim_s) and math.isfinite(live.error)):
-        return image
-    px = ax + bx * math.log10(live.cpu_per_sim_s)
-    py = ay + by * math.log10(max(live.error, 1e-16))
-    px, py = min(max(px, x0), x1), min(max(py, y0), y1)  # off the chart: on its edge
-    size = 7
-    rows, cols = np.ogrid[: image.shape[0], : image.shape[1]]
-    diamond = np.abs(rows - py) + np.abs(cols - px) <= size
-    image[diamond] = 0
+    rows, cols = np.mgrid[: image.shape[0], : image.shape[1]]
+    star_at = _place(default, mapping)
+    if star_at is not None:
+        x, y = star_at
+        pixels = np.column_stack([cols.ravel() - x, rows.ravel() - y])
+        for radius, colour in ((12.0, (0, 0, 0)), (10.0, (255, 215, 0))):
+            inside = _star(radius).contains_points(pixels).reshape(image.shape[:2])
+            image[inside] = colour
+    diamond_at = _place(mine, mapping)
+    if diamond_at is not None:
+        x, y = diamond_at
+        image[np.abs(rows - y) + np.abs(cols - x) <= 6] = 0
     return image
 
 
+def relative(value: float) -> str:
+    """A relative error or drift as the panel writes it: two digits, a bound at or below
+    :data:`ROUND_OFF`, "—" when unknown."""
+    if not math.isfinite(value):
+        return "—"
+    if value <= ROUND_OFF:
+        return "< 10⁻¹²"
+    return number(value, 2)
+
+
+def conditions(scene: Scene) -> str:
+    """The reference test in French: its parameter values and the time simulated, e.g.
+    "Vitesse du vilebrequin ω = 17 000 tr/min ; 0,04 s simulée depuis le lancement"."""
+    acc = scene.accuracy
+    if acc is None:
+        return ""
+    parts = []
+    for name, value in acc.values.items():
+        param = next((p for p in scene.params if p.name == name), None)
+        if param is None:
+            continue
+        words = param.label or name
+        if param.choices and 0 <= int(value) < len(param.choices):
+            parts.append(f"{words} : {param.choices[int(value)].lower()}")
+        else:
+            parts.append(f"{words} = {with_unit(number(value), display_unit(param.unit))}")
+    plural = "s" if acc.duration >= 2 else ""
+    parts.append(f"{with_unit(number(acc.duration), 's')} simulée{plural} depuis le lancement")
+    return " ; ".join(parts)
+
+
 class AccuracyPanel:
-    """Live accuracy and cost of one session.
+    """What accuracy costs in one session.
+
+    The table gives this session's CPU cost (measured here) and, for the setting in force
+    and the scene's default for the parameters, their error and drift on the scene's
+    reference test; the chart puts both on the benchmark's grid (star: default, diamond:
+    in force; the same point when they are the same setting).
 
     Args:
         gui: A viser ``GuiApi``.
@@ -103,70 +167,82 @@ class AccuracyPanel:
 
     def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
         scene = as_scene(sim.scene)
-        self.acc = scene.accuracy if scene is not None else None
+        self.scene = scene if scene is not None and scene.accuracy is not None else None
         self.results = load_results(scene.name) if scene is not None else None
-        self.samples: deque[dict[str, float]] = deque(maxlen=WINDOW)
-        self._key: tuple | None = None
-        self._chart_at = -math.inf
+        self._since: tuple[Setting, float] | None = None
+        self._waiting: dict[Setting, Future[Run]] = {}
         self._charted: tuple | None = None
         self._drawing: Future[np.ndarray] | None = None
-        self.key_words = self.invariant_words = ""
-        if self.acc is not None:
+        self.key_words = self.invariant_words = self.test_words = ""
+        if self.scene is not None and self.scene.accuracy is not None:
+            acc = self.scene.accuracy
             labels = {i.name: i.label for i in sim.readout_infos()}
-            self.key_words = labels.get(self.acc.key) or self.acc.key
-            self.invariant_words = drift_words(self.acc.invariant)
+            key = labels.get(acc.key) or acc.key
+            self.key_words = key[0].lower() + key[1:] if key[1:2].islower() else key
+            self.invariant_words = drift_words(acc.invariant)
+            self.test_words = conditions(self.scene)
         with gui.add_folder("Précision et coût") as self.folder:
             self.text = gui.add_markdown("")
             self.image = None
-            if self.results is not None:
+            if self.results is not None and self.scene is not None:
                 blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
                 self.image = gui.add_image(blank, label="Erreur relative et coût CPU", format="png")
 
-    def names(self) -> tuple[str, ...]:
-        """Readouts the live error and drift need (sampled whether shown or not)."""
-        return ("time", *self.acc.readouts) if self.acc is not None else ()
-
-    def _settings(self, sim: Simulation, generation: int) -> tuple:
-        return (sim.integrator, sim.timestep, tuple(sorted(sim.values.items())), generation)
-
-    def sample(self, sim: Simulation, values: Mapping[str, float], generation: int) -> None:
-        """Add the readouts shown now; a new setting starts a new series."""
-        key = self._settings(sim, generation)
-        if key != self._key:
-            self._key = key
-            self.samples.clear()
-        if self.acc is not None:
-            self.samples.append({n: values[n] for n in ("time", *self.acc.readouts) if n in values})
-
-    def measures(self, sim: Simulation) -> tuple[float, float]:
-        """Error of the key quantity and drift of the invariant over the samples kept."""
-        if self.acc is None or len(self.samples) < 3:
-            return math.nan, math.nan
-        names = self.samples[0].keys()
-        series = {n: np.array([s[n] for s in self.samples]) for n in names}
-        try:
-            return float(self.acc.error(series, sim.values)), float(
-                self.acc.drift(series, sim.values)
-            )
-        except (KeyError, ValueError, ZeroDivisionError, FloatingPointError):
-            return math.nan, math.nan
+    def run(self, setting: Setting, now: float, *, at_once: bool = False) -> Run | None:
+        """``setting``'s run on the reference test: saved by the benchmark, measured by
+        this process, or None while it is being measured (asked for once the setting has
+        been in force :data:`SETTLE` seconds, or ``at_once``)."""
+        if self.scene is None:
+            return None
+        found = accuracy.saved(self.results, setting) or accuracy.measured(self.scene, setting)
+        if found is not None:
+            self._waiting.pop(setting, None)
+            return found
+        waiting = self._waiting.get(setting)
+        if waiting is not None:
+            if not waiting.done():
+                return None
+            del self._waiting[setting]
+            try:
+                return waiting.result()
+            except Exception:  # a measurement is a bonus: the table says it is missing
+                log.exception("measuring %s on the reference test failed", setting)
+                return None
+        if not at_once:
+            if self._since is None or not self._since[0].same(setting):
+                self._since = (setting, now)
+            if now - self._since[1] < SETTLE:
+                return None
+        self._waiting[setting] = accuracy.submit(self.scene, setting)
+        return None
 
     def refresh(self, sim: Simulation, cost: float, now: float) -> None:
-        """Rewrite the table; redraw the chart now and then."""
-        error, drift = self.measures(sim)
+        """Rewrite the table; redraw the chart when a mark moves."""
+        mine = accuracy.in_force(sim)
+        default = accuracy.default(sim)
+        same = default is not None and default.same(mine)
+        mine_run = self.run(mine, now, at_once=same) if self.scene is not None else None
+        default_run = None
+        if default is not None and self.scene is not None:
+            default_run = mine_run if same else self.run(default, now, at_once=True)
         text = accuracy_markdown(
-            sim.integrator,
-            sim.timestep,
+            mine,
             cost,
-            error=error if self.acc is not None else None,
-            drift=drift if self.acc is not None else None,
+            default=default if self.scene is not None else None,
+            mine_run=mine_run,
+            default_run=default_run,
             key=self.key_words,
             invariant=self.invariant_words,
+            test=self.test_words,
+            result=self.results,
             chart=self.image is not None,
         )
         if self.text.content != text:
             self.text.content = text
-        if self.image is None:
+        self._chart(mine_run, default_run)
+
+    def _chart(self, mine: Run | None, default: Run | None) -> None:
+        if self.image is None or self.results is None:
             return
         if self._drawing is not None and self._drawing.done():
             drawing, self._drawing = self._drawing, None
@@ -174,68 +250,111 @@ class AccuracyPanel:
                 self.image.image = drawing.result()
             except Exception:  # a chart is a bonus: the table stays
                 log.exception("work-precision chart failed")
-        if self._drawing is not None or not math.isfinite(cost) or self.results is None:
+        if self._drawing is not None:
             return
-        point = (sim.integrator, sim.timestep, _round(cost), _round(error))
-        changed = self._charted is None or point[:2] != self._charted[:2]
-        if point != self._charted and (changed or now - self._chart_at >= CHART_PERIOD):
-            self._chart_at, self._charted = now, point
-            live = Run(
-                sim.label, sim.integrator, sim.timestep, 0.0, error=error, cpu_per_sim_s=cost
-            )
+        marks = (_mark(mine), _mark(default))
+        if marks != self._charted:
+            self._charted = marks
             # Drawn by the chart thread: the frames of every session go on meanwhile.
-            self._drawing = charts.submit(chart_image, self.results, live)
+            self._drawing = charts.submit(chart_image, self.results, mine, default)
+
+
+def _mark(run: Run | None) -> tuple | None:
+    if run is None:
+        return None
+    return (run.integrator, run.timestep, run.cpu_per_sim_s, run.error, run.diverged)
+
+
+def _setting_cell(setting: Setting) -> str:
+    return html_text(f"{integrator_words(setting.integrator)}, dt = {duration(setting.timestep)}")
+
+
+def _measured(run: Run | None, what: str) -> str:
+    """One measured cell: the value, "mesure en cours…", or why there is none."""
+    if run is None:
+        return "mesure en cours…"
+    if run.diverged:
+        return "diverge"
+    if what == "error":
+        return relative(run.error)
+    if what == "drift":
+        return relative(run.drift)
+    return with_unit(fmt(run.cpu_per_sim_s, digits=2), "s")
 
 
 def accuracy_markdown(
-    integrator: str,
-    timestep: float,
+    setting: Setting,
     cost: float,
     *,
-    error: float | None = None,
-    drift: float | None = None,
+    default: Setting | None = None,
+    mine_run: Run | None = None,
+    default_run: Run | None = None,
     key: str = "",
     invariant: str = "",
+    test: str = "",
+    result: SceneResult | None = None,
     chart: bool = False,
 ) -> str:
-    """The live table of "Précision et coût", in French with decimal commas.
+    """The table of "Précision et coût", in French with decimal commas.
 
     Args:
-        integrator: Contract name of the integrator (shown with its words).
-        timestep: Timestep [s].
-        cost: CPU seconds per simulated second.
-        error: Relative error of the key quantity against the course (None: no course).
-        drift: Relative drift of the invariant (None: no course).
+        setting: The integrator and timestep in force.
+        cost: This session's CPU seconds per simulated second.
+        default: The scene's default setting for the parameters (None: no reference
+            test, only the cost is shown).
+        mine_run, default_run: Their runs on the reference test (None: being measured).
         key: The key quantity in words (its label).
         invariant: What the drift measures (:func:`~sandbox.bench_plot.drift_words`).
-        chart: Add the sentence that explains the chart's marks.
+        test: The reference test in words (:func:`conditions`).
+        result: The saved benchmark (for the chart's legend notes).
+        chart: Add the sentences that explain the chart.
     """
     rtf = 1.0 / cost if cost > 0 else math.nan
     factor = fmt(round(rtf)) if rtf >= 10 else fmt(rtf, digits=2)
     lines = [
-        "| | |",
+        "| Cette session | |",
         "|:--|--:|",
-        f"| Intégrateur | {html_text(integrator_words(integrator))} |",
-        f"| Pas de temps dt | {fmt(timestep * 1e3)} ms |",
-        f"| Coût CPU par seconde simulée | {fmt(cost, digits=3)} s |",
-        f"| Facteur temps réel possible | ×{factor} |",
+        table_row("Intégrateur", html_text(integrator_and_name(setting.integrator))),
+        table_row("Pas de temps dt", html_text(duration(setting.timestep))),
+        table_row("Coût CPU par seconde simulée", f"{fmt(cost, digits=3)} s"),
+        table_row("Facteur temps réel possible", f"×{factor}"),
     ]
-    if error is not None:
-        lines.append(f"| Erreur relative sur {cell(key)} (cours) | {fmt(error, digits=2)} |")
-    if drift is not None:
-        what = cell(invariant[:1].upper() + invariant[1:])
-        lines.append(f"| {what} (relatif) | {fmt(drift, digits=2)} |")
+    if default is None:
+        return "\n".join(lines)
+    same = default.same(setting)
+    drift_label = cell(invariant[:1].upper() + invariant[1:]) + " (relatif)"
+    lines += [
+        "",
+        f"**Essai de référence** ({cell(test)}) : erreur relative sur {cell(key)} par "
+        "rapport au cours, et " + cell(invariant) + ".",
+        "",
+    ]
+    if same:
+        runs = [("◆ ★ Votre réglage, celui par défaut", setting, mine_run)]
+    else:
+        runs = [("◆ Votre réglage", setting, mine_run), ("★ Par défaut", default, default_run)]
+    lines += [
+        table_row("", *(title for title, _, _ in runs)),
+        "|:--|" + "--:|" * len(runs),
+        table_row("Réglage", *(_setting_cell(s) for _, s, _ in runs)),
+        table_row("Erreur relative", *(_measured(r, "error") for _, _, r in runs)),
+        table_row(drift_label, *(_measured(r, "drift") for _, _, r in runs)),
+        table_row("Coût CPU du calcul seul [s/s]", *(_measured(r, "cost") for _, _, r in runs)),
+    ]
     text = "\n".join(lines)
     if chart:
         text += (
-            "\n\nSur le graphique, l'étoile marque le réglage par défaut de la scène et le "
-            "losange noir votre réglage actuel (mesuré ici)."
+            "\n\nSur le graphique : une courbe par intégrateur, du plus petit pas (à droite, "
+            "le plus cher) au plus grand ; la bande grise relie les meilleurs compromis. "
+            "L'étoile marque le réglage par défaut, le losange le vôtre (au milieu de "
+            "l'étoile quand c'est le même)."
         )
+        if result is not None and any(
+            not r.diverged and math.isfinite(r.error) and not result.admissible(r)
+            for r in result.runs
+        ):
+            text += (
+                f" Un cercle vide est un réglage non admissible : {cell(invariant)} au-delà "
+                f"de {relative(result.drift_tol)}."
+            )
     return text
-
-
-def _round(x: float) -> float:
-    """Two significant digits (the chart is redrawn only when the point really moved)."""
-    if not math.isfinite(x) or x == 0:
-        return x
-    return float(f"{x:.2g}")

@@ -20,6 +20,7 @@ from typing import Any
 
 import viser
 
+from sandbox.physics.model import INTEGRATOR_WORDS
 from sandbox.scenes.base import Param
 from sandbox.web.text import number
 
@@ -30,13 +31,7 @@ GRACE = 0.4
 """Seconds a control the user just changed may differ from the value in force (their
 request is on its way to the simulation loop)."""
 
-INTEGRATOR_LABELS = {
-    "euler": "Euler semi-implicite",
-    "implicit": "Implicite",
-    "implicitfast": "Implicite rapide",
-    "rk4": "Runge-Kutta 4",
-    "discrete": "Discret",
-}
+INTEGRATOR_LABELS = INTEGRATOR_WORDS
 """The integrators in words (the dropdown sends back the contract name)."""
 
 

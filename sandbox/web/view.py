@@ -301,8 +301,8 @@ class WebView(Generic[D]):
             self._marks.append(marks[0])
 
     def wants(self, now: float) -> Collection[str] | None:
-        """Readouts this tick needs: those of the shown folder, the plots, the live
-        accuracy and an open lesson, at :data:`PANEL_RATE`; None between refreshes."""
+        """Readouts this tick needs: those of the shown folder, the plots and an open
+        lesson, at :data:`PANEL_RATE`; None between refreshes."""
         if self._pending_folder is not None:
             self._apply_folder()
         if now - self._last_panel < 1.0 / PANEL_RATE:
@@ -311,7 +311,7 @@ class WebView(Generic[D]):
             return EVERY  # the lesson's checks may use any readout
         if self.shown == ALL_FOLDERS:
             return EVERY
-        names = {"time", *self.readouts.plot_names(), *self.accuracy.names()}
+        names = {"time", *self.readouts.plot_names()}
         names.update(self.projector.names)
         names.update(self.readouts.names(self.shown))
         return names
@@ -371,10 +371,8 @@ class WebView(Generic[D]):
         if self._showing(ISOLATE_FOLDER):
             self.isolate.refresh(sim)
         cost = getattr(controller, "cost", None)
-        if cost is not None:
-            self.accuracy.sample(sim, values, frame.generation)
-            if self._showing(ACCURACY_FOLDER):
-                self.accuracy.refresh(sim, cost, now)
+        if cost is not None and self._showing(ACCURACY_FOLDER):
+            self.accuracy.refresh(sim, cost, now)
         if self.arrows is not None:
             self.arrows.relabel()
 

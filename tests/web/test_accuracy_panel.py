@@ -1,12 +1,16 @@
-"""Live accuracy panel: shipped benchmark, live error and drift, chart with the live point."""
+"""« Précision et coût »: the session's cost, the reference test's error and drift for the
+setting in force and the default, the chart with their two marks."""
 
 from __future__ import annotations
 
+import html
 import math
 
+from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
 from sandbox.web.accuracy_panel import AccuracyPanel, chart_image, load_results
+from sandbox.web.text import number
 
 
 class Handle:
@@ -36,32 +40,106 @@ def test_shipped_benchmark_has_the_rotor_default_on_its_front():
     assert load_results("no_such_scene") is None
 
 
-def test_chart_image_is_rgb_with_the_live_point():
+def test_chart_image_is_rgb_with_its_two_marks():
     res = load_results("rotor")
     plain = chart_image(res, None)
     live = Run("rotor", "rk4", 1e-3, 0.0, error=1e-3, cpu_per_sim_s=5e-3)
     marked = chart_image(res, live)
+    starred = chart_image(res, live, res.default)
     assert plain.ndim == 3 and plain.shape[2] == 3 and (plain != marked).any()
 
+    def gold(image):  # the legend's star is gold too: the mark adds to it
+        return int((image == (255, 215, 0)).all(axis=2).sum())
 
-def test_live_error_and_drift_follow_the_simulation():
-    sim = Simulation("rotor", values={"speed_rpm": 3000})
+    assert gold(starred) > gold(marked) + 50
+
+
+def _settle(panel: AccuracyPanel, sim: Simulation, cost: float = 2e-3) -> str:
+    """Refresh until every measurement the panel asked for is in (at most 60 s)."""
+    now = 100.0
+    for _ in range(600):
+        panel.refresh(sim, cost=cost, now=now)
+        if "mesure en cours" not in panel.text.content:
+            return html.unescape(panel.text.content)
+        now += 0.5
+        for future in list(panel._waiting.values()):
+            future.result(timeout=60)
+    raise AssertionError(panel.text.content)
+
+
+def test_the_robot_axis_default_shows_the_error_the_benchmark_measured():
+    """The default (speed servo) is not the reference test's motion (a torque step): the
+    panel shows the torque step's error for its setting, as bench/results.md has it
+    (1,1x10^-7 for RK4 at 1 ms), never an error against a closed form of another motion
+    (it read 2,4 there)."""
+    res = load_results("robot_axis")
+    sim = Simulation("robot_axis")
+    assert sim.values["profile"] != 0 and accuracy.in_force(sim) == accuracy.default(sim)
+    saved = accuracy.saved(res, accuracy.in_force(sim))
+    assert saved is not None and saved.error < 1e-6
     panel = AccuracyPanel(Gui(), sim)
-    for _ in range(10):
-        sim.advance(0.05)
-        panel.sample(sim, sim.readouts(), generation=0)
-    error, drift = panel.measures(sim)
-    assert error < 1e-9 and drift < 1e-9  # a uniform rotation: exact
-    panel.refresh(sim, cost=2e-3, now=100.0)
-    text = panel.text.content
-    assert "×500" in text and "Erreur relative sur Effort du palier A" in text
-    assert "bearing_A" not in text and "Implicite rapide (implicitfast)" in text
-    assert "| Dérive de T (relatif) |" in text  # the symbol, without "(constant speed)"
-    assert "| Coût CPU par seconde simulée | 0,002 s |" in text
-    sim.set_timestep(2e-3)  # a new setting starts a new series
-    panel.sample(sim, sim.readouts(), generation=0)
-    assert len(panel.samples) == 1
-    assert math.isnan(panel.measures(sim)[0])
+    text = _settle(panel, sim)
+    assert "◆ ★ Votre réglage, celui par défaut" in text
+    assert f"| Erreur relative | \u2002{number(saved.error, 2)} |" in text
+    assert "Commande du moteur : couple constant" in text  # the test's conditions in words
+    assert "kinetic" not in text and "integrated" not in text
+    assert "écart au théorème de l'énergie cinétique intégré" in text
+
+
+def test_star_and_diamond_coincide_when_the_setting_is_the_default():
+    """Both marks come from the same run: the same pixel. Another timestep moves only
+    the diamond, to the point the benchmark measured for it."""
+    from sandbox.web.accuracy_panel import _place, chart_base
+
+    res = load_results("rotor")
+    sim = Simulation("rotor")
+    mine, default = accuracy.in_force(sim), accuracy.default(sim)
+    assert default is not None and mine.same(default)
+    mapping = chart_base(res)[1]
+    run = accuracy.saved(res, mine)
+    assert run is not None and run.default
+    panel = AccuracyPanel(Gui(), sim)
+    _settle(panel, sim)
+    assert panel._charted is not None and panel._charted[0] == panel._charted[1]
+    sim.set_timestep(1e-3)  # on the benchmark's grid
+    if panel._drawing is not None:
+        panel._drawing.result(timeout=60)
+    panel.refresh(sim, cost=2e-3, now=200.0)
+    mine_mark, default_mark = panel._charted
+    assert mine_mark != default_mark and mine_mark[1] == 1e-3
+    other = accuracy.saved(res, accuracy.in_force(sim))
+    assert _place(other, mapping) != _place(run, mapping)
+
+
+def test_a_setting_off_the_grid_is_measured_the_way_the_benchmark_does():
+    """dt = 2 ms is not on the rotor's grid: measured once on the reference test after
+    the setting has stayed SETTLE seconds, by bench.run_one, then kept."""
+    from sandbox.bench import run_one
+    from sandbox.scenes import get_scene
+
+    sim = Simulation("rotor")
+    sim.set_timestep(2e-3)
+    panel = AccuracyPanel(Gui(), sim)
+    panel.refresh(sim, cost=2e-3, now=0.0)
+    assert "mesure en cours" in panel.text.content and not panel._waiting  # typing...
+    text = _settle(panel, sim)
+    scene = get_scene("rotor")
+    kept = accuracy.measured(scene, accuracy.in_force(sim))
+    assert kept is not None and not kept.diverged
+    again = run_one("rotor", scene.accuracy, sim.integrator, 2e-3, scene.accuracy.duration)
+    assert math.isclose(kept.error, again.error, rel_tol=1e-9, abs_tol=1e-15)
+    assert "Implicite rapide, dt = 2 ms" in text and "Implicite rapide, dt = 10 ms" in text
+    assert "< 10⁻¹²" in text  # the rotor at constant speed is exact: no round-off shown
+
+
+def test_the_table_reads_the_setting_in_force():
+    """The wheel balancer opens on its rigid bench at 10 ms (its reference test, the soft
+    bench, defaults to 3 ms): the panel names 10 ms, never 3."""
+    sim = Simulation("wheel_balancer")
+    panel = AccuracyPanel(Gui(), sim)
+    text = _settle(panel, sim)
+    assert "Runge-Kutta 4, dt = 10 ms" in text and "3 ms" not in text
+    assert "Montage des paliers : paliers souples" in text
 
 
 def test_a_file_has_cost_but_no_error(pendulum_xml):
@@ -77,7 +155,7 @@ def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
     sim = Simulation("rotor")
     panel = AccuracyPanel(Gui(), sim)
     blank = panel.image.image
-    panel.refresh(sim, cost=2e-3, now=100.0)
+    panel.refresh(sim, cost=2e-3, now=100.0)  # the default: saved by the benchmark
     assert panel._drawing is not None
     panel._drawing.result(timeout=60)
     assert panel.image.image is blank  # not yet picked up: no frame waited for it
@@ -153,8 +231,8 @@ def test_charts_drawn_by_several_threads_at_once_are_all_correct():
 
 
 def test_the_chart_speaks_french_with_decimal_commas():
-    """Title, axes and legend in French (integrator names as they are), timesteps in
-    ms, the 0,5 % line, tick labels without a decimal point, no scene code name."""
+    """Title, axes and legend in French (integrators in words), timesteps in ms, the
+    0,5 % line, tick labels without a decimal point, no code name."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from sandbox.bench_plot import LOCK, draw
@@ -182,10 +260,13 @@ def test_the_chart_speaks_french_with_decimal_commas():
     assert ax.get_title().startswith("Ce que coûte la précision\nCylindre")
     assert ax.get_xlabel() == "Coût CPU par seconde simulée [s]"
     assert ax.get_ylabel().startswith("Erreur relative sur accélération")
-    assert "rk4" in joined and "front de Pareto" in joined
-    assert "réglage par défaut (rk4, dt = 1 ms)" in joined
-    assert "réglage actuel (rk4, dt = 2 ms)" in joined
-    assert " 0,5 %" in joined
+    assert "Runge-Kutta 4" in joined and "front de Pareto" in joined
+    assert "Implicite rapide" in joined and "Euler semi-implicite" in joined
+    assert "réglage par défaut (Runge-Kutta 4, dt = 1 ms)" in joined
+    assert "réglage actuel (Runge-Kutta 4, dt = 2 ms)" in joined
+    for code in ("rk4", "implicitfast", "euler", "discrete"):
+        assert code not in joined
+    assert "0,5 % " in joined
     assert "rolling_cylinder" not in joined and "cost" not in joined and "error" not in joined
     assert ticks and not any("." in t for t in ticks), ticks
 
@@ -198,3 +279,44 @@ def test_drift_words():
     assert drift_words("energy theorem (|P_int| / peak P_ext)") == (
         "écart au théorème de l'énergie cinétique"
     )
+    assert drift_words("T and |σ_G| (torque-free motion)") == "dérive de T et de |σG|"
+    robot = "kinetic-energy theorem, integrated (|ΔE_c − ∫ΣP dt| / max E_c)"
+    assert drift_words(robot) == "écart au théorème de l'énergie cinétique intégré"
+
+
+def test_the_web_chart_is_readable_at_panel_size():
+    """Every text of the panel's chart is at least 12 px once the page shows the image
+    390 px wide (the control panel's width), and nothing is clipped: the image's outer
+    frame is blank (a word cut by the edge would mark it)."""
+    import numpy as np
+
+    from sandbox.bench_plot import LOCK, draw
+    from sandbox.web.accuracy_panel import CHART_DPI, chart_base
+
+    shown_width = 390.0
+    for scene in ("rotor", "robot_axis", "wheel_balancer", "inertia", "compressor"):
+        res = load_results(scene)
+        with LOCK:
+            fig = draw(res, None, compact=True)
+            fig.set_dpi(CHART_DPI)
+            fig.canvas.draw()
+            scale = shown_width / fig.bbox.width
+            texts = [
+                t
+                for t in fig.findobj(lambda a: hasattr(a, "get_fontsize"))
+                if getattr(t, "get_text", lambda: "")() and t.get_visible()
+            ]
+            assert len(texts) > 10
+            for t in texts:
+                px = t.get_fontsize() * CHART_DPI / 72.0 * scale
+                assert px >= 12.0, (scene, t.get_text(), px)
+        image = chart_base(res)[0]
+        frame = np.concatenate(
+            [
+                image[:3].reshape(-1, 3),
+                image[-3:].reshape(-1, 3),
+                image[:, :3].reshape(-1, 3),
+                image[:, -3:].reshape(-1, 3),
+            ]
+        )
+        assert (frame == 255).all(), scene
