@@ -319,6 +319,12 @@ class Scene:
             timestep; every other scene in one batched ``mj_step(model, data, nstep)``.
         initial_state: Sets a consistent initial qpos/qvel after reset.
         reference: Closed-form values of some readouts from the course.
+        mechanism: Turns the generic energy readouts the simulation computed (``T``,
+            ``P_ext``, ``P_int``, ``P_acc``: those present in the dict it is given, changed
+            in place) into the mechanism's, where the model stands in for it another way
+            (the robot axis simulates its reducer's efficiency by scaling the motor's side:
+            its true T does not depend on the efficiency, its P_int has the loss). Called
+            with the snapshot the values were read from. None: the model is the mechanism.
         integrator: Default integrator name.
         timestep: Default timestep [s] (at the default parameters when ``timestep_for``
             is given).
@@ -366,6 +372,7 @@ class Scene:
     control: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     initial_state: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     reference: Callable[[Values], dict[str, float]] | None = None
+    mechanism: Callable[[Snapshot, dict[str, float]], None] | None = None
     integrator: str = "rk4"
     timestep: float = 1e-3
     timestep_for: Callable[[Values, mujoco.MjData | None], float] | None = None

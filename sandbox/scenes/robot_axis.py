@@ -21,8 +21,12 @@ motor always feeding the load: C_m − (J_m + J_r) ω̇_m − f_v ω_m = C_s / �
 pushed by ρ C_m with ρ (J_m + J_r) and ρ f_v upstream (see
 :func:`sandbox.mechanics.robot_axis.chain_mass`). When the load drives the motor back
 (braking, a lowered set point) the course's ρ no longer applies this way: C_m_ref, which
-switches to the braking formula, then shows the gap. With eta < 1 the generic T and P_ext
-are those of the simulated chain (ρ (J_m + J_r), ρ C_m); E_c and P_motor are the course's.
+switches to the braking formula, then shows the gap. The generic T, P_ext, P_int and
+P_acc are the mechanism's, not the simulated chain's (the scene's ``mechanism`` hook adds the
+(1 − ρ) share of J_m + J_r, C_m ω_m and the reducer's loss): the kinetic-energy theorem reads
+the course's machine for any ρ. C_m is the motor torque averaged over the step the
+integrator took (the servo's torque at the start of a step is its largest), so it does not
+depend on the timestep.
 """
 
 from __future__ import annotations
@@ -168,6 +172,7 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     arm.damping[0] = v["mu_t"]
     if not flexible(v):
         spec.delete(arm)
+    spec.nuserdata = max(spec.nuserdata, 2 * MEMORY)
     motor = spec.actuator("motor")
     motor.gear[0] = rho / r  # C_m [N·m] -> ρ C_m / (R_p k) [N] on the carriage
     kv = servo_gain(v)
@@ -217,6 +222,38 @@ def control(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
         data.ctrl[0] = v_ref / r + min(max(correction, -top), top)
     elif command == SINE:
         data.ctrl[0] = v["sine_Nm"] * math.sin(2.0 * math.pi * v["sine_Hz"] * t)
+    _remember(model, data)
+
+
+MEMORY = 7
+"""Numbers kept per state in ``userdata`` (two states): time, y_ch, V_ch, y, v, the
+command held over the step that starts there, and the set point filter's state."""
+
+
+def _remember(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Keep the state a step starts from and its command in ``userdata``: slot 1 the
+    current one, slot 0 the one before, so that a reading after a step knows the step
+    that led to it (:func:`_last_step`). Called by :func:`control` before every step and
+    after the last: a new time shifts slot 1 into slot 0; the same time (the call before
+    the next step, a command changed by a slider) only refreshes slot 1. A deterministic
+    function of the trajectory: a replay or a reset rebuilds the same numbers."""
+    u = data.userdata
+    if u.size < 2 * MEMORY:
+        return
+    t = float(data.time)
+    if u[MEMORY] != t:
+        u[:MEMORY] = u[MEMORY : 2 * MEMORY]
+    y, dy = (float(data.qpos[1]), float(data.qvel[1])) if model.nv > 1 else (0.0, 0.0)
+    act = float(data.act[0]) if model.na else 0.0
+    u[MEMORY : 2 * MEMORY] = (
+        t,
+        float(data.qpos[0]),
+        float(data.qvel[0]),
+        y,
+        dy,
+        float(data.ctrl[0]),
+        act,
+    )
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
@@ -254,6 +291,69 @@ def _state(s: Snapshot) -> dict[str, float]:
     return out
 
 
+def _last_step(s: Snapshot) -> dict[str, float] | None:
+    """Averages over the step that led to the snapshot, from the state it started from
+    (:func:`_remember`), as the integrator weighs them, so that the step's own equations
+    of motion hold for them: the motor torque C_m (the actuator's force is affine in the
+    command and the velocity; RK4 weighs its four stages, whose mean velocity is
+    Δy_ch/Δt; semi-implicit Euler holds the force of the step's start), ω_m, ω̇_m =
+    Δω_m/Δt, the arm's v = Δy/Δt and its y from the arm's own momentum balance
+    (M2 ΔV_2/Δt = −K_t y − μ_t v). None before the first step, after a jump in time, or
+    when the snapshot is not the state a step left (cached per snapshot)."""
+    if "robot_axis_step" in s.cache:
+        return s.cache["robot_axis_step"]
+    m, d, v = s.model, s.data, s.values
+    u, t1 = d.userdata, float(d.time)
+    out = None
+    if u.size >= 2 * MEMORY and u[MEMORY] == t1:
+        t0, x0, v0, y0, dy0, ctrl, act = (float(x) for x in u[:MEMORY])
+        h = t1 - t0
+        if 0.0 < h <= 2.0 * float(m.opt.timestep):
+            integrator = int(m.opt.integrator)
+            rk4 = integrator == int(mujoco.mjtIntegrator.mjINT_RK4)
+            euler = integrator == int(mujoco.mjtIntegrator.mjINT_EULER)
+            x1, v1 = float(d.qpos[0]), float(d.qvel[0])
+            command = ctrl
+            if m.na and int(m.actuator_dyntype[0]) == int(mujoco.mjtDyn.mjDYN_FILTEREXACT):
+                command = _filter_mean(act, ctrl, float(m.actuator_dynprm[0, 0]), h) if rk4 else act
+            gear = float(m.actuator_gear[0, 0])
+            speed = v0 if euler else (x1 - x0) / h
+            bias = m.actuator_biasprm[0]
+            torque = float(m.actuator_gainprm[0, 0]) * command + float(bias[0])
+            torque += float(bias[1]) * gear * x0 + float(bias[2]) * gear * speed
+            r = v["R_p"] * v["k"]
+            out = {
+                "C_m": torque,
+                "omega_m": (x1 - x0) / h / r,
+                "omega_m_dot": (v1 - v0) / h / r,
+                "y": 0.0,
+                "v": 0.0,
+            }
+            if m.nv > 1 and v["K_t"] > 0:
+                y1, dy1 = float(d.qpos[1]), float(d.qvel[1])
+                arm_v = (y1 - y0) / h
+                arm_y = -(v["M2"] * ((v1 + dy1) - (v0 + dy0)) / h + v["mu_t"] * arm_v) / v["K_t"]
+                out["y"], out["v"] = arm_y, arm_v
+    s.cache["robot_axis_step"] = out
+    return out
+
+
+def _filter_mean(act: float, command: float, tau: float, h: float) -> float:
+    """The set point filter's state as RK4 weighs it over a step of ``h`` from ``act``
+    towards ``command`` (time constant ``tau``): (a₁ + 2 a₂ + 2 a₃ + a₄) / 6."""
+    a1 = act
+    a2 = act + 0.5 * h * (command - a1) / tau
+    a3 = act + 0.5 * h * (command - a2) / tau
+    a4 = act + h * (command - a3) / tau
+    return (a1 + 2.0 * a2 + 2.0 * a3 + a4) / 6.0
+
+
+def _c_m(s: Snapshot) -> float:
+    """C_m averaged over the last step (the torque at its start otherwise)."""
+    step = _last_step(s)
+    return step["C_m"] if step is not None else _state(s)["C_m"]
+
+
 def _loss(s: Snapshot) -> float:
     """Power lost in the simulated reducer [W]: (1 − ρ) C_in ω_m, C_in = C_m − (J_m + J_r) ω̇_m
     − f_v ω_m the torque entering it (driving mode; negative while the load drives back)."""
@@ -264,15 +364,39 @@ def _loss(s: Snapshot) -> float:
 
 def _c_m_ref(s: Snapshot) -> float:
     """Course 6.3 (with 6.4's ρ): J_eq ω̇_m + f_v ω_m − R_p k (K_t y + μ_t v), from the
-    simulated ω̇_m and arm state; ρ divides the reducer's output torque when driving and
-    multiplies it when braking."""
-    st, v = _state(s), s.values
+    simulated motion averaged over the last step as C_m is (the state at the snapshot
+    before any step); ρ divides the reducer's output torque when driving and multiplies
+    it when braking."""
+    st, v = _last_step(s) or _state(s), s.values
     return float(
         motor_torque(
             axis_of(v), st["omega_m"], st["omega_m_dot"], y=st["y"], v=st["v"],
             flexible=flexible(v), rho=v["eta"],
         )
     )  # fmt: skip
+
+
+def mechanism(s: Snapshot, out: dict[str, float]) -> None:
+    """The generic T, P_acc, P_ext and P_int of the mechanism (course 6.4), from those of
+    the simulated chain, which carries the motor's side scaled by ρ (ρ (J_m + J_r),
+    ρ f_v, ρ C_m): T and dT/dt get back the (1 − ρ) (J_m + J_r) share of the motor and
+    reducer, P_ext is C_m ω_m, and P_int gets the friction's (1 − ρ) f_v ω_m² share and
+    the reducer's loss. dT/dt − P_ext − P_int is unchanged (the frame's power: 0 with
+    perfect joints). Nothing changes for ρ = 1."""
+    v = s.values
+    lost = 1.0 - v["eta"]
+    if lost == 0.0:
+        return
+    st = _state(s)
+    w, j = st["omega_m"], v["J_m"] + v["J_r"]
+    if "T" in out:
+        out["T"] += 0.5 * lost * j * w * w
+    if "P_acc" in out:
+        out["P_acc"] += lost * j * w * st["omega_m_dot"]
+    if "P_ext" in out:
+        out["P_ext"] += lost * st["C_m"] * w
+    if "P_int" in out:
+        out["P_int"] -= lost * v["f_v"] * w * w + _loss(s)
 
 
 def _kinetic(s: Snapshot) -> float:
@@ -353,12 +477,12 @@ READOUTS = (
     SceneReadout("V_2", "m/s", "Speed of the arm's mass M2 along y.", lambda s: _state(s)["V_2"], label="Vitesse des parties flexibles V₂", hint="Vitesse de la masse M₂ du bras, qui oscille autour de celle du chariot si le bras est souple."),
     SceneReadout("deflection", "m", "Deflection of the arm y_2 - y_ch.", lambda s: _state(s)["y"], label="Déformation du bras y₂ − ych", hint="Écart entre la position de la masse M₂ du bras et celle du chariot, nul pour un bras rigide."),
     SceneReadout("arm_swing", "m", "Amplitude of the arm's oscillation: √(y² + (v/ω)²), ω the arm's frequency against the free chain.", _swing, label="Amplitude d'oscillation du bras", hint="Enveloppe de la déformation du bras, calculée à partir de sa déformation et de sa vitesse par rapport au chariot."),
-    SceneReadout("C_m", "N·m", "Torque the motor applies to its shaft (simulated).", lambda s: _state(s)["C_m"], label="Couple moteur appliqué Cₘ", hint="Couple que le moteur applique à son arbre dans la simulation."),
+    SceneReadout("C_m", "N·m", "Torque the motor applies to its shaft, averaged over the last step (the work it does in the step over the angle it turns, to second order): it does not depend on the timestep, where the servo's torque at the start of a step does.", _c_m, label="Couple moteur appliqué Cₘ", hint="Couple que le moteur applique à son arbre, moyenné sur le dernier pas de calcul."),
     SceneReadout("C_m_ref", "N·m", "Course value J_eq ω̇_m + f_v ω_m − R_p k (K_t y + μ_t v) from the simulated motion (efficiency ρ on the reducer's output torque).", _c_m_ref, label="Couple moteur selon le cours", hint="Couple Jₑq·ω̇ₘ + fᵥ·ωₘ − Rₚ·k·(Kₜ·y + μₜ·v) calculé avec l'accélération et la déformation simulées, rendement compris."),
-    SceneReadout("C_m_gap", "N·m", "C_m minus C_m_ref.", lambda s: _state(s)["C_m"] - _c_m_ref(s), label="Écart au couple du cours", hint="Différence entre le couple appliqué et celui du cours, qui révèle un modèle différent."),
-    SceneReadout("P_motor", "W", "Power of the motor C_m ω_m.", lambda s: _state(s)["C_m"] * _state(s)["omega_m"], label="Puissance du moteur Cₘ·ωₘ", hint="Puissance que le moteur fournit à son arbre, le produit du couple par la vitesse."),
+    SceneReadout("C_m_gap", "N·m", "C_m minus C_m_ref, both over the last step: non-zero where the simulated mechanism leaves the course's model (an end stop, the load driving the motor back through a lossy reducer).", lambda s: _c_m(s) - _c_m_ref(s), label="Écart au couple du cours", hint="Différence entre le couple appliqué et celui du cours, qui révèle un modèle différent."),
+    SceneReadout("P_motor", "W", "Power of the motor C_m ω_m at the snapshot (the torque applied from it on).", lambda s: _state(s)["C_m"] * _state(s)["omega_m"], label="Puissance du moteur", hint="Puissance que le moteur fournit à son arbre à cet instant : le couple qu'il applique à cet instant multiplié par sa vitesse."),
     SceneReadout("P_loss", "W", "Power lost in the reducer (1 − ρ) × the power entering it (motor driving).", _loss, label="Puissance perdue dans le réducteur", hint="Puissance dissipée par le réducteur, une part 1 − ρ de la puissance qui y entre."),
-    SceneReadout("E_c", "J", "Kinetic energy of the course: ½ J_eq ω_m² + ½ M2 V_2².", _kinetic, label="Énergie cinétique de la chaîne Ec", hint="Énergie cinétique ½·Jₑq·ωₘ² + ½·M₂·V₂² de toute la chaîne, écrite avec l'inertie équivalente."),
+    SceneReadout("E_c", "J", "Kinetic energy of the course: ½ J_eq ω_m² + ½ M2 V_2², J_eq the course's (6.3, efficiency aside: the kinetic energy does not depend on it; the generic T equals it).", _kinetic, label="Énergie cinétique de la chaîne Ec", hint="Énergie cinétique ½·Jₑq·ωₘ² + ½·M₂·V₂² de toute la chaîne, écrite avec l'inertie équivalente."),
     SceneReadout("energy_residual", "W", "Kinetic-energy theorem residual dE_c/dt − (C_m ω_m + P_int − P_loss) (course 6.3).", _residual, label="Écart au théorème de l'énergie cinétique", hint="Différence entre la dérivée de Ec et la somme des puissances du cours, nulle si le modèle simulé est celui du cours."),
     SceneReadout("F_belt", "N", "Force of the belt on the carriage along y.", _belt_force, label="Effort de la courroie sur le chariot", hint="Effort de la courroie sur le chariot le long de y, qui l'accélère et retient le bras."),
     SceneReadout("F_arm", "N", "Force of the arm on the carriage along y: K_t y + μ_t v.", _arm_force, label="Effort du bras sur le chariot", hint="Effort du ressort et de l'amortisseur du bras sur le chariot le long de y."),
@@ -427,6 +551,7 @@ SCENE = Scene(
     control=control,
     initial_state=initial_state,
     reference=reference,
+    mechanism=mechanism,
     # RK4: the arm's oscillation (58.5 rad/s against the free chain) keeps its amplitude
     # with dt = 1 ms (0.06 rad per step); the step shrinks with the fastest eigenvalue
     # when K_t grows or M2 shrinks (default_timestep).
