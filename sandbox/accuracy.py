@@ -61,6 +61,15 @@ def default(sim: Simulation) -> Setting | None:
     return Setting(scene.integrator, scene.default_timestep(sim.values))
 
 
+def test_default(scene: Scene) -> Setting | None:
+    """The scene's default at its reference test's parameter values (the benchmark's
+    "default"): a default that follows the parameters (the compressor's timestep per
+    revolution) is another timestep there than in a page at other values."""
+    if scene.accuracy is None:
+        return None
+    return Setting(scene.integrator, scene.default_timestep(dict(scene.accuracy.values)))
+
+
 def saved(result: SceneResult | None, setting: Setting) -> Run | None:
     """The saved benchmark's run of ``setting``, if it ran it."""
     if result is None:

@@ -23,7 +23,6 @@ from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Scene, as_scene
 from sandbox.web import charts
 from sandbox.web.tables import cell, fmt
-from sandbox.web.tables import integrator_words as integrator_and_name
 from sandbox.web.text import html_text, number, table_row, with_unit
 
 log = logging.getLogger(__name__)
@@ -225,6 +224,10 @@ class AccuracyPanel:
         default_run = None
         if default is not None and self.scene is not None:
             default_run = mine_run if same else self.run(default, now, at_once=True)
+        at_test = accuracy.test_default(self.scene) if self.scene is not None else None
+        if at_test is not None and default is not None and at_test.same(default):
+            at_test = None
+        at_test_run = self.run(at_test, now, at_once=True) if at_test is not None else None
         text = accuracy_markdown(
             mine,
             cost,
@@ -236,6 +239,8 @@ class AccuracyPanel:
             test=self.test_words,
             result=self.results,
             chart=self.image is not None,
+            at_test=at_test,
+            at_test_run=at_test_run,
         )
         if self.text.content != text:
             self.text.content = text
@@ -294,6 +299,8 @@ def accuracy_markdown(
     test: str = "",
     result: SceneResult | None = None,
     chart: bool = False,
+    at_test: Setting | None = None,
+    at_test_run: Run | None = None,
 ) -> str:
     """The table of "Précision et coût", in French with decimal commas.
 
@@ -308,13 +315,16 @@ def accuracy_markdown(
         test: The reference test in words (:func:`conditions`).
         result: The saved benchmark (for the chart's legend notes).
         chart: Add the sentences that explain the chart.
+        at_test: The scene's default at the test's own parameter values, when the
+            default follows the parameters and differs there (None otherwise), with
+            ``at_test_run`` its run: a sentence says what it gives.
     """
     rtf = 1.0 / cost if cost > 0 else math.nan
     factor = fmt(round(rtf)) if rtf >= 10 else fmt(rtf, digits=2)
     lines = [
         "| Cette session | |",
         "|:--|--:|",
-        table_row("Intégrateur", html_text(integrator_and_name(setting.integrator))),
+        table_row("Intégrateur", html_text(integrator_words(setting.integrator))),
         table_row("Pas de temps dt", html_text(duration(setting.timestep))),
         table_row("Coût CPU par seconde simulée", f"{fmt(cost, digits=3)} s"),
         table_row("Facteur temps réel possible", f"×{factor}"),
@@ -339,9 +349,19 @@ def accuracy_markdown(
         table_row("Réglage", *(_setting_cell(s) for _, s, _ in runs)),
         table_row("Erreur relative", *(_measured(r, "error") for _, _, r in runs)),
         table_row(drift_label, *(_measured(r, "drift") for _, _, r in runs)),
-        table_row("Coût CPU du calcul seul [s/s]", *(_measured(r, "cost") for _, _, r in runs)),
+        table_row(
+            "Coût CPU du calcul seul, par seconde simulée",
+            *(_measured(r, "cost") for _, _, r in runs),
+        ),
     ]
     text = "\n".join(lines)
+    if at_test is not None:
+        text += (
+            f"\n\nLe pas par défaut suit les paramètres : aux valeurs de l'essai, il vaut "
+            f"{html_text(duration(at_test.timestep))} (erreur relative "
+            f"{_measured(at_test_run, 'error')}, {cell(invariant)} "
+            f"{_measured(at_test_run, 'drift')})."
+        )
     if chart:
         text += (
             "\n\nSur le graphique : une courbe par intégrateur, du plus petit pas (à droite, "

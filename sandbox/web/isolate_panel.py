@@ -119,6 +119,13 @@ BASIS_1 = "B₁, liée au solide"
 _SUB = {"B0": "₀", "B1": "₁"}
 
 
+RESOLVED = 1e-6
+"""A component under this fraction of the largest one in its table reads 0: the table
+shows four digits, and what lies six decades under its largest action is the
+integration's error (the heavy top's {𝒟} read R_z = -1,8x10⁻⁷ N beside its 9,81 N
+weight), not a force a student could measure."""
+
+
 def isolate_markdown(
     pfd: isolate.Balance,
     *,
@@ -135,7 +142,8 @@ def isolate_markdown(
     Args:
         pfd: The balance of the solid (:func:`sandbox.physics.isolate.balance`).
         label: Turns an action's label into the words shown (e.g. body names).
-        zero: The scene's round-off by unit: smaller components are shown 0.
+        zero: The scene's round-off by unit: smaller components are shown 0, as are those
+            under :data:`RESOLVED` of their table's largest.
         point: The name of the point the moments are reduced at (``pfd.point``).
         basis: "B0" or "B1".
     """
@@ -153,8 +161,10 @@ def isolate_markdown(
     ) -> str:
         head = [f"{title}<sub>{c}{sub}</sub>" for c in "xyz"]
         rows = [table_row(f"Action sur le solide [{unit}]", *head), "|:--|--:|--:|--:|"]
-        for a in [*pfd.actions, d]:
-            local = axes.T @ pick(a)
+        every = [(a, axes.T @ pick(a)) for a in [*pfd.actions, d]]
+        largest = max(float(np.abs(v).max()) for _, v in every)
+        floor = max(floor, RESOLVED * largest)
+        for a, local in every:
             rows.append(table_row(name(a), *(fmt(float(x), floor=floor) for x in local)))
         return "\n".join(rows)
 

@@ -658,8 +658,8 @@ def divergence_message(exc: Diverged) -> str:
     cause = next((v for k, v in DIVERGENCE_CAUSES.items() if k in detail), "état non physique")
     return (
         f"La simulation a divergé à t = {text.number(exc.time, 4)} s ({cause}). "
-        "Réduisez le pas de temps dt ou choisissez l'intégrateur Runge-Kutta 4 (rk4) ou "
-        "implicite rapide (implicitfast), puis cliquez sur « Réinitialiser »."
+        "Réduisez le pas de temps dt ou choisissez l'intégrateur Runge-Kutta 4 ou "
+        "Implicite rapide, puis cliquez sur « Réinitialiser »."
     )
 
 

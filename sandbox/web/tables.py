@@ -239,9 +239,9 @@ def _row(row: Row | Sequence[str]) -> Row:
 
 
 def integrator_words(name: str) -> str:
-    """An integrator in words with its contract name, e.g. "Runge-Kutta 4 (rk4)"."""
-    words = INTEGRATOR_LABELS.get(name)
-    return f"{words} ({name})" if words else name
+    """An integrator in the words of the page's dropdown, e.g. "Runge-Kutta 4" (its CLI name
+    is a contract of the command line, not a word for the page)."""
+    return INTEGRATOR_LABELS.get(name, name)
 
 
 def scene_markdown(

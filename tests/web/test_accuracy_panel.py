@@ -138,8 +138,28 @@ def test_the_table_reads_the_setting_in_force():
     sim = Simulation("wheel_balancer")
     panel = AccuracyPanel(Gui(), sim)
     text = _settle(panel, sim)
-    assert "Runge-Kutta 4, dt = 10 ms" in text and "3 ms" not in text
+    table = text.split("\n\n")[2]  # the test's table: the setting in force, never 3 ms
+    assert "Runge-Kutta 4, dt = 10 ms" in table and "3 ms" not in table
     assert "Montage des paliers : paliers souples" in text
+    # The default follows the parameters: the soft bench's own is said apart, in words.
+    assert "aux valeurs de l'essai, il vaut 3 ms" in text
+
+
+def test_a_default_that_follows_the_parameters_is_also_given_at_the_tests_values():
+    """The compressor's timestep is a fraction of a revolution: 500 µs at the page's
+    3000 tr/min, 100 µs at the test's 17 000 tr/min. The page's 500 µs on that test is
+    not admissible (its energy-theorem gap 0,94 %); the panel says what the default gives
+    at the test's own speed (the benchmark's default, on its front)."""
+    res = load_results("compressor")
+    sim = Simulation("compressor")
+    assert accuracy.in_force(sim).timestep == 5e-4
+    at_test = accuracy.test_default(sim.scene)
+    assert at_test is not None and at_test.timestep == res.default.timestep == 1e-4
+    text = _settle(AccuracyPanel(Gui(), sim), sim)
+    error = number(res.default.error, 2)
+    assert f"aux valeurs de l'essai, il vaut 100 µs (erreur relative {error}," in text
+    rotor = Simulation("rotor")  # a fixed default: no such sentence
+    assert "aux valeurs de l'essai" not in _settle(AccuracyPanel(Gui(), rotor), rotor)
 
 
 def test_a_file_has_cost_but_no_error(pendulum_xml):

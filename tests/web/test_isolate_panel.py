@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
 import re
 
 import mujoco
+import pytest
 
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
@@ -71,3 +73,32 @@ def test_b1_at_o_and_a_gap_of_round_off_that_reads_0():
             last = md.splitlines()[-1]
             assert last.endswith("soit 0 de la plus grande action."), last
             assert "‖ΔR‖ = 0 N" in last, last
+
+
+def test_a_component_six_decades_under_the_largest_reads_0():
+    """The heavy top in steady precession: {𝒟} has no vertical resultant (the weight and
+    the pivot's 9,81 N cancel) and no moment about z₀ at G; the integration leaves
+    ~10⁻⁷ N and ~10⁻⁸ N·m there, which read 0, while the 0,03 N horizontal {𝒟} (the
+    centripetal m d sinθ ψ'²) keeps its digits."""
+    import numpy as np
+
+    sim = Simulation("heavy_gyroscope")
+    sim.advance(1.0)
+    scene = as_scene(sim.scene)
+    assert scene is not None
+    sim.snapshot(("sup_R_x", "dyn_R_x"))
+    body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
+    pfd = isolate.balance(sim.model, sim.data, body)
+    assert 0 < abs(pfd.dynamic.resultant[2]) < 1e-6 * 9.81  # really there, really tiny
+    md = isolate_markdown(pfd, zero=scene.zero)
+    d_rows = [line for line in md.splitlines() if line.startswith("| **{𝒟}**")]
+    assert len(d_rows) == 2
+    force, moment = ([c.strip(" \u2002") for c in r.strip().strip("|").split("|")[1:]]
+                     for r in d_rows)  # fmt: skip
+    assert force[2] == "0" and moment[2] == "0", d_rows
+    m, d = sim.values["mass"], sim.values["d"]
+    horizontal = float(np.hypot(*pfd.dynamic.resultant[:2]))
+    theta = math.radians(sim.values["tilt_deg"])
+    psi_dot = sim.readouts()["precession_rate"]
+    assert horizontal == pytest.approx(m * d * math.sin(theta) * psi_dot**2, rel=2e-2)
+    assert force[0] != "0" and force[1] != "0"

@@ -94,7 +94,7 @@ def test_untrusted_labels_are_escaped_in_every_table():
         ["<img src=x onerror=alert(1)>"], integrator="rk4", timestep=1e-3
     )
     assert hyp.splitlines()[0] == "- &lt;img src=x onerror=alert(1)&gt;"
-    assert hyp.splitlines()[1] == "- Intégrateur **Runge-Kutta 4 (rk4)**, pas de temps dt = 1 ms"
+    assert hyp.splitlines()[1] == "- Intégrateur **Runge-Kutta 4**, pas de temps dt = 1 ms"
 
 
 CODE_NAME = re.compile(r"\b[a-z]+_[a-zA-Z0-9_]+\b")
