@@ -12,7 +12,6 @@ from concurrent.futures import Future
 
 import numpy as np
 import viser
-from matplotlib.path import Path as Outline
 
 from sandbox import accuracy
 from sandbox.accuracy import Setting
@@ -78,11 +77,26 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
         return image, mapping
 
 
-def _star(radius: float) -> Outline:
-    """A five-pointed star of outer ``radius`` [px] around (0, 0), a point upwards."""
+def _star(radius: float) -> np.ndarray:
+    """The ten corners (x, y) [px] of a five-pointed star of outer ``radius`` around
+    (0, 0), a point upwards (image rows grow downwards)."""
     angles = np.pi / 2 + np.arange(10) * np.pi / 5
     radii = np.where(np.arange(10) % 2 == 0, radius, 0.42 * radius)
-    return Outline(np.column_stack([radii * np.cos(angles), -radii * np.sin(angles)]))
+    return np.column_stack([radii * np.cos(angles), -radii * np.sin(angles)])
+
+
+def inside(x: np.ndarray, y: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """Whether each point (x, y) lies inside the polygon ``corners`` (even-odd rule: a
+    ray towards +x crosses its edges an odd number of times). Plain numpy: the page's
+    processes never import matplotlib for two marks (15 MB each)."""
+    inside_ = np.zeros(np.broadcast(x, y).shape, dtype=bool)
+    for (x0, y0), (x1, y1) in zip(corners, np.roll(corners, -1, axis=0), strict=True):
+        if y0 == y1:
+            continue
+        spans = (y0 > y) != (y1 > y)
+        crossing = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+        inside_ ^= spans & (x < crossing)
+    return inside_
 
 
 def _place(run: Run | None, mapping: tuple[float, ...]) -> tuple[float, float] | None:
@@ -109,10 +123,8 @@ def chart_image(res: SceneResult, mine: Run | None, default: Run | None = None) 
     star_at = _place(default, mapping)
     if star_at is not None:
         x, y = star_at
-        pixels = np.column_stack([cols.ravel() - x, rows.ravel() - y])
         for radius, colour in ((12.0, (0, 0, 0)), (10.0, (255, 215, 0))):
-            inside = _star(radius).contains_points(pixels).reshape(image.shape[:2])
-            image[inside] = colour
+            image[inside(cols - x, rows - y, _star(radius))] = colour
     diamond_at = _place(mine, mapping)
     if diamond_at is not None:
         x, y = diamond_at

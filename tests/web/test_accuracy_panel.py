@@ -6,6 +6,8 @@ from __future__ import annotations
 import html
 import math
 
+import pytest
+
 from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
@@ -340,3 +342,36 @@ def test_the_web_chart_is_readable_at_panel_size():
             ]
         )
         assert (frame == 255).all(), scene
+
+
+def test_the_page_does_not_import_matplotlib_until_a_chart_is_drawn():
+    """matplotlib and Pillow cost every server process 15 MB (30 browsers: +37 MB over the
+    server): the page's modules load them only when a chart is drawn."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, sandbox.cli, sandbox.web.app, sandbox.web.workers, sandbox.accuracy; "
+        "print(sorted(m for m in ('matplotlib', 'PIL') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_the_star_is_a_five_pointed_star():
+    """The mark's polygon test: its area against the closed form of a star polygon, its
+    centre inside, the gaps between its points outside."""
+    import numpy as np
+
+    from sandbox.web.accuracy_panel import _star, inside
+
+    radius = 100.0
+    y, x = np.mgrid[-120:120:0.5, -120:120:0.5]
+    mask = inside(x, y, _star(radius))
+    area = mask.sum() * 0.25
+    # ten triangles centre-outer-inner: 10 * 1/2 R r sin(36°), r = 0.42 R
+    expected = 10 * 0.5 * radius * 0.42 * radius * math.sin(math.radians(36))
+    assert area == pytest.approx(expected, rel=1e-2)
+    assert inside(np.array(0.0), np.array(0.0), _star(radius))
+    assert inside(np.array(0.0), np.array(-95.0), _star(radius))  # the upper point
+    assert not inside(np.array(0.0), np.array(80.0), _star(radius))  # between two points
