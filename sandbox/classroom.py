@@ -896,6 +896,11 @@ def run_async(coro: Coroutine[Any, Any, T]) -> T:
     return values[0]
 
 
+STALL = 2.0
+"""A browser that waited this long [s] for a frame is a defect to explain: the report then
+prints the end of the server's output (warnings, tracebacks) with the figures."""
+
+
 def run_classroom(
     scene: str,
     clients: int,
@@ -952,6 +957,8 @@ def run_classroom(
                 side=side,
             )
             out: dict[str, Any] = {"main": main}
+            if main["longest_frame_gap_s"]["max"] >= STALL:  # what the server said then
+                out["server_output"] = server.output()
             if drop_clients > 0:
                 say(f"{drop_clients} connect-and-drop clients, then {idle_seconds:g} s idle ...")
                 out["drop"] = await drop_phase(server, clients=drop_clients, seconds=idle_seconds)
@@ -1114,6 +1121,10 @@ def report(results: dict[str, Any]) -> str:
     ]
     if m["errors"]:
         lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")
+    said = results.get("server_output")
+    if said:
+        lines.append(f"  a browser waited over {STALL:g} s for a frame; the server's last lines:")
+        lines += [f"    | {line}" for line in said.strip().splitlines()[-12:]]
     side = m.get("side")
     if isinstance(side, dict) and "ratio_min" in side:
         lines.append(

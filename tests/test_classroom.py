@@ -361,6 +361,11 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
     assert sum(main["clients_per_process"]) == 2  # both websockets found in /proc
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
+    assert "server_output" not in results and "server's last lines" not in cr.report(results)
+    # a browser left without frames: the report shows what the server said then
+    stalled = {**results, "server_output": "banner\nTraceback (most recent call last):\nBoom"}
+    text = cr.report(stalled)
+    assert "a browser waited over 2 s for a frame" in text and "    | Boom" in text
 
 
 def test_status_time_reads_the_french_status_line():
