@@ -569,14 +569,14 @@ SCENE = Scene(
     extra={"solid_names": {"carriage": "ch (chariot)", "arm": "2 (bras z)"}},
     # Round-off: at constant speed the carriage forces keep ~1e-9 N of the arm's last ringing
     # (peaks of 100 N during a start), the powers and the theorem's residual ~1e-13 W; the
-    # arm's deflection decays to picometres in a pause: below a nanometre it reads 0.
+    # arm's deflection decays to picometres in a pause: under half a nanometre it reads 0.
     overlay={
         "omega_m": "ωₘ",
         "C_m": "Couple moteur Cₘ",
         "deflection": "Déformation du bras",
         "energy_residual": "Écart au théorème",
     },
-    zero={"N·m": 1e-10, "W": 1e-9, "J": 1e-12, "N": 1e-7, "m": 1e-9},
+    zero={"N·m": 1e-10, "W": 1e-9, "J": 1e-12, "N": 1e-7, "m": 5e-10},
     accuracy=Accuracy(
         key="V_2",
         readouts=("V_2", "E_c", "P_motor", "P_loss", "P_diss"),
