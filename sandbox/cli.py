@@ -87,9 +87,29 @@ def _pairs(items: Sequence[str]) -> dict[str, str]:
     return out
 
 
+def version_text() -> str:
+    """"sandbox 0.1.0 (MuJoCo 3.3.0, viser 1.0.0, Python 3.11.2)": what a bug report needs."""
+    from importlib import metadata
+
+    def of(dist: str) -> str:
+        try:
+            return metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            return "?"
+
+    python = ".".join(str(n) for n in sys.version_info[:3])
+    return f"sandbox {of('sandbox')} (MuJoCo {of('mujoco')}, viser {of('viser')}, Python {python})"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and docs)."""
     p = _Parser(prog="sandbox", description="Rigid-body dynamics teaching sandbox.")
+    p.add_argument(
+        "--version",
+        action="version",
+        version=version_text(),
+        help="print the version of sandbox, MuJoCo and Python, then exit",
+    )
     p.add_argument(
         "--host",
         default="127.0.0.1",

@@ -26,6 +26,17 @@ def test_list_names_the_rotor(capsys):
     assert "rotor" in capsys.readouterr().out
 
 
+def test_version_names_sandbox_mujoco_viser_and_python(capsys):
+    import mujoco
+
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0
+    out = capsys.readouterr().out.strip()
+    assert out.startswith("sandbox 0.1.0 (MuJoCo ") and f"MuJoCo {mujoco.__version__}" in out
+    assert "viser " in out and f"Python {sys.version_info[0]}.{sys.version_info[1]}" in out
+
+
 def test_describe_json_schema(capsys):
     assert main(["describe", "rotor", "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
@@ -220,3 +231,20 @@ def test_list_shows_every_scene_and_lesson_in_one_column(capsys):
     assert set(names) == set(SCENES) | set(lessons())
     starts = {len(row) - len(row[2:].split(" ", 1)[1].lstrip()) for row in rows}
     assert len(starts) == 1, starts  # every title starts in the same column
+
+
+@pytest.mark.parametrize(
+    ("item", "says"),
+    [
+        ("mystery=2.5", "takes whole values, got '2.5'; give 0, 1, 2 or 3"),
+        ("mystery=\uff12", "digits 0-9"),  # fullwidth 2
+        ("mystery=\u0661", "digits 0-9"),  # Arabic-Indic 1
+        ("mystery=1_0", "digits 0-9"),
+        ("speed_rpm=\uff11\uff10\uff10\uff10", "digits 0-9"),
+    ],
+)
+def test_whole_and_ascii_parameters(item, says, capsys):
+    """Issue 22: a choice read 2.5 as wheel 2, and float() reads fullwidth digits."""
+    assert main(["run", "wheel_balancer", "--duration", "0.01", "--set", item]) == 2
+    err = _err(capsys)
+    assert says in err and err.count("\n") == 0 and "Traceback" not in err

@@ -92,23 +92,51 @@ class Param:
         """The unit as the web page shows it ("tr/min" for "rpm", "°" for "deg")."""
         return display_unit(self.unit)
 
+    @property
+    def integer(self) -> bool:
+        """Whole values only: one of a few options (``choices``). A count with gaps (the
+        engine's 1, 2 or 4 cylinders) is checked by its scene, which names the values."""
+        return bool(self.choices)
+
+    def _allowed(self) -> str:
+        if self.choices:
+            first = ", ".join(str(i) for i in range(len(self.choices) - 1))
+            return f"{first} or {len(self.choices) - 1} (see 'sandbox describe')"
+        return f"a value between {self.min:g} and {self.max:g} {self.unit}".rstrip()
+
     def check(self, value: object) -> float:
         """Validate ``value`` (number or numeric string) and return it as a float.
 
+        A string must be written in ASCII digits (Python's float() would also read
+        fullwidth or Arabic-Indic digits, underscores and "nan"); a whole-valued
+        parameter (:attr:`integer`) refuses fractions rather than rounding them.
+
         Raises:
-            BadParameter: if it is not a finite number or lies outside ``[min, max]``.
+            BadParameter: if it is not a finite number, lies outside ``[min, max]``, or
+                is a fraction of a whole-valued parameter; the message names the
+                allowed values.
         """
+        text = value.strip() if isinstance(value, str) else None
         try:
+            if isinstance(value, bool) or (
+                text is not None and (not text.isascii() or "_" in text)
+            ):
+                raise ValueError(value)
             number = float(value)  # type: ignore[arg-type]
         except (TypeError, ValueError):
             raise BadParameter(
-                f"parameter {self.name!r} needs a number, got {value!r}; "
-                f"give a value between {self.min:g} and {self.max:g} {self.unit}".rstrip()
+                f"parameter {self.name!r} needs a number written with the digits 0-9, "
+                f"got {value!r}; give {self._allowed()}"
             ) from None
         if not math.isfinite(number) or not (self.min <= number <= self.max):
+            span = f"{self.min:g} to {self.max:g} {self.unit}".rstrip()
             raise BadParameter(
                 f"parameter {self.name!r} = {value!r} is out of range; "
-                f"allowed: {self.min:g} to {self.max:g} {self.unit}".rstrip()
+                f"allowed: {self._allowed() if self.choices else span}"
+            )
+        if self.integer and number != int(number):
+            raise BadParameter(
+                f"parameter {self.name!r} takes whole values, got {value!r}; give {self._allowed()}"
             )
         return number
 
