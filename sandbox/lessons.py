@@ -611,7 +611,35 @@ def _lines(path: Path, text: str) -> list[str]:
             )
         if "\x00" in line:
             raise _fail(path, number, "NUL byte: this is not a text file; save it as UTF-8 text")
+        hidden = _hidden_character(line)
+        if hidden is not None:
+            column, what = hidden
+            raise _fail(
+                path,
+                number,
+                f"{what} at column {column}: a lesson is plain text (it would reach the "
+                "terminal of 'sandbox list' and the page as it is); delete it",
+            )
     return lines
+
+
+BIDI_CONTROLS = frozenset(
+    "\u061c\u200e\u200f\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069"
+)
+"""Characters that reorder the text around them (Trojan Source): the words a reader sees
+are not the words the file holds."""
+
+
+def _hidden_character(line: str) -> tuple[int, str] | None:
+    """(column, description) of the first control character (a tab is allowed) or
+    bidirectional control in ``line``, or None. Other invisible characters a French text
+    needs (no-break spaces) stay allowed."""
+    for column, char in enumerate(line, start=1):
+        if char in BIDI_CONTROLS:
+            return column, f"bidirectional control U+{ord(char):04X}"
+        if char != "\t" and (char < " " or "\x7f" <= char <= "\x9f"):
+            return column, f"control character U+{ord(char):04X}"
+    return None
 
 
 def parse(path: Path, text: str | None = None) -> Lesson:

@@ -106,6 +106,11 @@ Text $\\omega$.
 """
 
 
+def test_french_spacing_and_tabs_are_plain_text(tmp_path):
+    text = GOOD.replace("Text", "«\u00a0Texte\u202f»\t!")
+    assert parse(tmp_path / "ok.md", text).steps
+
+
 @pytest.mark.parametrize(
     ("edit", "line", "needle"),
     [
@@ -117,6 +122,10 @@ Text $\\omega$.
         (lambda s: s.replace("< 2 *", "< os.system(1) or"), 10, "can be called"),
         (lambda s: s.replace("< 2 *", "< bearing_A.real or"), 10, "not allowed"),
         (lambda s: s.replace("$\\omega$", "$\\omegaa$"), 7, "omegaa"),
+        # issue 22: a title that clears the teacher's terminal, text that reads backwards
+        (lambda s: s.replace("title: T", "title: T\x1b[2J"), 3, "control character U\\+001B"),
+        (lambda s: s.replace("Text", "Te\u202ext"), 12, "bidirectional control U\\+202E"),
+        (lambda s: s.replace("Text", "Te\x85xt"), 12, "control character U\\+0085"),
     ],
 )
 def test_bad_lesson_files_name_file_and_line(tmp_path, edit, line, needle):
