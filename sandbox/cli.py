@@ -16,9 +16,12 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import json
 import math
 import os
+import shlex
+import shutil
 import sys
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -31,7 +34,7 @@ from sandbox.errors import BadOption, BadParameter, SandboxError, one_line, show
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
-from sandbox.runner import RowWriter, check_out, check_run, simulate
+from sandbox.runner import RowWriter, check_out, check_run, simulate, special_file
 from sandbox.scenes import resolve
 from sandbox.scenes.base import Scene
 
@@ -88,7 +91,7 @@ def _pairs(items: Sequence[str]) -> dict[str, str]:
 
 
 def version_text() -> str:
-    """"sandbox 0.1.0 (MuJoCo 3.3.0, viser 1.0.0, Python 3.11.2)": what a bug report needs."""
+    """ "sandbox 0.1.0 (MuJoCo 3.3.0, viser 1.0.0, Python 3.11.2)": what a bug report needs."""
     from importlib import metadata
 
     def of(dist: str) -> str:
@@ -375,12 +378,17 @@ def cmd_run(args: argparse.Namespace) -> int:
         finally:
             if recorder is not None:
                 recorder.close()
-    except BaseException:
+        if writer is not None:
+            writer.close()
+    except BaseException as exc:
         if writer is not None:
             writer.discard()
+        if isinstance(exc, OSError) and exc.errno in DISK_FULL:
+            where = args.record if recorder is not None else args.out
+            if recorder is not None:
+                _drop_if_empty(recorder)
+            raise BadOption(_disk_full(where)) from None
         raise
-    if writer is not None:
-        writer.close()
     if recorder is not None and recorder.full:
         print(
             f"sandbox: warning: --record {shown(str(args.record))} stopped at "
@@ -402,6 +410,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         value = rows[-1][columns.index(name)]
         extra = f"   (course: {ref[name]:.6g})" if name in ref else ""
         print(f"  {name:<18} {value:>14.6g} {units[name]}{extra}")
+    if recorder is not None:
+        print(
+            f"recording: {recorder.frames} frames written to {recorder.path.absolute()}; "
+            f"replay it with: sandbox replay {shlex.quote(str(recorder.path))}"
+        )
     return 0
 
 
@@ -478,12 +491,44 @@ def _no_nul(path: Path, option: str) -> None:
         raise BadOption(f"{option} {shown(str(path))} contains a NUL character; give another path")
 
 
+DISK_FULL = frozenset(
+    getattr(errno, name) for name in ("ENOSPC", "EDQUOT", "EFBIG") if hasattr(errno, name)
+)
+"""Write errors that mean "no room left" (disk, quota, file size), not a bug."""
+
+
+def _disk_full(path: Path | None) -> str:
+    """One line: which file could not be written for want of room, and the room left."""
+    folder = (path or Path(".")).absolute().parent
+    try:
+        free = f"{shutil.disk_usage(folder).free / 1e6:.1f} MB free on its disk"
+    except OSError:
+        free = "free space unknown"
+    return (
+        f"no space left to write {shown(str(path), limit=300)} ({free}); "
+        "free some space or write to another disk"
+    )
+
+
+def _drop_if_empty(recorder: Recorder) -> None:
+    """After a failed write, remove a recording that holds no frame (a partial one with
+    frames stays: 'sandbox replay --salvage' reads what it holds)."""
+    with contextlib.suppress(Exception):
+        recorder.close()
+    if recorder.frames == 0:
+        with contextlib.suppress(OSError):
+            recorder.path.unlink()
+
+
 def _check_record(path: Path) -> None:
     name = shown(str(path))
     _no_nul(path, "--record")
     try:
         if path.is_dir():
             raise BadOption(f"--record {name} is a directory; give a file name such as r.sbx")
+        special = special_file(path)
+        if special is not None:
+            raise BadOption(f"--record {name} is {special}, not a file; give a file name")
         if not path.parent.exists():
             raise BadOption(
                 f"folder {shown(str(path.parent))} of --record does not exist; create it first"

@@ -48,6 +48,7 @@ import numpy as np
 from sandbox.errors import SandboxError, choices
 from sandbox.physics.limits import MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
+from sandbox.runner import special_file
 
 FORMAT = "sandbox-recording"
 VERSION = 1
@@ -148,6 +149,12 @@ class Recorder:
         self._bytes = self._records = self._numbers = self._events = 0
         self.stopped_at = math.nan  # simulated time at which a full file was closed
         self._clock = clock
+        special = special_file(self.path)
+        if special is not None:  # opening a named pipe would wait for a reader
+            raise BadRecording(
+                f"cannot write recording {str(self.path)!r}: it is {special}, not a file; "
+                "choose a file name"
+            )
         try:
             self._fh = gzip.open(self.path, "wt", encoding="utf-8", compresslevel=6)
         except OSError as exc:

@@ -157,12 +157,31 @@ def simulate(
     return columns, rows, None
 
 
+def special_file(path: Path) -> str | None:
+    """What ``path`` is in words when it exists and is not a regular file or a folder
+    ("a named pipe", "a device", "a socket"), else None. Writing to a named pipe blocks
+    until something reads it: an output must be a file."""
+    import stat
+
+    try:
+        mode = path.stat().st_mode
+    except OSError:
+        return None
+    if stat.S_ISFIFO(mode):
+        return "a named pipe"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return None
+
+
 def check_out(out: Path, option: str = "--out") -> None:
     """Refuse an output path that cannot be written, before anything is simulated.
 
     Raises:
-        BadOption: not .csv/.json, a directory, a missing or non-folder parent, or a
-            folder (or file) that cannot be written.
+        BadOption: not .csv/.json, a directory, a named pipe or device, a missing or
+            non-folder parent, or a folder (or file) that cannot be written.
     """
     name = shown(str(out))
     if "\x00" in str(out):
@@ -173,6 +192,9 @@ def check_out(out: Path, option: str = "--out") -> None:
     try:
         if out.is_dir():
             raise BadOption(f"{option} {name} is a directory; give a file name such as run.csv")
+        special = special_file(out)
+        if special is not None:
+            raise BadOption(f"{option} {name} is {special}, not a file; give a file name")
         if not folder.exists():
             raise BadOption(
                 f"folder {shown(str(folder))} of {option} does not exist; create it first"

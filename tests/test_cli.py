@@ -248,3 +248,67 @@ def test_whole_and_ascii_parameters(item, says, capsys):
     assert main(["run", "wheel_balancer", "--duration", "0.01", "--set", item]) == 2
     err = _err(capsys)
     assert says in err and err.count("\n") == 0 and "Traceback" not in err
+
+
+def test_run_record_says_where_it_wrote(tmp_path, capsys):
+    out = tmp_path / "r.sbx"
+    assert main(["run", "rotor", "--duration", "0.1", "--record", str(out)]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last == f"recording: 11 frames written to {out}; replay it with: sandbox replay {out}"
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"), reason="no named pipes here")
+@pytest.mark.parametrize("option", ["--record", "--out"])
+def test_a_named_pipe_is_refused_at_once(tmp_path, capsys, option):
+    """Issue 22: --record to a FIFO waited for a reader forever (killed at 30 s)."""
+    import os
+
+    pipe = tmp_path / ("p.csv" if option == "--out" else "p.sbx")
+    os.mkfifo(pipe)
+    assert main(["run", "rotor", "--duration", "0.1", option, str(pipe)]) == 2
+    assert "is a named pipe, not a file; give a file name" in _err(capsys)
+
+
+def test_the_recorder_itself_refuses_a_named_pipe(tmp_path):
+    import os
+
+    from sandbox.physics.simulation import Simulation
+    from sandbox.recording import BadRecording, Recorder
+
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no named pipes here")
+    pipe = tmp_path / "p.sbx"
+    os.mkfifo(pipe)
+    with pytest.raises(BadRecording, match="named pipe"):
+        Recorder(pipe, Simulation("rotor"))
+
+
+@pytest.mark.parametrize("frames_first", [False, True])
+def test_a_full_disk_is_exit_2_naming_the_file_and_leaves_no_empty_recording(
+    tmp_path, capsys, monkeypatch, frames_first
+):
+    """Issue 22: a full disk gave exit 1 "internal error" and a 0-byte recording. The
+    disk fills at the first frame (nothing worth keeping: removed) or later (the frames
+    written stay, for --salvage)."""
+    import errno
+
+    from sandbox import recording
+
+    real = recording.Recorder.frame
+    calls = {"n": 0}
+
+    def frame(self, *args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > (5 if frames_first else 0):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(recording.Recorder, "frame", frame)
+    out = tmp_path / "r.sbx"
+    assert main(["run", "rotor", "--duration", "0.5", "--record", str(out)]) == 2
+    err = _err(capsys)
+    assert err.startswith(f"sandbox: error: no space left to write '{out}' (")
+    assert " MB free on its disk); free some space" in err and "\n" not in err
+    assert out.exists() == frames_first
+    if frames_first:
+        assert recording.load(out, salvage=True).times.size == 5

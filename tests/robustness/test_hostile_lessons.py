@@ -112,6 +112,9 @@ HOSTILE_CHECKS = [
 def test_a_hostile_check_is_refused_with_file_line_and_fix(tmp_path, check, needle):
     path = tmp_path / "hostile.md"
     message = refused(path, lesson_text(check))
+    if "\x1b" in check:  # refused with the file's every line, before it is read as a check
+        assert message.startswith(f"{path}:{CHECK_LINE}: control character U+001B at column")
+        return
     assert message.startswith(f"{path}:{CHECK_LINE}: bad check: ")
     assert re.search(needle, message), message
 
