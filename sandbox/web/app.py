@@ -287,12 +287,14 @@ def start(
             watched by every other browser (:mod:`sandbox.web.follow`).
         token: Secret of the teacher's link (random when None).
         public_url: The address students type when they come through a proxy (shown
-            in "Rejoindre" and printed instead of this machine's addresses).
+            in "Rejoindre" and printed instead of this machine's addresses); the
+            websockets of pages loaded from it are accepted.
 
     Raises:
         SandboxError: bad target, value or option; BadOption when the port is taken.
     """
     network.install()
+    network.reached_through(public_url)  # its handshakes are accepted too
     sys.setswitchinterval(SWITCH_INTERVAL)
     # A session draws until it sees its browser gone (ALIVE_CHECK, half a second): viser
     # warns of the messages of that last half second, which nobody will receive.

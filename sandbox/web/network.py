@@ -5,10 +5,18 @@ viser opens its websocket server with ``websockets.asyncio.server.serve`` and ex
 none of its options, so :func:`install` wraps that one function, once per process, to
 add two of them:
 
-* ``process_request`` refuses a websocket handshake whose ``Origin`` is not the page's
-  own address (a web page the teacher happens to visit must not open sessions or press
-  buttons on a classroom server); a handshake without ``Origin`` comes from a program,
-  not from a page, and is let through.
+* ``process_request`` refuses (HTTP 403) a websocket handshake whose ``Host`` or
+  ``Origin`` is not one of the addresses this server serves (:class:`Served`: the
+  localhost names, the interface it listens on, this machine's LAN addresses and name
+  when it listens on all of them, the address the connection reached, each on the port
+  the connection reached; and the proxy's ``--public-url``). They are never compared
+  with each other: a DNS-rebinding page (``http://evil.attacker:P`` whose name now
+  points at this machine) controls both, and a web page the teacher happens to visit
+  must not open sessions or press buttons on a classroom server. A handshake without
+  ``Origin`` comes from a program, not from a page, and is let through (if its Host,
+  when it sends one, is served). Plain HTTP requests (the page, its scripts: nothing
+  private, and the teacher's path is a secret) are served whatever their Host, because
+  the health check of ``deploy/haproxy.cfg`` sends ``Host: sandbox``.
 * ``handoff``: in a worker process of ``sandbox serve --workers N``, the server listens
   on no address of its own; the connections come from the parent's front, which hands
   each to the least busy worker (:mod:`sandbox.web.front`, :mod:`sandbox.web.handoff`).
@@ -31,6 +39,8 @@ from collections.abc import Awaitable, Callable, Mapping
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
+from sandbox.errors import BadOption
+
 if TYPE_CHECKING:
     import viser
     from websockets.asyncio.server import ServerConnection
@@ -46,49 +56,177 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 _DEFAULT_PORTS = {"http": 80, "https": 443, "ws": 80, "wss": 443}
+_WILDCARDS = ("0.0.0.0", "", "::")
+LOCAL_NAMES = frozenset({"localhost", "127.0.0.1", "::1"})
+"""Loopback names every server answers to (and any ``*.localhost``, which browsers
+resolve to loopback themselves)."""
+
 _lock = threading.Lock()
 _installed = False
 _handoff: Adopter | None = None
+_public_url: str | None = None
 _aliases: set[str] = set()
 
 
-def origin_refusal(headers: Mapping[str, str]) -> str | None:
+def _name(text: str) -> str:
+    """A host name as compared: lower case, no final dot, an IP in its canonical form
+    (an IPv4-mapped IPv6 address as IPv4), an IPv6 zone dropped."""
+    name = text.strip().strip("[]").lower().rstrip(".")
+    try:
+        ip = ipaddress.ip_address(name.partition("%")[0])
+    except ValueError:
+        return name
+    if isinstance(ip, ipaddress.IPv6Address) and ip.ipv4_mapped is not None:
+        return str(ip.ipv4_mapped)
+    return ip.compressed
+
+
+@dataclasses.dataclass(frozen=True)
+class Served:
+    """The addresses one server answers to.
+
+    Attributes:
+        names: Host names and IP addresses reached directly (no proxy): they are served
+            on :attr:`port`. Any ``*.localhost`` is served too.
+        port: The port the connection reached (the one the server listens on, or the
+            front's in a worker); None before a connection is known: no direct name is
+            served then.
+        public: ``(host, port)`` of the proxy's public address (``--public-url``).
+    """
+
+    names: frozenset[str]
+    port: int | None = None
+    public: frozenset[tuple[str, int]] = frozenset()
+
+    @classmethod
+    def of(cls, host: str | None, *, public_url: str | None = None) -> Served:
+        """The addresses of a server listening on interface ``host``.
+
+        Args:
+            host: The interface (``0.0.0.0``/``::``/None: all, which adds this machine's
+                LAN addresses and name).
+            public_url: The proxy's public address students type (``--public-url``).
+
+        Raises:
+            ValueError: ``public_url`` has no host name.
+        """
+        names = set(LOCAL_NAMES)
+        if host is None or host in _WILDCARDS:
+            names.update(lan_addresses())
+            machine = socket.gethostname()
+            short = machine.partition(".")[0]
+            names.update({machine, short, short + ".local"} if short else ())
+        else:
+            names.add(host)
+        public = frozenset({_netloc(public_url)}) if public_url else frozenset()
+        return cls(frozenset(_name(n) for n in names if n), None, public)
+
+    def on(self, address: object) -> Served:
+        """These addresses for one connection whose local socket address (``getsockname``)
+        is ``address``: its IP is served too, on its port."""
+        if not isinstance(address, tuple) or len(address) < 2:
+            return self
+        ip, port = address[0], address[1]
+        names = self.names | {_name(str(ip))} if isinstance(ip, str) else self.names
+        return dataclasses.replace(self, names=names, port=int(port))
+
+    def serves(self, host: str, port: int | None) -> bool:
+        """Whether ``host:port`` (``port`` None: the default one, 80 or 443) is served."""
+        name = _name(host)
+        ports = {port} if port is not None else {80, 443}
+        if any((name, p) in self.public for p in ports):
+            return True
+        direct = name in self.names or name.endswith(".localhost")
+        return direct and self.port is not None and self.port in ports
+
+    def describe(self, limit: int = 6) -> str:
+        """The addresses in one line, e.g. ``localhost, 127.0.0.1 on port 8080``."""
+        names = sorted(self.names, key=lambda n: (n not in LOCAL_NAMES, n))
+        shown = ", ".join(names[:limit]) + (", ..." if len(names) > limit else "")
+        text = f"{shown} on port {self.port}" if self.port is not None else shown
+        for host, port in sorted(self.public):
+            text += f"; {host}:{port}"
+        return text
+
+
+def origin_refusal(headers: Mapping[str, str], served: Served) -> str | None:
     """Why a handshake with these request headers is refused, or None to accept it.
 
     Only websocket upgrades are judged; plain HTTP requests (the page, its scripts)
-    are always served. The Origin must name the same host and port as the Host header
-    the browser sent (that is how the page reached this server, through a proxy too).
+    are always served. The ``Host`` header (when present) and the ``Origin`` (when
+    present: a browser's page) must each name an address ``served`` by this server;
+    they are never compared with each other, since a DNS-rebinding page controls both.
 
     Args:
         headers: The request headers (websockets' ``Headers``, or any mapping).
+        served: What this server serves, for this connection (:meth:`Served.on`).
     """
     if str(headers.get("Upgrade", "")).lower() != "websocket":
         return None
     origin = headers.get("Origin")
-    if origin is None:
-        return None
     host = headers.get("Host")
     if not host:
-        return "no Host header"
+        return None if origin is None else "no Host header"
+    fix = (
+        f"(this server serves {served.describe()}; if students reach it through a proxy or "
+        "a name of its own, start it with --public-url http://THAT-ADDRESS)"
+    )
+    try:
+        name, port = _host_port(str(host))
+    except ValueError:
+        return f"malformed Host {str(host)[:80]!r}"
+    if not served.serves(name, port):
+        return f"foreign Host {str(host)[:80]!r} {fix}"
+    if origin is None:
+        return None
     try:
         seen = _netloc(str(origin))
-        wanted = _netloc("http://" + str(host), default_scheme_of=str(origin))
     except ValueError:
         return f"malformed Origin {str(origin)[:80]!r}"
-    if seen != wanted:
-        return f"foreign Origin {str(origin)[:80]!r} (this server is {str(host)[:80]!r})"
+    if not served.serves(*seen):
+        return f"foreign Origin {str(origin)[:80]!r} {fix}"
     return None
 
 
-def _netloc(url: str, *, default_scheme_of: str | None = None) -> tuple[str, int]:
+def _host_port(host: str) -> tuple[str, int | None]:
+    """A Host header's name and port (None when it names none)."""
+    parts = urlsplit("//" + host)
+    if not parts.hostname or parts.username is not None or parts.path or parts.query:
+        raise ValueError(host)
+    return parts.hostname, parts.port
+
+
+def _netloc(url: str) -> tuple[str, int]:
     parts = urlsplit(url)
-    scheme = urlsplit(default_scheme_of).scheme if default_scheme_of else parts.scheme
     if parts.hostname is None:
         raise ValueError(url)
-    port = parts.port or _DEFAULT_PORTS.get(scheme.lower())
+    port = parts.port or _DEFAULT_PORTS.get(parts.scheme.lower())
     if port is None:
         raise ValueError(url)
-    return parts.hostname.lower(), port
+    return _name(parts.hostname), port
+
+
+def reached_through(public_url: str | None) -> None:
+    """Serve the proxy's public address ``public_url`` (``--public-url``; None: no proxy)
+    too, in the servers this process opens after the call (:class:`Served`).
+
+    Raises:
+        BadOption: ``public_url`` is not an http(s) address with a host name.
+    """
+    global _public_url
+    if public_url is not None:
+        try:
+            _netloc(public_url)
+            ok = urlsplit(public_url).scheme.lower() in ("http", "https")
+        except ValueError:
+            ok = False
+        if not ok:
+            raise BadOption(
+                f"--public-url must be an http:// or https:// address, got {public_url[:80]!r}"
+                "; e.g. --public-url http://sandbox.lycee.fr"
+            )
+    with _lock:
+        _public_url = public_url
 
 
 def install(*, handoff: Adopter | None = None) -> None:
@@ -110,7 +248,9 @@ def install(*, handoff: Adopter | None = None) -> None:
         def serve(
             handler: Callable[[ServerConnection], Awaitable[None]], *args: Any, **kwargs: Any
         ) -> ws_server.serve:  # viser's arguments, passed through
-            kwargs["process_request"] = _guarded(kwargs.get("process_request"))
+            host = args[0] if args else kwargs.get("host")
+            served = Served.of(host, public_url=_public_url)
+            kwargs["process_request"] = _guarded(kwargs.get("process_request"), served)
             adopter = _handoff
             if adopter is None:
                 return original(handler, *args, **kwargs)
@@ -202,11 +342,15 @@ def page_alias(path: str) -> None:
         _aliases.add(path.rstrip("/"))
 
 
-def _guarded(inner: ProcessRequest | None) -> ProcessRequest:
+def _guarded(inner: ProcessRequest | None, served: Served) -> ProcessRequest:
     def process_request(
         connection: ServerConnection, request: Request
     ) -> Awaitable[Response | None] | Response | None:
-        reason = origin_refusal(request.headers)
+        try:
+            here = served.on(connection.local_address)
+        except (AttributeError, OSError):  # no transport: only public addresses are served
+            here = served
+        reason = origin_refusal(request.headers, here)
         if reason is not None:
             log.warning("refused a websocket handshake: %s", reason)
             return connection.respond(

@@ -203,9 +203,11 @@ def _env() -> dict[str, str]:
 
 
 @contextlib.contextmanager
-def proxy_in_front_of(backends: list[int], tmp_path: Path) -> Iterator[tuple[str, Path]]:
-    """HAProxy on a free loopback port: (its URL, its admin socket)."""
-    port, admin = free_port(), tmp_path / "admin.sock"
+def proxy_in_front_of(
+    backends: list[int], tmp_path: Path, port: int | None = None
+) -> Iterator[tuple[str, Path]]:
+    """HAProxy on loopback port ``port`` (None: a free one): (its URL, its admin socket)."""
+    port, admin = port or free_port(), tmp_path / "admin.sock"
     shutil.copytree(DEPLOY / "errors", tmp_path / "errors")
     cfg = tmp_path / "haproxy.cfg"
     cfg.write_text(
@@ -252,19 +254,21 @@ def _cookie(context) -> str:
 @pytest.mark.slow  # HAProxy, two servers and Chromium: ~50 s
 def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
     haproxy_path()  # skip (or fail in CI) before starting anything
-    ports = [free_port(), free_port()]
+    ports, public = [free_port(), free_port()], free_port()
     with contextlib.ExitStack() as stack:
         procs = []
         for port in ports:
             command = [sys.executable, "-m", "sandbox.cli", "serve", "rotor"]
             command += ["--host", "127.0.0.1", "--port", str(port), *serve_options()]
+            # the page's websocket has Origin and Host = the proxy's address: served
+            command += ["--public-url", f"http://127.0.0.1:{public}"]
             log = tmp_path / f"serve-{port}.log"
             procs.append(stack.enter_context(running(command, log, cwd=tmp_path, env=_env())))
             stack.callback(lambda log=log: print(log.read_text(errors="replace")[-2000:]))
         for port in ports:
             _wait_for(lambda port=port: answers(f"http://127.0.0.1:{port}/"), 120, f":{port}")
         assert all(proc.poll() is None for proc in procs)
-        url, admin = stack.enter_context(proxy_in_front_of(ports, tmp_path))
+        url, admin = stack.enter_context(proxy_in_front_of(ports, tmp_path, public))
         _wait_for(
             lambda: all(r["check_status"] == "L7OK" for r in show_stat(admin).values()),
             30,
@@ -320,3 +324,65 @@ def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
         assert _cookie(first) == machine2
         _wait_for(lambda: sessions(admin) == {machine1: 0, machine2: 2}, 30, "both on one machine")
         assert _readout(page2, "bearing_A") == pytest.approx(before2, rel=0.01)
+
+
+def handshake_status(port: int, *, host: str, origin: str | None) -> int:
+    """HTTP status of a websocket handshake sent to 127.0.0.1:``port`` with ``Host: host``
+    and ``Origin: origin`` (101 when accepted), as a browser's page would send it."""
+    import viser
+
+    lines = [
+        "GET / HTTP/1.1",
+        f"Host: {host}",
+        "Upgrade: websocket",
+        "Connection: Upgrade",
+        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==",
+        "Sec-WebSocket-Version: 13",
+        f"Sec-WebSocket-Protocol: viser-v{viser.__version__}",
+    ]
+    if origin is not None:
+        lines.append(f"Origin: {origin}")
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+        sock.sendall(("\r\n".join(lines) + "\r\n\r\n").encode())
+        head = b""
+        while b"\r\n" not in head:
+            chunk = sock.recv(4096)
+            if not chunk:
+                break
+            head += chunk
+    return int(head.split(b" ", 2)[1])
+
+
+@pytest.mark.proxy
+@pytest.mark.slow  # HAProxy and three server processes: ~10 s
+def test_the_proxys_public_url_is_served_and_a_rebinding_host_is_not(tmp_path):
+    """Behind HAProxy the websocket's Host and Origin are the proxy's address: accepted when
+    it is the servers' --public-url (one server with worker processes, one without), and
+    refused when a DNS-rebinding page sends its own name as both."""
+    haproxy_path()
+    ports, public = [free_port(), free_port()], free_port()
+    with contextlib.ExitStack() as stack:
+        for port, workers in zip(ports, ("2", "1"), strict=True):
+            command = [sys.executable, "-m", "sandbox.cli", "serve", "rotor"]
+            command += ["--host", "127.0.0.1", "--port", str(port)]
+            command += ["--workers", workers] if serve_options() else []
+            command += ["--public-url", f"http://sandbox.test:{public}"]
+            log = tmp_path / f"serve-{port}.log"
+            stack.enter_context(running(command, log, cwd=tmp_path, env=_env()))
+            stack.callback(lambda log=log: print(log.read_text(errors="replace")[-2000:]))
+        for port in ports:
+            _wait_for(lambda port=port: answers(f"http://127.0.0.1:{port}/"), 120, f":{port}")
+        _, admin = stack.enter_context(proxy_in_front_of(ports, tmp_path, public))
+        _wait_for(
+            lambda: all(r["check_status"] == "L7OK" for r in show_stat(admin).values()),
+            30,
+            "HAProxy's health checks (GET / with Host: sandbox) to pass on both servers",
+        )
+        name, evil = f"sandbox.test:{public}", f"evil.attacker:{public}"
+        for _ in range(6):  # leastconn spreads them over both machines
+            assert handshake_status(public, host=name, origin=f"http://{name}") == 101
+            assert handshake_status(public, host=evil, origin=f"http://{evil}") == 403
+            assert handshake_status(public, host=evil, origin=None) == 403
+        # the loopback name on the proxy's port is neither the servers' port nor the proxy's
+        local = f"127.0.0.1:{public}"
+        assert handshake_status(public, host=local, origin=f"http://{local}") == 403

@@ -10,24 +10,51 @@ import pytest
 import viser
 
 from sandbox.cli import build_parser
+from sandbox.errors import BadOption
 from sandbox.web import network
 from sandbox.web.app import banner
 from sandbox.web.join_panel import join_html
 
 UPGRADE = {"Upgrade": "websocket", "Host": "192.168.1.20:8080"}
+SERVED = network.Served(
+    frozenset({"localhost", "127.0.0.1", "::1", "192.168.1.20"}),
+    8080,
+    frozenset({("sandbox.lycee.fr", 80), ("tls.lycee.fr", 443)}),
+)
+"""A server reached at 192.168.1.20:8080 (or on loopback), behind two proxies."""
+
+REBINDING = {
+    "Upgrade": "websocket",
+    "Host": "evil.attacker:8080",
+    "Origin": "http://evil.attacker:8080",
+}
+"""A DNS-rebinding page: evil.attacker now resolves to the server, the browser sends the
+attacker's name as both Host and Origin (they agree with each other)."""
 
 
 @pytest.mark.parametrize(
-    "origin",
+    "headers",
     [
-        "http://evil.example",
-        "http://192.168.1.20:8081",  # another port on the same machine
-        "null",
-        "http://192.168.1.20.evil.example:8080",
+        REBINDING,
+        dict(REBINDING, Host="evil.attacker", Origin="http://evil.attacker"),
+        dict(REBINDING, Host="evil.attacker:80", Origin="http://sandbox.lycee.fr"),
+        dict(UPGRADE, Origin="http://evil.example"),
+        dict(UPGRADE, Origin="http://192.168.1.20:8081"),  # another port on the same machine
+        dict(UPGRADE, Origin="null"),
+        dict(UPGRADE, Origin="http://192.168.1.20.evil.example:8080"),
+        dict(UPGRADE, Origin="http://localhost.evil.example:8080"),
+        dict(UPGRADE, Host="192.168.1.20:8081", Origin="http://192.168.1.20:8081"),
+        # the proxy's name on the machine's own port is not the proxy's address
+        dict(UPGRADE, Host="sandbox.lycee.fr:8080", Origin="http://sandbox.lycee.fr:8080"),
+        dict(UPGRADE, Host="tls.lycee.fr", Origin="http://tls.lycee.fr"),  # 80, not 443
+        {"Upgrade": "websocket", "Host": "evil.attacker:8080"},  # a program, foreign Host
+        dict(UPGRADE, Host="a b:8080"),
+        dict(UPGRADE, Host="user@127.0.0.1:8080"),
+        {"Upgrade": "websocket", "Origin": "http://127.0.0.1:8080"},  # no Host
     ],
 )
-def test_a_foreign_origin_is_refused(origin):
-    assert network.origin_refusal(dict(UPGRADE, Origin=origin)) is not None
+def test_a_foreign_or_rebound_handshake_is_refused(headers):
+    assert network.origin_refusal(headers, SERVED) is not None
 
 
 @pytest.mark.parametrize(
@@ -35,32 +62,69 @@ def test_a_foreign_origin_is_refused(origin):
     [
         dict(UPGRADE, Origin="http://192.168.1.20:8080"),
         dict(UPGRADE, Origin="HTTP://192.168.1.20:8080"),
-        # behind a TLS proxy the browser's Origin is https with the Host it reached
+        # behind a TLS proxy the browser's Origin is https with the address it reached
         dict(UPGRADE, Origin="https://192.168.1.20:8080"),
-        {"Upgrade": "websocket", "Host": "salle-b12", "Origin": "http://salle-b12"},
+        {"Upgrade": "websocket", "Host": "127.0.0.1:8080", "Origin": "http://127.0.0.1:8080"},
+        {"Upgrade": "websocket", "Host": "localhost:8080", "Origin": "http://localhost:8080"},
+        {"Upgrade": "websocket", "Host": "LocalHost.:8080", "Origin": "http://localhost:8080"},
         {"Upgrade": "websocket", "Host": "[::1]:8080", "Origin": "http://[::1]:8080"},
+        {
+            "Upgrade": "websocket",
+            "Host": "app.localhost:8080",
+            "Origin": "http://app.localhost:8080",
+        },
+        {"Upgrade": "websocket", "Host": "127.0.0.1:8080", "Origin": "http://localhost:8080"},
+        {"Upgrade": "websocket", "Host": "sandbox.lycee.fr", "Origin": "http://sandbox.lycee.fr"},
+        {
+            "Upgrade": "websocket",
+            "Host": "sandbox.lycee.fr:80",
+            "Origin": "http://sandbox.lycee.fr",
+        },
+        {"Upgrade": "websocket", "Host": "tls.lycee.fr", "Origin": "https://tls.lycee.fr"},
         dict(UPGRADE),  # no Origin: a program, not a web page
-        {"Host": "x", "Origin": "http://evil.example"},  # plain HTTP: the page itself
+        {"Upgrade": "websocket"},  # a program that sends no Host either
+        # plain HTTP: the page itself, whatever its Host (deploy/haproxy.cfg's health
+        # check sends "Host: sandbox"; the page holds nothing private)
+        {"Host": "evil.attacker:8080", "Origin": "http://evil.attacker:8080"},
     ],
 )
 def test_the_servers_own_pages_and_programs_are_accepted(headers):
-    assert network.origin_refusal(headers) is None
+    assert network.origin_refusal(headers, SERVED) is None
 
 
-def test_a_handshake_without_host_is_refused():
-    assert network.origin_refusal({"Upgrade": "websocket", "Origin": "http://a"}) is not None
+def test_the_served_addresses_follow_the_interface_and_the_proxy(monkeypatch):
+    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
+    everywhere = network.Served.of("0.0.0.0").on(("::ffff:172.16.0.9", 8080, 0, 0))
+    assert {"localhost", "127.0.0.1", "::1", "192.168.1.20", "10.0.0.5"} <= everywhere.names
+    assert "172.16.0.9" in everywhere.names  # the address this connection reached
+    assert everywhere.serves("10.0.0.5", 8080) and not everywhere.serves("10.0.0.5", 8081)
+    one = network.Served.of("192.168.1.20", public_url="https://Sandbox.Lycee.fr/")
+    assert "10.0.0.5" not in one.names and one.public == {("sandbox.lycee.fr", 443)}
+    assert not one.serves("192.168.1.20", 8080)  # no connection yet: no port known
+    assert one.on(("192.168.1.20", 8080)).serves("192.168.1.20", 8080)
+    assert one.serves("sandbox.lycee.fr", None)
+    with pytest.raises(BadOption, match="--public-url must be an http"):
+        network.reached_through("ftp://sandbox.lycee.fr")
+    network.reached_through(None)
 
 
-def _handshake(port: int, origin: str | None) -> int:
-    """HTTP status of a websocket handshake to ``port`` (101 when accepted)."""
+def _handshake(
+    port: int, origin: str | None, *, host: str | None = None, address: str = "127.0.0.1"
+) -> int:
+    """HTTP status of a websocket handshake to ``address:port`` (101 when accepted),
+    with ``Host: host`` (default: the address itself) and ``Origin: origin``."""
+    import socket
+
     import websockets.asyncio.client as ws_client
     from websockets.exceptions import InvalidStatus
 
     async def attempt() -> int:
         headers = {"Origin": origin} if origin else None
+        sock = socket.create_connection((address, port), timeout=5)
         try:
             async with ws_client.connect(
-                f"ws://127.0.0.1:{port}",
+                f"ws://{host or f'{address}:{port}'}/",
+                sock=sock,  # the Host header names ``host``, the socket reaches ``address``
                 additional_headers=headers,
                 subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
                 open_timeout=5,
@@ -77,11 +141,68 @@ def _handshake(port: int, origin: str | None) -> int:
     return result[0]
 
 
+def _page_status(port: int, host: str, address: str = "127.0.0.1") -> int:
+    """HTTP status of ``GET /`` to ``address:port`` with ``Host: host``."""
+    import http.client
+
+    connection = http.client.HTTPConnection(address, port, timeout=10)
+    try:
+        connection.request("GET", "/", headers={"Host": host})
+        return connection.getresponse().status
+    finally:
+        connection.close()
+
+
 def test_the_real_server_refuses_a_foreign_origin(served_rotor):
     port = served_rotor.port
     assert _handshake(port, "http://evil.example") == 403
     assert _handshake(port, f"http://127.0.0.1:{port}") == 101
     assert _handshake(port, None) == 101
+
+
+def test_the_real_server_refuses_a_dns_rebinding_page(served_rotor):
+    port = served_rotor.port
+    evil = f"evil.attacker:{port}"
+    assert _handshake(port, f"http://{evil}", host=evil) == 403
+    assert _handshake(port, None, host=evil) == 403  # a program must name this server too
+    assert _handshake(port, f"http://localhost:{port}", host=f"localhost:{port}") == 101
+    assert _handshake(port, f"http://127.0.0.1:{port}", host=f"localhost:{port}") == 101
+    # The page itself is served whatever its Host (see the docstring of network.py).
+    assert _page_status(port, evil) == 200
+
+
+def test_a_server_on_every_interface_serves_this_machines_lan_address():
+    from sandbox.web.app import start
+    from tests.conftest import free_port
+
+    lan = network.lan_addresses()
+    if not lan:
+        pytest.skip("this machine has no network address besides loopback")
+    app = start("rotor", host="0.0.0.0", port=free_port(), open_message=False)
+    try:
+        port, ip = app.port, lan[0]
+        assert _handshake(port, f"http://{ip}:{port}", address=ip) == 101
+        assert _handshake(port, f"http://localhost:{port}", host=f"localhost:{port}") == 101
+        evil = f"evil.attacker:{port}"
+        assert _handshake(port, f"http://{evil}", host=evil, address=ip) == 403
+        assert _handshake(port, f"http://{ip}:{port + 1}", address=ip) == 403
+    finally:
+        app.stop()
+
+
+def test_a_server_behind_a_proxy_serves_the_public_url():
+    from sandbox.web.app import start
+    from tests.conftest import free_port
+
+    app = start("rotor", port=free_port(), open_message=False, public_url="https://sb.test")
+    try:
+        port = app.port
+        assert _handshake(port, "https://sb.test", host="sb.test") == 101
+        assert _handshake(port, "https://sb.test", host="sb.test:443") == 101
+        assert _handshake(port, f"http://sb.test:{port}", host=f"sb.test:{port}") == 403
+        assert _handshake(port, "https://evil.attacker", host="evil.attacker") == 403
+    finally:
+        app.stop()
 
 
 def test_lan_addresses_are_reachable_ipv4_addresses():
@@ -161,6 +282,11 @@ def test_workers_share_one_port_and_stop_cleanly(tmp_path):
         for _ in range(6):  # the kernel spreads them; every worker answers
             assert _handshake(port, None) == 101
         assert _handshake(port, "http://evil.example") == 403
+        # every worker checks the addresses the parent serves, not the request's Host
+        evil = f"evil.attacker:{port}"
+        for _ in range(4):
+            assert _handshake(port, f"http://{evil}", host=evil) == 403
+            assert _handshake(port, f"http://localhost:{port}", host=f"localhost:{port}") == 101
         proc.send_signal(signal.SIGTERM)
         assert proc.wait(timeout=15) == 0
         end = time.monotonic() + 5.0  # multiprocessing's helper leaves just after
