@@ -312,3 +312,29 @@ def test_a_full_disk_is_exit_2_naming_the_file_and_leaves_no_empty_recording(
     assert out.exists() == frames_first
     if frames_first:
         assert recording.load(out, salvage=True).times.size == 5
+
+
+def test_a_ctrl_c_while_the_command_loads_ends_it_quietly():
+    """Issue 22: Ctrl-C in the first half second printed a KeyboardInterrupt traceback
+    through numpy's imports. The installed command imports the CLI inside its guard."""
+    code = (
+        "import builtins, sys\n"
+        "real = builtins.__import__\n"
+        "def interrupted(name, *a, **k):\n"
+        "    if name == 'sandbox.cli':\n"
+        "        raise KeyboardInterrupt\n"
+        "    return real(name, *a, **k)\n"
+        "builtins.__import__ = interrupted\n"
+        "from sandbox.launch import main\n"
+        "sys.exit(main(['list']))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 130
+    assert done.stderr == "sandbox: interrupted\n" and "Traceback" not in done.stderr
+
+
+def test_the_installed_command_is_the_guarded_one():
+    from pathlib import Path
+
+    project = (Path(__file__).parents[1] / "pyproject.toml").read_text(encoding="utf-8")
+    assert '\nsandbox = "sandbox.launch:main"\n' in project

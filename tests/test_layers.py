@@ -55,7 +55,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         ),
     ),
     ("web", ("sandbox.web",)),
-    ("cli", ("sandbox.cli",)),
+    ("cli", ("sandbox.cli", "sandbox.launch")),
 )
 """(layer, module prefixes), lowest first. A module belongs to its longest prefix."""
 

@@ -244,10 +244,16 @@ def run_forever(app: App) -> None:
 
 
 def _interrupt(signum: int, frame: FrameType | None) -> None:
-    """One-shot: ignore the next signals, then interrupt the main loop."""
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    """One-shot: let the next signals pass, then interrupt the main loop."""
+    signal.signal(signal.SIGTERM, _let_pass)
+    signal.signal(signal.SIGINT, _let_pass)
     raise KeyboardInterrupt
+
+
+def _let_pass(signum: int, frame: FrameType | None) -> None:
+    """A later signal while stopping: nothing to do. A Python handler, not SIG_IGN: a
+    signal already received when the handler turns to SIG_IGN makes Python print
+    "OSError: Signal 15 ignored due to race condition" with a traceback."""
 
 
 def start(

@@ -7,10 +7,19 @@ the worker serving the fewest browsers (:class:`sandbox.web.front.Front`, on eve
 platform), prints the address, restarts a worker that dies, and stops them all on Ctrl-C
 or SIGTERM; a stopping worker closes its sessions, so recordings in progress are
 finished, never lost.
+
+A worker never outlives the parent, however the parent ends (``kill -9`` too, which runs
+none of its code): each worker holds the reading end of a pipe whose only writer is the
+parent, and a thread of the worker waits on it (:func:`watch_parent`). The operating
+system closes a dead process's files and handles, so the read ends at once, on Linux,
+macOS and Windows alike; the worker then stops as on Ctrl-C (sessions and recordings
+closed) and exits within :data:`ORPHAN_GRACE` seconds anyway.
 """
 
 from __future__ import annotations
 
+import _thread
+import contextlib
 import logging
 import multiprocessing
 import os
@@ -18,16 +27,20 @@ import queue
 import signal
 import socket
 import sys
+import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from multiprocessing.process import BaseProcess
 from multiprocessing.queues import Queue
 from types import FrameType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from sandbox.errors import BadOption, SandboxError
 from sandbox.web.front import Front
+
+if TYPE_CHECKING:
+    from sandbox.web.app import App
 
 log = logging.getLogger(__name__)
 
@@ -45,6 +58,9 @@ LISTEN_BACKLOG = 128
 
 MAX_RESTARTS = 5
 """Restarts of dead workers allowed per minute before the server gives up."""
+
+ORPHAN_GRACE = 2.0
+"""Seconds a worker whose parent died gets to close its sessions before it exits anyway."""
 
 
 def default_workers() -> int:
@@ -72,42 +88,114 @@ class WorkerSpec:
     options: Mapping[str, Any] = field(default_factory=dict)
 
 
+def _interrupt_main() -> None:
+    """Stop this worker as Ctrl-C would: KeyboardInterrupt in its main thread, which
+    :func:`sandbox.web.app.run_forever` answers by closing the sessions."""
+    _thread.interrupt_main(signal.SIGINT)
+
+
+def watch_parent(
+    lifeline: Any,
+    *,
+    grace: float = ORPHAN_GRACE,
+    stop: Callable[[], None] = _interrupt_main,
+    exit: Callable[[int], None] = os._exit,
+) -> threading.Thread:
+    """Stop this process when the parent's end of ``lifeline`` closes.
+
+    The parent never writes on the pipe and keeps its end open while it lives; when it
+    ends, however it ends, the system closes that end and ``recv`` fails here. Works on
+    every platform (a pipe, not ``prctl`` or signals).
+
+    Args:
+        lifeline: Reading end of a :func:`multiprocessing.Pipe` whose writer is the parent.
+        grace: Seconds between ``stop`` and ``exit`` (the process normally ends in between,
+            and this daemon thread with it).
+        stop: Asks the process to stop cleanly (default: KeyboardInterrupt in the main
+            thread, the Ctrl-C path).
+        exit: Ends the process with the given status if it is still there after ``grace``.
+
+    Returns:
+        The watching thread (a daemon, started).
+    """
+
+    def watch() -> None:
+        try:
+            lifeline.recv()
+        except (EOFError, OSError):
+            pass  # the parent is gone (a message would mean "stop" just as well)
+        log.warning("the server's main process is gone: stopping this worker")
+        stop()
+        time.sleep(grace)
+        exit(1)
+
+    thread = threading.Thread(target=watch, name="sandbox-lifeline", daemon=True)
+    thread.start()
+    return thread
+
+
 def _worker_main(
-    spec: WorkerSpec, index: int, events: Queue[Event], pipe: Any, closed: Any
+    spec: WorkerSpec, index: int, events: Queue[Event], pipe: Any, closed: Any, lifeline: Any
 ) -> None:
     """Body of a worker process: serve the connections the front hands over on ``pipe``
-    until SIGTERM or SIGINT, then close sessions."""
-    from sandbox.web import network
-    from sandbox.web.app import run_forever, start
-    from sandbox.web.handoff import Adopter
-
+    until SIGTERM or SIGINT or the end of the parent (``lifeline``), then close sessions."""
     logging.basicConfig(level=logging.WARNING, format=f"sandbox[w{index}] %(message)s")
-    sys.stdout = open(os.devnull, "w")  # viser's banners: the parent prints the address
-    adopter = Adopter(pipe, closed, index)
-    network.install(handoff=adopter)
+    app: App | None = None
     try:
-        app = start(
-            spec.target,
-            host=spec.host,
-            port=spec.port,
-            open_message=False,
-            check_port=False,
-            **dict(spec.options),
-        )
-    except SandboxError as exc:
-        events.put(("error", index, str(exc)))
+        watch_parent(lifeline)
+        from sandbox.web import network
+        from sandbox.web.app import start
+        from sandbox.web.handoff import Adopter
+
+        sys.stdout = open(os.devnull, "w")  # viser's banners: the parent prints the address
+        adopter = Adopter(pipe, closed, index)
+        network.install(handoff=adopter)
+        try:
+            app = start(
+                spec.target,
+                host=spec.host,
+                port=spec.port,
+                open_message=False,
+                check_port=False,
+                **dict(spec.options),
+            )
+        except SandboxError as exc:
+            events.put(("error", index, str(exc)))
+            return
+        except Exception as exc:  # reported by the parent as one line
+            events.put(("error", index, f"{type(exc).__name__}: {exc}"))
+            return
+        adopter.start()
+        events.put(("ready", index, app.port))
+    except KeyboardInterrupt:  # Ctrl-C, or the end of the parent, while starting
+        if app is not None:
+            app.stop()
         return
-    except KeyboardInterrupt:
-        return
-    except Exception as exc:  # reported by the parent as one line
-        events.put(("error", index, f"{type(exc).__name__}: {exc}"))
-        return
-    adopter.start()
-    events.put(("ready", index, app.port))
+    from sandbox.web.app import run_forever
+
     try:
         run_forever(app)
     finally:  # sessions are closed: a second SIGTERM must not interrupt the exit
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _terminal_interrupts_ignored() -> Iterator[None]:
+    """Start a worker with SIGINT ignored, as a process started in the background is: a
+    Ctrl-C reaches every process of the terminal's group, and one landing while a worker
+    still imports its modules printed a KeyboardInterrupt traceback through them. The
+    parent stops its workers itself (SIGTERM, the lifeline); a worker's own handler is
+    set once it serves (:func:`~sandbox.web.app.run_forever`). No effect outside the main
+    thread or where SIGINT dispositions are not inherited (Windows: the console's Ctrl-C
+    is then the worker's own)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 class WorkerPool:
@@ -129,22 +217,27 @@ class WorkerPool:
         self._restarts: list[float] = []
         self.closed = self._ctx.Array("q", workers, lock=False)  # websockets closed, by worker
         self.pipes: dict[int, Any] = {}  # the front's end of each worker's pipe
+        self._lifelines: dict[int, Any] = {}  # kept open while this process lives
         self.front: Front | None = None
 
     def _spawn(self, index: int) -> None:
         receiver, sender = self._ctx.Pipe(duplex=False)
+        watched, lifeline = self._ctx.Pipe(duplex=False)
         proc = self._ctx.Process(
             target=_worker_main,
-            args=(self.spec, index, self._events, receiver, self.closed),
+            args=(self.spec, index, self._events, receiver, self.closed, watched),
             name=f"sandbox-worker-{index}",
             daemon=False,
         )
-        proc.start()
+        with _terminal_interrupts_ignored():
+            proc.start()
         receiver.close()  # the worker has its own
-        old = self.pipes.get(index)
-        if old is not None:
-            old.close()
+        watched.close()  # the worker has its own; the parent keeps only the writing end
+        for old in (self.pipes.get(index), self._lifelines.get(index)):
+            if old is not None:
+                old.close()
         self.pipes[index] = sender
+        self._lifelines[index] = lifeline
         self.processes[index] = proc
         if self.front is not None:
             self.front.replace(index, sender)
