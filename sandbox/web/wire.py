@@ -7,6 +7,9 @@ for real changes, so here viser's own messages are queued directly (about 8 µs 
 the handle's cached value is kept in step, so that a later public setter still compares
 with what the browser shows. The internals used are checked once (:data:`FAST`); a viser
 without them gets the public setters.
+
+Importing this module also caps what browsers may upload (:func:`uploads.install`): every
+page module sends through here, so the cap is in place before any server exists.
 """
 
 from __future__ import annotations
@@ -17,7 +20,10 @@ from typing import Any
 import numpy as np
 from viser import _messages
 
+from sandbox.web import uploads
+
 log = logging.getLogger(__name__)
+uploads.install()  # before any viser GUI exists: viser binds its handlers then
 
 
 def _has_internals() -> bool:
