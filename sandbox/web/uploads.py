@@ -263,10 +263,11 @@ def _hostile(client: ClientHandle, ledger: _Ledger, reason: str) -> None:
 
 
 def _libc_trim() -> Callable[[int], int] | None:
-    """glibc's ``malloc_trim``, or None elsewhere (macOS, musl)."""
+    """glibc's ``malloc_trim``, or None elsewhere (macOS, musl; Windows, where
+    ``CDLL(None)`` is a TypeError)."""
     try:
         return cast(Callable[[int], int], ctypes.CDLL(None).malloc_trim)
-    except (AttributeError, OSError):  # pragma: no cover - not glibc
+    except (AttributeError, OSError, TypeError):
         return None
 
 

@@ -435,3 +435,19 @@ def test_files_over_the_connection_cap_at_once_are_refused(buttons, caplog):
     assert _upload_lines(caplog) == [
         f"browser 0: refused uploads of {20 * MIB} bytes at once; its parts are dropped"
     ]
+
+
+def test_no_malloc_trim_outside_glibc(monkeypatch):
+    """Windows has no CDLL(None) (TypeError), macOS no malloc_trim (AttributeError): the
+    memory hand-back is then skipped, never an error at import."""
+    import ctypes
+
+    from sandbox.web import uploads
+
+    for error in (TypeError, AttributeError, OSError):
+
+        def missing(*_args, _error=error, **_kwargs):
+            raise _error("not here")
+
+        monkeypatch.setattr(ctypes, "CDLL", missing)
+        assert uploads._libc_trim() is None
