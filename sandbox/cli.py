@@ -569,10 +569,16 @@ def cmd_replay(args: argparse.Namespace) -> int:
         index = export_static(rec, args.export)
         print(f"static replay written to {index} (open it in a browser; no Python needed)")
     if args.verify:
-        from sandbox.replay import resimulate
+        from sandbox.replay import verify
 
-        worst, frames = resimulate(rec)
-        print(f"verify: {frames} frames re-simulated, maximum deviation {worst:.3g}")
+        result = verify(rec)
+        if result.model.warning:
+            print(f"sandbox: warning: {result.model.warning}", file=sys.stderr)
+        worst, frames = result.deviation, result.frames
+        print(
+            f"verify: {frames} frames re-simulated with {result.model.description}, "
+            f"maximum deviation {worst:.3g}"
+        )
         if worst != 0.0:
             print(
                 "sandbox: warning: the re-simulation differs from the recording (another "

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import array
 import datetime as _dt
+import functools
 import gzip
 import json
 import math
@@ -319,14 +320,31 @@ class Recording:
         return float(self.times[-1] - self.times[0]) if len(self.times) else 0.0
 
     def values_at(self, index: int) -> dict[str, float]:
-        """Parameter values in force at frame ``index``."""
-        values = dict(self.header["values"])
-        for ev in self.events:
-            if ev["index"] > index:
-                break
-            if ev["k"] == "set":
-                values[ev["name"]] = float(ev["value"])
+        """Parameter values in force at frame ``index`` (the header's, changed by every
+        ``set`` recorded before that frame): a binary search per parameter in the
+        timeline :attr:`value_changes` built once, O(parameters x log events)."""
+        values = {name: float(v) for name, v in self.header["values"].items()}
+        for name, (frames, numbers) in self.value_changes.items():
+            i = int(np.searchsorted(frames, index, side="right")) - 1
+            if i >= 0:
+                values[name] = float(numbers[i])
         return values
+
+    @functools.cached_property
+    def value_changes(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """For each parameter a recording changes: the frame index of each ``set`` event
+        (frames recorded before it, non-decreasing) and the value it set, as two arrays
+        built once from :attr:`events` (memory linear in the events)."""
+        frames: dict[str, list[int]] = {}
+        numbers: dict[str, list[float]] = {}
+        for ev in self.events:
+            if ev["k"] == "set":
+                frames.setdefault(ev["name"], []).append(int(ev["index"]))
+                numbers.setdefault(ev["name"], []).append(float(ev["value"]))
+        return {
+            name: (np.array(frames[name], dtype=np.int64), np.array(numbers[name], dtype=float))
+            for name in frames
+        }
 
 
 MAX_FILE_BYTES = 256 * 2**20

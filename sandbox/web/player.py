@@ -9,6 +9,7 @@ panel differs: a time scrubber, play/pause, frame stepping and a speed factor.
 from __future__ import annotations
 
 import queue
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -18,7 +19,7 @@ import viser
 
 from sandbox.errors import SandboxError
 from sandbox.recording import Recording, set_state
-from sandbox.replay import open_simulation
+from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
@@ -54,7 +55,8 @@ class ReplayController:
     def __init__(self, rec: Recording, *, clock: Callable[[], float] = time.perf_counter) -> None:
         self.rec = rec
         self.clock = clock
-        self.sim = open_simulation(rec)
+        self.model: ModelChoice  # which model replays it: the scene's or the recording's
+        self.sim, self.model = open_replay(rec)
         self.requests: queue.Queue[Request] = queue.Queue()
         self.playing = True
         self.speed = 1.0
@@ -132,12 +134,17 @@ class ReplayController:
         self._show(index)
 
     def _show(self, index: int) -> None:
-        """Load frame ``index``: parameters in force then, and its full state."""
+        """Load frame ``index``: parameters in force then (a binary search in the
+        recording's timeline of values; at most one rebuild), and its full state."""
         sim = self.sim
         with sim.lock:
-            for name, value in self.rec.values_at(index).items():
-                if sim.values.get(name) != value:
-                    sim.set_value(name, value)
+            changes = [
+                (name, value)
+                for name, value in self.rec.values_at(index).items()
+                if sim.values.get(name) != value
+            ]
+            if changes:
+                set_values(sim, changes)
             set_state(sim.model, sim.data, self.rec.states[index])
         self.index = index
 
@@ -258,7 +265,9 @@ def start_replay(
     rec: Recording, *, host: str = "127.0.0.1", port: int = 8080, open_message: bool = True
 ) -> App:
     """Serve ``rec`` in background threads and return at once."""
-    open_simulation(rec)  # fails early with a clear message
+    _, model = open_replay(rec)  # fails early with a clear message
+    if model.warning and open_message:
+        print(f"sandbox: warning: {model.warning}", file=sys.stderr, flush=True)
     server = open_server(host, port, "Relecture — Dynamique des solides")
 
     def session(client: viser.ClientHandle) -> Session:
