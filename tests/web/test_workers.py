@@ -1,8 +1,11 @@
-"""The worker processes of ``serve --workers N`` live no longer than the process that
-started them: a parent killed with ``kill -9`` leaves no worker serving and its port free."""
+"""The worker processes of ``serve --workers N``: how many start by default, how they
+share a class where the system has no ``SO_REUSEPORT`` (Windows), and that they live no
+longer than the process that started them: a parent killed with ``kill -9`` leaves no
+worker serving and its port free."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -157,3 +160,98 @@ def test_a_worker_is_told_when_its_lifeline_breaks():
     writer.close()
     assert done.wait(5.0)
     assert calls == ["stop", "exit 1"]
+
+
+def _no_affinity_no_process_count(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``os`` as on macOS and Windows (and Python < 3.13): only ``os.cpu_count``."""
+    monkeypatch.delattr(os, "process_cpu_count", raising=False)
+    monkeypatch.delattr(os, "sched_getaffinity", raising=False)
+
+
+def test_the_default_is_one_worker_per_core_up_to_the_cap(monkeypatch):
+    """A 16-core Mac or Windows laptop starts DEFAULT_WORKERS_CAP workers, not 16."""
+    _no_affinity_no_process_count(monkeypatch)
+    monkeypatch.setattr(os, "cpu_count", lambda: 16)
+    assert 1 < workers.DEFAULT_WORKERS_CAP < 16
+    assert workers.default_workers() == workers.DEFAULT_WORKERS_CAP
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    assert workers.default_workers() == 2  # under the cap: one per core
+
+
+def test_an_unknown_core_count_gives_one_worker(monkeypatch):
+    _no_affinity_no_process_count(monkeypatch)
+    monkeypatch.setattr(os, "cpu_count", lambda: None)
+    assert workers.default_workers() == 1
+
+
+def test_the_cores_this_process_may_use_count_not_the_machine_s(monkeypatch):
+    """Linux before 3.13: the affinity mask (a container or ``taskset`` given one core of
+    16) wins over ``os.cpu_count``; from 3.13, ``os.process_cpu_count`` wins over both."""
+    monkeypatch.delattr(os, "process_cpu_count", raising=False)
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {3}, raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 16)
+    assert workers.default_workers() == 1
+    monkeypatch.setattr(os, "process_cpu_count", lambda: 3, raising=False)
+    assert workers.default_workers() == 3
+    monkeypatch.setattr(os, "process_cpu_count", lambda: None, raising=False)
+    assert workers.default_workers() == 1
+
+
+NO_REUSEPORT = """\
+import os, socket
+if hasattr(socket, "SO_REUSEPORT"):
+    del socket.SO_REUSEPORT
+with open({marks!r}, "a") as fh:
+    fh.write(f"{{os.getpid()}} {{hasattr(socket, 'SO_REUSEPORT')}}\\n")
+"""
+"""``sitecustomize`` of a Python without ``SO_REUSEPORT`` (as on Windows): every process
+of the server runs it before ``sandbox`` is imported (the spawned workers too, which a
+``del`` in the parent's ``-c`` would not reach) and writes down its pid."""
+
+
+@pytest.mark.slow  # two worker processes and 30 websocket sessions: ~6 s
+@linux_only
+def test_thirty_browsers_split_15_15_over_two_workers_without_so_reuseport(tmp_path):
+    """``sandbox serve rotor --workers 2`` in a Python whose ``socket`` module has no
+    ``SO_REUSEPORT`` (Windows; macOS has it but does not spread connections): it starts,
+    and 30 browsers connecting one after the other are served 15 by each worker."""
+    from sandbox import classroom
+    from tests.conftest import free_port
+
+    site, marks = tmp_path / "site", tmp_path / "marks.txt"
+    site.mkdir()
+    (site / "sitecustomize.py").write_text(NO_REUSEPORT.format(marks=str(marks)))
+    paths = [str(site), *filter(None, [os.environ.get("PYTHONPATH")])]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
+    port = free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sandbox.cli", "serve", "rotor", "--port", str(port)]
+        + ["--workers", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=tmp_path,
+        env=env,
+        start_new_session=True,
+    )
+    sessions: list[object] = []
+    try:
+        first = proc.stdout.readline() if proc.stdout else ""
+        if f"http://127.0.0.1:{port} by 2 worker processes" not in first:
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                proc.wait(15)  # a server that cannot start exits: its output says why
+            _kill_group(proc)
+            pytest.fail(first + (proc.stdout.read() if proc.stdout else ""))
+        pids = _workers_of(proc.pid)
+        assert len(pids) == 2, pids
+        ran = dict(line.split() for line in marks.read_text().splitlines())
+        # the parent and both workers ran without SO_REUSEPORT
+        assert {str(p): "False" for p in [proc.pid, *pids]}.items() <= ran.items(), ran
+        sessions = _sessions(port, 30)
+        split = classroom.connections_per_process(proc.pid, port)
+        assert set(split) == set(pids), (split, pids)  # the parent holds none
+        assert sorted(split.values()) == [15, 15], split
+    finally:
+        for session in sessions:
+            session.close()  # type: ignore[attr-defined]
+        _kill_group(proc)
