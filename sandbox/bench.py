@@ -567,7 +567,7 @@ def load_results(scene: str, path: Path | None = None) -> SceneResult | None:
     or None when the file, the scene or a field is missing."""
     path = data_dir("bench") / "results.json" if path is None else path
     try:
-        doc = json.loads(path.read_text())
+        doc = json.loads(path.read_text(encoding="utf-8"))
         entry = doc["scenes"][scene]
     except (OSError, ValueError, KeyError, TypeError):
         return None
@@ -601,15 +601,17 @@ def write_results(results: Sequence[SceneResult], out: Path, *, quick: bool) -> 
     from sandbox.bench_plot import plot_scene
 
     out.mkdir(parents=True, exist_ok=True)
-    (out / "results.json").write_text(json.dumps(to_json(results, quick=quick), indent=1))
-    with (out / "results.csv").open("w", newline="") as fh:
+    (out / "results.json").write_text(
+        json.dumps(to_json(results, quick=quick), indent=1), encoding="utf-8"
+    )
+    with (out / "results.csv").open("w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(CSV_COLUMNS)
         for res in results:
             for r in res.runs:
                 row = asdict(r)
                 writer.writerow(["" if row[c] is None else row[c] for c in CSV_COLUMNS])
-    (out / "results.md").write_text(markdown(results))
+    (out / "results.md").write_text(markdown(results), encoding="utf-8")
     paths = [out / "results.json", out / "results.csv", out / "results.md"]
     for res in results:
         paths.append(plot_scene(res, out / f"{res.scene}.png"))

@@ -35,9 +35,11 @@ Definitions:
   receive time - send time [s]; a change not shown before the next toggle counts as
   *not shown*. Other scenes probe their first parameter, which may
   never show this way.
-- **Server CPU**: utime + stime (+ reaped children) from ``/proc`` of the server
+- **Server CPU**: user + system time (+ reaped children, on Linux) of the server
   process and all its descendants, over the window [cores]. **RSS**: sum of the
-  resident sizes over that tree (shared pages count once per process) [bytes].
+  resident sizes over that tree (shared pages count once per process) [bytes]. These,
+  the threads' CPU and the browsers per worker process are read with psutil, the same
+  way on Linux, macOS and Windows (the ``bench`` extra: ``pip install "sandbox[bench]"``).
 - **Idle CPU**: after the main clients left and 3 s passed, 20 clients connect, send
   the camera message and close at once; the server tree's CPU is sampled each second
   for 10 s; idle = the mean over the last 2 s [cores].
@@ -67,6 +69,7 @@ import time
 import urllib.request
 from collections.abc import Callable, Coroutine, Sequence
 from dataclasses import dataclass, field
+from types import ModuleType
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import msgspec
@@ -75,6 +78,7 @@ import websockets.exceptions
 import zstandard
 
 if TYPE_CHECKING:
+    import psutil
     from websockets.asyncio.client import ClientConnection, connect
 
 from sandbox.errors import BadOption
@@ -135,7 +139,7 @@ def _subprotocol() -> str:
     return f"viser-v{viser.__version__}"
 
 
-# -- statistics and /proc ------------------------------------------------------------------
+# -- statistics and processes --------------------------------------------------------------
 
 
 def percentile(values: Sequence[float], q: float) -> float:
@@ -166,69 +170,71 @@ def summary(values: Sequence[float]) -> dict[str, float]:
     }
 
 
-def _stat_fields(pid: int, task: int | None = None) -> list[str] | None:
-    path = f"/proc/{pid}/stat" if task is None else f"/proc/{pid}/task/{task}/stat"
+PSUTIL_MISSING = (
+    "the classroom benchmark measures the server's processes with psutil, which is not "
+    'installed: pip install "sandbox[bench]" (or: pip install psutil)'
+)
+
+
+def _psutil() -> ModuleType:
+    """psutil, imported on first use (the ``bench`` extra).
+
+    Raises:
+        BadOption: psutil is not installed; the message gives the install command.
+    """
     try:
-        with open(path, "rb") as fh:
-            text = fh.read().decode()
-    except OSError:
-        return None
-    return text[text.rfind(")") + 2 :].split()  # fields 3.. (state, ppid, ...)
+        import psutil
+    except ImportError:
+        raise BadOption(PSUTIL_MISSING) from None
+    return psutil
+
+
+def _tree(pid: int) -> list[psutil.Process]:
+    """``pid``'s process and its live descendants (empty when ``pid`` is gone)."""
+    ps = _psutil()
+    try:
+        root = ps.Process(pid)
+        return [root, *root.children(recursive=True)]
+    except ps.Error:
+        return []
 
 
 def process_tree(pid: int) -> list[int]:
     """``pid`` and all its live descendants (empty when ``pid`` is gone)."""
-    children: dict[int, list[int]] = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            fields = _stat_fields(int(entry))
-            if fields is not None:
-                children.setdefault(int(fields[1]), []).append(int(entry))
-    if _stat_fields(pid) is None:
-        return []
-    tree, todo = [], [pid]
-    while todo:
-        p = todo.pop()
-        tree.append(p)
-        todo.extend(children.get(p, ()))
-    return tree
-
-
-_TICK = os.sysconf("SC_CLK_TCK")
-_PAGE = os.sysconf("SC_PAGE_SIZE")
+    return [p.pid for p in _tree(pid)]
 
 
 def tree_cpu(pid: int) -> float:
-    """CPU time [s] of ``pid`` and its descendants: user + system, reaped children too."""
-    ticks = 0
-    for p in process_tree(pid):
-        fields = _stat_fields(p)
-        if fields is not None:
-            ticks += sum(int(x) for x in fields[11:15])  # utime stime cutime cstime
-    return ticks / _TICK
+    """CPU time [s] of ``pid`` and its descendants: user + system, reaped children too
+    (the reaped children's part is known on Linux only; elsewhere psutil gives 0)."""
+    ps, total = _psutil(), 0.0
+    for p in _tree(pid):
+        with contextlib.suppress(ps.Error):
+            t = p.cpu_times()
+            total += t.user + t.system + t.children_user + t.children_system
+    return total
 
 
 def tree_rss(pid: int) -> int:
     """Resident set size [bytes] summed over ``pid`` and its descendants."""
-    total = 0
-    for p in process_tree(pid):
-        try:
-            with open(f"/proc/{p}/statm") as fh:
-                total += int(fh.read().split()[1]) * _PAGE
-        except (OSError, IndexError, ValueError):
-            pass
+    ps, total = _psutil(), 0
+    for p in _tree(pid):
+        with contextlib.suppress(ps.Error):
+            total += int(p.memory_info().rss)
     return total
 
 
 def thread_cpu(pid: int) -> dict[tuple[int, int], float]:
-    """CPU time [s] of every thread of ``pid``'s tree, keyed by (pid, tid)."""
-    out: dict[tuple[int, int], float] = {}
-    for p in process_tree(pid):
-        with contextlib.suppress(OSError):
-            for tid in os.listdir(f"/proc/{p}/task"):
-                fields = _stat_fields(p, int(tid))
-                if fields is not None:
-                    out[(p, int(tid))] = (int(fields[11]) + int(fields[12])) / _TICK
+    """CPU time [s] of every thread of ``pid``'s tree, keyed by (pid, tid).
+
+    A process whose threads cannot be read (psutil's AccessDenied, e.g. another user's
+    process on macOS) is left out: the figures then cover the threads that could be.
+    """
+    ps, out = _psutil(), {}
+    for p in _tree(pid):
+        with contextlib.suppress(ps.Error, NotImplementedError):
+            for t in p.threads():
+                out[(p.pid, t.id)] = t.user_time + t.system_time
     return out
 
 
@@ -237,24 +243,31 @@ def connections_per_process(pid: int, port: int) -> dict[int, int]:
 
     Shows how the kernel spread the browsers over the server's worker processes.
     """
-    inodes: dict[str, int] = {}
-    for p in process_tree(pid):
-        with contextlib.suppress(OSError):
-            for fd in os.listdir(f"/proc/{p}/fd"):
-                with contextlib.suppress(OSError):
-                    link = os.readlink(f"/proc/{p}/fd/{fd}")
-                    if link.startswith("socket:["):
-                        inodes[link[8:-1]] = p
-    counts = dict.fromkeys(process_tree(pid), 0)
-    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
-        with contextlib.suppress(OSError), open(table) as fh:
-            for line in fh.readlines()[1:]:
-                cols = line.split()
-                local, state, inode = cols[1], cols[3], cols[9]
-                if state == "01" and int(local.rsplit(":", 1)[1], 16) == port:
-                    if inode in inodes:
-                        counts[inodes[inode]] += 1
-    return {p: n for p, n in counts.items() if n}
+    ps, counts = _psutil(), {}
+    for p in _tree(pid):
+        with contextlib.suppress(ps.Error):
+            # net_connections since psutil 6.0, connections before
+            listed = getattr(p, "net_connections", None) or p.connections
+            n = sum(
+                1
+                for c in listed(kind="tcp")
+                if c.status == ps.CONN_ESTABLISHED and c.laddr and c.laddr.port == port
+            )
+            if n:
+                counts[p.pid] = n
+    return counts
+
+
+def load_average() -> tuple[float, float, float] | None:
+    """The system's 1, 5 and 15 min load averages; None where the OS has none (Windows)."""
+    getloadavg = getattr(os, "getloadavg", None)
+    if getloadavg is None:
+        return None
+    try:
+        one, five, fifteen = getloadavg()
+    except OSError:  # "load average was unobtainable"
+        return None
+    return (one, five, fifteen)
 
 
 # -- the wire ------------------------------------------------------------------------------
@@ -589,7 +602,9 @@ class Server:
             stdin=subprocess.DEVNULL,
             stdout=self.log,
             stderr=subprocess.STDOUT,
-            start_new_session=True,
+            start_new_session=True,  # POSIX: its own process group (ignored on Windows)
+            # the French banner in the log, whatever the locale (cp1252 has no "≥" or "→")
+            env={**os.environ, "PYTHONIOENCODING": "utf-8"},
         )
         try:
             self._wait_ready()
@@ -639,33 +654,65 @@ class Server:
         """SIGTERM (the server closes its sessions), then SIGKILL, to the whole group.
 
         Each signal gets a bounded wait; SIGINT is not used because a bench started in
-        the background of a shell inherits it ignored, and so would the server.
+        the background of a shell inherits it ignored, and so would the server. Where
+        there are no process groups (Windows), the server's tree is terminated, then
+        killed, through psutil.
         """
         proc = self.proc
         if proc is None:
             return
-        for sig, wait in ((signal.SIGTERM, 8.0), (signal.SIGKILL, 3.0)):
-            if proc.poll() is not None:
-                break
+        if PROCESS_GROUPS:
+            for sig, wait in ((signal.SIGTERM, 8.0), (signal.SIGKILL, 3.0)):
+                if proc.poll() is not None:
+                    break
+                with contextlib.suppress(ProcessLookupError, PermissionError):
+                    os.killpg(proc.pid, sig)
+                with contextlib.suppress(subprocess.TimeoutExpired):
+                    proc.wait(wait)
             with contextlib.suppress(ProcessLookupError, PermissionError):
-                os.killpg(proc.pid, sig)
+                os.killpg(proc.pid, signal.SIGKILL)  # leftovers of the group
+        else:
+            stop_tree(proc.pid)
             with contextlib.suppress(subprocess.TimeoutExpired):
-                proc.wait(wait)
-        with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.killpg(proc.pid, signal.SIGKILL)  # leftovers of the group
+                proc.wait(3.0)
         self.log.close()
         self.proc = None
+
+
+PROCESS_GROUPS = hasattr(os, "killpg")
+"""POSIX: :meth:`Server.stop` signals the server's process group (it has its own)."""
+
+
+def stop_tree(pid: int, *, wait: float = 8.0) -> None:
+    """Terminate ``pid`` and its descendants, then kill those alive after ``wait`` [s]."""
+    ps = _psutil()
+    tree = _tree(pid)  # listed while the root lives: its children are found through it
+    for p in tree:
+        with contextlib.suppress(ps.Error):
+            p.terminate()
+    _, alive = ps.wait_procs(tree, timeout=wait)
+    for p in alive:
+        with contextlib.suppress(ps.Error):
+            p.kill()
+    ps.wait_procs(alive, timeout=3.0)
 
 
 # -- the benchmark -------------------------------------------------------------------------
 
 
+SERVE_WORKERS_CAP = 4
+"""``sandbox.web.workers.DEFAULT_WORKERS_CAP``, repeated here: the tools layer does not
+import the web layer (a test checks the two agree)."""
+
+
 def _cores() -> int:
-    """Worker processes ``sandbox serve`` starts by default: one per core it may use."""
+    """Worker processes ``sandbox serve`` starts by default: one per core it may use, at
+    most :data:`SERVE_WORKERS_CAP` (as :func:`sandbox.web.workers.default_workers`)."""
     try:
-        return max(1, len(os.sched_getaffinity(0)))
+        cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
-        return max(1, os.cpu_count() or 1)
+        cores = os.cpu_count() or 1
+    return max(1, min(cores, SERVE_WORKERS_CAP))
 
 
 def probe_param(scene: str) -> str | None:
@@ -936,7 +983,8 @@ def run_classroom(
         JSON-able results (see :func:`report`).
     """
     say = progress or (lambda _line: None)
-    load = os.getloadavg()
+    _psutil()  # missing: say how to install it before a server starts
+    load = load_average()
     param = probe_param(scene)
     with Server(scene, follow=follow, workers=workers) as server:
         teacher = server.teacher_path() if follow else None
@@ -975,7 +1023,7 @@ def run_classroom(
         date=time.strftime("%Y-%m-%d %H:%M:%S %Z"),
         cpus=os.cpu_count(),
         load_average_before=load,
-        load_average_after=os.getloadavg(),
+        load_average_after=load_average(),
     )
     results["targets"] = targets(results)
     return results

@@ -254,7 +254,7 @@ def cli_classroom(
         print(compare(runs, saved))
     if out is not None:
         data = runs[0] if not many else {run_key(r): r for r in runs}
-        out.write_text(json.dumps(jsonable(data), indent=2) + "\n")
+        out.write_text(json.dumps(jsonable(data), indent=2) + "\n", encoding="utf-8")
         print(f"written: {out}")
     if save_to is not None:
         save(save_to, runs)

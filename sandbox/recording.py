@@ -847,7 +847,7 @@ def write_csv(recording: Recording, out: str | Path, names: Sequence[str] | None
 
     cols = list(names or recording.names)
     idx = [recording.names.index(n) for n in cols]
-    with Path(out).open("w", newline="") as fh:
+    with Path(out).open("w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(cols)
         for row in recording.readouts:

@@ -349,8 +349,69 @@ def test_all_scenes_one_table_saved_and_compared(tmp_path, capsys) -> None:
         suite.load(tmp_path / "bad.json")
 
 
+def _gone(pid: int) -> bool:
+    """No such process any more (or only its zombie: it has ended)."""
+    import psutil
+
+    try:
+        return psutil.Process(pid).status() == psutil.STATUS_ZOMBIE
+    except psutil.NoSuchProcess:
+        return True
+
+
+def without_process_groups(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """Run as on Windows: no os.killpg for :meth:`Server.stop` (psutil stops the tree) and
+    no os.getloadavg. Returns the list the stopped trees' pids are added to."""
+    stopped: list[int] = []
+    stop_tree = cr.stop_tree
+
+    def spy(pid: int, **kw: float) -> None:
+        stopped.extend(cr.process_tree(pid))
+        stop_tree(pid, **kw)
+
+    monkeypatch.setattr(cr, "PROCESS_GROUPS", False)
+    monkeypatch.setattr(cr, "stop_tree", spy)
+    monkeypatch.delattr(cr.os, "getloadavg")
+    return stopped
+
+
+def test_server_stop_without_process_groups_ends_the_whole_tree(monkeypatch) -> None:
+    stopped = without_process_groups(monkeypatch)
+    assert cr.load_average() is None
+    server = cr.Server("rotor")  # not started: a shell and its child stand in for it
+    server.proc = subprocess.Popen(
+        ["sh", "-c", '"$0" -c "$1" & wait', sys.executable, "import time; time.sleep(60)"]
+    )
+    try:
+        deadline = time.monotonic() + 10
+        while len(cr.process_tree(server.pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        tree = cr.process_tree(server.pid)
+        assert len(tree) == 2
+        server.stop()
+        assert stopped == tree and all(_gone(p) for p in tree)
+        assert server.proc is None and server.log.closed
+    finally:
+        if server.proc is not None:  # the test failed before the stop: end the shell's tree
+            cr.stop_tree(server.proc.pid, wait=1.0)
+
+
+def test_a_missing_psutil_is_named_with_its_install_command(monkeypatch, capsys) -> None:
+    from sandbox.cli import main
+
+    monkeypatch.setitem(sys.modules, "psutil", None)  # `import psutil` raises ImportError
+    with pytest.raises(BadOption, match=r'pip install "sandbox\[bench\]"'):
+        cr.tree_cpu(1)
+    monkeypatch.setattr(cr, "Server", None)  # no server may start before the message
+    assert main(["bench", "--classroom", "2", "rotor", "--seconds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and 'pip install "sandbox[bench]"' in err
+
+
 @pytest.mark.slow  # a real server: ~6-13 s on the shared 2 cores
-def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
+def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> None:
+    """Measured and stopped as on Windows or macOS: psutil only, no process group."""
+    stopped = without_process_groups(monkeypatch)
     results = cr.run_classroom("rotor", 2, seconds=3.0, warmup=1.0, drop_clients=0)
     main = results["main"]
     assert main["connected"] == 2 and not main["errors"]
@@ -359,7 +420,12 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time() -> None:
     # the probe found the French slider ("Masse de correction m₁ [g]") and saw its changes
     assert main["slider_param"] == "mass1_g" and main["slider_samples"] > 0
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
-    assert sum(main["clients_per_process"]) == 2  # both websockets found in /proc
+    assert sum(main["clients_per_process"]) == 2  # both websockets, each in its worker
+    assert main["server_cpu_cores"] > 0 and main["server_cpu_ms_per_frame"] > 0
+    assert main["server_threads"] >= main["server_processes"] >= 2  # parent and workers
+    assert main["server_top_thread_cores"][0] > 0
+    assert results["load_average_before"] is None is results["load_average_after"]
+    assert len(stopped) == main["server_processes"] and all(_gone(p) for p in stopped)
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
     assert "server_output" not in results and "server's last lines" not in cr.report(results)
     # a browser left without frames: the report shows what the server said then
@@ -407,3 +473,16 @@ def test_the_flood_finds_its_controls_and_measures_the_others_before_and_during(
     out = fl.flood_ratio([steady, starved], window, 105.0)
     assert out["fps_before"] == pytest.approx(50.0)
     assert out["ratio_min"] == pytest.approx(1 / 50)  # the starved client: 1 frame/s
+
+
+def test_the_bench_counts_the_workers_serve_starts(monkeypatch) -> None:
+    """The benchmark's expected worker count is the server's default, cap included."""
+    import os
+
+    from sandbox.web import workers
+
+    assert cr.SERVE_WORKERS_CAP == workers.DEFAULT_WORKERS_CAP
+    monkeypatch.delattr(os, "sched_getaffinity", raising=False)
+    monkeypatch.delattr(os, "process_cpu_count", raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 16)
+    assert cr._cores() == workers.default_workers() == workers.DEFAULT_WORKERS_CAP

@@ -106,7 +106,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         with contextlib.redirect_stdout(io.StringIO()):
             server.stop()
     index = folder / "index.html"
-    index.write_text(html)
+    index.write_text(html, encoding="utf-8")
     write_csv(rec, folder / "readouts.csv")
     return index
 

@@ -169,7 +169,8 @@ def _worker_main(
         from sandbox.web.app import start
         from sandbox.web.handoff import Adopter
 
-        sys.stdout = open(os.devnull, "w")  # viser's banners: the parent prints the address
+        # viser's banners: the parent prints the address
+        sys.stdout = open(os.devnull, "w", encoding="utf-8")
         adopter = Adopter(pipe, closed, index)
         network.install(handoff=adopter)
         try:
