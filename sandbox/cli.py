@@ -30,7 +30,7 @@ from typing import NoReturn
 
 import mujoco
 
-from sandbox.errors import BadOption, BadParameter, SandboxError, one_line, shown
+from sandbox.errors import BadOption, BadParameter, SandboxError, choices, one_line, shown
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
@@ -43,6 +43,9 @@ DEBUG_ENV = "SANDBOX_DEBUG"
 
 MAX_WORKERS = 64
 """Most server processes ``--workers`` may start."""
+
+LESSON_PREFIX = "lesson:"
+"""``sandbox serve lesson:NAME`` opens the lesson NAME even when a scene has that name."""
 
 MAX_NAME_CHARS = 200
 """Longest ``--set`` name or value accepted."""
@@ -123,7 +126,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--workers",
         type=int,
         default=None,
-        help="server processes sharing the port (default: one per core; 1: a single process)",
+        help=(
+            "server processes sharing the port (default: one per core, at most 4; "
+            "1: a single process)"
+        ),
     )
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     sub.add_parser("list", help="list scenes and lessons")
@@ -158,7 +164,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--record", type=Path, metavar="FILE", help="also write a recording for 'sandbox replay'"
     )
     s = sub.add_parser("serve", help="start the web sandbox")
-    s.add_argument("target", nargs="?", default=None, help="scene, lesson or MJCF file")
+    s.add_argument(
+        "target",
+        nargs="?",
+        default=None,
+        help="scene, lesson, lesson:NAME (a lesson named like a scene, e.g. "
+        "lesson:gyroscope), lesson file (FILE.md) or MJCF file",
+    )
     _server_options(s)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     s.add_argument(
@@ -242,7 +254,7 @@ def _server_options(sp: argparse.ArgumentParser, *, workers: bool = True) -> Non
             "--workers",
             type=int,
             default=argparse.SUPPRESS,
-            help="server processes sharing the port (default: one per core)",
+            help="server processes sharing the port (default: one per core, at most 4)",
         )
 
 
@@ -257,7 +269,7 @@ def cmd_list() -> int:
     for scene in SCENES.values():
         mark = " (default)" if scene.name == DEFAULT_SCENE else ""
         print(f"  {scene.name:<{width}} {scene.title}{mark}")
-    print("Lessons (sandbox serve LESSON):")
+    print("Lessons (sandbox serve LESSON; lesson:LESSON when a scene has its name; or FILE.md):")
     for name, lesson in found.items():
         print(f"  {name:<{width}} {lesson.title} [{lesson.scene}, {len(lesson.steps)} steps]")
     return 0
@@ -608,24 +620,48 @@ def cmd_serve(
     follow: bool = False,
     public_url: str | None = None,
 ) -> int:
-    """``sandbox serve``: start the web app (blocks until Ctrl-C)."""
-    from sandbox.lessons import ANY_SCENE, catalogue
+    """``sandbox serve``: start the web app (blocks until Ctrl-C).
+
+    ``target`` is a scene name, a lesson name (a scene of the same name wins: write
+    ``lesson:NAME`` for the lesson), the path of a lesson file (``*.md``, parsed and
+    validated here: its errors are one line) or the path of an MJCF file."""
+    from sandbox.lessons import (
+        ANY_SCENE,
+        UnknownLesson,
+        catalogue,
+        is_lesson_file,
+        open_lesson_file,
+    )
     from sandbox.scenes import DEFAULT_SCENE, SCENES
     from sandbox.web.app import serve
 
     _check_port_range(port)
     target = target or DEFAULT_SCENE
+    named = target.startswith(LESSON_PREFIX)  # a lesson, even one named like a scene
+    name = target.removeprefix(LESSON_PREFIX)
     lesson = None
+    scene = None
+    if is_lesson_file(name):
+        path = Path(name)
+        scene = open_lesson_file(path).scene
+        lesson = str(path.resolve())  # opened again by each worker process
     # One broken lesson file does not stop the good ones: it is named once here (and listed
     # in the web "Leçon" folder); serving the broken lesson itself is refused with its error.
     good, refused = catalogue()
     for error in refused:
-        if target not in SCENES and f"{os.sep}{target}.md:" in f"{os.sep}{error}":
-            raise error
+        if lesson is None and (named or name not in SCENES):
+            if f"{os.sep}{name}.md:" in f"{os.sep}{error}":
+                raise error
         print(f"sandbox: warning: lesson skipped: {error}", file=sys.stderr)
-    if target not in SCENES and target in good:
-        lesson = target
-        scene = good[lesson].scene
+    if lesson is None and named and name not in good:
+        raise UnknownLesson(
+            f"unknown lesson {shown(name)}; lessons: {choices(good) or 'none'} "
+            "(or the path of a lesson file, FILE.md)"
+        )
+    if lesson is None and (named or name not in SCENES) and name in good:
+        lesson = name
+        scene = good[name].scene
+    if scene is not None:
         target = DEFAULT_SCENE if scene == ANY_SCENE else scene
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         raise BadOption(f"--workers must be between 1 and {MAX_WORKERS}, got {workers!r}")

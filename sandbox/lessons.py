@@ -59,7 +59,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from sandbox.data import data_dir
-from sandbox.errors import BadParameter, SandboxError, choices
+from sandbox.errors import BadParameter, SandboxError, choices, shown
 
 ANY_SCENE = "any"
 DIRECTIVES = (
@@ -835,17 +835,53 @@ class Catalogue(NamedTuple):
     errors: tuple[BadLesson, ...]
 
 
+LESSON_SUFFIX = ".md"
+"""How the name of a lesson file ends (``sandbox serve FILE.md`` opens a lesson)."""
+
+_opened: dict[str, Lesson] = {}
+"""Lesson files opened by path in this process (:func:`open_lesson_file`), by name."""
+
+
+def is_lesson_file(target: str | Path) -> bool:
+    """True when ``target`` names a lesson file (``*.md``), not a scene or an MJCF file."""
+    return str(target).lower().endswith(LESSON_SUFFIX)
+
+
+def open_lesson_file(path: Path) -> Lesson:
+    """Parse and validate the lesson file ``path`` (anywhere, named anyhow) and offer it
+    with the shipped lessons (:func:`catalogue`) to the pages this process serves, in
+    place of a shipped lesson of the same name.
+
+    Raises:
+        BadLesson: no such file, or naming ``file:line`` and the fix.
+    """
+    if not path.exists():
+        raise BadLesson(
+            f"no lesson file {shown(str(path), 200)}; check the path (or name a shipped "
+            "lesson: sandbox list)"
+        )
+    lesson = parse(path)
+    validate(lesson)
+    _opened[lesson.name] = lesson
+    catalogue.cache_clear()
+    return lesson
+
+
 @lru_cache(maxsize=1)
 def catalogue() -> Catalogue:
     """Every lesson in ``lessons/`` parsed and validated, and the files refused (the web
-    app opens the good ones and shows the refusals; the CLI refuses them all)."""
-    try:
-        folder = data_dir("lessons")
-    except FileNotFoundError:
-        return Catalogue({}, ())
-    found = []
+    app opens the good ones and shows the refusals; the CLI refuses them all); with the
+    lesson files opened by :func:`open_lesson_file`, which replace the shipped ones of
+    their name."""
+    found = list(_opened.values())
     errors = []
-    for path in sorted(folder.glob("*.md")):
+    try:
+        paths = sorted(data_dir("lessons").glob("*.md"))
+    except FileNotFoundError:
+        paths = []
+    for path in paths:
+        if path.stem in _opened:
+            continue
         try:
             lesson = parse(path)
             validate(lesson)

@@ -338,3 +338,95 @@ def test_the_installed_command_is_the_guarded_one():
 
     project = (Path(__file__).parents[1] / "pyproject.toml").read_text(encoding="utf-8")
     assert '\nsandbox = "sandbox.launch:main"\n' in project
+
+
+MY_LESSON = """---
+scene: compressor
+title: Ma leçon à moi
+level: L3
+---
+
+## Premier pas
+preset: speed_rpm=1500
+
+Regardez le piston.
+"""
+
+
+@pytest.fixture
+def opened_lessons(monkeypatch):
+    """Lesson files opened by path in this test only (the catalogue is process-wide)."""
+    from sandbox import lessons
+
+    monkeypatch.setattr(lessons, "_opened", {}, raising=False)
+    lessons.catalogue.cache_clear()
+    yield lessons
+    monkeypatch.undo()
+    lessons.catalogue.cache_clear()
+
+
+def _serving(monkeypatch) -> dict[str, object]:
+    calls: dict[str, object] = {}
+    monkeypatch.setattr(
+        "sandbox.web.app.serve", lambda target, **options: calls.update(target=target, **options)
+    )
+    return calls
+
+
+def test_serve_a_lesson_file_opens_that_lesson_with_its_scene(
+    monkeypatch, tmp_path, opened_lessons
+):
+    path = tmp_path / "ma-lecon.md"
+    path.write_text(MY_LESSON, encoding="utf-8")
+    calls = _serving(monkeypatch)
+    monkeypatch.chdir(tmp_path)
+    assert main(["serve", "ma-lecon.md", "--port", "8135"]) == 0
+    assert calls["target"] == "compressor"  # the lesson's scene, not the file as MJCF
+    assert calls["lesson"] == str(path.resolve())  # absolute: each worker opens it again
+    assert opened_lessons.catalogue().lessons["ma-lecon"].title == "Ma leçon à moi"
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        (MY_LESSON.replace("speed_rpm", "no_such_param"), "ma-lecon.md:7: preset names no"),
+        (MY_LESSON.replace("scene: compressor", "scene: nowhere"), "unknown scene 'nowhere'"),
+        ("no front matter\n", "ma-lecon.md:1: a lesson starts with a front matter"),
+        (None, "no lesson file"),
+    ],
+)
+def test_a_bad_lesson_file_is_refused_in_one_line(
+    monkeypatch, capsys, tmp_path, opened_lessons, text, needle
+):
+    path = tmp_path / "ma-lecon.md"
+    if text is not None:
+        path.write_text(text, encoding="utf-8")
+    monkeypatch.setattr("sandbox.web.app.serve", lambda target, **kw: pytest.fail("served"))
+    assert main(["serve", str(path)]) == 2
+    err = _err(capsys)
+    assert needle in err and len(err.splitlines()) == 1, err
+    assert "mjcf" not in err.lower()
+
+
+def test_a_lesson_named_like_a_scene_opens_with_the_lesson_prefix(monkeypatch, capsys):
+    from sandbox.lessons import lessons
+    from sandbox.scenes import SCENES
+
+    assert "gyroscope" in SCENES and "gyroscope" in lessons()  # the shipped clash
+    calls = _serving(monkeypatch)
+    assert main(["serve", "gyroscope"]) == 0
+    assert (calls["target"], calls["lesson"]) == ("gyroscope", None)  # the scene wins
+    assert main(["serve", "lesson:gyroscope"]) == 0
+    assert (calls["target"], calls["lesson"]) == ("gyroscope", "gyroscope")
+    assert main(["serve", "lesson:equilibrage"]) == 0
+    assert (calls["target"], calls["lesson"]) == ("rotor", "equilibrage")
+    assert main(["serve", "lesson:rotor"]) == 2
+    err = _err(capsys)
+    assert "unknown lesson 'rotor'" in err and "equilibrage" in err
+
+
+def test_serve_help_names_the_lesson_prefix_and_lesson_files(capsys):
+    with pytest.raises(SystemExit):
+        main(["serve", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "lesson:NAME" in out and "FILE.md" in out

@@ -22,6 +22,7 @@ import rich
 import viser
 
 from sandbox.errors import BadOption
+from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
 from sandbox.web import client_text, network
 from sandbox.web.session import Controller, Session
@@ -201,17 +202,39 @@ PAGE_TITLE = "Dynamique des solides"
 the command line)."""
 
 
+CLOSED_CONNECTION = r"Queued an? \w+ on a closed connection"
+"""viser's UserWarning when a message goes to a browser that has left. A session draws
+until it sees its browser gone (ALIVE_CHECK, half a second), so every browser that leaves
+would warn of the messages of that last half second, which nobody needs."""
+
+
+def quiet_closed_connections() -> None:
+    """Ignore viser's :data:`CLOSED_CONNECTION` warning (that one only: other warnings,
+    viser's included, are shown as before). Idempotent and cheap when already first."""
+    if warnings.filters:
+        action, message, category, _, _ = warnings.filters[0]
+        pattern = getattr(message, "pattern", None)
+        if (action, pattern, category) == ("ignore", CLOSED_CONNECTION, UserWarning):
+            return
+    warnings.filterwarnings("ignore", message=CLOSED_CONNECTION, category=UserWarning)
+
+
 def open_server(host: str, port: int, label: str, *, check: bool = True) -> viser.ViserServer:
     """A viser server on exactly ``host:port`` (BadOption when the port is taken)."""
     if check:
         _check_port(host, port)
     network.quiet_viewer_logs()
+    quiet_closed_connections()
     # viser prints its own address box (with "localhost" for 0.0.0.0, and the websocket
     # URL) and "Server stopped" through rich's global console; the teacher reads the
     # sandbox's banner instead, which names the addresses students type.
     rich.reconfigure(quiet=True)
     client_text.install()  # viser's own warnings and chart ticks in French
     server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
+    # Again at each browser: a ``warnings.catch_warnings`` block (pytest runs each test in
+    # one, a notebook cell may) puts the filters back as they were when it ends, and the
+    # server may outlive it.
+    server.on_client_connect(lambda _client: quiet_closed_connections())
     if network.handing_off():  # a worker: the front listens on the port, not viser
         return server
     if port != 0 and server.get_port() != port:  # lost a race for the port
@@ -264,7 +287,7 @@ def start(
     values: Mapping[str, object] | None = None,
     integrator: str | None = None,
     timestep: float | None = None,
-    lesson: str | None = None,
+    lesson: str | Path | None = None,
     open_message: bool = True,
     check_port: bool = True,
     max_sessions: int = MAX_SESSIONS,
@@ -284,7 +307,9 @@ def start(
         values: Parameter values for every session.
         integrator: Integrator name overriding the scene's.
         timestep: Timestep [s] overriding the scene's.
-        lesson: Lesson opened in every new browser (its scene is ``target``).
+        lesson: Lesson opened in every new browser (its scene is ``target``): a lesson's
+            name, or the path of a lesson file (``*.md``, offered in this process with
+            the shipped lessons, see :func:`sandbox.lessons.open_lesson_file`).
         open_message: Print the URL to open.
         check_port: Fail early when the port is taken (worker processes sharing the
             port skip it).
@@ -302,9 +327,9 @@ def start(
     network.install()
     network.reached_through(public_url)  # its handshakes are accepted too
     sys.setswitchinterval(SWITCH_INTERVAL)
-    # A session draws until it sees its browser gone (ALIVE_CHECK, half a second): viser
-    # warns of the messages of that last half second, which nobody will receive.
-    warnings.filterwarnings("ignore", message=r"Queued a \w+ on a closed connection")
+    opened = None if lesson is None else str(lesson)
+    if opened is not None and is_lesson_file(opened):  # in each worker too
+        opened = open_lesson_file(Path(opened)).name
     options: SimOptions = {
         "values": dict(values or {}),
         "integrator": integrator,
@@ -319,13 +344,13 @@ def start(
         from sandbox.web.follow import FollowApp
 
         app: App = FollowApp(
-            server, host, target, options, lesson=lesson, token=token, join_urls=tuple(urls)
+            server, host, target, options, lesson=opened, token=token, join_urls=tuple(urls)
         )
     else:
 
         def session(client: viser.ClientHandle) -> Session:
             controller = Controller(Simulation(target, **options))
-            view = WebView(client, controller, lesson=lesson, join_urls=urls)
+            view = WebView(client, controller, lesson=opened, join_urls=urls)
             return Session(controller, view)
 
         app = App(server, host, session, max_sessions=max_sessions, port=bound)
@@ -378,7 +403,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
 
     Args:
         target: Scene name or MJCF path.
-        workers: Server processes sharing the port (default one per core; 1 serves
+        workers: Server processes sharing the port (default one per core, at most 4; 1 serves
             from this process).
     """
     from sandbox.web.workers import WorkerSpec, default_workers, serve_pool

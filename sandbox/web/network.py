@@ -17,6 +17,10 @@ add two of them:
   when it sends one, is served). Plain HTTP requests (the page, its scripts: nothing
   private, and the teacher's path is a secret) are served whatever their Host, because
   the health check of ``deploy/haproxy.cfg`` sends ``Host: sandbox``.
+* ``process_request`` also answers HTTP 400 (Bad Request), in one log line, to a request
+  no browser sends (:func:`request_refusal`: a doubled ``Host``, a path segment longer
+  than a file name) and to any request that makes viser's page handler raise: client
+  garbage is never a 500 with a traceback in the teacher's terminal.
 * ``handoff``: in a worker process of ``sandbox serve --workers N``, the server listens
   on no address of its own; the connections come from the parent's front, which hands
   each to the least busy worker (:mod:`sandbox.web.front`, :mod:`sandbox.web.handoff`).
@@ -27,6 +31,7 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 import http
+import inspect
 import ipaddress
 import logging
 import math
@@ -44,6 +49,7 @@ from sandbox.errors import BadOption
 if TYPE_CHECKING:
     import viser
     from websockets.asyncio.server import ServerConnection
+    from websockets.datastructures import Headers
     from websockets.http11 import Request, Response
 
     from sandbox.web.handoff import Adopter
@@ -243,6 +249,8 @@ def install(*, handoff: Adopter | None = None) -> None:
             _handoff = handoff
         if _installed:
             return
+        if _one_line not in log.filters:  # a handler's failure on a request: one line
+            log.addFilter(_one_line)
         original = ws_server.serve
 
         def serve(
@@ -342,10 +350,53 @@ def page_alias(path: str) -> None:
         _aliases.add(path.rstrip("/"))
 
 
+MAX_SEGMENT = 255
+"""Longest segment of a request's path, in characters (a file name's limit on Linux and
+macOS): no page or script of the sandbox has a longer one."""
+
+SINGLE_HEADERS = ("Host", "Origin", "Upgrade")
+"""Headers a request sends at most once (RFC 9110: a doubled Host is a Bad Request)."""
+
+BAD_REQUEST = "Requête invalide.\n"
+"""Body of the HTTP 400 answer (short: nothing about the server)."""
+
+
+def request_refusal(headers: Headers, path: str) -> str | None:
+    """Why a request is answered HTTP 400 (Bad Request) before anyone reads it, or None.
+
+    Args:
+        headers: The request headers (``get_all`` gives every value of a name).
+        path: The request's path (with its query).
+    """
+    for name in SINGLE_HEADERS:
+        count = len(headers.get_all(name))
+        if count > 1:
+            return f"{count} {name} headers (a request sends one)"
+    longest = max(len(segment) for segment in path.partition("?")[0].split("/"))
+    if longest > MAX_SEGMENT:
+        return f"a path segment of {longest} characters (at most {MAX_SEGMENT})"
+    return None
+
+
+def _bad_request(connection: ServerConnection, request: Request, reason: str) -> Response:
+    log.info("answered 400 to %r: %s", request.path[:80], reason)
+    return connection.respond(http.HTTPStatus.BAD_REQUEST, BAD_REQUEST)
+
+
+def _failed(connection: ServerConnection, request: Request, exc: Exception) -> Response:
+    """HTTP 400 for a request the page handler raised on; the exception in one line
+    (:class:`OneLine`, at most once per window and kind)."""
+    log.warning("answered 400 to a request the page handler failed on", exc_info=exc)
+    return connection.respond(http.HTTPStatus.BAD_REQUEST, BAD_REQUEST)
+
+
 def _guarded(inner: ProcessRequest | None, served: Served) -> ProcessRequest:
-    def process_request(
+    def judge(
         connection: ServerConnection, request: Request
     ) -> Awaitable[Response | None] | Response | None:
+        reason = request_refusal(request.headers, request.path)
+        if reason is not None:
+            return _bad_request(connection, request, reason)
         try:
             here = served.on(connection.local_address)
         except (AttributeError, OSError):  # no transport: only public addresses are served
@@ -363,6 +414,25 @@ def _guarded(inner: ProcessRequest | None, served: Served) -> ProcessRequest:
         if not upgrade and request.path.partition("?")[0].rstrip("/") in _aliases:
             request = dataclasses.replace(request, path="/")
         return inner(connection, request)
+
+    async def awaited(
+        connection: ServerConnection, request: Request, pending: Awaitable[Response | None]
+    ) -> Response | None:
+        try:
+            return await pending
+        except Exception as exc:  # a handler of a later viser may be a coroutine
+            return _failed(connection, request, exc)
+
+    def process_request(
+        connection: ServerConnection, request: Request
+    ) -> Awaitable[Response | None] | Response | None:
+        try:
+            answer = judge(connection, request)
+        except Exception as exc:  # client garbage (a doubled header viser reads...): 400
+            return _failed(connection, request, exc)
+        if inspect.isawaitable(answer):
+            return awaited(connection, request, answer)
+        return answer
 
     return process_request
 

@@ -333,7 +333,7 @@ class Controller:
             Notice(
                 "info",
                 "Enregistrement",
-                f"Fichier plein : l'enregistrement continue dans {path}",
+                f"Fichier plein : l'enregistrement continue dans {path.name}",
             )
         )
 
@@ -626,7 +626,7 @@ class Controller:
             return None
         if kind == "record":
             path = self.start_recording()
-            return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path}")
+            return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path.name}")
         if kind == "stop_record":
             closed = self.stop_recording()
             if closed is None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from collections import deque
@@ -382,7 +383,10 @@ class WebView(Generic[D]):
         if notice.level == "file":
             path = Path(notice.text)
             self.client.send_file_download(path.name, path.read_bytes())
-            notice = Notice("info", notice.title, f"Fichier {path} (aussi téléchargé).")
+            # The page names the file only (where the server keeps it is no business of
+            # a student's); the teacher's terminal says where it is.
+            logging.getLogger(__name__).warning("recording saved: %s", path)
+            notice = Notice("info", notice.title, f"Fichier {path.name} (aussi téléchargé).")
         color: Literal["red", "orange", "blue"] = (
             "red" if notice.level == "error" else "orange" if notice.level == "diverged" else "blue"
         )

@@ -6,6 +6,8 @@ from __future__ import annotations
 import random
 import threading
 import time
+from collections.abc import Callable
+from typing import Any
 
 import pytest
 from conftest import wait_for
@@ -187,3 +189,100 @@ def test_a_failing_factory_tells_the_browser_and_keeps_serving(pendulum):
     server.connect_cb(client)
     assert app.sessions == {}
     assert client.notifications and client.notifications[0][0] == "Erreur"
+
+
+def _visit(port: int, until: Callable[[dict[str, Any]], bool] | None = None) -> bool:
+    """A browser's short visit: handshake, camera, a few messages (or, with ``until``, the
+    messages until one satisfies it: True then), then it leaves."""
+    import viser
+    from websockets.sync.client import connect
+
+    from sandbox.classroom import camera_message, messages, unpack
+
+    with connect(
+        f"ws://127.0.0.1:{port}",
+        origin=f"http://127.0.0.1:{port}",  # type: ignore[arg-type]
+        subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+        max_size=None,
+        compression=None,
+        open_timeout=10,
+    ) as ws:
+        ws.send(camera_message())
+        for _ in range(5 if until is None else 500):
+            raw = ws.recv(timeout=10)
+            if until is not None and isinstance(raw, bytes):
+                if any(until(m) for m in messages(unpack(raw))):
+                    return True
+    return False
+
+
+def test_a_browser_that_leaves_brings_no_closed_connection_warning(recwarn):
+    """viser warns of every message queued for a browser that has left; a session sends
+    some during its last half second. That warning (only it) is ignored, also when the
+    server outlives the warnings filters it started with (pytest's module fixtures)."""
+    import warnings
+
+    from conftest import free_port
+
+    from sandbox.web.app import start
+
+    with warnings.catch_warnings():  # ends as a test that started a shared server ends
+        app = start("rotor", port=free_port(), open_message=False)
+    left = []
+    app.server.on_client_connect(left.append)
+    try:
+        _visit(app.port)
+        assert wait_for(lambda: left and not app.connected(left[0].client_id))
+        left[0].add_notification("après le départ", "jamais reçu")  # a closed connection
+        wait_for(lambda: not app.reap(), timeout=5)
+        warnings.warn("another warning", UserWarning, stacklevel=1)
+    finally:
+        app.stop()
+    shown = [str(w.message) for w in recwarn.list]
+    assert not [m for m in shown if "closed connection" in m], shown
+    assert "another warning" in shown  # the others still show
+
+
+LESSON_FILE = """---
+scene: compressor
+title: Ma leçon à moi
+level: L3
+---
+
+## Premier pas
+preset: speed_rpm=1500
+
+Regardez le piston.
+"""
+
+
+def _picks_my_lesson(message: dict[str, Any]) -> bool:
+    """The lesson picker, showing the lesson of :data:`LESSON_FILE`."""
+    return (
+        message.get("type") == "GuiDropdownMessage"
+        and message.get("props", {}).get("label") == "Leçon"
+        and message.get("value") == "Ma leçon à moi"
+    )
+
+
+def test_a_lesson_file_opens_in_every_new_browser(tmp_path, monkeypatch):
+    """``sandbox serve FILE.md``: the file, named like no shipped lesson, is the lesson
+    picked in the page (as a worker process opens it: from its path)."""
+    from conftest import free_port
+
+    from sandbox import lessons
+    from sandbox.web.app import start
+
+    monkeypatch.setattr(lessons, "_opened", {}, raising=False)  # opened in this test only
+    lessons.catalogue.cache_clear()
+    path = tmp_path / "ma-lecon.md"
+    path.write_text(LESSON_FILE, encoding="utf-8")
+    try:
+        app = start("compressor", port=free_port(), open_message=False, lesson=str(path))
+        try:
+            assert _visit(app.port, until=_picks_my_lesson)
+        finally:
+            app.stop()
+    finally:
+        monkeypatch.undo()
+        lessons.catalogue.cache_clear()

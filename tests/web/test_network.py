@@ -371,3 +371,95 @@ def test_a_browser_traceback_becomes_one_warning_line_said_once_per_quiet_window
     assert one.filter(record(ValueError("later")))
     plain = logging.LogRecord("asyncio", logging.INFO, "f", 1, "no exception", None, None)
     assert one.filter(plain) and plain.levelno == logging.INFO
+
+
+def _raw(port: int, request: bytes) -> tuple[int, bytes]:
+    """(HTTP status, body) of ``request`` sent as is on a socket to ``127.0.0.1:port``."""
+    import socket
+
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as sock:
+        sock.sendall(request)
+        data = b""
+        while chunk := sock.recv(65536):
+            data += chunk
+            if len(data) > 4096 and not data.startswith(b"HTTP/1.1 4"):
+                break  # the page itself: its status is enough
+    head, _, body = data.partition(b"\r\n\r\n")
+    return int(head.split(b" ", 2)[1]), body
+
+
+HANDSHAKE = (
+    b"Upgrade: websocket\r\nConnection: Upgrade\r\n"
+    b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+)
+
+
+@pytest.mark.parametrize(
+    "request_bytes",
+    [
+        b"GET /" + b"a" * 300 + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n",
+        b"GET /assets/" + b"b" * 256 + b".js?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n",
+        b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nHost: 127.0.0.1\r\n\r\n",
+        b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nHost: 127.0.0.1\r\n" + HANDSHAKE + b"\r\n",
+        b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n" + HANDSHAKE + b"\r\n",
+        b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nOrigin: http://a\r\nOrigin: http://b\r\n"
+        + HANDSHAKE
+        + b"\r\n",
+        # a header sent twice that viser's page handler reads: it raises
+        b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept-Encoding: gzip\r\n"
+        b"Accept-Encoding: br\r\n\r\n",
+    ],
+    ids=[
+        "long-segment",
+        "long-file-name",
+        "two-hosts",
+        "two-hosts-handshake",
+        "two-upgrades",
+        "two-origins",
+        "handler-raises",
+    ],
+)
+def test_a_malformed_request_is_a_bad_request_not_a_server_error(
+    served_rotor, caplog, request_bytes
+):
+    caplog.set_level("INFO")
+    status, body = _raw(served_rotor.port, request_bytes)
+    assert status == 400  # Bad Request, not 500 Internal Server Error
+    assert len(body) < 100 and b"Traceback" not in body
+    noisy = [r for r in caplog.records if r.exc_info or r.exc_text or r.levelname == "ERROR"]
+    assert not noisy, [r.getMessage() for r in noisy]
+    assert not [r for r in caplog.records if "500" in r.getMessage()]
+    # the page and a 255-character segment are still served
+    assert _raw(served_rotor.port, b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")[0] == 200
+    ok = b"GET /" + b"c" * 255 + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+    assert _raw(served_rotor.port, ok)[0] == 404
+
+
+class _Connection:
+    """What the guard uses of websockets' ServerConnection."""
+
+    local_address = ("127.0.0.1", 8080)
+
+    def respond(self, status: int, text: str) -> tuple[int, str]:
+        return status, text
+
+
+def test_a_page_handler_that_raises_answers_400_in_one_log_line(caplog):
+    from websockets.datastructures import Headers
+    from websockets.http11 import Request
+
+    def broken(connection, request):
+        raise RuntimeError("viser\nfailed")
+
+    async def broken_later(connection, request):
+        raise RuntimeError("later")
+
+    network.install()  # the one-line filter of the guard's logger
+    network._one_line.last.clear()  # said once per window: forget earlier tests
+    request = Request("/", Headers({"Host": "127.0.0.1:8080"}))
+    guard = network._guarded(broken, SERVED)
+    assert guard(_Connection(), request) == (400, network.BAD_REQUEST)
+    later = network._guarded(broken_later, SERVED)(_Connection(), request)
+    assert asyncio.run(later) == (400, network.BAD_REQUEST)
+    failures = [r for r in caplog.records if r.name == network.__name__]
+    assert failures and all(r.exc_info is None and "\n" not in r.getMessage() for r in failures)
