@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import atexit
 import json
+import re
 import shutil
 import tempfile
 import threading
@@ -208,14 +209,19 @@ def page_script() -> str:
     }
 
 
+PAGE_TITLE = "Dynamique des solides"
+"""The browser tab's title (viser's page says "Viser")."""
+
+
 def french_page(html: str) -> str | None:
-    """viser's ``index.html`` with :func:`page_script` first in its head (None when the
-    page has no ``<head>`` to put it in)."""
+    """viser's ``index.html`` with :func:`page_script` first in its head and the tab
+    titled :data:`PAGE_TITLE` (None when the page has no ``<head>`` to put it in)."""
     head = html.find("<head>")
     if head < 0:
         return None
     at = head + len("<head>")
-    return html[:at] + page_script() + html[at:]
+    html = html[:at] + page_script() + html[at:]
+    return re.sub(r"<title>[^<]*</title>", f"<title>{PAGE_TITLE}</title>", html, count=1)
 
 
 def french_root(build: Path) -> Path | None:

@@ -40,6 +40,7 @@ def _open(open_page, app):
 
 def test_page_shows_canvas_one_folder_at_a_time_and_bearing_forces(open_page, served_rotor):
     page = _open(open_page, served_rotor)
+    assert page.title() == "Dynamique des solides"  # the tab, not "Viser"
     assert page.locator("canvas").first.is_visible()
     assert page.get_by_text("Grandeurs de la scène", exact=True).first.is_visible()
     assert _readout(page, "bearing_A") > 1.0

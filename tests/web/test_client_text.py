@@ -18,6 +18,7 @@ def test_the_script_goes_first_in_the_head_and_cannot_be_closed_by_a_sentence():
     script = page_script()
     assert script.count("</script>") == 1 and script.count("<") == 2  # its own tags only
     assert french_page("<html><body>no head</body></html>") is None
+    assert "<title>Dynamique des solides</title>" in page and "<title>x</title>" not in page
 
 
 def test_every_translation_is_french_and_one_to_one():
