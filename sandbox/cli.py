@@ -329,7 +329,7 @@ def cmd_describe(target: str, as_json: bool) -> int:
         print("  parameters:")
         for p in info["params"]:
             print(
-                f"    {p['name']:<16} = {p['value']:<8g} {p['unit']:<6} "
+                f"    {p['name']:<16} = {p['value']:<8g} {p['display_unit']:<6} "
                 f"[{p['min']:g}, {p['max']:g}]  {p['doc']}"
             )
     print("  readouts:")

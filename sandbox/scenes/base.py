@@ -102,7 +102,7 @@ class Param:
         if self.choices:
             first = ", ".join(str(i) for i in range(len(self.choices) - 1))
             return f"{first} or {len(self.choices) - 1} (see 'sandbox describe')"
-        return f"a value between {self.min:g} and {self.max:g} {self.unit}".rstrip()
+        return f"a value between {self.min:g} and {self.max:g} {self.display_unit}".rstrip()
 
     def check(self, value: object) -> float:
         """Validate ``value`` (number or numeric string) and return it as a float.
@@ -129,7 +129,7 @@ class Param:
                 f"got {value!r}; give {self._allowed()}"
             ) from None
         if not math.isfinite(number) or not (self.min <= number <= self.max):
-            span = f"{self.min:g} to {self.max:g} {self.unit}".rstrip()
+            span = f"{self.min:g} to {self.max:g} {self.display_unit}".rstrip()
             raise BadParameter(
                 f"parameter {self.name!r} = {value!r} is out of range; "
                 f"allowed: {self._allowed() if self.choices else span}"
