@@ -459,6 +459,7 @@ def lan_addresses() -> list[str]:
     """
     found: set[str] = set()
     found.update(_interface_addresses())
+    found.update(_routed_addresses())
     try:
         found.update(
             str(info[4][0])  # AF_INET: (host, port)
@@ -476,6 +477,25 @@ def lan_addresses() -> list[str]:
             continue
         usable.append(ip)
     return [str(ip) for ip in sorted(usable, key=lambda ip: (not ip.is_private, ip))]
+
+
+ROUTE_PROBES = ("10.255.255.255", "172.31.255.255", "192.168.255.255", "192.0.2.1")
+"""Addresses a UDP socket is "connected" to (no packet is sent) so that the system names
+the source address it would use: the LAN address on macOS and Windows too."""
+
+
+def _routed_addresses() -> list[str]:
+    """The addresses this machine would send from towards the private networks (the
+    UDP-connect trick: portable, no packet leaves; nothing without a route)."""
+    out = []
+    for probe in ROUTE_PROBES:
+        try:
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+                sock.connect((probe, 9))
+                out.append(str(sock.getsockname()[0]))
+        except OSError:  # no route there
+            continue
+    return out
 
 
 def _interface_addresses() -> list[str]:

@@ -211,6 +211,19 @@ def test_lan_addresses_are_reachable_ipv4_addresses():
         assert not ip.is_loopback and not ip.is_link_local
 
 
+def test_lan_addresses_outside_linux_come_from_the_routing_table(monkeypatch):
+    """macOS and Windows have no SIOCGIFADDR: the UDP-connect trick names the address
+    the machine sends from, the one the Linux path finds here first."""
+    linux = network.lan_addresses()
+    monkeypatch.setattr(network.sys, "platform", "darwin")
+    assert network._interface_addresses() == []
+    elsewhere = network.lan_addresses()
+    if not linux:
+        pytest.skip("this machine has no LAN address")
+    assert elsewhere and set(elsewhere) <= set(linux)
+    assert elsewhere[0] == linux[0]
+
+
 def test_student_urls_and_banner(monkeypatch):
     monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
     assert network.student_urls("0.0.0.0", 8080) == [
