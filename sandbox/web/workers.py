@@ -59,6 +59,10 @@ LISTEN_BACKLOG = 128
 MAX_RESTARTS = 5
 """Restarts of dead workers allowed per minute before the server gives up."""
 
+GRACEFUL_SIGTERM = os.name == "posix"
+"""SIGTERM lets a process clean up (POSIX); on Windows os.kill(pid, SIGTERM) is
+TerminateProcess, an immediate kill: workers are then stopped through their lifeline."""
+
 ORPHAN_GRACE = 2.0
 """Seconds a worker whose parent died gets to close its sessions before it exits anyway."""
 
@@ -146,7 +150,7 @@ def watch_parent(
             lifeline.recv()
         except (EOFError, OSError):
             pass  # the parent is gone (a message would mean "stop" just as well)
-        log.warning("the server's main process is gone: stopping this worker")
+        log.warning("the server's main process stopped or is gone: stopping this worker")
         stop()
         time.sleep(grace)
         exit(1)
@@ -331,9 +335,16 @@ class WorkerPool:
         return sum(1 for p in self.processes.values() if p.exitcode is None)
 
     def stop(self) -> None:
-        """Ask every worker to close its sessions, wait, then kill stragglers."""
+        """Ask every worker to close its sessions (recordings included), wait, then kill
+        stragglers. POSIX asks with SIGTERM; where SIGTERM kills at once (Windows'
+        TerminateProcess, which would leave recordings unclosed) the parent closes the
+        workers' lifelines, which they answer as Ctrl-C (:func:`watch_parent`)."""
+        if not GRACEFUL_SIGTERM:
+            for lifeline in self._lifelines.values():
+                lifeline.close()
+            self._lifelines.clear()
         for proc in self.processes.values():
-            if proc.exitcode is None and proc.pid is not None:
+            if GRACEFUL_SIGTERM and proc.exitcode is None and proc.pid is not None:
                 try:
                     os.kill(proc.pid, signal.SIGTERM)
                 except ProcessLookupError:

@@ -122,7 +122,7 @@ def test_ctrl_c_still_stops_the_workers_cleanly(tmp_path):
         os.killpg(proc.pid, signal.SIGINT)
         assert proc.wait(15) == 0
         rest = proc.stdout.read() if proc.stdout else ""
-        assert "main process is gone" not in rest, rest  # the workers did not orphan
+        assert "main process stopped or is gone" not in rest, rest  # the workers did not orphan
         # Known, older than the lifeline: a worker's SIGTERM from the parent can arrive
         # while its SIGINT is being handled (CPython then reports "Signal 15 ignored due
         # to race condition"). Any other traceback is new.
@@ -255,3 +255,25 @@ def test_thirty_browsers_split_15_15_over_two_workers_without_so_reuseport(tmp_p
         for session in sessions:
             session.close()  # type: ignore[attr-defined]
         _kill_group(proc)
+
+
+@pytest.mark.slow  # two real worker processes: ~3 s
+def test_where_sigterm_kills_at_once_workers_are_stopped_through_their_lifeline(monkeypatch):
+    """Windows' os.kill(pid, SIGTERM) is TerminateProcess: recordings would stay open.
+    There the parent closes the lifelines and each worker stops the Ctrl-C way, closing
+    its sessions, and exits 0 on its own, before the pool's deadline would kill it."""
+    from sandbox.web import workers
+
+    monkeypatch.setattr(workers, "GRACEFUL_SIGTERM", False)
+    pool = workers.WorkerPool(workers.WorkerSpec("rotor", "127.0.0.1", 0), 2)
+    killed: list[int] = []
+    monkeypatch.setattr(workers.os, "kill", lambda pid, sig: killed.append(pid))
+    pool.start()
+    try:
+        pool.stop()
+    finally:
+        for proc in pool.processes.values():
+            if proc.exitcode is None:
+                proc.kill()
+    assert not killed  # no SIGTERM was sent
+    assert [p.exitcode for p in pool.processes.values()] == [0, 0]
