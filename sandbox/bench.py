@@ -29,7 +29,7 @@ from sandbox.scenes import SCENES
 from sandbox.scenes.base import Accuracy, Scene
 
 SCHEMA = 1
-"""Version of results.json (documented in README)."""
+"""Version of results.json (documented in docs/reference.md)."""
 
 FACTORS = (0.1, 0.3, 1.0, 3.0, 10.0)
 """Timesteps of the grid, as multiples of the scene's default (two decades)."""
@@ -399,7 +399,7 @@ def _json_number(x: float | None) -> float | str | None:
 
 
 def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]:
-    """The results.json document (schema in README)."""
+    """The results.json document (schema in docs/reference.md)."""
     scenes = {}
     for res in results:
         runs = []

@@ -1,6 +1,6 @@
 """Recordings of a session: one self-contained, versioned, crash-tolerant file.
 
-Format (version 1, documented in README): a gzip stream of JSON lines.
+Format (version 1, documented in docs/reference.md): a gzip stream of JSON lines.
 
 - line 1, the header: ``{"format": "sandbox-recording", "version": 1, "created": ISO date,
   "target": scene name or file name, "scene": scene name or null, "mjcf": MJCF text of the

@@ -569,7 +569,7 @@ def potential_energy(model: mujoco.MjModel, data: mujoco.MjData) -> float:
 def powers(
     model: mujoco.MjModel, data: mujoco.MjData, *, kin: Kinematics | None = None
 ) -> dict[str, float]:
-    """P_ext and P_int [W] (see the module and README for the split)."""
+    """P_ext and P_int [W] (see the module and docs/reference.md for the split)."""
     k = _kin(model, data, kin)
     qv = data.qvel
     p_grav = float((k.mass_b * (k.v_g_b @ k.gravity)).sum())
