@@ -6,6 +6,7 @@ import csv
 import gzip
 import hashlib
 import json
+import math
 import tempfile
 import time
 
@@ -131,6 +132,23 @@ def test_player_seeks_steps_and_shows_recorded_readouts(recording):
     assert ctl.index == len(rec.times) - 1 and not ctl.playing  # stops at the end
     ctl.submit(Request("speed", "fast"))
     assert ctl.frame()[0].level == "error"
+
+
+def test_static_export_speaks_french_beside_the_mechanism_and_shows_it_is_loading(
+    recording, tmp_path
+):
+    """Issue 22: the export's overlay read "closure_error = 4.466e-07 m" (code names, a
+    decimal point) over the mechanism, on a page blank for 6-15 s."""
+    from sandbox.web.export import LOADING_ID, overlay_text
+
+    rec = load(recording)
+    values = {"time": 1.25, "omega": 1500 * math.pi / 30, "bearing_A": 54.4175}
+    words = {"omega": "ω", "bearing_A": "Palier A"}
+    text = overlay_text(rec, values, ["omega", "bearing_A"], words, {"bearing_A": 1e-9})
+    assert text.splitlines() == ["t = 1,25 s", "ω = 1\u202f500 tr/min", "Palier A = 54,4 N"]
+    html = export_static(rec, tmp_path / "export").read_text(encoding="utf-8")
+    assert f"id='{LOADING_ID}'" in html and "Chargement de l'animation" in html
+    assert html.index(LOADING_ID) < html.index("</body>") and "<title>Dynamique des solides" in html
 
 
 @pytest.mark.browser

@@ -12,6 +12,7 @@ import contextlib
 import io
 import math
 import socket
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -22,21 +23,53 @@ from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import client_text
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.projector import key_readouts, overlay_lines
 from sandbox.web.renderer import SceneRenderer
+from sandbox.web.text import number
 from sandbox.web.view import camera_pose, scene_view
 
 EXPORT_FPS = 30.0
 """Frames per second of a static export (recordings are thinned to this rate)."""
 
 
-def overlay_text(rec: Recording, values: dict[str, float], names: list[str]) -> str:
-    """Readout overlay of a static export: time, then one line per readout."""
+def overlay_text(
+    rec: Recording,
+    values: dict[str, float],
+    names: list[str],
+    labels: Mapping[str, str] | None = None,
+    zeros: Mapping[str, float] | None = None,
+) -> str:
+    """Readout overlay of a static export, as the page's projector overlay writes it:
+    the time, then "label = value unit" per readout in French (decimal comma, tr/min and
+    degrees, 0 below the scene's round-off)."""
     units = dict(zip(rec.names, rec.header.get("units", [""] * len(rec.names)), strict=False))
-    lines = [f"t = {values.get('time', math.nan):.3f} s"]
-    for name in names:
-        v = values.get(name, math.nan)
-        lines.append(f"{name} = {v:.4g} {units.get(name, '')}".rstrip())
+    lines = [f"t = {number(values.get('time', math.nan), 3)} s"]
+    lines += overlay_lines(names, values, labels or {}, units, zeros)
     return "\n".join(lines)
+
+
+LOADING_ID = "sandbox-loading"
+LOADING = (
+    f"<div id='{LOADING_ID}' style='position:fixed;inset:0;display:flex;align-items:center;"
+    "justify-content:center;font:20px sans-serif;color:#333;background:#fff;z-index:9999'>"
+    "Chargement de l'animation…</div>"
+    "<script>(function () {"
+    "var t = setInterval(function () {"
+    "if (document.querySelector('canvas')) {"
+    f"var d = document.getElementById('{LOADING_ID}'); if (d) d.remove(); clearInterval(t);"
+    "}}, 200);})();</script>"
+)
+"""Shown while the export loads (6 to 15 s of a blank page otherwise), removed once the
+3D view has its canvas."""
+
+
+def with_loading_sign(html: str) -> str:
+    """``html`` with :data:`LOADING` first in its body (unchanged without a body)."""
+    at = html.find("<body>")
+    if at < 0:
+        return html
+    at += len("<body>")
+    return html[:at] + LOADING + html[at:]
 
 
 def _free_port() -> int:
@@ -71,13 +104,21 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
             arrows = ArrowLayer(
                 scene, spec.arrows, extent=float(sim.model.stat.extent), zero=spec.zero
             )
-        names = [r.name for r in spec.readouts] if spec else ["T", "V", "P_acc"]
-        names = [n for n in names if n in rec.names][:8]
+        words = {i.name: i.label for i in sim.readout_infos()}
+        key = key_readouts(sim)
+        names = [n for n in key if n in rec.names]
+        labels = {n: key[n] or words.get(n) or n for n in names}
+        units = dict(zip(rec.names, rec.header.get("units", []), strict=False))
+        zeros = {n: spec.zero_for(units.get(n, "")) if spec else 0.0 for n in names}
+        # Beside the mechanism, not over it: one extent to the left of its centre as the
+        # camera sees it.
+        sight = np.asarray(look_at, dtype=float) - np.asarray(position, dtype=float)
+        right = np.cross(sight, np.asarray(up, dtype=float))
+        right /= max(float(np.linalg.norm(right)), 1e-12)
         overlay = scene.add_label(
             "/overlay",
             "",
-            position=np.asarray(sim.model.stat.center, dtype=float)
-            + [0.0, 0.0, 0.45 * sim.model.stat.extent],
+            position=np.asarray(sim.model.stat.center, dtype=float) - 1.0 * extent * right,
             font_screen_scale=1.0,
         )
         serializer = server.get_scene_serializer()
@@ -96,12 +137,12 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
                 arrows.relabel()
             t = float(clock[i])
             shown = rec.readouts_of_frame(i) or {"time": float(rec.times[i])}
-            overlay.text = overlay_text(rec, shown, names)
+            overlay.text = overlay_text(rec, shown, names, labels, zeros)
             if last_t is not None:
                 serializer.insert_sleep(max(0.0, t - last_t))
             last_t = t
         html = serializer.as_html()
-        html = client_text.french_page(html) or html
+        html = with_loading_sign(client_text.french_page(html) or html)
     finally:
         with contextlib.redirect_stdout(io.StringIO()):
             server.stop()
