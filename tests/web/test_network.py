@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import ipaddress
 import threading
 
@@ -473,6 +474,8 @@ def test_a_page_handler_that_raises_answers_400_in_one_log_line(caplog):
     guard = network._guarded(broken, SERVED)
     assert guard(_Connection(), request) == (400, network.BAD_REQUEST)
     later = network._guarded(broken_later, SERVED)(_Connection(), request)
-    assert asyncio.run(later) == (400, network.BAD_REQUEST)
+    # In its own thread: the browser tests' Playwright keeps a loop running in this one.
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:
+        assert pool.submit(asyncio.run, later).result() == (400, network.BAD_REQUEST)
     failures = [r for r in caplog.records if r.name == network.__name__]
     assert failures and all(r.exc_info is None and "\n" not in r.getMessage() for r in failures)
