@@ -158,3 +158,17 @@ def choose(page, label: str, option: str) -> None:
     row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last
     row.locator("input").first.click()
     page.get_by_role("option", name=option, exact=True).click()
+
+
+LESSON_FILE = """---
+scene: compressor
+title: Ma leçon à moi
+level: L3
+---
+
+## Premier pas
+preset: speed_rpm=1500
+
+Regardez le piston.
+"""
+"""A teacher's own lesson file, valid, for the tests that open one from a path."""

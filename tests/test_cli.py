@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import pytest
+from conftest import LESSON_FILE
 
 from sandbox.cli import main
 
@@ -340,19 +341,6 @@ def test_the_installed_command_is_the_guarded_one():
     assert '\nsandbox = "sandbox.launch:main"\n' in project
 
 
-MY_LESSON = """---
-scene: compressor
-title: Ma leçon à moi
-level: L3
----
-
-## Premier pas
-preset: speed_rpm=1500
-
-Regardez le piston.
-"""
-
-
 @pytest.fixture
 def opened_lessons(monkeypatch):
     """Lesson files opened by path in this test only (the catalogue is process-wide)."""
@@ -377,7 +365,7 @@ def test_serve_a_lesson_file_opens_that_lesson_with_its_scene(
     monkeypatch, tmp_path, opened_lessons
 ):
     path = tmp_path / "ma-lecon.md"
-    path.write_text(MY_LESSON, encoding="utf-8")
+    path.write_text(LESSON_FILE, encoding="utf-8")
     calls = _serving(monkeypatch)
     monkeypatch.chdir(tmp_path)
     assert main(["serve", "ma-lecon.md", "--port", "8135"]) == 0
@@ -389,8 +377,8 @@ def test_serve_a_lesson_file_opens_that_lesson_with_its_scene(
 @pytest.mark.parametrize(
     "text, needle",
     [
-        (MY_LESSON.replace("speed_rpm", "no_such_param"), "ma-lecon.md:7: preset names no"),
-        (MY_LESSON.replace("scene: compressor", "scene: nowhere"), "unknown scene 'nowhere'"),
+        (LESSON_FILE.replace("speed_rpm", "no_such_param"), "ma-lecon.md:7: preset names no"),
+        (LESSON_FILE.replace("scene: compressor", "scene: nowhere"), "unknown scene 'nowhere'"),
         ("no front matter\n", "ma-lecon.md:1: a lesson starts with a front matter"),
         (None, "no lesson file"),
     ],

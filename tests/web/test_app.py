@@ -10,7 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
-from conftest import wait_for
+from conftest import LESSON_FILE, wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.app import App
@@ -241,19 +241,6 @@ def test_a_browser_that_leaves_brings_no_closed_connection_warning(recwarn):
     shown = [str(w.message) for w in recwarn.list]
     assert not [m for m in shown if "closed connection" in m], shown
     assert "another warning" in shown  # the others still show
-
-
-LESSON_FILE = """---
-scene: compressor
-title: Ma leçon à moi
-level: L3
----
-
-## Premier pas
-preset: speed_rpm=1500
-
-Regardez le piston.
-"""
 
 
 def _picks_my_lesson(message: dict[str, Any]) -> bool:
