@@ -52,6 +52,7 @@ import logging
 import math
 import operator
 import re
+import threading
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -70,6 +71,13 @@ REPEATABLE = ("question", "hint")
 """Directives a step may give several times; the others at most once."""
 MAX_LESSON_BYTES = 64 * 1024
 """Largest lesson file read [bytes] (the course's longest is under 4 KiB)."""
+
+PARSE_LOCK = threading.Lock()
+"""One ``ast.parse`` at a time in this process: Python 3.11 keeps the AST builder's depth
+count per interpreter, not per thread, and two sessions reading the lessons at once (a
+class arriving) raised "SystemError: AST constructor recursion depth mismatch", which
+killed a session: its browser got no frame (found by ``bench --classroom``)."""
+
 MAX_LINE_CHARS = 2000
 """Longest line of a lesson file [characters]."""
 MISSING_FRAMES = 5
@@ -336,7 +344,8 @@ def compile_check(source: str, where: str = "") -> Check:
             f"character {bad[0]!r} is not allowed; use names, numbers, + - * / ( ) , < > = !"
         )
     try:
-        tree = ast.parse(source.strip(), mode="eval")
+        with PARSE_LOCK:
+            tree = ast.parse(source.strip(), mode="eval")
     except (RecursionError, MemoryError):
         raise _refuse(f"nested too deeply; at most {MAX_CHECK_DEPTH} levels") from None
     except SyntaxError as exc:

@@ -468,3 +468,34 @@ def test_a_goal_directive_replaces_the_sentence_and_is_shown_as_text(monkeypatch
     assert "bearing_A : 3" in goal and "objectif" not in goal.split("</div>", 2)[-1]
     shown = [h.content for h in gui.markdowns + gui.htmls]
     assert not any(EMOJI.search(c) for c in shown)
+
+
+def test_checks_are_parsed_one_at_a_time(monkeypatch):
+    """Python 3.11's AST builder counts its depth per interpreter: two sessions parsing
+    lessons at once raised SystemError (a session lost, its browser without frames)."""
+    import ast
+    import threading
+    import time
+
+    from sandbox import lessons
+
+    inside, most = [0], [0]
+    real = ast.parse
+
+    def slow_parse(*args, **kwargs):
+        inside[0] += 1
+        most[0] = max(most[0], inside[0])
+        time.sleep(0.002)
+        inside[0] -= 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(lessons.ast, "parse", slow_parse)
+    threads = [
+        threading.Thread(target=lambda: [compile_check("x < 2 * y", "t") for _ in range(20)])
+        for _ in range(4)
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert most[0] == 1
