@@ -81,6 +81,7 @@ if TYPE_CHECKING:
     import psutil
     from websockets.asyncio.client import ClientConnection, connect
 
+from sandbox.cores import DEFAULT_WORKERS_CAP, default_workers
 from sandbox.errors import BadOption
 
 T = TypeVar("T")
@@ -700,19 +701,11 @@ def stop_tree(pid: int, *, wait: float = 8.0) -> None:
 # -- the benchmark -------------------------------------------------------------------------
 
 
-SERVE_WORKERS_CAP = 4
-"""``sandbox.web.workers.DEFAULT_WORKERS_CAP``, repeated here: the tools layer does not
-import the web layer (a test checks the two agree)."""
+SERVE_WORKERS_CAP = DEFAULT_WORKERS_CAP
+"""Worker processes ``sandbox serve`` starts at most by default (:mod:`sandbox.cores`)."""
 
-
-def _cores() -> int:
-    """Worker processes ``sandbox serve`` starts by default: one per core it may use, at
-    most :data:`SERVE_WORKERS_CAP` (as :func:`sandbox.web.workers.default_workers`)."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(cores, SERVE_WORKERS_CAP))
+_cores = default_workers
+"""Worker processes ``sandbox serve`` starts by default (one count for both)."""
 
 
 def probe_param(scene: str) -> str | None:
