@@ -31,6 +31,7 @@ from typing import NoReturn
 import mujoco
 
 from sandbox.errors import BadOption, BadParameter, SandboxError, choices, one_line, shown
+from sandbox.launch import INTERRUPTED
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load, write_csv
@@ -732,7 +733,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"sandbox: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
-        return 130
+        return INTERRUPTED
     except BrokenPipeError:  # output piped into e.g. `head`
         sys.stderr.close()
         return 0

@@ -119,16 +119,25 @@ def chart_image(res: SceneResult, mine: Run | None, default: Run | None = None) 
     test put them; the base is drawn once, the marks in numpy."""
     base, mapping = chart_base(res)
     image = base.copy()
-    rows, cols = np.mgrid[: image.shape[0], : image.shape[1]]
-    star_at = _place(default, mapping)
-    if star_at is not None:
-        x, y = star_at
-        for radius, colour in ((12.0, (0, 0, 0)), (10.0, (255, 215, 0))):
-            image[inside(cols - x, rows - y, _star(radius))] = colour
-    diamond_at = _place(mine, mapping)
-    if diamond_at is not None:
-        x, y = diamond_at
-        image[np.abs(rows - y) + np.abs(cols - x) <= 6] = 0
+    for at, reach, star in (
+        (_place(default, mapping), 13, True),
+        (_place(mine, mapping), 7, False),
+    ):
+        if at is None:
+            continue
+        x, y = at  # only the pixels around the mark are tested
+        top, left = max(0, int(y) - reach), max(0, int(x) - reach)
+        rows, cols = np.mgrid[top : int(y) + reach + 1, left : int(x) + reach + 1]
+        patch = image[top : top + rows.shape[0], left : left + rows.shape[1]]
+        rows, cols = (
+            rows[: patch.shape[0], : patch.shape[1]],
+            cols[: patch.shape[0], : patch.shape[1]],
+        )
+        if star:  # the default: a gold star edged in black
+            for radius, colour in ((12.0, (0, 0, 0)), (10.0, (255, 215, 0))):
+                patch[inside(cols - x, rows - y, _star(radius))] = colour
+        else:  # the setting in force: a black diamond, over the star
+            patch[np.abs(rows - y) + np.abs(cols - x) <= 6] = 0
     return image
 
 
