@@ -31,6 +31,8 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from sandbox.web import client_access, client_layout, client_link
+
 FRENCH: dict[str, str] = {
     "Software WebGL rendering detected": "Rendu 3D sans carte graphique",
     "WebGL is running in software mode, not on your GPU. Performance may be degraded. "
@@ -198,8 +200,19 @@ _installed = False
 
 def page_script() -> str:
     """The ``<script>`` added at the top of viser's page (the JSON is escaped so that no
-    sentence can close the script element)."""
+    sentence can close the script element), followed by the page's other additions
+    (:func:`page_additions`)."""
     french = json.dumps(FRENCH, ensure_ascii=True).replace("<", "\\u003c")
+    return _french_script(french) + page_additions()
+
+
+def page_additions() -> str:
+    """The other elements added to viser's page, one module each: the layout for phones
+    and tablets, keyboard and screen-reader help, setups read from the page's address."""
+    return client_layout.html() + client_access.html() + client_link.html()
+
+
+def _french_script(french: str) -> str:
     return _SCRIPT % {
         "french": french,
         "locale": json.dumps(LOCALE),
