@@ -45,6 +45,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
         (
             "sandbox.recording",
             "sandbox.accuracy",
+            "sandbox.challenges",
             "sandbox.bench",
             "sandbox.bench_plot",
             "sandbox.classroom",
