@@ -17,6 +17,7 @@ import viser
 
 from sandbox.physics.picture import Picture, body_groups, geom_local_poses
 from sandbox.web import wire
+from sandbox.web.label_layout import LABEL_EM, PX_PER_SCALE, Camera, Rect, label_size
 
 _T = mujoco.mjtGeom
 KINDS: dict[int, str] = {
@@ -315,6 +316,7 @@ class SceneRenderer:
         self._sent = np.zeros((0, 7))  # last pose sent of each group of ``_roots``
         self._roots = np.zeros(0, dtype=int)
         self._move = 0.0  # POSE_MOVE times the mechanism's size [m]
+        self.label_scale = LABEL_EM * 16 / PX_PER_SCALE  # viser's font_screen_scale
         self.messages = 0  # pose messages queued so far (the counted guard of the tests)
 
     def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -401,9 +403,38 @@ class SceneRenderer:
                 text,
                 position=np.array(local[g, :3]),
                 anchor="bottom-center",
-                font_screen_scale=0.9,
+                font_screen_scale=self.label_scale,
             )
             self.labels[g] = (text, label, root)
+
+    def set_label_scale(self, scale: float) -> None:
+        """Size of the geoms' labels (viser's ``font_screen_scale``: 12 px per unit),
+        following the page's text size."""
+        if not (math.isfinite(scale) and scale > 0) or scale == self.label_scale:
+            return
+        self.label_scale = float(scale)
+        for _, label, _ in self.labels.values():
+            label.font_screen_scale = self.label_scale
+
+    def label_boxes(self, camera: Camera, em: float) -> list[Rect]:
+        """Where the geoms' labels may be on the screen [px], whatever the turn of their
+        group: a label riding at r from its group's frame stays in the sphere of radius r
+        around it (a mass on a rotor at 3000 tr/min is anywhere on its circle)."""
+        boxes: list[Rect] = []
+        for text, label, root in self.labels.values():
+            frame = self.bodies.get(root)
+            if frame is None or not label.visible:
+                continue
+            x, y, depth = camera.project(np.asarray(frame.position, dtype=float))
+            if not math.isfinite(x):
+                continue
+            width, height = label_size(text, em)
+            r = float(np.linalg.norm(np.asarray(label.position, dtype=float)))
+            reach = r * camera.focal / depth
+            boxes.append(
+                (x - reach - width / 2, y - reach - height, x + reach + width / 2, y + reach)
+            )
+        return boxes
 
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:
         """Keep nodes whose shape is unchanged, replace the others; returns new ids."""

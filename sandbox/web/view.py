@@ -226,6 +226,13 @@ class WebView(Generic[D]):
         # Panels of other modules go here, and their folder in _add_picker's list so that
         # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
+        if self.arrows is not None:  # labels placed in this browser's view, at its text size
+            self.arrows.watch(
+                client.camera,
+                font=lambda: self.projector.font,
+                marks=self.renderer,
+                clock=lambda: self._last_panel,  # the session's clock, at the panel refresh
+            )
         self._picture: Picture | None = None  # the last one drawn
         self._held_since: float | None = None  # first frame not drawn for the sender
         self._marks: deque[int] = deque(maxlen=IN_FLIGHT)  # viser's last message id

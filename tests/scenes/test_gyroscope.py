@@ -30,7 +30,7 @@ def _still_case(integrator: str | None = None, timestep: float | None = None) ->
     """
     sim = Simulation(
         "gyroscope",
-        values={"spin_rpm": 30000.0, **TILTED},
+        values={"spin_rpm": 30000.0, "manoeuvre": 0.0, **TILTED},
         integrator=integrator,
         timestep=timestep,
     )
@@ -82,7 +82,7 @@ def _reading(case_rot: np.ndarray, axis: np.ndarray) -> tuple[float, float]:
 
 def test_spinning_the_axis_holds_and_the_gimbals_read_the_case():
     """Turn the case to (40°, 25°, -15°): the axis stays, the gimbals give the attitude."""
-    sim = Simulation("gyroscope", values={"spin_rpm": 12000.0})
+    sim = Simulation("gyroscope", values={"spin_rpm": 12000.0, "manoeuvre": 0.0})
     for name, deg in (("case_yaw_deg", 40.0), ("case_pitch_deg", 25.0), ("case_roll_deg", -15.0)):
         sim.set_value(name, deg)
     sim.advance(1.5)
@@ -97,13 +97,15 @@ def test_spinning_the_axis_holds_and_the_gimbals_read_the_case():
 
 def test_at_spin_zero_the_rotor_follows_the_case():
     """Pivot friction drags a still rotor along; with perfect pivots nothing does."""
-    sim = Simulation("gyroscope", values={"spin_rpm": 0.0})
+    sim = Simulation("gyroscope", values={"spin_rpm": 0.0, "manoeuvre": 0.0})
     sim.set_value("case_yaw_deg", 40.0)
     sim.advance(3.0)
     r = sim.readouts(N)
     assert r["axis_drift"] > 0.5 * math.radians(40.0)
     assert r["spin"] == 0.0 and math.isfinite(r["pivot_moment_outer"])
-    perfect = Simulation("gyroscope", values={"spin_rpm": 0.0, "pivot_damping": 0.0})
+    perfect = Simulation(
+        "gyroscope", values={"spin_rpm": 0.0, "pivot_damping": 0.0, "manoeuvre": 0.0}
+    )
     perfect.set_value("case_yaw_deg", 40.0)
     perfect.advance(3.0)
     assert perfect.readouts(N)["axis_drift"] < 1e-6
@@ -111,17 +113,31 @@ def test_at_spin_zero_the_rotor_follows_the_case():
 
 def test_spinning_rotor_resists_the_pivot_friction():
     """The same yaw at 12,000 rpm: the drift is 1/100 of the still rotor's."""
-    still, fast = (Simulation("gyroscope", values={"spin_rpm": rpm}) for rpm in (0.0, 12000.0))
+    still, fast = (
+        Simulation("gyroscope", values={"spin_rpm": rpm, "manoeuvre": 0.0})
+        for rpm in (0.0, 12000.0)
+    )
     for sim in (still, fast):
         sim.set_value("case_yaw_deg", 40.0)
         sim.advance(3.0)
     assert fast.readouts(N)["axis_drift"] < 1e-2 * still.readouts(N)["axis_drift"]
 
 
+def test_the_page_opens_on_a_manoeuvre_the_axis_holds_through():
+    """At the defaults the case turns by itself within seconds (manoeuvre 2): the gimbal
+    angles change while the rotor's axis keeps its direction."""
+    sim = Simulation("gyroscope")
+    assert sim.values["manoeuvre"] == 2.0
+    sim.advance(3.0)
+    r = sim.readouts(N)
+    assert abs(r["gimbal_outer"]) > math.radians(30.0)  # the case has visibly turned
+    assert r["axis_drift"] < 1e-2
+
+
 @pytest.mark.parametrize("spin", [12000.0, 30000.0])
 def test_gimbal_lock_is_traversed_without_warning_and_flagged(spin):
     """Manoeuvre 1 rolls the case through 90°: the rotor's axis meets the outer pivot."""
-    sim = Simulation("gyroscope", values={"spin_rpm": spin})
+    sim = Simulation("gyroscope", values={"spin_rpm": spin, "manoeuvre": 0.0})
     sim.set_value("manoeuvre", 1.0)
     outer = sim.model.joint("outer").id
     rows = []
@@ -208,7 +224,7 @@ def test_gimbals_absorb_a_turn_of_the_case_away_from_lock():
 
 
 def test_a_new_spin_relaunches_the_rotor_and_keeps_the_reference_axis():
-    sim = Simulation("gyroscope")
+    sim = Simulation("gyroscope", values={"manoeuvre": 0.0})
     sim.set_value("case_yaw_deg", 30.0)
     sim.advance(0.5)
     before = sim.readouts(N)

@@ -195,6 +195,14 @@ class HandleScene:
         self.made[name] = Handle(text=text, **kwargs)
         return self.made[name]
 
+    def add_frame(self, name, **kwargs):
+        self.made[name] = Handle(**kwargs)
+        return self.made[name]
+
+    def add_line_segments(self, name, **kwargs):
+        self.made[name] = Handle(**kwargs)
+        return self.made[name]
+
 
 @pytest.mark.parametrize(
     "scene, values",

@@ -1,0 +1,312 @@
+"""3D labels: beside their point, never over one another, text changed at most 4 times a
+second, and as large as the page's text.
+
+viser draws labels in WebGL (no DOM element to measure): the browser test reads the
+camera the browser reports and the labels' places the server sent, measures each text
+with the browser's own fonts (the stack viser's glyph atlas uses), and builds each box as
+viser's ``layoutLabel`` does.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+from conftest import free_port, wait_for
+
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+from sandbox.web import label_layout
+from sandbox.web.arrows import TEXT_RATE, ArrowLayer, read_camera
+from sandbox.web.label_layout import (
+    DIRECTIONS,
+    REACH,
+    Block,
+    Camera,
+    distance,
+    label_size,
+    overlaps,
+    place,
+    preferred_sides,
+    text_width,
+)
+
+SCENES = (
+    "rotor",
+    "compressor",
+    "rolling_cylinder",
+    "gyroscope",
+    "heavy_gyroscope",
+    "engine",
+    "robot_axis",
+    "inertia",
+    "wheel_balancer",
+)
+
+CAMERA = Camera((0.0, -1.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), math.radians(75), 800, 720)
+
+
+# -- pure layout ---------------------------------------------------------------------------
+def test_a_pixel_offset_lands_where_asked():
+    point = np.array([0.1, 0.2, -0.05])
+    x, y, depth = CAMERA.project(point)
+    moved = CAMERA.project(point + CAMERA.offset(37.0, -12.0, depth))
+    assert moved[0] == pytest.approx(x + 37.0) and moved[1] == pytest.approx(y - 12.0)
+    assert CAMERA.project(np.array([0.0, 0.0, 0.0]))[:2] == pytest.approx((400, 360))
+    assert math.isnan(CAMERA.project(np.array([0.0, -2.0, 0.0]))[0])  # behind the eye
+
+
+def test_blocks_sharing_a_crowded_spot_never_overlap():
+    rng = np.random.default_rng(3)
+    view = (4.0, 4.0, 796.0, 716.0)
+    for _ in range(50):
+        blocks = [
+            Block(
+                (float(x), float(y)),
+                tuple(label_size("Palier A : -54,4 N", 12.8) for _ in range(int(n))),
+            )
+            for x, y, n in zip(
+                rng.uniform(250, 550, 5),
+                rng.uniform(200, 500, 5),
+                rng.integers(1, 4, 5),
+                strict=True,
+            )
+        ]
+        avoid = [(0.0, 560.0, 480.0, 720.0)]
+        spots = place(blocks, view=view, centre=(400, 360), avoid=avoid)
+        boxes = [s.box for s in spots if s is not None and s.free]
+        for i, a in enumerate(boxes):
+            assert not overlaps(a, avoid[0])
+            assert all(not overlaps(a, b) for b in boxes[i + 1 :])
+        for block, spot in zip(blocks, spots, strict=True):
+            assert spot is not None and distance(block.point, spot.box) <= REACH
+
+
+def test_a_block_keeps_its_place_while_it_is_free():
+    block = Block((400.0, 360.0), (label_size("Tamis : 143 N", 12.8),))
+    first = place([block], view=(0, 0, 800, 720), centre=(300, 300))[0]
+    assert first is not None and first.reach == label_layout.DISTANCES[0]
+    assert DIRECTIONS[first.side][0] > 0 and DIRECTIONS[first.side][1] > 0  # away from centre
+    other = next(s for s in range(8) if s != first.side)
+    old = label_layout.Placement(other, 30.0, block.box(other, 30.0))
+    again = place([block], view=(0, 0, 800, 720), centre=(300, 300), before=[old])[0]
+    assert again is not None and (again.side, again.reach) == (other, 30.0)
+    assert preferred_sides((500, 360), (400, 360))[0] == 0  # east of the centre: east
+
+
+def test_the_width_bound_covers_long_values():
+    assert text_width("Pilon : -387 N", 10) > text_width("Pilon : 42 N", 10)
+    assert text_width("m", 10) > text_width("i", 10)
+
+
+# -- the arrows' layer -----------------------------------------------------------------------
+class Handle:
+    def __init__(self, **kwargs) -> None:
+        self.visible = True
+        self.position = np.zeros(3)
+        self.__dict__.update(kwargs)
+
+
+class Recorder:
+    """A scene whose handles record every text written."""
+
+    def __init__(self) -> None:
+        self.texts: list[tuple[str, str]] = []
+
+    def add_arrows(self, name, **kwargs):
+        return Handle(**kwargs)
+
+    def add_frame(self, name, **kwargs):
+        return Handle(**kwargs)
+
+    def add_line_segments(self, name, **kwargs):
+        return Handle(**kwargs)
+
+    def add_label(self, name, text, **kwargs):
+        scene = self
+
+        class Label(Handle):
+            def __setattr__(self, key, value):
+                if key == "text" and "text" in self.__dict__ and value != self.text:
+                    scene.texts.append((name, value))
+                super().__setattr__(key, value)
+
+        return Label(text=text, **kwargs)
+
+
+FORCES = ("sup_R_x", "dyn_R_x")
+
+
+def _layer(scene, name: str = "compressor") -> tuple[Simulation, ArrowLayer]:
+    sim = Simulation(name)
+    spec = as_scene(sim.scene)
+    assert spec is not None
+    return sim, ArrowLayer(scene, spec.arrows, extent=1.0, zero=spec.zero)
+
+
+def test_label_texts_change_at_most_four_times_a_second_while_frames_run():
+    """The compressor at 3000 tr/min: its shaking forces change every frame (60 a second,
+    the panels refresh 10 times a second), the labels' texts only every quarter second;
+    the arrows move every frame and the labels, riding on the frame's point O, send
+    nothing."""
+    scene = Recorder()
+    sim, layer = _layer(scene)
+    now = [0.0]
+    layer.watch(CAMERA, clock=lambda: now[0])
+    sim.advance(0.05)
+    layer.update(sim.snapshot(FORCES))
+    layer.relabel()
+    scene.texts.clear()
+    frames, seconds, messages = 0, 3.0, []
+    while now[0] < seconds:
+        now[0] += 1 / 60
+        sim.advance(1 / 60)
+        before = layer.messages
+        layer.update(sim.snapshot(FORCES))
+        messages.append(layer.messages - before)
+        frames += 1
+        if frames % 6 == 0:  # the panels' refresh
+            layer.relabel()
+    per_label = {name: sum(1 for n, _ in scene.texts if n == name) for name, _ in scene.texts}
+    assert len(per_label) == 3  # every value changes...
+    assert all(count <= TEXT_RATE * seconds + 1 for count in per_label.values()), per_label
+    assert all(count >= 6 for count in per_label.values()), per_label  # ... and are written
+    assert max(messages) <= 1  # the arrows' node only: nothing for the labels
+
+
+def test_without_a_clock_every_relabel_writes():
+    """A replay's export writes every frame's values."""
+    scene = Recorder()
+    sim, layer = _layer(scene)
+    for _ in range(5):
+        sim.advance(0.0037)
+        layer.update(sim.snapshot(FORCES))
+        layer.relabel()
+    assert len(scene.texts) >= 8
+
+
+def test_labels_follow_the_page_text_size():
+    scene = Recorder()
+    sim, layer = _layer(scene)
+    font = [16]
+    layer.watch(CAMERA, font=lambda: font[0], clock=None)
+    layer.update(sim.snapshot(FORCES))
+    layer.relabel()
+    small = layer.labels[0].font_screen_scale
+    font[0] = 24
+    layer.relabel()
+    assert layer.labels[0].font_screen_scale == pytest.approx(1.5 * small)
+    assert 12 * layer.labels[0].font_screen_scale >= 18  # 24 px text: labels of 18 px or more
+
+
+# -- in the browser ---------------------------------------------------------------------------
+MEASURE = """(items) => {
+  const ctx = document.createElement('canvas').getContext('2d');
+  return items.map(([text, px]) => {
+    ctx.font = px + 'px -apple-system, BlinkMacSystemFont, "Segoe UI", "Roboto", ' +
+               '"Helvetica Neue", Arial, sans-serif';
+    const m = ctx.measureText(text);
+    return [m.width, m.fontBoundingBoxAscent + m.fontBoundingBoxDescent];
+  });
+}"""
+
+
+def _quat_rotate(wxyz: np.ndarray, v: np.ndarray) -> np.ndarray:
+    w, x, y, z = wxyz
+    u = np.array([x, y, z])
+    return v + 2 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def _box(x: float, y: float, anchor: str, width: float, line: float) -> tuple:
+    """A label's background [px] as viser's layoutLabel lays it out."""
+    pad = 0.2 * line
+    w, h = width + pad, line + pad
+    vertical, horizontal = anchor.split("-")
+    left = x if horizontal == "left" else x - w if horizontal == "right" else x - w / 2
+    top = y if vertical == "top" else y - h if vertical == "bottom" else y - h / 2
+    return (left, top, left + w, top + h)
+
+
+def _labels(session, page) -> tuple[list[tuple], Camera]:
+    """(name, box, point of its arrow or None) of every visible label, in canvas px."""
+    view = session.view
+    camera = read_camera(view.client.camera)
+    assert camera is not None
+    layer, renderer = view.arrows, view.renderer
+    found = []  # (name, text, world anchor, viser anchor, scale, arrow point)
+    for k, label in enumerate(layer.labels):
+        if label.visible:
+            frame = layer.frames[layer.group_of[k]]
+            world = np.asarray(frame.position) + np.asarray(label.position)
+            found.append((layer.arrows[k].label, label.text, world, label.anchor,
+                          label.font_screen_scale, np.asarray(frame.position)))  # fmt: skip
+    for text, label, root in renderer.labels.values():
+        frame = renderer.bodies[root]
+        world = np.asarray(frame.position) + _quat_rotate(
+            np.asarray(frame.wxyz), np.asarray(label.position)
+        )
+        found.append((text, text, world, label.anchor, label.font_screen_scale, None))
+    sizes = page.evaluate(MEASURE, [[text, 12 * scale] for _, text, _, _, scale, _ in found])
+    out = []
+    for (name, _, world, anchor, _, point), (width, line) in zip(found, sizes, strict=True):
+        x, y, _ = camera.project(world)
+        at = None if point is None else camera.project(point)[:2]
+        out.append((name, _box(x, y, anchor, width, line), at))
+    return out, camera
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # a server and a Chromium page per scene: ~8 s each
+@pytest.mark.parametrize("scene", SCENES)
+def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
+    from sandbox.web.app import start
+
+    app = start(scene, port=free_port(), open_message=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 720})
+    try:
+        page = context.new_page()
+        page.goto(app.url)
+        assert wait_for(lambda: len(app.sessions) == 1, timeout=30)
+        (session,) = app.sessions.values()
+        layer = session.view.arrows
+        assert layer is not None
+        assert wait_for(lambda: any(p is not None for p in layer._placed), timeout=30)
+        canvas = page.evaluate(
+            "() => { const c = [...document.querySelectorAll('canvas')].sort((a, b) =>"
+            " b.width * b.height - a.width * a.height)[0].getBoundingClientRect();"
+            " return [c.left, c.top]; }"
+        )
+        overlay = page.evaluate(
+            "() => { const o = document.getElementById('sandbox-overlay');"
+            " if (!o || !o.textContent) return null; const r = o.getBoundingClientRect();"
+            " return [r.left, r.top, r.right, r.bottom]; }"
+        )
+        checked = 0
+        for _ in range(4):  # a rotor's masses turn: several instants
+            time.sleep(0.3)
+            labels, camera = _labels(session, page)
+            assert labels, scene
+            for i, (name, box, point) in enumerate(labels):
+                inside = 0 <= box[0] and box[2] <= camera.width
+                assert inside and 0 <= box[1] and box[3] <= camera.height, (scene, name, box)
+                for other, box2, _ in labels[i + 1 :]:
+                    assert not overlaps(box, box2), (scene, name, other, box, box2)
+                if overlay is not None:
+                    ox = [overlay[0] - canvas[0], overlay[1] - canvas[1]]
+                    shown = (ox[0], ox[1], overlay[2] - canvas[0], overlay[3] - canvas[1])
+                    assert not overlaps(box, shown), (scene, name, "readouts", box, shown)
+                if point is not None:  # an arrow's label: by its point of application
+                    assert distance(point, box) <= REACH, (scene, name, point, box)
+                    checked += 1
+        assert checked
+        # each label rides on its arrow's point of application
+        for k, shown in enumerate(layer.shown):
+            if shown:
+                frame = layer.frames[layer.group_of[k]]
+                gap = np.linalg.norm(np.asarray(frame.position) - layer.origins[k])
+                assert gap <= 0.05 * layer.size, (scene, layer.arrows[k].name)
+    finally:
+        context.close()
+        app.stop()
