@@ -373,7 +373,12 @@ class Scene:
         accuracy: What ``sandbox bench`` compares with the course, and the invariant.
         camera: (direction from the model towards the camera, up vector) of the 3D view.
         look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
-        start_paused: The web app waits for "Lecture" (motions that leave the view).
+        start_paused: The web app waits for "Lecture".
+        leaves_view: The motion carries the mechanism out of the view: the page offers to
+            follow the moving body with the camera, and follows it from the start.
+        run_ended: The run is over (the rolling cylinder past the plane's end): the web
+            page starts it again a moment later, so that an open page keeps showing the
+            motion (a pure function of the model, the state and the values).
         trail: A point whose path the 3D view draws (e.g. the tip of a gyroscope's axis).
         max_timestep: Larger timesteps are refused: they stay stable but silently lose the
             accuracy the scene promises (e.g. a contact that softens).
@@ -415,6 +420,8 @@ class Scene:
     trail: Callable[[Snapshot], np.ndarray] | None = None
     max_timestep: float = math.inf
     start_paused: bool = False
+    leaves_view: bool = False
+    run_ended: Callable[[mujoco.MjModel, mujoco.MjData, Values], bool] | None = None
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
     zero: Mapping[str, float] = field(default_factory=dict)
     overlay: Mapping[str, str] = field(default_factory=dict)

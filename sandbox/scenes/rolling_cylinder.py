@@ -424,6 +424,17 @@ def _racer_x(s: Snapshot, name: str) -> float:
     return float(s.data.qpos[s.model.jnt_qposadr[j]]) if j >= 0 else 0.0
 
 
+def past_the_plane(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> bool:
+    """Whether the run is over: every rolling body's centre past the plane's far end (in a
+    race, the last one too). The web page then starts the descent again."""
+    end = v["plane_length"] - 0.5
+    for name in ("x", *(f"x_{racer}" for racer, _ in RACERS)):
+        j = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+        if j >= 0 and float(data.qpos[model.jnt_qposadr[j]]) <= end:
+            return False
+    return True
+
+
 SLIP_TOL = 1e-3
 """|V(A∈S)| [m/s] under which the cylinder counts as rolling (the creep while rolling stays
 below 1e-4 m/s; a slip starts at 1e-2 m/s and grows)."""
@@ -574,7 +585,8 @@ SCENE = Scene(
     sections="3.2, 6.1.3, 6.2",
     camera=((0.1, -1.0, 0.25), (0.0, 0.0, 1.0)),
     look_at=((0.5, 0.0, -0.15), 1.3),
-    start_paused=True,
+    leaves_view=True,
+    run_ended=past_the_plane,
     extra={"solid_names": {"cylinder": "cylindre", "eccentric": "masse excentrée"}},
     # Round-off: an absent eccentric mass is a 1e-9 kg point, which leaves 1e-9 N·m in
     # V(A) ∧ m V(G) where the course has 0 (δ in A is a few N·m).

@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 import logging
+import secrets
 import signal
 import socket
 import sys
@@ -24,7 +25,7 @@ import viser
 from sandbox.errors import BadOption
 from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
-from sandbox.web import client_text, network
+from sandbox.web import client_text, network, share_panel
 from sandbox.web.session import Controller, Session
 from sandbox.web.view import WebView
 
@@ -351,9 +352,12 @@ def start(
         def session(client: viser.ClientHandle) -> Session:
             controller = Controller(Simulation(target, **options))
             view = WebView(client, controller, lesson=opened, join_urls=urls)
+            share_panel.attach(server, client, view, lesson=opened)  # "Partager", a link
             return Session(controller, view)
 
-        app = App(server, host, session, max_sessions=max_sessions, port=bound)
+        from sandbox.web.board_panel import ClassApp  # it builds on App: a cycle at import
+
+        app = ClassApp(server, host, session, token=token, max_sessions=max_sessions, port=bound)
     if open_message:
         teacher = getattr(app, "teacher_url", None)
         print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)
@@ -406,6 +410,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
         workers: Server processes sharing the port (default one per core, at most 4; 1 serves
             from this process).
     """
+    from sandbox.web.board_panel import teacher_path  # builds on App: a cycle at import
     from sandbox.web.workers import WorkerSpec, default_workers, serve_pool
 
     if options.get("follow"):
@@ -433,8 +438,13 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     _check_port(host, port)
     if port == 0:
         port = _free_port(host)
+    options["token"] = options.get("token") or secrets.token_urlsafe(9)  # one for every worker
     spec = WorkerSpec(str(target), host, port, options)
-    text = banner(target, host, port, workers=count, public_url=options.get("public_url"))
+    local = "127.0.0.1" if host in ("0.0.0.0", "", "::") else host
+    teacher = f"http://{_bracket(local)}:{port}{teacher_path(options['token'])}"
+    text = banner(
+        target, host, port, workers=count, teacher=teacher, public_url=options.get("public_url")
+    )
     serve_pool(spec, count, banner=text)
 
 

@@ -151,13 +151,13 @@ class DisplayPanel:
         words = extra.get("markers") if isinstance(extra, Mapping) else None
         self.words: Mapping[str, str] = words if isinstance(words, Mapping) else {}
         self.size = mechanism_size(model, sim.data)
-        # A registered scene says whether its motion leaves the view (it then starts
-        # paused); any file's free body can.
-        leaves = spec is None or spec.start_paused
+        # A registered scene says whether its motion leaves the view (the camera then
+        # follows from the start); any file's free body can (followed on request).
+        leaves = spec is None or spec.leaves_view
         self.body = (
             followed_body(model, slides=spec is not None) if camera is not None and leaves else -1
         )
-        self.following = False
+        self.following = self.body >= 0 and spec is not None and spec.leaves_view
         submit = controller.submit
         turning = main_joint(model, sim.data) is not None
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:
@@ -192,7 +192,7 @@ class DisplayPanel:
             if self.body >= 0:
                 self.follow = gui.add_checkbox(
                     FOLLOW_LABEL,
-                    False,
+                    self.following,
                     hint="La caméra accompagne le solide qui se déplace (il reste au "
                     "centre de la vue)",
                 )
@@ -222,7 +222,7 @@ class DisplayPanel:
         return Request("advance", self.step_value.value, name=unit)
 
     def _on_slow(self, event: viser.GuiEvent[Any]) -> None:
-        if event.client is None:
+        if event.client is None or self.slow.disabled:  # locked by a shared link
             return
         choices = {speed_label(s): s for s in SLOW_MOTION}
         value = event.target.value

@@ -122,11 +122,13 @@ def engineering(value: float) -> str:
 
 
 def on_user(handle: viser.GuiInputHandle[Any], action: Callable[[Any], None]) -> None:
-    """Run ``action(value)`` when the user (not the server) changes ``handle``."""
+    """Run ``action(value)`` when the user (not the server) changes ``handle``; never
+    while it is disabled (a control a shared link locked or hid: only a crafted message
+    can change it, and the next refresh puts it back)."""
 
     @handle.on_update
     def _(event: viser.GuiEvent[Any]) -> None:
-        if event.client is not None:
+        if event.client is not None and not handle.disabled:
             action(event.target.value)
 
 

@@ -5,8 +5,10 @@ The shared simulation is drawn once into viser's broadcast scene (``server.scene
 under ``/prof``), so its cost does not grow with the number of watchers: a follower
 only receives the same pose messages and, a few times a second, a short table of the
 key readouts. The teacher opens a secret link (``/prof/<token>``, printed at start)
-whose page carries the full panels, driving the shared simulation, and two buttons
-that send the teacher's parameters or lesson step to every student's own copy.
+whose page carries the full panels, driving the shared simulation, and the folder
+"La classe": two buttons that send the teacher's parameters or lesson step to every
+student's own copy, and the class board (:mod:`sandbox.web.board_panel`: one row per
+student, following or on their own copy).
 
 A student leaves with "Ma simulation" for a copy of their own (starting from the
 teacher's parameters; the teacher's scene is hidden in that browser only, by a
@@ -31,6 +33,8 @@ from sandbox.scenes.base import as_scene
 from sandbox.web import network
 from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.board_panel import BOARD_FOLDER, TEACHER_PREFIX, Classroom, name_field
+from sandbox.web.board_panel import teacher_path as teacher_path  # re-exported
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Frame, Notice, Request, Session
@@ -40,7 +44,7 @@ from sandbox.web.view import WebView, arrow_layer, point_camera
 
 log = logging.getLogger(__name__)
 
-SHARED = "/prof"
+SHARED = TEACHER_PREFIX
 """Scene-tree folder of the shared simulation (hidden per browser in own mode)."""
 
 SUMMARY_RATE = 4.0
@@ -52,13 +56,11 @@ broadcast at the teacher's frame rate."""
 
 OWN = "Ma simulation"
 FOLLOW = "Suivre le professeur"
-SEND_VALUES = "Envoyer mes réglages aux élèves"
-SEND_STEP = "Envoyer l'étape de leçon aux élèves"
-
-
-def teacher_path(token: str) -> str:
-    """Path of the teacher's link."""
-    return f"{SHARED}/{token}"
+SEND_LABEL = "Envoyer aux élèves"
+SEND_VALUES = "Mes réglages"
+SEND_STEP = "Mon étape de leçon"
+"""The teacher's two buttons, short enough for one line at 24 px on a 1280×720 page
+("Envoyer mes réglages aux élèves" was cut)."""
 
 
 @dataclass(frozen=True)
@@ -226,8 +228,10 @@ class FollowApp(App):
         self._views: dict[int, WebView[Controller]] = {}
         self._switch = threading.Lock()
         network.page_alias(teacher_path(self.token))
+        self.classroom = Classroom(lambda cid: self.connected(cid))
         super().__init__(server, host, self._open, max_sessions=max_sessions)
         self.broadcast_session.start()
+        self.classroom.start()
 
     @property
     def teacher_url(self) -> str:
@@ -242,9 +246,14 @@ class FollowApp(App):
 
     def _teacher(self, client: viser.ClientHandle) -> Session:
         self.modes[client.client_id] = "teacher"
-        with client.gui.add_folder("Classe"):
+        with client.gui.add_folder(BOARD_FOLDER) as folder:
             counts = client.gui.add_markdown("")
-            buttons = client.gui.add_button_group("Envoyer", (SEND_VALUES, SEND_STEP))
+            buttons = client.gui.add_button_group(
+                SEND_LABEL,
+                (SEND_VALUES, SEND_STEP),
+                hint="Vos réglages, ou l'étape de leçon où vous êtes, vers la simulation de "
+                "chaque élève en autonomie",
+            )
         view = WebView(
             client,
             self.shared,
@@ -255,6 +264,7 @@ class FollowApp(App):
         )
         self._views[client.client_id] = view
         self.broadcast.teachers.append(view)
+        self.classroom.teacher(client, folder=folder)
         buttons.on_click(lambda event: self._send(event.target.value, view))
         session = _TeacherSession(self, view, counts)
         return session
@@ -264,6 +274,8 @@ class FollowApp(App):
         self.modes[cid] = "follower"
         point_camera(client, self.shared.sim)
         view = FollowerView(client, self.broadcast, lambda: self.switch(client, own=True))
+        box = name_field(client.gui, self.classroom.name_of(cid))
+        self.classroom.student(client, self.shared.sim, mode="follow", field=box)
         return Session(
             self.shared, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid), drive=False
         )
@@ -288,6 +300,8 @@ class FollowApp(App):
         back.on_click(lambda _: self.switch(client, own=False))
         view = WebView(client, controller, lesson=self.lesson)
         self._views[cid] = view
+        box = name_field(client.gui, self.classroom.name_of(cid))
+        self.classroom.student(client, controller.sim, view, field=box)
         return Session(controller, view, alive=lambda: self.connected(cid))
 
     def switch(self, client: viser.ClientHandle, *, own: bool) -> None:
@@ -349,8 +363,10 @@ class FollowApp(App):
         if view is not None and view in self.broadcast.teachers:
             self.broadcast.teachers.remove(view)
         self.modes.pop(client.client_id, None)
+        self.classroom.forget(client.client_id)
 
     def stop(self) -> None:
+        self.classroom.stop()
         self.broadcast_session.stop()
         super().stop()
 

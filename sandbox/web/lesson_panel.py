@@ -28,7 +28,7 @@ import viser
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.physics.units import shown_scale
 from sandbox.web.arrows import ArrowLayer
-from sandbox.web.lesson_goal import Words, goal_html, lines
+from sandbox.web.lesson_goal import Line, Words, goal_html, lines
 from sandbox.web.plots import Plot, group_by_unit
 from sandbox.web.session import Controller, Request
 from sandbox.web.text import plain, table_row
@@ -92,10 +92,15 @@ class LessonPanel:
             {n: k for n, (_, k) in shown.items()},
         )
         self.progress: Progress | None = None
+        # what the page shows, kept for the class board (read once a second elsewhere)
+        self.values: Mapping[str, float] = {}  # the readouts of the last refresh
+        self.goal_state = ""  # the goal block's state ("" without a goal)
+        self.goal_lines: tuple[Line, ...] = ()  # its lines and bars
         self.plots: list[Plot] = []
         self._step_handles: list[_Removable] = []
         self._pending: str | None = lesson if lesson in self.available else None
         self._pending_step: int | None = None
+        self.fixed: frozenset[str] = frozenset()  # parameters a shared link fixed
         self.folder = gui.add_folder("Leçon", expand_by_default=bool(self.available))
         with self.folder:
             titles = {FREE: FREE} | {les.title: name for name, les in self.available.items()}
@@ -145,6 +150,19 @@ class LessonPanel:
             self._pending = lesson if lesson in self.available else FREE
         self._pending_step = step if lesson is not None else None
 
+    def open_at(self, lesson: str, step: int = 0) -> None:
+        """Open ``lesson`` at ``step`` now, before the session's loop starts (a shared
+        link): its presets are queued at once, so that requests queued next win."""
+        found = self.available.get(lesson)
+        if found is None:
+            return
+        self._pending = self._pending_step = None
+        if self.progress is None or self.progress.lesson.name != lesson:
+            self._open(found)
+        if self.progress is not None and 0 <= step < len(found.steps):
+            if step != self.progress.index:
+                self._enter(step)
+
     def position(self) -> tuple[str | None, int]:
         """The lesson followed (None: none) and the index of its current step."""
         if self.progress is None:
@@ -154,6 +172,7 @@ class LessonPanel:
     # -- loop thread ---------------------------------------------------------------------
     def refresh(self, values: Mapping[str, float]) -> None:
         """Apply a pending choice, then show the step and evaluate its check."""
+        self.values = values
         if self._pending is not None:
             name, self._pending = self._pending, None
             self._open(self.available.get(name))
@@ -195,6 +214,7 @@ class LessonPanel:
             self.picker.value = title  # type: ignore[misc]
         if lesson is None:
             self.progress = None
+            self.goal_state, self.goal_lines = "", ()
             self.plots = []
             self.nav.visible = False
             self.hint_button.visible = False
@@ -212,7 +232,8 @@ class LessonPanel:
         assert progress is not None
         step = progress.go(index)
         for name, value in step.preset:
-            self.controller.submit(Request("set_value", value, name=name))
+            if name not in self.fixed:  # the teacher's link wins over a step's presets
+                self.controller.submit(Request("set_value", value, name=name))
         recorder = self.controller.recorder
         if recorder is not None:
             recorder.event("lesson", step=index)
@@ -253,6 +274,7 @@ class LessonPanel:
         """The goal block of the current step ("" when the step has no check)."""
         step = progress.step
         if step.check is None:
+            self.goal_state, self.goal_lines = "", ()
             return ""
         if ok:
             state = "Réussi"
@@ -263,6 +285,7 @@ class LessonPanel:
         else:
             state = "En cours"
         shown = lines(step.check, self.words, values, progress.initial, brief=bool(step.goal))
+        self.goal_state, self.goal_lines = state, shown
         return goal_html(shown, state=state, sentence=step.goal)
 
 

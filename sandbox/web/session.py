@@ -86,6 +86,9 @@ REQUEST_BUDGET = 0.005
 """CPU seconds the requests of one frame may spend (model rebuilds); those left wait for
 the next frame, so a flood of settings slows its own session only."""
 
+RESTART_AFTER = 1.0
+"""Wall seconds a finished run stays in view before it starts again."""
+
 SNAP = 0.1
 """While playing, a display time ahead of the physics by less than this fraction of a
 frame's simulated advance (speed / :data:`FPS`) is drawn at the physics time itself: a
@@ -227,6 +230,7 @@ class Controller:
         self._owed_target: float | None = None  # display time once they are run
         self._backlog: list[Request] = []  # requests past a frame's REQUEST_BUDGET
         self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
+        self._ended_at: float | None = None  # wall clock the scene's run ended at
         self.display = DisplayState(sim)
         self._resync(clock())
 
@@ -467,7 +471,22 @@ class Controller:
             self._resync(now)
         else:  # the physics stopped at the last whole step before the target: draw the target
             self.display_time = max(target, t)
+        self._restart_if_ended(now)
         return []
+
+    def _restart_if_ended(self, now: float) -> None:
+        """A scene whose run ends (:attr:`~sandbox.scenes.base.Scene.run_ended`) starts
+        again :data:`RESTART_AFTER` s of wall time after the end (a reset request, applied
+        by this frame's drain)."""
+        scene = as_scene(self.sim.scene)
+        ended = scene.run_ended if scene is not None else None
+        if ended is None or not ended(self.sim.model, self.sim.data, self.sim.values):
+            self._ended_at = None
+        elif self._ended_at is None:
+            self._ended_at = now
+        elif now - self._ended_at >= RESTART_AFTER:
+            self._ended_at = None
+            self.submit(Request("reset"))
 
     def _step(self, n: int) -> Notice | None:
         """Run ``n`` timesteps, counted against this frame's budget; a failure pauses and

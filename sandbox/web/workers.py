@@ -14,6 +14,13 @@ parent, and a thread of the worker waits on it (:func:`watch_parent`). The opera
 system closes a dead process's files and handles, so the read ends at once, on Linux,
 macOS and Windows alike; the worker then stops as on Ctrl-C (sessions and recordings
 closed) and exits within :data:`ORPHAN_GRACE` seconds anyway.
+
+The class board ("La classe" on the teacher's page) sees the students of every worker:
+each worker puts its students' rows on the ``events`` queue once a second
+(:class:`WorkerHub`), the parent merges them (:class:`sandbox.web.board.Roster`) and
+sends the merged board, on a pipe of its own per worker, to the workers that serve a
+teacher's page; a thread sends it (:class:`BoardRelay`), so the parent's loop never waits
+on a worker.
 """
 
 from __future__ import annotations
@@ -21,6 +28,7 @@ from __future__ import annotations
 import _thread
 import contextlib
 import logging
+import math
 import multiprocessing
 import os
 import queue
@@ -39,6 +47,7 @@ from typing import TYPE_CHECKING, Any
 from sandbox.cores import DEFAULT_WORKERS_CAP as DEFAULT_WORKERS_CAP  # re-exported
 from sandbox.cores import default_workers as default_workers  # re-exported
 from sandbox.errors import BadOption, SandboxError
+from sandbox.web.board import MAX_ROWS, REFRESH, SETTLE, Board, Roster, from_wire
 from sandbox.web.front import Front
 
 if TYPE_CHECKING:
@@ -47,7 +56,9 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 Event = tuple[str, int, object]
-"""What a worker tells the parent: ("ready", index, port) or ("error", index, reason)."""
+"""What a worker tells the parent: ("ready", index, port), ("error", index, reason) or
+("board", index, (rows, wants)): its students' rows (wire dicts) and whether a teacher's
+page there waits for the merged board."""
 
 START_TIMEOUT = 60.0
 """Seconds a worker may take to import, build its first simulation and listen."""
@@ -64,6 +75,10 @@ MAX_RESTARTS = 5
 GRACEFUL_SIGTERM = os.name == "posix"
 """SIGTERM lets a process clean up (POSIX); on Windows os.kill(pid, SIGTERM) is
 TerminateProcess, an immediate kill: workers are then stopped through their lifeline."""
+
+POLL = 0.25
+"""Seconds the parent's loop waits for connections before it looks at its workers (their
+restarts, the class board's rows)."""
 
 ORPHAN_GRACE = 2.0
 """Seconds a worker whose parent died gets to close its sessions before it exits anyway."""
@@ -132,11 +147,113 @@ def watch_parent(
     return thread
 
 
+class WorkerHub:
+    """A worker's side of the class board: its rows go to the parent on ``events``; the
+    merged board comes back on ``pipe`` and goes to ``deliver`` (from a thread).
+
+    Args:
+        events: The queue to the parent.
+        index: This worker's index.
+        pipe: Reading end of the parent's board pipe to this worker.
+        deliver: Called with each merged board.
+    """
+
+    def __init__(
+        self, events: Queue[Event], index: int, pipe: Any, deliver: Callable[[Board], None]
+    ) -> None:
+        self.events = events
+        self.index = index
+        self.pipe = pipe
+        self.deliver = deliver
+        self._thread = threading.Thread(target=self._receive, name="sandbox-board-in", daemon=True)
+        self._thread.start()
+
+    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
+        """This worker's students to the parent (never blocks: the queue's own thread
+        sends)."""
+        self.events.put(("board", self.index, (rows, wants)))
+
+    def _receive(self) -> None:
+        while True:
+            try:
+                data = self.pipe.recv()
+            except (EOFError, OSError):
+                return  # the parent is gone: the worker is stopping
+            except Exception:  # not a board: skip it
+                log.warning("an unreadable class board was dropped", exc_info=True)
+                continue
+            board = Board.from_wire(data)
+            if board is not None:
+                self.deliver(board)
+
+
+class BoardRelay:
+    """Sends the merged board to the workers that asked for it, from a thread of its own
+    (a worker slow to read its pipe delays only its own board)."""
+
+    def __init__(self) -> None:
+        self._pipes: dict[int, Any] = {}
+        self._pending: dict[int, object] = {}
+        self._cv = threading.Condition()
+        self._closed = False
+        self._thread = threading.Thread(target=self._run, name="sandbox-board-out", daemon=True)
+        self._thread.start()
+
+    def replace(self, index: int, pipe: Any) -> None:
+        """Worker ``index``'s (new) pipe; a previous one is closed."""
+        with self._cv:
+            old = self._pipes.get(index)
+            self._pipes[index] = pipe
+            self._pending.pop(index, None)
+        if old is not None:
+            old.close()
+
+    def send(self, index: int, payload: object) -> None:
+        """Send ``payload`` to worker ``index`` (replaces one not sent yet)."""
+        with self._cv:
+            self._pending[index] = payload
+            self._cv.notify()
+
+    def _run(self) -> None:
+        while True:
+            with self._cv:
+                while not self._pending and not self._closed:
+                    self._cv.wait()
+                if self._closed:
+                    return
+                todo = [(self._pipes.get(k), p) for k, p in self._pending.items()]
+                self._pending.clear()
+            for pipe, payload in todo:
+                if pipe is None:
+                    continue
+                try:
+                    pipe.send(payload)
+                except (OSError, ValueError):  # a worker gone: its restart gets a new pipe
+                    log.debug("class board not sent", exc_info=True)
+
+    def close(self) -> None:
+        """Stop the thread and close the pipes."""
+        with self._cv:
+            self._closed = True
+            self._cv.notify()
+            pipes = list(self._pipes.values())
+            self._pipes.clear()
+        for pipe in pipes:
+            pipe.close()
+
+
 def _worker_main(
-    spec: WorkerSpec, index: int, events: Queue[Event], pipe: Any, closed: Any, lifeline: Any
+    spec: WorkerSpec,
+    index: int,
+    events: Queue[Event],
+    pipe: Any,
+    closed: Any,
+    lifeline: Any,
+    board: Any = None,
 ) -> None:
     """Body of a worker process: serve the connections the front hands over on ``pipe``
-    until SIGTERM or SIGINT or the end of the parent (``lifeline``), then close sessions."""
+    until SIGTERM or SIGINT or the end of the parent (``lifeline``), then close sessions;
+    the class board's rows go to the parent and its merged board comes on ``board``."""
     logging.basicConfig(level=logging.WARNING, format=f"sandbox[w{index}] %(message)s")
     app: App | None = None
     try:
@@ -164,6 +281,10 @@ def _worker_main(
         except Exception as exc:  # reported by the parent as one line
             events.put(("error", index, f"{type(exc).__name__}: {exc}"))
             return
+        classroom = getattr(app, "classroom", None)
+        if classroom is not None and board is not None:
+            hub = WorkerHub(events, index, board, classroom.receive)
+            classroom.relay(hub, source=f"w{index}")
         adopter.start()
         events.put(("ready", index, app.port))
     except KeyboardInterrupt:  # Ctrl-C, or the end of the parent, while starting
@@ -216,15 +337,21 @@ class WorkerPool:
         self._restarts: list[float] = []
         self.closed = self._ctx.Array("q", workers, lock=False)  # websockets closed, by worker
         self.pipes: dict[int, Any] = {}  # the front's end of each worker's pipe
+        self.roster = Roster(time.time(), settle=SETTLE)  # the class board, merged
+        self.relay = BoardRelay()  # ... sent to the workers serving a teacher
+        self._teachers: set[int] = set()  # those workers
+        self._who: tuple[object, ...] = ()  # who was on the board last sent, and when
+        self._sent = -math.inf
         self._lifelines: dict[int, Any] = {}  # kept open while this process lives
         self.front: Front | None = None
 
     def _spawn(self, index: int) -> None:
         receiver, sender = self._ctx.Pipe(duplex=False)
         watched, lifeline = self._ctx.Pipe(duplex=False)
+        board_in, board_out = self._ctx.Pipe(duplex=False)
         proc = self._ctx.Process(
             target=_worker_main,
-            args=(self.spec, index, self._events, receiver, self.closed, watched),
+            args=(self.spec, index, self._events, receiver, self.closed, watched, board_in),
             name=f"sandbox-worker-{index}",
             daemon=False,
         )
@@ -232,6 +359,11 @@ class WorkerPool:
             proc.start()
         receiver.close()  # the worker has its own
         watched.close()  # the worker has its own; the parent keeps only the writing end
+        board_in.close()
+        self.relay.replace(index, board_out)
+        if index in self.processes:  # a restart: the students of the dead one left
+            self.roster.drop(index, time.time())
+            self._teachers.discard(index)
         for old in (self.pipes.get(index), self._lifelines.get(index)):
             if old is not None:
                 old.close()
@@ -265,7 +397,10 @@ class WorkerPool:
             if kind == "error":
                 self.stop()
                 raise BadOption(str(detail))
-            ready.add(index)
+            if kind == "board":
+                self._board(index, detail)
+            else:
+                ready.add(index)
 
     def watch(self) -> None:
         """Restart workers that died (a crash must not leave a core's students out).
@@ -301,6 +436,33 @@ class WorkerPool:
                 print(f"sandbox: worker {index}: {detail}", flush=True)
             elif kind == "ready" and self.front is not None:
                 self.front.set_ready(index)
+            elif kind == "board":
+                self._board(index, detail)
+
+    def _board(self, index: int, detail: object) -> None:
+        """A worker's students: merged; the board to the workers where a teacher waits,
+        once a second, and at once when someone arrives, leaves or is named."""
+        if not (isinstance(detail, tuple) and len(detail) == 2 and isinstance(detail[0], list)):
+            log.warning("worker %d sent an unreadable class board", index)
+            return
+        rows: list[object] = detail[0]
+        checked = [r for r in (from_wire(d) for d in rows[:MAX_ROWS]) if r is not None]
+        now = time.time()
+        self.roster.update(index, checked, now)
+        if detail[1]:
+            self._teachers.add(index)
+        else:
+            self._teachers.discard(index)
+        if not self._teachers:
+            return
+        board = self.roster.board(now)
+        who = tuple((r.key, r.number, r.name, r.connected) for r in board.rows)
+        if who == self._who and now - self._sent < REFRESH:
+            return  # only values changed: they wait for the next second
+        self._who, self._sent = who, now
+        wire = board.wire()
+        for k in self._teachers:
+            self.relay.send(k, wire)
 
     def alive(self) -> int:
         """How many workers are running."""
@@ -324,6 +486,7 @@ class WorkerPool:
         deadline = time.monotonic() + STOP_TIMEOUT
         for proc in self.processes.values():
             proc.join(max(0.0, deadline - time.monotonic()))
+        self.relay.close()
         for proc in self.processes.values():
             if proc.exitcode is None:
                 proc.kill()
@@ -363,7 +526,7 @@ def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
         pool.front = Front(listener, [pool.pipes[k] for k in range(workers)], pool.closed)
         print(banner, flush=True)
         while True:
-            pool.front.poll(0.5)
+            pool.front.poll(POLL)
             pool.watch()
     except KeyboardInterrupt:
         pass

@@ -37,7 +37,11 @@ plotting area holds, in all and in its right third (the latest samples)."""
 def served_cylinder() -> Iterator[object]:
     from sandbox.web.app import start
 
-    app = start("rolling_cylinder", port=free_port(), open_message=False)
+    # a plane long enough for 9 s of descent (the default one ends the run at 3 s, and
+    # the page then starts it again)
+    app = start(
+        "rolling_cylinder", port=free_port(), open_message=False, values={"plane_length": 200.0}
+    )
     try:
         yield app
     finally:
@@ -51,7 +55,7 @@ def test_plots_keep_drawing_while_their_range_grows(open_page, served_cylinder):
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
     choose(page, "Panneau affiché", "Courbes")
     (session,) = served_cylinder.sessions.values()
-    session.controller.playing = True  # the scene waits for "Lecture"
+    assert session.controller.playing  # the cylinder rolls from the start
     ranges = set()
     checked = 0
     deadline_time = 9.0

@@ -325,8 +325,8 @@ def test_ralenti_and_pas_queue_requests(server):
 def test_the_camera_follows_the_rolling_cylinder(server):
     ctl, panel = _panel(server, "rolling_cylinder")
     assert panel.follow is not None and panel.camera is not None
-    panel.following = True
-    ctl.submit(Request("play"))
+    assert panel.following and panel.follow.value  # from the start: it rolls out of view
+    assert ctl.playing  # the page opens rolling
     for _ in range(60):
         ctl.clock.now += 1 / 30
         ctl.frame()

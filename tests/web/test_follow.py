@@ -50,7 +50,7 @@ def test_students_follow_leave_come_back_and_receive_the_teachers_settings(
 ):
     app: FollowApp = served_follow
     teacher = open_page(app.teacher_url)
-    teacher.get_by_text("Classe", exact=True).first.wait_for(timeout=30_000)
+    teacher.get_by_text("La classe", exact=True).first.wait_for(timeout=30_000)
     student = open_page(app.url)
     student.get_by_text("Simulation du professeur", exact=True).first.wait_for(timeout=30_000)
     assert wait_for(lambda: app.counts() == (1, 1, 0))

@@ -577,3 +577,28 @@ def test_a_student_flooding_steps_leaves_the_others_their_frame_rate():
             s.request_stop()
         for s in [*victims, flooder]:
             s.stop()
+
+
+def test_a_finished_run_starts_again_a_moment_later():
+    """The rolling cylinder opens rolling; past the plane's end it stays in view for
+    RESTART_AFTER s of wall time, then the descent starts again from the top."""
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.session import RESTART_AFTER, Controller
+
+    now = [0.0]
+    sim = Simulation("rolling_cylinder", values={"plane_length": 2.0})
+    ctl = Controller(sim, clock=lambda: now[0])
+    assert ctl.playing
+    ended = None
+    for _ in range(400):  # 50 frames a second
+        now[0] += 0.02
+        ctl.frame(record=False)
+        x = sim.readouts(["x"])["x"]
+        if ended is None and x > 1.5:
+            ended = now[0]
+        if ended is not None and now[0] < ended + RESTART_AFTER - 0.05:
+            assert x > 1.5  # not restarted before the delay
+        if ended is not None and x < 0.1:
+            break
+    assert ended is not None and now[0] - ended == pytest.approx(RESTART_AFTER, abs=0.06)
+    assert sim.data.time < 0.1 and ctl.generation == 1  # plots restart with the run

@@ -277,3 +277,105 @@ def test_where_sigterm_kills_at_once_workers_are_stopped_through_their_lifeline(
                 proc.kill()
     assert not killed  # no SIGTERM was sent
     assert [p.exitcode for p in pool.processes.values()] == [0, 0]
+
+
+# -- the class board across workers ----------------------------------------------------------
+
+
+class _Relay:
+    """Records what the pool would pipe to each worker."""
+
+    def __init__(self) -> None:
+        self.sent: list[tuple[int, object]] = []
+
+    def send(self, index: int, payload: object) -> None:
+        self.sent.append((index, payload))
+
+    def close(self) -> None:
+        pass
+
+
+def _report(key: str, joined: float, name: str = "") -> dict[str, object]:
+    from sandbox.web.board import Row, to_wire
+
+    return to_wire(Row(key=key, joined=joined, name=name))
+
+
+def test_the_parent_merges_every_worker_s_students_for_the_teacher_s_worker():
+    """Worker 1 serves the teacher, worker 0 two students: the board piped to worker 1
+    lists all of them, at once when someone arrives or is named, otherwise once a second;
+    worker 0, without a teacher, gets nothing; a bad report is dropped."""
+    from sandbox.web.board import Board
+
+    pool = workers.WorkerPool(workers.WorkerSpec("rotor", "127.0.0.1", 0), 2)
+    pool.relay.close()
+    relay = _Relay()
+    pool.relay = relay  # type: ignore[assignment]
+    pool.roster.settle = 0.0
+    pool._board(1, ([], True))  # the teacher's worker, no student there yet
+    pool._board(0, ([_report("w0:1", 1.0), _report("w0:2", 2.0, "Zoé")], False))
+    assert [k for k, _ in relay.sent] == [1, 1]  # never to worker 0
+    board = Board.from_wire(relay.sent[-1][1])
+    assert board is not None
+    assert [r.display_name for r in board.rows] == ["Élève 1", "Zoé"]
+    pool._board(0, ([_report("w0:1", 1.0), _report("w0:2", 2.0, "Zoé")], False))
+    assert len(relay.sent) == 2  # nothing new within the second: not sent
+    pool._board(0, ([_report("w0:2", 2.0, "Zoé")], False))  # one leaves: sent at once
+    last = Board.from_wire(relay.sent[-1][1])
+    assert last is not None and [r.connected for r in last.rows] == [False, True]
+    pool._board(0, "garbage")
+    pool._board(0, ([{"key": 3}, _report("w0:2", 2.0, "Zoé")], False))  # a bad row: dropped
+    assert len(relay.sent) == 3
+
+
+def test_a_worker_slow_to_read_its_board_never_holds_the_parent():
+    """The relay's thread sends; ``send`` returns at once even while a pipe blocks, and
+    only the newest board waits for a pipe."""
+    release = threading.Event()
+    got: list[object] = []
+
+    class SlowPipe:
+        def send(self, payload: object) -> None:
+            release.wait(10)
+            got.append(payload)
+
+        def close(self) -> None:
+            pass
+
+    relay = workers.BoardRelay()
+    try:
+        relay.replace(0, SlowPipe())
+        sender = threading.Thread(target=lambda: [relay.send(0, k) for k in range(50)])
+        sender.start()
+        sender.join(10)
+        assert not sender.is_alive() and got == []  # all sent while the pipe still blocks
+        release.set()
+        deadline = time.monotonic() + 5
+        while (not got or got[-1] != 49) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert got[-1] == 49 and len(got) < 50  # boards overtaken by newer ones are dropped
+    finally:
+        relay.close()
+
+
+def test_a_worker_s_hub_sends_its_rows_and_delivers_the_merged_board():
+    import multiprocessing
+    import queue
+
+    from sandbox.web.board import Board, Row
+
+    ctx = multiprocessing.get_context("spawn")
+    reader, writer = ctx.Pipe(duplex=False)
+    events: queue.Queue[workers.Event] = queue.Queue()
+    delivered: list[Board] = []
+    hub = workers.WorkerHub(events, 3, reader, delivered.append)  # type: ignore[arg-type]
+    hub.publish([{"key": "w3:1", "joined": 1.0}], True)
+    assert events.get(timeout=1) == ("board", 3, ([{"key": "w3:1", "joined": 1.0}], True))
+    writer.send("not a board")
+    board = Board(0.0, (Row(key="w3:1", joined=1.0, number=1),))
+    writer.send(board.wire())
+    deadline = time.monotonic() + 5
+    while not delivered and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert [[(r.key, r.number) for r in b.rows] for b in delivered] == [[("w3:1", 1)]]
+    writer.close()

@@ -1,0 +1,535 @@
+"""The class board in the pages: the students' "Votre prénom" field, the teacher's folder
+"La classe", and the per-process :class:`Classroom` that reads the students once a second.
+
+Reading a student costs a few attribute reads: the lesson panel keeps the readouts of its
+last refresh and its goal bars (:class:`~sandbox.web.lesson_panel.LessonPanel`), so the
+board evaluates nothing and a session's frames are untouched. The rows go to a hub: in one
+process, a :class:`LocalHub` merges them (a :class:`~sandbox.web.board.Roster`); with
+``--workers N`` the worker's hub sends them to the parent, which merges every worker's
+students and sends the board back to the workers serving a teacher's page
+(:mod:`sandbox.web.workers`).
+
+In the default mode (every browser its own simulation) the teacher's secret link
+``/prof/<token>`` opens the teacher's own simulation plus "La classe"
+(:class:`ClassApp`); in follow mode the teacher's page has it too
+(:mod:`sandbox.web.follow`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import secrets
+import threading
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Protocol
+
+import viser
+
+from sandbox.lessons import Progress
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+from sandbox.web import network
+from sandbox.web.app import App
+from sandbox.web.board import (
+    GOALS,
+    REFRESH,
+    SORT_LABEL,
+    SORTS,
+    Board,
+    Roster,
+    Row,
+    board_html,
+    clean_name,
+    csv_text,
+    from_wire,
+    progress_of,
+    sort_rows,
+    summary,
+    to_wire,
+)
+from sandbox.web.fields import on_user, set_value
+from sandbox.web.lesson_goal import parts
+from sandbox.web.projector import key_readouts, overlay_lines
+from sandbox.web.session import Session
+
+log = logging.getLogger(__name__)
+
+TEACHER_PREFIX = "/prof"
+"""First segment of the teacher's secret link."""
+
+BOARD_FOLDER = "La classe"
+NAME_LABEL = "Votre prénom"
+CSV_BUTTON = "Télécharger le tableau (CSV)"
+WAITING = "En attente des élèves…"
+BOARD_ORDER = -900.0
+"""Place of "La classe" on the teacher's page: first (the page's style elements are at
+-1000)."""
+NAME_ORDER = -900.0
+"""Place of "Votre prénom" on a student's page: first, where it is seen."""
+
+BALANCING: dict[str, tuple[str, str]] = {
+    "rotor": ("bearing_A", "bearing_B"),
+    "wheel_balancer": ("bearing_inner", "bearing_outer"),
+}
+"""Scenes whose key readout on the board is the larger bearing force (what balancing
+brings down), outside a lesson step that checks its own readouts."""
+
+_GOAL_KEYS = {word: key for key, word in GOALS.items()}
+
+
+def teacher_path(token: str) -> str:
+    """Path of the teacher's link."""
+    return f"{TEACHER_PREFIX}/{token}"
+
+
+class Hub(Protocol):
+    """Where a process's rows go: merged here, or sent to the parent process."""
+
+    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
+        """This process's students now (wire dicts); ``wants``: a teacher's page here
+        waits for the merged board."""
+
+
+class LocalHub:
+    """The hub of one process serving the whole class: merges and delivers at once.
+
+    Args:
+        start: When the class started (wall clock [s]).
+        deliver: Called with the merged board.
+        clock: Wall clock [s].
+    """
+
+    def __init__(
+        self,
+        start: float,
+        deliver: Callable[[Board], None],
+        *,
+        clock: Callable[[], float] = time.time,
+    ) -> None:
+        self.roster = Roster(start)
+        self.deliver = deliver
+        self.clock = clock
+
+    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
+        now = self.clock()
+        checked = [r for r in (from_wire(d) for d in rows) if r is not None]
+        self.roster.update("local", checked, now)
+        if wants:
+            self.deliver(self.roster.board(now))
+
+
+@dataclass(frozen=True)
+class _Readouts:
+    """How one scene's key readouts are written (computed once per student)."""
+
+    names: tuple[str, ...]
+    labels: Mapping[str, str]
+    units: Mapping[str, str]
+    zeros: Mapping[str, float]
+
+    @classmethod
+    def of(cls, sim: Simulation) -> _Readouts:
+        infos = {i.name: i for i in sim.readout_infos()}
+        short = key_readouts(sim)
+        spec = as_scene(sim.scene)
+        names = tuple(short)
+        labels = {n: (short.get(n) or i.label or n) for n, i in infos.items()}
+        units = {n: i.unit for n, i in infos.items()}
+        zeros = {n: spec.zero_for(i.unit) for n, i in infos.items()} if spec else {}
+        return cls(names, labels, units, zeros)
+
+    def written(self, name: str, values: Mapping[str, float]) -> str:
+        """The value as the page's overlay writes it ("54,4 N", "1 500 tr/min")."""
+        label = self.labels.get(name, name)
+        (line,) = overlay_lines([name], values, {name: label}, self.units, self.zeros)
+        return line.removeprefix(f"{label} = ")
+
+
+@dataclass
+class _Student:
+    client: viser.ClientHandle
+    joined: float
+    scene: str
+    readouts: _Readouts
+    view: object = None
+    mode: str = "own"
+    field: viser.GuiTextHandle | None = None
+    name: str = ""
+
+
+@dataclass
+class _Reading:
+    """What a student's page shows of their lesson, read in one go."""
+
+    lesson: str = ""
+    title: str = ""
+    step: int = 0
+    steps: int = 0
+    goal: str = ""
+    progress: float = math.nan
+    checked: str = ""
+    values: Mapping[str, float] = field(default_factory=dict)
+
+
+def _read_lesson(view: object) -> _Reading:
+    """The lesson panel's state as its page shows it (each attribute read once: the
+    session's loop may change them meanwhile)."""
+    panel = getattr(view, "lesson", None)
+    if panel is None:
+        return _Reading()
+    values: Mapping[str, float] = panel.values
+    progress: Progress | None = panel.progress
+    if progress is None:
+        return _Reading(values=values)
+    state, lines = panel.goal_state, panel.goal_lines
+    goal = _GOAL_KEYS.get(state, "")
+    done = [line.done for line in lines]
+    checked = ""
+    check = progress.step.check
+    found = parts(check) if check is not None else None
+    if found and len(found) == len(done):  # the part furthest from its goal
+        ranked = [(d if d is not None else 2.0, k) for k, d in enumerate(done)]
+        checked = found[min(ranked)[1]].readout
+    return _Reading(
+        lesson=progress.lesson.name,
+        title=progress.lesson.title,
+        step=progress.index + 1,
+        steps=len(progress.lesson.steps),
+        goal=goal,
+        progress=progress_of(done, goal) if goal else math.nan,
+        checked=checked,
+        values=values,
+    )
+
+
+def key_readout(
+    scene: str, names: tuple[str, ...], checked: str, values: Mapping[str, float]
+) -> str:
+    """The readout a student's row shows: the one their lesson step checks (the part
+    furthest from its goal), else a balancing scene's larger bearing force, else the
+    scene's first key readout ("" when none)."""
+    if checked:
+        return checked
+    pair = BALANCING.get(scene)
+    if pair is not None and all(n in values for n in pair):
+        a, b = (values[n] for n in pair)
+        return pair[1] if b > a else pair[0]
+    return names[0] if names else ""
+
+
+def student_row(key: str, student: _Student) -> Row:
+    """One student's row from what their page last showed."""
+    if student.field is not None:
+        student.name = clean_name(student.field.value)
+    base = Row(key=key, joined=student.joined, name=student.name, scene=student.scene)
+    if student.mode == "follow":
+        return replace(base, mode="follow")
+    seen = _read_lesson(student.view)
+    readouts = student.readouts
+    name = key_readout(student.scene, readouts.names, seen.checked, seen.values)
+    value = float(seen.values.get(name, math.nan)) if name else math.nan
+    return Row(
+        key=key,
+        joined=student.joined,
+        name=student.name,
+        scene=student.scene,
+        lesson=seen.lesson,
+        lesson_title=seen.title,
+        step=seen.step,
+        steps=seen.steps,
+        goal=seen.goal,
+        progress=seen.progress,
+        readout=name,
+        label=readouts.labels.get(name, name) if name else "",
+        value=value,
+        unit=readouts.units.get(name, "") if name else "",
+        shown=readouts.written(name, seen.values) if name and math.isfinite(value) else "",
+    )
+
+
+def name_field(gui: viser.GuiApi, name: str = "") -> viser.GuiTextHandle:
+    """The student's "Votre prénom" box (read once a second; cleaned when read)."""
+    return gui.add_text(
+        NAME_LABEL,
+        initial_value=name,
+        hint="Le nom sous lequel l'enseignant vous voit dans la classe (40 caractères au plus)",
+        order=NAME_ORDER,
+    )
+
+
+class BoardPanel:
+    """The folder "La classe" of one teacher's page: a summary line, "Trier par", the
+    CSV download and the table.
+
+    Args:
+        client: The teacher's browser.
+        folder: The folder to fill (default: a new "La classe", first on the page).
+    """
+
+    def __init__(
+        self, client: viser.ClientHandle, *, folder: viser.GuiFolderHandle | None = None
+    ) -> None:
+        gui = client.gui
+        self.client = client
+        self.folder = folder or gui.add_folder(BOARD_FOLDER, order=BOARD_ORDER)
+        with self.folder:
+            self.summary = gui.add_markdown(WAITING)
+            self.sort = gui.add_dropdown(
+                SORT_LABEL,
+                tuple(SORTS),
+                initial_value=next(iter(SORTS)),
+                hint="Arrivée : dans l'ordre où les élèves ont ouvert la page ; Étape et "
+                "Progression : les plus en retard d'abord ; les élèves partis en dernier",
+            )
+            self.download = gui.add_button(
+                CSV_BUTTON,
+                hint="Le tableau de la classe dans un fichier pour un tableur",
+            )
+            self.table = gui.add_html(board_html(()))
+        self.by = SORTS[next(iter(SORTS))]
+        self.board: Board | None = None
+        self._lock = threading.Lock()
+        on_user(self.sort, self._choose)
+        self.download.on_click(lambda _: self._download())
+
+    def _choose(self, option: object) -> None:
+        by = SORTS.get(option) if isinstance(option, str) else None
+        if by is None:  # a crafted option: put the choice back
+            set_value(self.sort, next(k for k, v in SORTS.items() if v == self.by))
+            return
+        self.by = by
+        if self.board is not None:
+            self.show(self.board)
+
+    def show(self, board: Board) -> None:
+        """Show ``board`` (sorted by the teacher's choice); sends only what changed."""
+        with self._lock:
+            self.board = board
+            rows = sort_rows(board.rows, self.by)
+            text = summary(rows, board.left_out)
+            html = board_html(rows)
+            if self.summary.content != text:
+                self.summary.content = text
+            if self.table.content != html:
+                self.table.content = html
+
+    def csv(self) -> str:
+        """The board as the teacher sees it (sorted the same), in CSV."""
+        board = self.board
+        if board is None:
+            return csv_text((), time.time())
+        return csv_text(sort_rows(board.rows, self.by), board.start)
+
+    def _download(self) -> None:
+        stamp = time.strftime("%Y-%m-%d-%Hh%M")
+        self.client.send_file_download(
+            f"classe-{stamp}.csv", self.csv().encode("utf-8"), save_immediately=True
+        )
+
+
+class Classroom:
+    """The students of this process and the teacher pages showing the board.
+
+    Once every :data:`~sandbox.web.board.REFRESH` seconds a thread reads each student's
+    row and publishes them to the hub; the merged board comes back through
+    :meth:`receive` and goes to the teacher pages.
+
+    Args:
+        connected: Whether a browser is still connected (by client id).
+        clock: Wall clock [s].
+        period: Seconds between readings.
+    """
+
+    def __init__(
+        self,
+        connected: Callable[[int], bool],
+        *,
+        clock: Callable[[], float] = time.time,
+        period: float = REFRESH,
+    ) -> None:
+        self.connected = connected
+        self.clock = clock
+        self.period = period
+        self.start_time = clock()
+        self.source = "p"
+        self.hub: Hub = LocalHub(self.start_time, self.receive, clock=clock)
+        self.board = Board(self.start_time)
+        self._students: dict[int, _Student] = {}
+        self._teachers: dict[int, BoardPanel] = {}
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._failed = False
+
+    def relay(self, hub: Hub, source: str) -> None:
+        """Send the rows to ``hub`` (another process merges them); ``source`` makes this
+        process's row keys unique in the class."""
+        self.hub, self.source = hub, source
+
+    # -- who is here ---------------------------------------------------------------------
+    def student(
+        self,
+        client: viser.ClientHandle,
+        sim: Simulation,
+        view: object = None,
+        *,
+        mode: str = "own",
+        field: viser.GuiTextHandle | None = None,
+    ) -> None:
+        """A student's page (new, or rebuilt when they switch mode in follow mode: their
+        name and arrival are kept)."""
+        cid = client.client_id
+        with self._lock:
+            old = self._students.get(cid)
+        if old is not None:
+            if old.field is not None:
+                old.name = clean_name(old.field.value)
+            old.view, old.mode, old.field = view, mode, field
+            return
+        scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
+        entry = _Student(client, self.clock(), scene[:80], _Readouts.of(sim), view, mode, field)
+        with self._lock:
+            self._students[cid] = entry
+
+    def name_of(self, client_id: int) -> str:
+        """The name a student typed so far ("" when none)."""
+        with self._lock:
+            entry = self._students.get(client_id)
+        if entry is None:
+            return ""
+        return clean_name(entry.field.value) if entry.field is not None else entry.name
+
+    def teacher(
+        self, client: viser.ClientHandle, *, folder: viser.GuiFolderHandle | None = None
+    ) -> BoardPanel:
+        """Add the board to a teacher's page."""
+        panel = BoardPanel(client, folder=folder)
+        panel.show(self.board)
+        with self._lock:
+            self._teachers[client.client_id] = panel
+        return panel
+
+    def forget(self, client_id: int) -> None:
+        """A browser left."""
+        with self._lock:
+            self._students.pop(client_id, None)
+            self._teachers.pop(client_id, None)
+
+    def students(self) -> int:
+        """Student pages of this process."""
+        with self._lock:
+            return len(self._students)
+
+    # -- once a second ---------------------------------------------------------------------
+    def rows(self) -> list[Row]:
+        """This process's students now (those whose browser left are forgotten)."""
+        with self._lock:
+            entries = list(self._students.items())
+        out = []
+        for cid, entry in entries:
+            if not self.connected(cid):
+                self.forget(cid)
+                continue
+            out.append(student_row(f"{self.source}:{cid}", entry))
+        return out
+
+    def tick(self) -> None:
+        """Read the students and publish them (never raises: the board is not worth a
+        session)."""
+        try:
+            with self._lock:
+                wants = bool(self._teachers)
+            self.hub.publish([to_wire(r) for r in self.rows()], wants)
+        except Exception:
+            if not self._failed:  # once: the next ticks would say the same
+                self._failed = True
+                log.exception("the class board could not be read")
+
+    def receive(self, board: Board) -> None:
+        """The merged board: to every teacher page of this process."""
+        self.board = board
+        with self._lock:
+            panels = list(self._teachers.values())
+        for panel in panels:
+            try:
+                panel.show(board)
+            except Exception:
+                log.debug("a teacher's page is gone", exc_info=True)
+
+    def start(self) -> None:
+        """Read the students every :attr:`period` seconds in a thread of its own."""
+
+        def run() -> None:
+            while not self._stop.wait(self.period):
+                self.tick()
+
+        self._thread = threading.Thread(target=run, name="sandbox-board", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Stop reading."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(2.0)
+
+
+class ClassApp(App):
+    """The default mode with a teacher: every browser its own simulation (made by
+    ``factory``); the secret link ``/prof/<token>`` adds "La classe" to the teacher's own,
+    every other page gets "Votre prénom" and a row on the board.
+
+    Args:
+        server: The viser server.
+        host: Interface listened on.
+        factory: A browser's session (its view a :class:`~sandbox.web.view.WebView`).
+        token: Secret of the teacher's link (random when None).
+        max_sessions: Browsers served at once by this process.
+        port: The port students reach (the workers' shared one).
+    """
+
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        host: str,
+        factory: Callable[[viser.ClientHandle], Session],
+        *,
+        token: str | None = None,
+        max_sessions: int,
+        port: int | None = None,
+    ) -> None:
+        self.build = factory
+        self.token = token or secrets.token_urlsafe(9)
+        network.page_alias(teacher_path(self.token))
+        self.classroom = Classroom(lambda cid: self.connected(cid))
+        super().__init__(server, host, self._open, max_sessions=max_sessions, port=port)
+        self.classroom.start()
+
+    @property
+    def teacher_url(self) -> str:
+        """The teacher's link (on this machine)."""
+        return self.url + teacher_path(self.token)
+
+    def _open(self, client: viser.ClientHandle) -> Session:
+        session = self.build(client)
+        try:  # the board is not worth a session: a failure here is only logged
+            if network.request_path(self.server, client.client_id) == teacher_path(self.token):
+                self.classroom.teacher(client)
+            else:
+                box = name_field(client.gui)
+                sim = session.controller.sim
+                self.classroom.student(client, sim, session.view, field=box)
+        except Exception:
+            log.exception("the class board could not take this browser")
+        return session
+
+    def _disconnect(self, client: viser.ClientHandle) -> None:
+        super()._disconnect(client)
+        self.classroom.forget(client.client_id)
+
+    def stop(self) -> None:
+        self.classroom.stop()
+        super().stop()

@@ -1,0 +1,553 @@
+"""The class board ("La classe"): rows read from what each student's page shows, merged
+across worker processes, sorted, exported as CSV and shown escaped on the teacher's page,
+in the default mode (one or two processes) and in follow mode."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import re
+import subprocess
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+from conftest import choose, free_port, wait_for
+
+from sandbox.web.board import (
+    CSV_COLUMNS,
+    KEEP_GONE,
+    SORTS,
+    Board,
+    Roster,
+    Row,
+    board_html,
+    clean_name,
+    csv_text,
+    from_wire,
+    progress_of,
+    sort_rows,
+    summary,
+    to_wire,
+)
+from sandbox.web.board_panel import (
+    BOARD_FOLDER,
+    CSV_BUTTON,
+    NAME_LABEL,
+    Classroom,
+    key_readout,
+    student_row,
+)
+
+# -- names ---------------------------------------------------------------------------------
+
+
+def test_a_name_is_one_short_line_of_text():
+    assert clean_name("  Zoé   Martin \n") == "Zoé Martin"
+    assert clean_name("a\x00b\u202ec\u200bd") == "a b c d"
+    assert len(clean_name("x" * 10_000)) == 40
+    assert clean_name(42) == "" and clean_name(None) == ""
+
+
+# -- rows across processes -----------------------------------------------------------------
+
+
+def _row(key: str, joined: float, **kw: object) -> Row:
+    return Row(key=key, joined=joined, **kw)  # type: ignore[arg-type]
+
+
+def test_rows_survive_the_wire_and_a_bad_one_is_refused():
+    row = _row("w0:3", 12.5, name="Zoé", step=2, steps=4, goal="in_progress", progress=0.4)
+    assert from_wire(to_wire(row)) == row
+    assert from_wire({"key": "w0:1", "joined": 1.0, "name": "<b>" + "x" * 99}).name == (
+        "<b>" + "x" * 37
+    )
+    assert from_wire({"key": "w0:1", "joined": 1.0, "progress": 7.0}).progress == 1.0
+    assert from_wire({"key": "w0:1", "joined": 1.0, "goal": "hack"}).goal == ""
+    for bad in ({"key": 1, "joined": 1.0}, {"key": "k"}, {"key": "k", "joined": "1"}, [1], None):
+        assert from_wire(bad) is None
+    board = Board(5.0, (row,), left_out=2)
+    assert Board.from_wire(board.wire()) == board
+    assert Board.from_wire({"start": "x", "rows": []}) is None
+
+
+def test_the_class_is_numbered_in_order_of_arrival_across_workers():
+    roster = Roster(start=0.0, settle=1.5)
+    roster.update(0, [_row("w0:1", 9.0), _row("w0:2", 8.0)], now=9.5)
+    assert [r.display_name for r in roster.rows(now=9.4)] == ["Nouvel élève"] * 2
+    # the other worker reports later a student who arrived between those two
+    roster.update(1, [_row("w1:1", 8.5, name="Zoé")], now=9.8)
+    rows = roster.rows(now=10.2)  # settled: who arrived up to 8.7
+    assert [(r.key, r.number) for r in rows] == [("w0:2", 1), ("w1:1", 2), ("w0:1", 0)]
+    assert [r.display_name for r in rows] == ["Élève 1", "Zoé", "Nouvel élève"]
+    assert [r.number for r in roster.rows(now=11.0)] == [1, 2, 3]
+    # a newcomer gets the next number; numbers never move
+    roster.update(0, [_row("w0:1", 9.0), _row("w0:2", 8.0), _row("w0:9", 11.0)], now=11.0)
+    assert {r.key: r.number for r in roster.rows(now=13.0)}["w0:9"] == 4
+    assert {r.key: r.number for r in roster.rows(now=13.0)}["w0:2"] == 1
+
+
+def test_a_student_who_left_stays_listed_as_gone_for_a_while():
+    roster = Roster(start=0.0, stale=1e9)
+    roster.update(0, [_row("w0:1", 1.0), _row("w0:2", 2.0)], now=10.0)
+    roster.update(0, [_row("w0:2", 2.0)], now=11.0)
+    (gone,) = [r for r in roster.rows(now=11.0) if not r.connected]
+    assert gone.key == "w0:1" and gone.left == 11.0
+    assert "1 élève connecté, 1 parti." == summary(roster.rows(now=12.0))
+    assert "(parti)" in board_html(roster.rows(now=12.0))
+    assert len(roster.rows(now=11.0 + KEEP_GONE - 1)) == 2
+    assert [r.key for r in roster.rows(now=11.0 + KEEP_GONE + 1)] == ["w0:2"]
+
+
+def test_a_worker_that_stops_reporting_or_restarts_has_its_students_gone():
+    roster = Roster(start=0.0, stale=5.0)
+    roster.update(0, [_row("w0:1", 1.0)], now=10.0)
+    roster.update(1, [_row("w1:1", 1.5)], now=10.0)
+    roster.update(0, [_row("w0:1", 1.0)], now=16.0)
+    assert {r.key: r.connected for r in roster.rows(now=16.0)} == {"w0:1": True, "w1:1": False}
+    roster.drop(0, now=17.0)
+    assert not any(r.connected for r in roster.rows(now=17.0))
+
+
+def test_the_board_is_bounded_and_says_how_many_it_leaves_out():
+    roster = Roster(start=0.0, max_rows=3)
+    roster.update(0, [_row(f"w0:{k}", float(k)) for k in range(5)], now=10.0)
+    assert len(roster.rows(now=10.0)) == 3 and roster.left_out == 2
+    assert "2 autres non affichés" in summary(roster.rows(now=10.0), roster.left_out)
+    # a gone student makes room for a newcomer
+    roster.update(0, [_row(f"w0:{k}", float(k)) for k in (1, 2)], now=11.0)
+    roster.update(0, [_row(f"w0:{k}", float(k)) for k in (1, 2, 7)], now=12.0)
+    assert {r.key for r in roster.rows(now=12.0)} == {"w0:1", "w0:2", "w0:7"}
+
+
+# -- sorting, CSV, HTML --------------------------------------------------------------------
+
+ROWS = (
+    _row("a", 1.0, number=1, step=3, steps=4, goal="in_progress", progress=0.5),
+    _row("b", 2.0, number=2, name="albert", step=1, steps=4, goal="in_progress", progress=0.9),
+    _row("c", 3.0, number=3, name="Zoé", step=4, steps=4, goal="reached", progress=1.0),
+    _row("d", 4.0, number=10, step=1, steps=4, goal="in_progress", progress=0.1, left=9.0),
+)
+
+
+@pytest.mark.parametrize(
+    ("choice", "order"),
+    [
+        ("Arrivée", ["a", "b", "c", "d"]),
+        ("Nom", ["b", "a", "c", "d"]),  # albert, Élève 1, Zoé; who left last
+        ("Étape", ["b", "a", "c", "d"]),
+        ("Progression", ["a", "b", "c", "d"]),
+    ],
+)
+def test_sorting_puts_who_left_last(choice, order):
+    assert [r.key for r in sort_rows(ROWS, SORTS[choice])] == order
+
+
+def test_an_unknown_sort_names_the_valid_ones():
+    with pytest.raises(ValueError, match="arrival, name, step, progress"):
+        sort_rows(ROWS, "age")
+
+
+def test_names_sort_as_people_read_them():
+    rows = [_row(str(k), float(k), number=k) for k in (10, 2, 1)]
+    assert [r.display_name for r in sort_rows(rows, "name")] == ["Élève 1", "Élève 2", "Élève 10"]
+
+
+def test_the_csv_has_the_contract_columns_and_defuses_formulas():
+    rows = [
+        _row(
+            "a",
+            112.25,
+            name="=HYPERLINK(1)",
+            scene="rotor",
+            lesson="equilibrage",
+            step=4,
+            steps=4,
+            goal="in_progress",
+            progress=0.4567,
+            readout="bearing_A",
+            value=54.4213,
+            unit="N",
+            number=1,
+        ),
+        _row("b", 100.0, number=2, left=120.0),
+    ]
+    text = csv_text(rows, start=100.0)
+    table = list(csv.reader(io.StringIO(text)))
+    assert tuple(table[0]) == CSV_COLUMNS
+    assert table[1] == [
+        "'=HYPERLINK(1)",
+        "true",
+        "rotor",
+        "equilibrage",
+        "4",
+        "in_progress",
+        "0.457",
+        "bearing_A",
+        "54.4213",
+        "N",
+        "12.2",
+    ]
+    assert table[2] == ["Élève 2", "false", "", "", "", "", "", "", "", "", "0.0"]
+
+
+def test_the_table_escapes_names_and_shows_the_goal():
+    rows = [
+        _row("a", 1.0, number=1, name="<img src=x onerror=alert(1)>", step=2, steps=4),
+        _row("b", 2.0, number=2, goal="in_progress", progress=0.42, label="Palier A", shown="5 N"),
+        _row("c", 3.0, number=3, mode="follow"),
+    ]
+    html = board_html(rows)
+    assert "<img" not in html and "&lt;img src=x onerror=alert(1)&gt;" in html
+    assert 'aria-valuenow="42"' in html and "42 %" in html and "2/4" in html
+    assert "suit la projection" in html and '<th class="v">Palier A</th>' in html
+    assert "Aucun élève" in board_html(())
+    # two readouts: each student's is written under their row, with its words
+    mixed = [*rows, _row("d", 4.0, number=4, label="Balourd statique m·Y", shown="0,002 kg·m")]
+    html = board_html(mixed)
+    assert "Palier A : 5 N" in html and "Balourd statique m·Y : 0,002 kg·m" in html
+    assert '<th class="v">' not in html
+
+
+def test_a_goal_of_two_bars_counts_their_mean():
+    assert progress_of([0.2, 0.6], "in_progress") == pytest.approx(0.4)
+    assert progress_of([0.2, None], "reached") == 1.0
+    assert math.isnan(progress_of([None], "in_progress"))
+
+
+# -- a row from what the student's page shows ----------------------------------------------
+
+
+def test_the_key_readout_is_what_the_step_checks_else_the_larger_bearing_force():
+    values = {"bearing_A": 3.0, "bearing_B": 7.0, "omega": 1.0}
+    assert key_readout("rotor", ("omega",), "static_unbalance", values) == "static_unbalance"
+    assert key_readout("rotor", ("omega", "bearing_A"), "", values) == "bearing_B"
+    assert key_readout("wheel_balancer", ("bearing_inner",), "", {}) == "bearing_inner"
+    assert key_readout("compressor", ("speed", "T"), "", values) == "speed"
+    assert key_readout("x", (), "", values) == ""
+
+
+@pytest.fixture
+def gui_server() -> Iterator[object]:
+    import viser
+
+    server = viser.ViserServer(port=free_port(), verbose=False)
+    try:
+        yield server
+    finally:
+        server.stop()
+
+
+def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.board_panel import _Readouts, _Student
+    from sandbox.web.lesson_panel import LessonPanel
+    from sandbox.web.session import Controller
+
+    controller = Controller(Simulation("rotor"))
+    panel = LessonPanel(gui_server.gui, controller, lesson="equilibrage")
+    sim = controller.sim
+    values = sim.readouts()
+    panel.refresh(values)  # opens the lesson
+    panel.go_to("equilibrage", 2)  # static balancing: static_unbalance < 1 % of its start
+    panel.refresh(values)
+    controller.drain()  # the step's presets
+    start = sim.readouts()
+    panel.refresh(start)  # the step's start
+    now = dict(start, static_unbalance=start["static_unbalance"] * 0.1)
+    panel.refresh(now)
+    student = _Student(
+        client=SimpleNamespace(client_id=7),  # type: ignore[arg-type]
+        joined=100.0,
+        scene="rotor",
+        readouts=_Readouts.of(sim),
+        view=SimpleNamespace(lesson=panel),
+        field=SimpleNamespace(value="  Zoé\n"),  # type: ignore[arg-type]
+    )
+    row = student_row("p:7", student)
+    assert (row.name, row.scene, row.lesson, row.step, row.steps) == (
+        "Zoé",
+        "rotor",
+        "equilibrage",
+        3,
+        4,
+    )
+    assert row.goal == "in_progress"
+    assert row.progress == pytest.approx(0.5)  # a tenth of the way to a hundredth: log scale
+    assert row.readout == "static_unbalance"  # what the step checks
+    assert row.value == pytest.approx(now["static_unbalance"]) and row.unit == "kg·m"
+    assert row.shown.endswith(" kg·m") and "," in row.shown
+    # free exploration: the larger bearing force (A: 54 N, B: 15 N), no step
+    panel.go_to(None)
+    panel.refresh(now)
+    free = student_row("p:7", student)
+    assert (free.step, free.goal, free.readout, free.label) == (0, "", "bearing_A", "Palier A")
+    assert free.shown == "54,4 N"
+    assert math.isnan(free.progress)
+
+
+def test_a_classroom_forgets_a_browser_that_left_and_publishes_the_rest():
+    here = {1, 2}
+    published: list[tuple[list[dict[str, object]], bool]] = []
+
+    class Hub:
+        def publish(self, rows, wants):
+            published.append((rows, wants))
+
+    from sandbox.physics.simulation import Simulation
+
+    room = Classroom(lambda cid: cid in here, clock=lambda: 50.0)
+    room.relay(Hub(), source="w1")
+    sim = Simulation("rotor")
+    for cid in (1, 2):
+        room.student(SimpleNamespace(client_id=cid), sim)  # type: ignore[arg-type]
+    room.tick()
+    assert [r["key"] for r in published[-1][0]] == ["w1:1", "w1:2"] and not published[-1][1]
+    here.discard(1)
+    room.tick()
+    assert [r["key"] for r in published[-1][0]] == ["w1:2"] and room.students() == 1
+
+
+# -- the pages -----------------------------------------------------------------------------
+
+
+class FakeStudent:
+    """A browser as the classroom benchmark plays it: viser's protocol on a websocket,
+    every message read (a client that stops reading is dropped by the server's pings);
+    types ``name`` in "Votre prénom" once the box arrives."""
+
+    def __init__(self, url: str, name: str | None = None) -> None:
+        import viser
+        from websockets.sync.client import connect
+
+        from sandbox.classroom import camera_message
+
+        self.name = name
+        self.typed = False
+        self.ws = connect(
+            url,
+            subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+            open_timeout=30,
+            max_size=None,
+        )
+        self.ws.send(camera_message())
+        self.thread = threading.Thread(target=self._read, daemon=True)
+        self.thread.start()
+
+    def _read(self) -> None:
+        from sandbox.classroom import find_gui, gui_message, unpack
+
+        try:
+            for raw in self.ws:
+                if self.name is None or self.typed or not isinstance(raw, bytes):
+                    continue
+                try:
+                    box = find_gui(unpack(raw), "Text", NAME_LABEL)
+                except Exception:  # a message not worth decoding: keep reading
+                    continue
+                if box is not None:
+                    self.ws.send(gui_message(box["uuid"], self.name))
+                    self.typed = True
+        except Exception:
+            pass  # closed
+
+    def close(self) -> None:
+        self.ws.close()
+
+
+def _board_text(page) -> str:
+    board = page.locator(".sandbox-board")
+    return board.last.inner_text() if board.count() else ""
+
+
+def _shows(page, text: str) -> bool:
+    return page.get_by_text(text, exact=True).count() > 0
+
+
+@pytest.fixture
+def served_class() -> Iterator[object]:
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), open_message=False, token="tok-1")
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+def test_only_the_secret_path_opens_the_teacher_s_page(served_class):
+    import urllib.error
+    import urllib.request
+
+    with urllib.request.urlopen(served_class.teacher_url, timeout=10) as page:
+        assert page.status == 200 and b"<html" in page.read(2000).lower()
+    with pytest.raises(urllib.error.HTTPError):
+        urllib.request.urlopen(served_class.url + "/prof/guess", timeout=10)
+
+
+def test_the_default_mode_prints_a_teacher_link(capsys):
+    from sandbox.web.app import start
+
+    app = start("rotor", port=free_port(), token="tok-2")
+    try:
+        out = capsys.readouterr().out
+        assert f"teacher link (keep it to yourself) {app.url}/prof/tok-2" in out
+        assert app.teacher_url == f"{app.url}/prof/tok-2"
+    finally:
+        app.stop()
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # one Chromium page, two websocket students: about 20 s
+def test_the_teacher_downloads_the_board_and_reads_names_escaped(open_page, served_class):
+    app = served_class
+    url = app.url.replace("http", "ws")
+    name = "Zoé <img src=x onerror=alert(1)>"
+    students = [FakeStudent(url, name)]
+    try:
+        teacher = open_page(app.teacher_url)
+        teacher.get_by_text(BOARD_FOLDER, exact=True).last.wait_for(timeout=60_000)
+        assert wait_for(lambda: name in _board_text(teacher), 60), _board_text(teacher)
+        assert teacher.locator(".sandbox-board img").count() == 0  # shown, never run
+        students.append(FakeStudent(url))  # arrives second: "Élève 2"
+        assert wait_for(lambda: "Élève 2" in _board_text(teacher), 30), _board_text(teacher)
+        assert _shows(teacher, "2 élèves connectés.")
+        with teacher.expect_download(timeout=30_000) as info:
+            teacher.get_by_role("button", name=CSV_BUTTON).click()
+        assert info.value.suggested_filename.endswith(".csv")
+        text = Path(info.value.path()).read_text(encoding="utf-8")
+        table = list(csv.DictReader(io.StringIO(text)))
+        assert [r["name"] for r in table] == [name, "Élève 2"]  # by arrival
+        assert [(r["scene"], r["connected"], r["unit"]) for r in table] == [
+            ("rotor", "true", "N")
+        ] * 2
+        assert {r["readout"] for r in table} <= {"bearing_A", "bearing_B"}
+        assert all(float(r["value"]) > 0 and float(r["joined_s"]) >= 0 for r in table)
+        # sorted by name, "Élève 2" comes before "Zoé"
+        choose(teacher, "Trier par", "Nom")
+        assert wait_for(
+            lambda: _board_text(teacher).index("Élève 2") < _board_text(teacher).index("Zoé")
+        )
+        # a student leaves: listed as gone
+        students[1].close()
+        assert wait_for(lambda: "Élève 2 (parti)" in _board_text(teacher), 30)
+        assert wait_for(lambda: _shows(teacher, "1 élève connecté, 1 parti."))
+    finally:
+        for s in students:
+            s.close()
+
+
+def _start_workers(tmp_path: Path) -> tuple[subprocess.Popen[str], int, str]:
+    from conftest import serve_workers
+
+    proc, port = serve_workers(tmp_path)
+    assert isinstance(proc, subprocess.Popen) and proc.stdout is not None
+    first = proc.stdout.readline()
+    assert f"http://127.0.0.1:{port} by 2 worker processes" in first, first
+    second = proc.stdout.readline()
+    prefix = "sandbox: teacher link (keep it to yourself) "
+    assert second.startswith(prefix + f"http://127.0.0.1:{port}/prof/"), second
+    return proc, port, second.removeprefix(prefix).strip()
+
+
+def _stop(proc: subprocess.Popen[str]) -> None:
+    import os
+    import signal
+
+    with_group = os.getpgid(proc.pid)
+    os.killpg(with_group, signal.SIGTERM)
+    try:
+        proc.wait(15)
+    except subprocess.TimeoutExpired:
+        os.killpg(with_group, signal.SIGKILL)
+        proc.wait(5)
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # two worker processes, one Chromium page, six websocket students: ~30 s
+def test_the_board_lists_the_students_of_both_workers(open_page, tmp_path):
+    proc, port, teacher_url = _start_workers(tmp_path)
+    students: list[FakeStudent] = []
+    try:
+        teacher = open_page(teacher_url)
+        teacher.get_by_text(BOARD_FOLDER, exact=True).last.wait_for(timeout=60_000)
+        url = f"ws://127.0.0.1:{port}"
+        students = [FakeStudent(url, "Zoé" if k == 3 else None) for k in range(6)]
+        # the front gave each worker three students (the teacher's page is on one): six
+        # rows are the students of both, numbered once every worker has reported them
+
+        def listed() -> bool:
+            text = _board_text(teacher)
+            return "Zoé" in text and len(re.findall(r"Élève \d+\t", text)) == 5
+
+        assert wait_for(lambda: _shows(teacher, "6 élèves connectés.") and listed(), 60), (
+            _board_text(teacher)
+        )
+    finally:
+        for s in students:
+            s.close()
+        _stop(proc)
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # two Chromium pages: about 30 s
+def test_follow_mode_lists_followers_with_their_name_and_fits_the_buttons(open_page):
+    from sandbox.web.app import start
+    from sandbox.web.follow import OWN, SEND_STEP, SEND_VALUES
+
+    app = start("rotor", port=free_port(), open_message=False, follow=True, token="t-3")
+    try:
+        teacher = open_page(app.teacher_url)
+        teacher.get_by_text(BOARD_FOLDER, exact=True).last.wait_for(timeout=60_000)
+        student = open_page(app.url)
+        label = student.get_by_text(NAME_LABEL, exact=True).last
+        label.wait_for(timeout=60_000)
+        box = student.locator("div.mantine-Flex-root", has=label).last.locator("input").first
+        box.fill("Zoé")
+        assert wait_for(lambda: "Zoé" in _board_text(teacher), 30), _board_text(teacher)
+        assert "suit la projection" in _board_text(teacher)
+        # the name stays when the student takes a simulation of their own
+        student.get_by_role("button", name=OWN).click()
+        assert wait_for(lambda: "suit la projection" not in _board_text(teacher), 30)
+        assert "Zoé" in _board_text(teacher)
+        # the send buttons keep their whole label on one line at 24 px on a 1280x720 page
+        # (the former "Envoyer mes réglages aux élèves" took two lines, 58 px high)
+        teacher.set_viewport_size({"width": 1280, "height": 720})
+        choose(teacher, "Panneau affiché", "Projecteur")
+        choose(teacher, "Taille du texte", "24 px")
+        for name in (SEND_VALUES, SEND_STEP):
+            button = teacher.get_by_role("button", name=name)
+            assert wait_for(
+                lambda b=button: (
+                    b.evaluate(
+                        "e => getComputedStyle(e.querySelector('.mantine-Button-label')).fontSize"
+                    )
+                    == "24px"
+                )
+            )
+            width, room, height = button.evaluate(
+                "e => { const l = e.querySelector('.mantine-Button-label');"
+                " return [l.scrollWidth, l.clientWidth, l.scrollHeight]; }"
+            )
+            assert width <= room + 1 and height < 1.6 * 24, (name, width, room, height)  # one line
+    finally:
+        app.stop()
+
+
+def test_a_board_is_shown_sorted_as_the_teacher_chose(gui_server):
+    from sandbox.web.board_panel import BoardPanel
+
+    client = SimpleNamespace(gui=gui_server.gui, send_file_download=lambda *a, **k: None)
+    panel = BoardPanel(client)  # type: ignore[arg-type]
+    board = Board(0.0, ROWS)
+    panel.show(board)
+    assert panel.table.content.index("Zoé") > panel.table.content.index("albert")
+    panel._choose("Progression")
+    assert panel.by == "progress"
+    panel._choose("<script>")  # a crafted choice: ignored, the control put back
+    assert panel.by == "progress" and panel.sort.value == "Progression"
+    lines = panel.csv().splitlines()
+    assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == 1 + len(ROWS)
