@@ -96,6 +96,22 @@ FRENCH: dict[str, str] = {
     "Toggle visibility override": "Forcer la visibilité",
     "Clear visibility override": "Rendre la visibilité d'origine",
     "Close props": "Fermer les propriétés",
+    # names and tooltips of the panels' dock (keyboard and screen-reader users hear them)
+    "Expand column": "Déplier la colonne",
+    "Collapse column": "Replier la colonne",
+    "Collapse panel area": "Replier la zone des panneaux",
+    "Expand panels": "Déplier les panneaux",
+    "Minimize panels": "Réduire les panneaux",
+    "Expand panel": "Déplier le panneau",
+    "Minimize panel": "Réduire le panneau",
+    "Expand": "Déplier",
+    "Minimize": "Réduire",
+    "Collapse": "Replier",
+    "Expand plot": "Agrandir le graphique",
+    "Expand image": "Agrandir l'image",
+    "Show scene tree": "Afficher l'arbre de la scène",
+    "Hide scene tree": "Masquer l'arbre de la scène",
+    "About Viser": "À propos de viser",
 }
 """viser's English sentences (exactly as its client writes them) -> the page's French."""
 
