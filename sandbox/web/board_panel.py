@@ -68,8 +68,9 @@ WAITING = "En attente des élèves…"
 BOARD_ORDER = -900.0
 """Place of "La classe" on the teacher's page: first (the page's style elements are at
 -1000)."""
-NAME_ORDER = -900.0
-"""Place of "Votre prénom" on a student's page: first, where it is seen."""
+NAME_ORDER = 900.0
+"""Place of "Votre prénom" on a student's page: last, below every control (first, it
+pushed the last parameters of a lesson step below a projected 1280×720 page)."""
 
 BALANCING: dict[str, tuple[str, str]] = {
     "rotor": ("bearing_A", "bearing_B"),
