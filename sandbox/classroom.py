@@ -54,6 +54,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import itertools
 import math
 import os
 import random
@@ -444,11 +445,13 @@ class ClientStats:
         return self.frames / (window.end - window.start)
 
     def sim_rate(self) -> float:
-        """Simulated seconds per wall second seen in the status line (NaN if < 2 samples)."""
-        if len(self.times) < 2 or self.times[-1][0] <= self.times[0][0]:
-            return math.nan
-        (w0, t0), (w1, t1) = self.times[0], self.times[-1]
-        return (t1 - t0) / (w1 - w0)
+        """Simulated seconds per wall second seen in the status line (NaN if < 2 samples).
+        A scene that starts its run again (the rolling cylinder past the plane's end: its
+        time back to 0) is measured between its restarts (the two samples around one are
+        left out: the end of the old run is not seen)."""
+        pairs = [(w1 - w0, t1 - t0) for (w0, t0), (w1, t1) in itertools.pairwise(self.times)]
+        wall = sum(w for w, t in pairs if t >= 0)
+        return sum(t for _, t in pairs if t >= 0) / wall if wall > 0 else math.nan
 
 
 def connect_as_browser(url: str, origin: str, *, open_timeout: float) -> connect:

@@ -128,6 +128,10 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
     assert stats.frames == 60 and stats.fps(window) == pytest.approx(30.0)
     assert stats.ws_messages == 64 and stats.viser_messages == 124
     assert stats.sim_rate() == pytest.approx(0.5)
+    # a run that starts again (time back to 0): measured between restarts
+    restarts = cr.ClientStats(1)
+    restarts.times = [(0.0, 3.0), (1.0, 4.0), (2.0, 0.5), (3.0, 1.5), (4.0, 2.0)]
+    assert restarts.sim_rate() == pytest.approx((1.0 + 1.0 + 0.5) / 3.0)
     assert stats.longest_gap(window) == pytest.approx(1 / 30)
     assert stats.longest_gap(cr.Window(start=10.0, end=20.0)) == pytest.approx(8.0)
 

@@ -151,13 +151,14 @@ class DisplayPanel:
         words = extra.get("markers") if isinstance(extra, Mapping) else None
         self.words: Mapping[str, str] = words if isinstance(words, Mapping) else {}
         self.size = mechanism_size(model, sim.data)
-        # A registered scene says whether its motion leaves the view (the camera then
-        # follows from the start); any file's free body can (followed on request).
+        # A registered scene says whether its motion leaves the view; any file's free
+        # body can. The camera follows it on request (each browser's camera moved every
+        # frame costs the class its frame rate: Scene.leaves_view).
         leaves = spec is None or spec.leaves_view
         self.body = (
             followed_body(model, slides=spec is not None) if camera is not None and leaves else -1
         )
-        self.following = self.body >= 0 and spec is not None and spec.leaves_view
+        self.following = False
         submit = controller.submit
         turning = main_joint(model, sim.data) is not None
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:

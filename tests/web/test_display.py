@@ -325,8 +325,9 @@ def test_ralenti_and_pas_queue_requests(server):
 def test_the_camera_follows_the_rolling_cylinder(server):
     ctl, panel = _panel(server, "rolling_cylinder")
     assert panel.follow is not None and panel.camera is not None
-    assert panel.following and panel.follow.value  # from the start: it rolls out of view
+    assert not panel.following and not panel.follow.value  # on request (its cost)
     assert ctl.playing  # the page opens rolling
+    panel.following = True
     for _ in range(60):
         ctl.clock.now += 1 / 30
         ctl.frame()
