@@ -46,6 +46,8 @@ class Draw:
         high: Largest magnitude drawn.
         step: The drawn value is a whole number of steps.
         signed: Draw the sign too (a magnitude in [low, high], either sign).
+        shown: The value the page's picture is built with (its public twin), whatever
+            was drawn: 0 draws no defect, a tilt of 0 a straight disk.
     """
 
     name: str
@@ -53,6 +55,7 @@ class Draw:
     high: float
     step: float
     signed: bool = False
+    shown: float = 0.0
 
     def value(self, rng: random.Random) -> float:
         steps = int(round((self.high - self.low) / self.step))
@@ -129,6 +132,11 @@ class Challenge:
                 return secret
         raise RuntimeError(f"challenge {self.name!r}: no accepted draw in {tries} tries")
 
+    def public(self) -> dict[str, float]:
+        """The secret parameters' stand-ins the picture is built with
+        (:func:`sandbox.physics.picture.picture`'s ``shown`` twin)."""
+        return {d.name: d.shown for d in self.secret}
+
     def solved(self, values: Values, answer: float | None = None) -> bool:
         """Whether ``values`` (the student's, secret included) or ``answer`` solve it."""
         if self.answer is not None:
@@ -189,7 +197,10 @@ CHALLENGES: dict[str, Challenge] = {
             title="Rotor mystère à équilibrer",
             goal="Le défaut du rotor est caché. Réglez les deux masses de correction pour que "
             "les efforts des paliers A et B tombent sous 5 % de leur valeur de départ.",
-            secret=(Draw("defect_mass_g", 10.0, 60.0, 1.0), Draw("skew_deg", 0.5, 4.0, 0.1, True)),
+            secret=(
+                Draw("defect_mass_g", 10.0, 60.0, 1.0, shown=1.0),
+                Draw("skew_deg", 0.5, 4.0, 0.1, True),
+            ),
             fixed=(("speed_rpm", 1500.0),),
             withheld=("static_unbalance", "products_EF"),
             bare=_rotor_bare,
@@ -221,7 +232,10 @@ CHALLENGES: dict[str, Challenge] = {
             title="À quelle vitesse le palier A porte-t-il 100 N ?",
             goal="Le défaut du rotor est caché. Trouvez la vitesse de rotation à laquelle "
             "l'effort du palier A vaut 100 N, puis proposez-la.",
-            secret=(Draw("defect_mass_g", 10.0, 120.0, 1.0), Draw("skew_deg", 0.0, 3.0, 0.1, True)),
+            secret=(
+                Draw("defect_mass_g", 10.0, 120.0, 1.0, shown=1.0),
+                Draw("skew_deg", 0.0, 3.0, 0.1, True),
+            ),
             withheld=("static_unbalance", "products_EF"),
             answer=Answer("Vitesse ω pour 100 N au palier A", "tr/min", speed_for_force),
             accept=_speed_in_range,

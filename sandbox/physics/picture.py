@@ -109,16 +109,68 @@ class Picture:
     trail: np.ndarray | None = None
 
 
+_TWIN_DATA: weakref.WeakKeyDictionary[Any, mujoco.MjData] = weakref.WeakKeyDictionary()
+
+
+def _posed(twin: mujoco.MjModel, data: mujoco.MjData) -> mujoco.MjData:
+    """The twin's data at ``data``'s joint positions (its kinematics only)."""
+    own = _TWIN_DATA.get(twin)
+    if own is None:
+        own = _TWIN_DATA[twin] = mujoco.MjData(twin)
+    own.qpos[:] = data.qpos
+    own.mocap_pos[:] = data.mocap_pos
+    own.mocap_quat[:] = data.mocap_quat
+    own.time = data.time
+    mujoco.mj_kinematics(twin, own)
+    return own
+
+
+class TwinMismatch(ValueError):
+    """A public twin whose moving groups differ from the simulated model's."""
+
+
+def check_twin(model: mujoco.MjModel, twin: mujoco.MjModel) -> None:
+    """Check that ``twin`` can be drawn with ``model``'s poses: the same bodies, moving
+    on the same joints in the same groups (only shapes, masses and fixed offsets may
+    differ, which is all a hidden parameter changes).
+
+    Raises:
+        TwinMismatch: naming what differs (never drawn then: the real shapes would leak).
+    """
+    if (twin.nbody, twin.njnt, twin.nq, twin.nmocap) != (
+        model.nbody,
+        model.njnt,
+        model.nq,
+        model.nmocap,
+    ):
+        raise TwinMismatch(
+            f"public twin has {twin.nbody} bodies and {twin.njnt} joints, the model "
+            f"{model.nbody} and {model.njnt}"
+        )
+    if not np.array_equal(body_groups(twin)[1], body_groups(model)[1]):
+        raise TwinMismatch("public twin groups its bodies differently from the model")
+
+
 def picture(
     snapshot: Snapshot,
     arrows: Sequence[ArrowSource] = (),
     *,
     trail: Callable[[Snapshot], Any] | None = None,
+    shown: mujoco.MjModel | None = None,
 ) -> Picture:
     """Draw ``snapshot``: its groups' poses, ``arrows`` (after :data:`FORCES` were
-    prepared when an arrow needs forces) and the point ``trail`` follows."""
+    prepared when an arrow needs forces) and the point ``trail`` follows.
+
+    Args:
+        shown: A public twin of the model (:func:`check_twin`) whose shapes are drawn
+            instead of the simulated ones, posed by the simulated motion: a challenge's
+            hidden defect (a tilted disk, a heavy spot's place) then never reaches a
+            browser, since the groups' poses do not depend on it.
+    """
     model, data = snapshot.model, snapshot.data
     roots, _ = body_groups(model)
+    if shown is not None:  # the twin posed by the simulated joints (its own fixed offsets)
+        data = _posed(shown, data)
     poses = np.concatenate([data.xpos[roots], data.xquat[roots]], axis=1)
     ends = np.full((len(arrows), 2, 3), np.nan)
     vectors = np.full((len(arrows), 3), np.nan)
@@ -130,7 +182,7 @@ def picture(
     sizes = np.sqrt((vectors * vectors).sum(axis=1))
     return Picture(
         float(data.time),
-        model,
+        model if shown is None else shown,
         roots,
         poses,
         np.array(data.xpos),
