@@ -127,6 +127,20 @@ def browser() -> Iterator[object]:
             instance.close()
 
 
+PROJECTOR = {"width": 1280, "height": 720}
+"""A projected page's viewport."""
+
+
+@pytest.fixture
+def projector_context(browser) -> Iterator[object]:
+    """A fresh browser context at :data:`PROJECTOR`'s size, closed after the test."""
+    context = browser.new_context(viewport=PROJECTOR)
+    try:
+        yield context
+    finally:
+        context.close()
+
+
 @pytest.fixture
 def open_page(browser) -> Iterator[object]:
     """Factory opening pages in a fresh browser context, all closed after the test."""

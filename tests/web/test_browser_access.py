@@ -17,7 +17,6 @@ from sandbox.web.view import ALL_FOLDERS
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-30 s each
 
-VIEWPORT = {"width": 1280, "height": 720}
 
 INTERACTIVE = {
     "button",
@@ -54,12 +53,8 @@ ROTOR_SPEED = "Vitesse de rotation ω, tr/min"
 
 
 @pytest.fixture
-def context(browser):
-    context = browser.new_context(viewport=VIEWPORT)
-    try:
-        yield context
-    finally:
-        context.close()
+def context(projector_context):
+    return projector_context
 
 
 @pytest.fixture(params=["rotor", "compressor"])

@@ -22,12 +22,8 @@ VIEWPORT = {"width": 1280, "height": 720}
 
 
 @pytest.fixture
-def projector_page(browser):
-    context = browser.new_context(viewport=VIEWPORT)
-    try:
-        yield context
-    finally:
-        context.close()
+def projector_page(projector_context):
+    return projector_context
 
 
 @pytest.fixture
