@@ -390,7 +390,7 @@ ARROWS = (
 SCENE = Scene(
     name="rotor",
     overlay={"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
-    title="Rotor déséquilibré : équilibrage statique et dynamique",
+    title="Rotor déséquilibré à équilibrer",  # one line in a projected panel
     summary=(
         "A rotor on two bearings turns at constant speed. A defect mass and a skewed disk "
         "make the frame feel rotating forces; two correction masses cancel them."
