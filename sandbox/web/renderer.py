@@ -36,6 +36,12 @@ HIDDEN_GROUP = 3
 
 _DEFAULT_RGBA = (0.5, 0.5, 0.5, 1.0)
 
+READABLE_PX = 12.0
+"""A geom's label that slid more than this on the screen [px] since the labels were last
+laid out (a quarter of a second) turns too fast to be read, and would sweep over the
+other labels: it is hidden until its body slows down (a rotor's masses at 3000 tr/min
+show when paused)."""
+
 MARKER = 0.02
 """Smallest radius a moving sphere is drawn with, as a fraction of the mechanism's size
 (a rotor's 6 mm correction masses would be 2 px dots on a projector); the physics keeps
@@ -315,6 +321,7 @@ class SceneRenderer:
         self.labels: dict[int, tuple[str, viser.LabelHandle, int]] = {}  # geom: text, node, group
         self._sent = np.zeros((0, 7))  # last pose sent of each group of ``_roots``
         self._roots = np.zeros(0, dtype=int)
+        self._turned = np.zeros(0)  # angle turned by each group since label_boxes [rad]
         self._move = 0.0  # POSE_MOVE times the mechanism's size [m]
         self.label_scale = LABEL_EM * 16 / PX_PER_SCALE  # viser's font_screen_scale
         self.messages = 0  # pose messages queued so far (the counted guard of the tests)
@@ -340,6 +347,7 @@ class SceneRenderer:
         if roots.shape != self._roots.shape or (roots != self._roots).any():
             self._roots = roots.copy()
             self._sent = np.full((len(roots), 7), np.nan)
+            self._turned = np.zeros(len(roots))
         if len(roots) == 0:
             return
         sent = self._sent
@@ -348,6 +356,9 @@ class SceneRenderer:
         # |q·q'| = cos(θ/2) for the rotation θ between two orientations
         dots = np.abs((poses[:, 3:] * sent[:, 3:]).sum(axis=1))
         turned = ~(1.0 - dots <= 0.125 * POSE_MOVE**2)
+        if self.labels:  # how far the labels rode: 2 acos|q·q'| per sent turn
+            angle = 2.0 * np.arccos(np.clip(np.nan_to_num(dots, nan=1.0), 0.0, 1.0))
+            self._turned += np.where(turned & ok, angle, 0.0)
         for k in np.flatnonzero(ok & (moved | turned)):
             frame = self.bodies.get(int(roots[k]))
             if frame is None:
@@ -417,23 +428,35 @@ class SceneRenderer:
             label.font_screen_scale = self.label_scale
 
     def label_boxes(self, camera: Camera, em: float) -> list[Rect]:
-        """Where the geoms' labels may be on the screen [px], whatever the turn of their
-        group: a label riding at r from its group's frame stays in the sphere of radius r
-        around it (a mass on a rotor at 3000 tr/min is anywhere on its circle)."""
+        """Where the geoms' labels are on the screen [px] until the next layout: each
+        label's box where its group now holds it, grown by how far it slid since the last
+        call. A label that slid more than :data:`READABLE_PX` is hidden (and has no box):
+        its body turns too fast for it to be read."""
         boxes: list[Rect] = []
+        index = {int(root): k for k, root in enumerate(self._roots)}
         for text, label, root in self.labels.values():
             frame = self.bodies.get(root)
-            if frame is None or not label.visible:
+            if frame is None:
                 continue
-            x, y, depth = camera.project(np.asarray(frame.position, dtype=float))
+            wxyz = np.asarray(frame.wxyz, dtype=float)
+            local = np.asarray(label.position, dtype=float)
+            world = np.zeros(3)
+            mujoco.mju_rotVecQuat(world, local, wxyz)
+            x, y, depth = camera.project(np.asarray(frame.position, dtype=float) + world)
             if not math.isfinite(x):
                 continue
-            width, height = label_size(text, em)
-            r = float(np.linalg.norm(np.asarray(label.position, dtype=float)))
-            reach = r * camera.focal / depth
-            boxes.append(
-                (x - reach - width / 2, y - reach - height, x + reach + width / 2, y + reach)
-            )
+            k = index.get(int(root))
+            turned = float(self._turned[k]) if k is not None else 0.0
+            slid = turned * float(np.linalg.norm(local)) * camera.focal / depth
+            readable = slid <= READABLE_PX
+            if label.visible != readable:
+                label.visible = readable
+                self.messages += 1
+            if readable:
+                width, height = label_size(text, em)
+                half = width / 2 + slid
+                boxes.append((x - half, y - height - slid, x + half, y + slid))
+        self._turned[:] = 0.0
         return boxes
 
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:

@@ -6,7 +6,9 @@ import mujoco
 import numpy as np
 import pytest
 
+from sandbox.web.label_layout import Camera, label_size
 from sandbox.web.renderer import (
+    READABLE_PX,
     SceneRenderer,
     capsule_mesh,
     geom_pose,
@@ -43,6 +45,7 @@ class FakeNode:
         self.position = np.asarray(kwargs.get("position", np.zeros(3)), float)
         self.wxyz = np.asarray(kwargs.get("wxyz", (1.0, 0, 0, 0)), float)
         self.removed = False
+        self.visible = True
 
     def remove(self) -> None:
         self.removed = True
@@ -296,3 +299,48 @@ def test_a_round_off_force_draws_no_arrow():
     bare = ArrowLayer(HandleScene(), spec.arrows, extent=1.0)  # no round-off given
     bare.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
     assert bare.shown[names.index("shaking_moment")]
+
+
+SPINNER = """
+<mujoco>
+  <worldbody>
+    <body name="disk">
+      <joint name="spin" type="hinge" axis="0 1 0"/>
+      <geom type="cylinder" size="0.2 0.02" euler="90 0 0"/>
+      <geom name="mass" type="sphere" size="0.01" pos="0.15 0 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_a_label_riding_on_a_fast_turning_body_hides_and_shows_when_it_slows():
+    """A mass's label on a disk at 3000 tr/min would be drawn anywhere on its circle at
+    each frame: unreadable, and over the other labels. It hides while its body turns more
+    than READABLE_PX between two layouts, and shows, with its exact box, once still."""
+    model = mujoco.MjModel.from_xml_string(SPINNER)
+    data = mujoco.MjData(model)
+    renderer = SceneRenderer(FakeScene())
+    renderer.sync(model, data)
+    mass = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "mass")
+    renderer.label_geoms({mass: "m₁ : 20 g"})
+    camera = Camera((0.0, -1.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 1.3, 800, 720)
+    ((text, label, _),) = renderer.labels.values()
+    for angle in np.linspace(0.0, 2 * np.pi, 13)[1:]:  # 3000 tr/min at 50 frames a second
+        data.qpos[0] = angle
+        mujoco.mj_kinematics(model, data)
+        renderer.sync(model, data)
+    assert renderer.label_boxes(camera, 16.0) == [] and not label.visible
+    mujoco.mj_kinematics(model, data)
+    renderer.sync(model, data)  # paused: the same pose again
+    (box,) = renderer.label_boxes(camera, 16.0)
+    assert label.visible
+    x, y, _ = camera.project(data.geom_xpos[mass])
+    width, height = label_size(text, 16.0)
+    assert box == pytest.approx((x - width / 2, y - height, x + width / 2, y), abs=1e-6)
+    # turning slowly (a few pixels a layout): shown, its box grown by the slide
+    data.qpos[0] += 0.5 * READABLE_PX / (0.15 * camera.focal)
+    mujoco.mj_kinematics(model, data)
+    renderer.sync(model, data)
+    (grown,) = renderer.label_boxes(camera, 16.0)
+    assert label.visible and grown[2] - grown[0] > width + READABLE_PX * 0.9
