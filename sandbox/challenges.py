@@ -188,6 +188,10 @@ def _speed_in_range(v: Values) -> bool:
     return 1500.0 <= speed_for_force(v) <= 5500.0
 
 
+ROTOR_WITHHELD = ("static_unbalance", "products_EF", "F_rot", "M_rot")
+"""The rotor's readouts that give its defect away: the unbalances, and the rotating
+resultant and moment (F_rot = m ω² Y, M_rot = ω² √(E² + F²))."""
+
 CHALLENGES: dict[str, Challenge] = {
     c.name: c
     for c in (
@@ -202,7 +206,7 @@ CHALLENGES: dict[str, Challenge] = {
                 Draw("skew_deg", 0.5, 4.0, 0.1, True),
             ),
             fixed=(("speed_rpm", 1500.0),),
-            withheld=("static_unbalance", "products_EF"),
+            withheld=ROTOR_WITHHELD,
             bare=_rotor_bare,
             forces=_rotor_forces,
             solution=rotor.balancing_solution,
@@ -236,7 +240,7 @@ CHALLENGES: dict[str, Challenge] = {
                 Draw("defect_mass_g", 10.0, 120.0, 1.0, shown=1.0),
                 Draw("skew_deg", 0.0, 3.0, 0.1, True),
             ),
-            withheld=("static_unbalance", "products_EF"),
+            withheld=ROTOR_WITHHELD,
             answer=Answer("Vitesse ω pour 100 N au palier A", "tr/min", speed_for_force),
             accept=_speed_in_range,
             solution=lambda v: {"speed_rpm": speed_for_force(v)},
@@ -263,3 +267,71 @@ def challenge(name: str) -> Challenge:
 def for_scene(scene: str) -> list[Challenge]:
     """The challenges a scene offers, in the registry's order."""
     return [c for c in CHALLENGES.values() if c.scene == scene]
+
+
+@dataclass
+class Attempt:
+    """One student's run of a challenge: their secret and their tries.
+
+    Attributes:
+        challenge: The challenge.
+        run: Identifier of the class's run (a new start is a new run).
+        secret: The values drawn for this student.
+        started: When it started for them (wall clock [s]).
+        tries: Checks asked so far ("Vérifier", or an answer proposed).
+        solved_after: Seconds from the start to the first try that solved it (NaN: not
+            solved).
+        last: The last try's gap (residual fraction, or relative gap of the answer).
+    """
+
+    challenge: Challenge
+    run: str
+    secret: dict[str, float]
+    started: float
+    tries: int = 0
+    solved_after: float = math.nan
+    last: float = math.nan
+
+    @property
+    def solved(self) -> bool:
+        """True once a try solved it."""
+        return math.isfinite(self.solved_after)
+
+    def values(self, public: Values) -> dict[str, float]:
+        """The full values of the student's machine: theirs, the fixed ones, the secret."""
+        return {**public, **dict(self.challenge.fixed), **self.secret}
+
+    def check(self, public: Values, now: float, answer: float | None = None) -> bool:
+        """One try with the student's values (``public``) or ``answer``: counted, and the
+        first success dates the solution. A try after success changes nothing."""
+        if self.solved:
+            return True
+        values = self.values(public)
+        self.tries += 1
+        c = self.challenge
+        if c.answer is not None:
+            exact = c.answer.exact(values)
+            self.last = (
+                abs(answer - exact) / abs(exact)
+                if answer is not None and math.isfinite(answer) and exact
+                else math.inf
+            )
+        else:
+            self.last = c.residual(values)
+        if c.solved(values, answer):
+            self.solved_after = max(now - self.started, 0.0)
+        return self.solved
+
+
+def start(
+    name: str, run: str, defaults: Values, now: float, rng: random.Random | None = None
+) -> Attempt:
+    """A student's attempt at challenge ``name`` (their secret drawn with ``rng``, the
+    system's random source by default).
+
+    Raises:
+        UnknownChallenge: naming the valid ones.
+    """
+    c = challenge(name)
+    source = rng if rng is not None else random.SystemRandom()
+    return Attempt(c, run, c.draw({**defaults, **dict(c.fixed)}, source), now)

@@ -61,6 +61,7 @@ SORTS: dict[str, str] = {
     "Nom": "name",
     "Étape": "step",
     "Progression": "progress",
+    "Défi": "challenge",
 }
 """The teacher's sort choices (French label: key of :func:`sort_rows`)."""
 
@@ -76,6 +77,10 @@ CSV_COLUMNS = (
     "value",
     "unit",
     "joined_s",
+    "challenge",
+    "solved",
+    "tries",
+    "time_s",
 )
 """Columns of the board's CSV export (a contract: English names, dot decimals)."""
 
@@ -117,6 +122,10 @@ class Row:
         shown: The value as the student's page writes it ("54,4 N").
         number: Order of arrival in the class, from 1 (0 until the roster numbers it).
         left: When the browser left (wall clock; 0 while connected).
+        challenge: The challenge they are given (a name of
+            :data:`sandbox.challenges.CHALLENGES`, "" when none).
+        tries: Their checks of it so far.
+        solved_s: Seconds they took to solve it (NaN: not solved).
     """
 
     key: str
@@ -137,6 +146,9 @@ class Row:
     shown: str = ""
     number: int = 0
     left: float = 0.0
+    challenge: str = ""
+    tries: int = 0
+    solved_s: float = math.nan
 
     @property
     def connected(self) -> bool:
@@ -313,6 +325,40 @@ class Roster:
 
 
 @dataclass(frozen=True)
+class Run:
+    """A challenge the teacher started for the class.
+
+    Attributes:
+        id: Unique to this start (a student's attempt belongs to one run).
+        name: The challenge's name.
+        started: When it started (wall clock [s]).
+        ended: When the teacher stopped it (0 while it runs).
+    """
+
+    id: str
+    name: str
+    started: float
+    ended: float = 0.0
+
+    def wire(self) -> dict[str, Any]:
+        """As plain values."""
+        return {"id": self.id, "name": self.name, "started": self.started, "ended": self.ended}
+
+    @classmethod
+    def from_wire(cls, data: object) -> Run | None:
+        """Back from :meth:`wire`, checked (None when it is not a run)."""
+        if not isinstance(data, Mapping):
+            return None
+        rid, name = data.get("id"), data.get("name")
+        started, ended = data.get("started"), data.get("ended", 0.0)
+        if not (isinstance(rid, str) and isinstance(name, str) and 0 < len(rid) <= 64):
+            return None
+        if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in (started, ended)):
+            return None
+        return cls(rid, name[:64], float(started), float(ended))  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
 class Board:
     """What a teacher's page shows: the rows, when the class started (wall clock [s]) and
     how many connected students the full board leaves out."""
@@ -320,6 +366,7 @@ class Board:
     start: float
     rows: tuple[Row, ...] = ()
     left_out: int = 0
+    run: Run | None = None
 
     def wire(self) -> dict[str, Any]:
         """As plain values, for a pipe between processes."""
@@ -327,6 +374,7 @@ class Board:
             "start": self.start,
             "rows": [to_wire(r) for r in self.rows],
             "left_out": self.left_out,
+            "run": self.run.wire() if self.run is not None else None,
         }
 
     @classmethod
@@ -339,7 +387,8 @@ class Board:
             return None
         checked = [from_wire(r) for r in rows[:MAX_ROWS]]
         count = left_out if isinstance(left_out, int) else 0
-        return cls(float(start), tuple(r for r in checked if r is not None), max(count, 0))
+        rows_ = tuple(r for r in checked if r is not None)
+        return cls(float(start), rows_, max(count, 0), Run.from_wire(data.get("run")))
 
 
 def _natural(text: str) -> tuple[object, ...]:
@@ -370,6 +419,11 @@ def sort_rows(rows: Iterable[Row], by: str) -> list[Row]:
             r.step,
             r.number,
         ),
+        "challenge": lambda r: (  # the fastest solvers first, then the most tries
+            not math.isfinite(r.solved_s),
+            r.solved_s if math.isfinite(r.solved_s) else -r.tries,
+            r.number,
+        ),
     }
     if by not in keys:
         raise ValueError(f"unknown sort {by!r}; choose one of {', '.join(keys)}")
@@ -394,8 +448,10 @@ def csv_text(rows: Iterable[Row], start: float) -> str:
     """The board as CSV (:data:`CSV_COLUMNS`): ``connected`` is true or false, ``step``
     counts from 1 (empty without a lesson), ``goal`` a key of :data:`GOALS`, ``progress``
     in [0, 1], ``value`` in ``unit`` (the readout's contract unit: rad/s, not tr/min),
-    ``joined_s`` the seconds from ``start`` (the server's start) to the student's arrival.
-    Dot decimals; empty cells for what does not apply."""
+    ``joined_s`` the seconds from ``start`` (the server's start) to the student's arrival;
+    ``challenge`` the challenge they were given, ``solved`` true or false, ``tries`` their
+    checks, ``time_s`` the seconds they took to solve it. Dot decimals; empty cells for
+    what does not apply."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(CSV_COLUMNS)
@@ -413,6 +469,10 @@ def csv_text(rows: Iterable[Row], start: float) -> str:
                 _num(r.value),
                 _cell(r.unit),
                 f"{max(r.joined - start, 0.0):.1f}",
+                _cell(r.challenge),
+                ("true" if math.isfinite(r.solved_s) else "false") if r.challenge else "",
+                str(r.tries) if r.challenge else "",
+                f"{r.solved_s:.1f}" if math.isfinite(r.solved_s) else "",
             ]
         )
     return out.getvalue()
@@ -463,6 +523,25 @@ def _goal_cell(row: Row) -> str:
     )
 
 
+def duration(seconds: float) -> str:
+    """A time as a teacher reads it: "45 s", "2 min 05 s"."""
+    whole = max(int(round(seconds)), 0)
+    minutes, rest = divmod(whole, 60)
+    return f"{minutes} min {rest:02d} s" if minutes else f"{rest} s"
+
+
+def _challenge_cell(row: Row) -> str:
+    if not row.challenge:
+        return "—"
+    tries = f"{row.tries} essai{'s' if row.tries > 1 else ''}" if row.tries else "aucun essai"
+    if math.isfinite(row.solved_s):
+        return (
+            f'<span style="color:#2e7d32;font-weight:600">réussi</span> en '
+            f"{duration(row.solved_s)}, {tries}"
+        )
+    return tries
+
+
 def summary(rows: Sequence[Row], left_out: int = 0) -> str:
     """The line above the table: "6 élèves connectés, 1 parti." (plain text)."""
     here = sum(1 for r in rows if r.connected)
@@ -496,7 +575,10 @@ def board_html(rows: Sequence[Row]) -> str:
     parts = [_STYLE, f'<div class="{BOARD_CLASS}" style="{_BOX}">']
     if len(lessons) == 1:
         parts.append(f"<div>Leçon : {html_text(next(iter(lessons)))}</div>")
-    head = "<table><tr><th>Élève</th><th>Étape</th><th>Objectif</th>"
+    challenge = any(r.challenge for r in rows)  # a challenge runs: its column, not the step's
+    head = "<table><tr><th>Élève</th>" + (
+        "<th>Défi</th>" if challenge else "<th>Étape</th><th>Objectif</th>"
+    )
     if column:
         head += f'<th class="v">{html_text(next(iter(labels))) if labels else "Mesure"}</th>'
     parts.append(head + "</tr>")
@@ -511,13 +593,20 @@ def board_html(rows: Sequence[Row]) -> str:
         parts.append(
             f'<tr class="{state}{" main" if below else ""}">'
             f'<td class="n" title="{html_text(r.display_name, MAX_NAME + 1)}">{name}</td>'
-            f'<td title="{title}">{step}</td><td class="g">{_goal_cell(r)}</td>'
+            + (
+                f"<td>{_challenge_cell(r)}</td>"
+                if challenge
+                else f'<td title="{title}">{step}</td><td class="g">{_goal_cell(r)}</td>'
+            )
         )
         if column:
             parts.append(f'<td class="v"><span>{html_text(r.shown or "—")}</span></td>')
         parts.append("</tr>")
         if below:
             words = f"{r.label} : {r.shown}" if r.label else r.shown
-            parts.append(f'<tr class="{state} sub"><td colspan="3">{html_text(words)}</td></tr>')
+            span = 2 if challenge else 3
+            parts.append(
+                f'<tr class="{state} sub"><td colspan="{span}">{html_text(words)}</td></tr>'
+            )
     parts.append("</table></div>")
     return "".join(parts)

@@ -22,13 +22,14 @@ import math
 import secrets
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Protocol
 
 import viser
 
+from sandbox.challenges import Challenge, for_scene, start
 from sandbox.lessons import Progress
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
@@ -42,15 +43,18 @@ from sandbox.web.board import (
     Board,
     Roster,
     Row,
+    Run,
     board_html,
     clean_name,
     csv_text,
+    duration,
     from_wire,
     progress_of,
     sort_rows,
     summary,
     to_wire,
 )
+from sandbox.web.challenge_panel import ChallengePanel
 from sandbox.web.fields import on_user, set_value
 from sandbox.web.lesson_goal import parts
 from sandbox.web.projector import key_readouts, overlay_lines
@@ -64,6 +68,9 @@ TEACHER_PREFIX = "/prof"
 BOARD_FOLDER = "La classe"
 NAME_LABEL = "Votre prénom"
 CSV_BUTTON = "Télécharger le tableau (CSV)"
+CHALLENGE_LABEL = "Défi"
+START_BUTTON = "Lancer le défi"
+STOP_BUTTON = "Arrêter et montrer les solutions"
 WAITING = "En attente des élèves…"
 BOARD_ORDER = -900.0
 """Place of "La classe" on the teacher's page: first (the page's style elements are at
@@ -94,6 +101,9 @@ class Hub(Protocol):
         """This process's students now (wire dicts); ``wants``: a teacher's page here
         waits for the merged board."""
 
+    def announce(self, run: Run) -> None:
+        """A teacher here started or stopped a challenge (every process is told)."""
+
 
 class LocalHub:
     """The hub of one process serving the whole class: merges and delivers at once.
@@ -114,13 +124,18 @@ class LocalHub:
         self.roster = Roster(start)
         self.deliver = deliver
         self.clock = clock
+        self.run: Run | None = None
 
     def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
         now = self.clock()
         checked = [r for r in (from_wire(d) for d in rows) if r is not None]
         self.roster.update("local", checked, now)
         if wants:
-            self.deliver(self.roster.board(now))
+            self.deliver(replace(self.roster.board(now), run=self.run))
+
+    def announce(self, run: Run) -> None:
+        self.run = run
+        self.deliver(replace(self.roster.board(self.clock()), run=run))
 
 
 @dataclass(frozen=True)
@@ -160,6 +175,8 @@ class _Student:
     mode: str = "own"
     field: viser.GuiTextHandle | None = None
     name: str = ""
+    sim: Simulation | None = None
+    challenge: ChallengePanel | None = None
 
 
 @dataclass
@@ -231,6 +248,7 @@ def student_row(key: str, student: _Student) -> Row:
         return replace(base, mode="follow")
     seen = _read_lesson(student.view)
     readouts = student.readouts
+    given, tries, solved_s = student.challenge.state() if student.challenge else ("", 0, math.nan)
     name = key_readout(student.scene, readouts.names, seen.checked, seen.values)
     value = float(seen.values.get(name, math.nan)) if name else math.nan
     return Row(
@@ -249,6 +267,9 @@ def student_row(key: str, student: _Student) -> Row:
         value=value,
         unit=readouts.units.get(name, "") if name else "",
         shown=readouts.written(name, seen.values) if name and math.isfinite(value) else "",
+        challenge=given,
+        tries=tries,
+        solved_s=solved_s,
     )
 
 
@@ -263,28 +284,53 @@ def name_field(gui: viser.GuiApi, name: str = "") -> viser.GuiTextHandle:
 
 
 class BoardPanel:
-    """The folder "La classe" of one teacher's page: a summary line, "Trier par", the
-    CSV download and the table.
+    """The folder "La classe" of one teacher's page: a summary line, the challenges of
+    the scene ("Défi", "Lancer le défi", "Arrêter et montrer les solutions"), "Trier
+    par", the CSV download and the table.
 
     Args:
         client: The teacher's browser.
         folder: The folder to fill (default: a new "La classe", first on the page).
+        challenges: The challenges the teacher may start (none: no "Défi").
+        announce: Where a started or stopped challenge goes (the class's hub).
     """
 
     def __init__(
-        self, client: viser.ClientHandle, *, folder: viser.GuiFolderHandle | None = None
+        self,
+        client: viser.ClientHandle,
+        *,
+        folder: viser.GuiFolderHandle | None = None,
+        challenges: Sequence[Challenge] = (),
+        announce: Callable[[Run], None] | None = None,
     ) -> None:
         gui = client.gui
         self.client = client
         self.folder = folder or gui.add_folder(BOARD_FOLDER, order=BOARD_ORDER)
+        self.challenges = {c.title: c for c in challenges}
+        self.announce = announce
+        self.run: Run | None = None
+        self.challenge: viser.GuiDropdownHandle[str] | None = None
         with self.folder:
             self.summary = gui.add_markdown(WAITING)
+            if self.challenges and announce is not None:
+                titles = tuple(self.challenges)
+                self.challenge = gui.add_dropdown(
+                    CHALLENGE_LABEL,
+                    titles,
+                    initial_value=titles[0],
+                    hint="Chaque élève reçoit sa propre machine mystère, tirée au hasard ; "
+                    "sa page ne montre ni le défaut caché ni les grandeurs qui le trahiraient",
+                )
+                self.run_button = gui.add_button(START_BUTTON, color="green")
+                self.run_state = gui.add_markdown("")
+                self.run_button.on_click(lambda _: self._start_or_stop())
             self.sort = gui.add_dropdown(
                 SORT_LABEL,
                 tuple(SORTS),
                 initial_value=next(iter(SORTS)),
                 hint="Arrivée : dans l'ordre où les élèves ont ouvert la page ; Étape et "
-                "Progression : les plus en retard d'abord ; les élèves partis en dernier",
+                "Progression : les plus en retard d'abord ; Défi : les plus rapides "
+                "d'abord ; les élèves partis en dernier",
             )
             self.download = gui.add_button(
                 CSV_BUTTON,
@@ -296,6 +342,40 @@ class BoardPanel:
         self._lock = threading.Lock()
         on_user(self.sort, self._choose)
         self.download.on_click(lambda _: self._download())
+
+    def _start_or_stop(self) -> None:
+        """The teacher's button: start the chosen challenge, or stop the one running."""
+        if self.announce is None or self.challenge is None:
+            return
+        run = self.run
+        if run is not None and not run.ended:
+            self.announce(replace(run, ended=time.time()))
+            return
+        chosen = self.challenges.get(str(self.challenge.value))
+        if chosen is None:  # a crafted option
+            set_value(self.challenge, next(iter(self.challenges)))
+            return
+        self.announce(Run(secrets.token_urlsafe(8), chosen.name, time.time()))
+
+    def _show_run(self, run: Run | None) -> None:
+        if self.challenge is None:
+            return
+        self.run = run
+        running = run is not None and not run.ended
+        label = STOP_BUTTON if running else START_BUTTON
+        if self.run_button.label != label:
+            self.run_button.label = label
+            self.run_button.color = "red" if running else "green"
+        self.challenge.disabled = running
+        title = next((t for t, c in self.challenges.items() if run and c.name == run.name), "")
+        if run is None:
+            text = ""
+        elif running:
+            text = f"Défi en cours depuis {duration(time.time() - run.started)} : {title}"
+        else:
+            text = f"Défi terminé : les élèves voient la solution de leur machine ({title})."
+        if self.run_state.content != text:
+            self.run_state.content = text
 
     def _choose(self, option: object) -> None:
         by = SORTS.get(option) if isinstance(option, str) else None
@@ -310,6 +390,7 @@ class BoardPanel:
         """Show ``board`` (sorted by the teacher's choice); sends only what changed."""
         with self._lock:
             self.board = board
+            self._show_run(board.run)
             rows = sort_rows(board.rows, self.by)
             text = summary(rows, board.left_out)
             html = board_html(rows)
@@ -359,6 +440,7 @@ class Classroom:
         self.source = "p"
         self.hub: Hub = LocalHub(self.start_time, self.receive, clock=clock)
         self.board = Board(self.start_time)
+        self.run: Run | None = None  # the class's challenge, as last heard
         self._students: dict[int, _Student] = {}
         self._teachers: dict[int, BoardPanel] = {}
         self._lock = threading.Lock()
@@ -393,8 +475,14 @@ class Classroom:
             return
         scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
         entry = _Student(client, self.clock(), scene[:80], _Readouts.of(sim), view, mode, field)
+        entry.sim = sim
+        panel = getattr(view, "challenge", None)
+        entry.challenge = panel if isinstance(panel, ChallengePanel) else None
         with self._lock:
             self._students[cid] = entry
+            run = self.run
+        if run is not None:  # a challenge runs: this student gets one too
+            self._give(entry, run)
 
     def name_of(self, client_id: int) -> str:
         """The name a student typed so far ("" when none)."""
@@ -405,10 +493,17 @@ class Classroom:
         return clean_name(entry.field.value) if entry.field is not None else entry.name
 
     def teacher(
-        self, client: viser.ClientHandle, *, folder: viser.GuiFolderHandle | None = None
+        self,
+        client: viser.ClientHandle,
+        *,
+        folder: viser.GuiFolderHandle | None = None,
+        scene: str = "",
     ) -> BoardPanel:
-        """Add the board to a teacher's page."""
-        panel = BoardPanel(client, folder=folder)
+        """Add the board to a teacher's page (with the challenges of ``scene``, whose
+        students each have their own simulation)."""
+        panel = BoardPanel(
+            client, folder=folder, challenges=for_scene(scene), announce=self.announce
+        )
         panel.show(self.board)
         with self._lock:
             self._teachers[client.client_id] = panel
@@ -450,9 +545,44 @@ class Classroom:
                 self._failed = True
                 log.exception("the class board could not be read")
 
+    # -- challenges ------------------------------------------------------------------------
+    def announce(self, run: Run) -> None:
+        """A teacher's page started or stopped a challenge: to the class's hub (every
+        process hears it back through :meth:`receive`)."""
+        try:
+            self.hub.announce(run)
+        except Exception:
+            log.exception("the challenge could not be announced")
+
+    def _give(self, student: _Student, run: Run) -> None:
+        """``run`` for one student: their own secret when it starts (or when they arrive
+        while it runs), the solution when it ends; nothing for another scene's."""
+        panel, sim = student.challenge, student.sim
+        if panel is None or sim is None or student.mode != "own":
+            return
+        if run.name not in {c.name for c in for_scene(student.scene)}:
+            return
+        attempt = panel.attempt
+        try:
+            if not run.ended and (attempt is None or attempt.run != run.id):
+                with sim.lock:
+                    values = dict(sim.values)
+                panel.begin(start(run.name, run.id, values, self.clock()))
+            elif run.ended and attempt is not None and attempt.run == run.id and not panel.ended:
+                panel.end()
+        except Exception:
+            log.exception("a student's challenge could not be changed")
+
     def receive(self, board: Board) -> None:
-        """The merged board: to every teacher page of this process."""
+        """The merged board: to every teacher page of this process; a challenge started
+        or stopped, to every student."""
         self.board = board
+        if board.run is not None and board.run != self.run:
+            with self._lock:
+                self.run = board.run
+                students = list(self._students.values())
+            for student in students:
+                self._give(student, board.run)
         with self._lock:
             panels = list(self._teachers.values())
         for panel in panels:
@@ -518,7 +648,8 @@ class ClassApp(App):
         session = self.build(client)
         try:  # the board is not worth a session: a failure here is only logged
             if network.request_path(self.server, client.client_id) == teacher_path(self.token):
-                self.classroom.teacher(client)
+                scene = session.controller.sim.scene
+                self.classroom.teacher(client, scene=scene.name if scene is not None else "")
             else:
                 box = name_field(client.gui)
                 sim = session.controller.sim

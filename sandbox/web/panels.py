@@ -7,7 +7,7 @@ set programmatically (event.client is None) are never sent back as requests.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
 import mujoco
@@ -55,6 +55,7 @@ TIMESTEP_LABEL = "Pas de temps dt [s]"
 PARAMS_FOLDER = "Paramètres"
 ADVANCED_FOLDER = "Réglages avancés"
 NUMERICS_FOLDER = "Méthode numérique"
+CHALLENGE_LOCKED = "Réglage fixé par le défi en cours."
 
 _on_user = on_user  # kept for modules importing it from here
 
@@ -185,6 +186,7 @@ class ControlPanel:
         }
         self.sliders: dict[str, viser.GuiInputHandle[Any]] = {}
         params = scene.params if scene is not None else ()
+        self._params = {p.name: p for p in params}
         if params:
             with gui.add_folder(PARAMS_FOLDER) as self.params_folder:
                 for p in params:
@@ -197,6 +199,7 @@ class ControlPanel:
                             self._control(gui, p)
         self._playing: bool | None = None
         self._recording = False
+        self._concealed: dict[str, Mirror | None] = {}  # a challenge's controls, put aside
 
     def _busy(self) -> bool:
         """True while the user's requests wait for the loop (controls may be ahead)."""
@@ -298,6 +301,37 @@ class ControlPanel:
         """Put every control back to the simulation's actual values at once."""
         for mirror in self.mirrors.values():
             mirror.refresh(force=True)
+
+    def conceal(self, hidden: Mapping[str, float], locked: Collection[str]) -> None:
+        """A challenge: the controls of ``hidden`` parameters removed from the page and
+        set to their stand-in value (a hidden control's value still reaches the browser:
+        never the secret one), those of ``locked`` ones shown but disabled."""
+        for name in {*hidden, *locked}:
+            handle = self.sliders.get(name)
+            if handle is None or name in self._concealed:
+                continue
+            self._concealed[name] = self.mirrors.pop(name, None)
+            handle.disabled = True
+            if name in hidden:
+                handle.visible = False
+                set_value(handle, float(hidden[name]))
+            else:
+                handle.hint = CHALLENGE_LOCKED
+
+    def reveal(self) -> None:
+        """The challenge is over: every control back, showing the values in force (the
+        secret ones included: they are the solution)."""
+        concealed, self._concealed = self._concealed, {}
+        for name, mirror in concealed.items():
+            handle = self.sliders[name]
+            handle.disabled = False
+            handle.visible = True
+            p = self._params.get(name)
+            if p is not None:
+                handle.hint = param_hint(p)
+            if mirror is not None:
+                self.mirrors[name] = mirror
+                mirror.refresh(force=True)
 
 
 def _known(name: str) -> str:

@@ -59,6 +59,7 @@ class ReadoutPanel:
             tables.Row(r.name, r.unit, r.doc, r.label, r.hint, self.zero.get(r.unit, 0.0))
             for r in (scene.readouts if scene else ())
         ]
+        self.withheld: frozenset[str] = frozenset()  # a challenge's secret readouts
         self._ref_key: tuple[tuple[str, float], ...] | None = None
         self._ref: dict[str, float] = {}
         self.scene_text: viser.GuiMarkdownHandle | None = None
@@ -210,9 +211,11 @@ class ReadoutPanel:
     ) -> None:
         """Rewrite the table of ``folder`` (every table when None) from ``values``."""
         if self.scene_text is not None and folder in (None, SCENE_FOLDER):
-            _set(
-                self.scene_text, tables.scene_markdown(self.scene_rows, values, self.reference(sim))
-            )
+            rows, reference = self.scene_rows, self.reference(sim)
+            if self.withheld:  # a challenge runs: neither the readouts nor the course's values
+                rows = [r for r in rows if r.name not in self.withheld]
+                reference = {k: v for k, v in reference.items() if k not in self.withheld}
+            _set(self.scene_text, tables.scene_markdown(rows, values, reference))
         if folder in (None, TORSORS_FOLDER):
             point, point_name = self.chosen_point()
             basis, basis_name, axes = self.chosen_basis(sim)

@@ -37,6 +37,7 @@ from sandbox.physics.units import display_unit
 from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import text
+from sandbox.web.secret import Secret
 
 log = logging.getLogger(__name__)
 
@@ -107,7 +108,9 @@ class Request:
     Attributes:
         kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step`` (timesteps),
             ``advance`` (a "Pas" in time or angle), ``reset``, ``speed``,
-            ``integrator`` or ``timestep``.
+            ``integrator`` or ``timestep``; ``challenge`` (a
+            :class:`~sandbox.web.secret.Secret`, or None to end it: built by the server,
+            no control sends it).
         name: Parameter name for ``set_value``; ``s`` or ``deg`` for ``advance`` (the
             unit of ``value``: seconds, or degrees of the main rotating joint).
         value: The new value, unvalidated.
@@ -232,6 +235,7 @@ class Controller:
         self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
         self._ended_at: float | None = None  # wall clock the scene's run ended at
         self.display = DisplayState(sim)
+        self.secret: Secret | None = None  # a challenge's, kept from the page
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -641,9 +645,18 @@ class Controller:
             self.speed = check_speed(value)
             return None
         if kind == "set_value":
+            if self.secret is not None and request.name in self.secret.locked:
+                raise Refused("Ce réglage est caché pendant le défi : il reste tel quel.")
             sim.set_value(request.name, check_value(sim, request.name, value))
             return None
+        if kind == "challenge":  # built by the server only (no control sends it)
+            return self._challenge(value)
         if kind == "record":
+            if self.secret is not None:
+                raise Refused(
+                    "Pas d'enregistrement pendant un défi : le fichier contiendrait la "
+                    "solution. Enregistrez après la fin du défi."
+                )
             path = self.start_recording()
             return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path.name}")
         if kind == "stop_record":
@@ -660,6 +673,24 @@ class Controller:
         if kind == "button":  # a label no button has (only a crafted message sends it)
             raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
         raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
+
+    def _challenge(self, secret: object) -> Notice | None:
+        """Start a challenge (a :class:`Secret`: its values set, the run from its start)
+        or end it (None: the values stay, the page shows them again)."""
+        if secret is not None and not isinstance(secret, Secret):
+            raise Refused("Défi inconnu : rien n'a changé.")
+        if secret is None:
+            self.secret = None
+            self.generation += 1
+            return None
+        closed = self.stop_recording()  # kept whole: what came before the challenge
+        secret.apply(self.sim)
+        self.secret = secret
+        self._apply(Request("reset"))
+        self.playing = True
+        if closed is not None:
+            return Notice("file", "Enregistrement terminé", str(closed))
+        return None
 
 
 DIVERGENCE_CAUSES = {
@@ -1079,7 +1110,9 @@ class Session:
             trail = scene.trail if scene is not None else None
             with sim.lock:
                 snap = drawn_snapshot(ctl, FORCES if arrows or (read and values is None) else ())
-                drawing = picture(snap, arrows, trail=trail)
+                secret = getattr(ctl, "secret", None)
+                twin = secret.twin(sim) if secret is not None else None
+                drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
         if read:
             if values is not None:  # while recording, tables step with the physics
@@ -1093,6 +1126,9 @@ class Session:
             ctl.record(values)
         elif self.drive and _records(ctl):
             ctl.record()
+        secret = getattr(ctl, "secret", None)
+        if secret is not None and shown is not None:
+            shown = secret.hide(shown)
         return Frame(
             now=now,
             time=drawn_at,

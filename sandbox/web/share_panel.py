@@ -269,10 +269,14 @@ class SharePanel:
             if progress is not None:
                 presets = {n for step in progress.lesson.steps for n, _ in step.preset}
         settings: list[tuple[str, float | str]] = []
+        secret = ctl.secret  # a challenge's values never go into a link
+        kept = secret.locked if secret is not None else frozenset()
         with sim.lock:
             for name, value in sim.values.items():
-                if name in self.controls and (
-                    value != self.start_values.get(name) or name in presets
+                if (
+                    name in self.controls
+                    and name not in kept
+                    and (value != self.start_values.get(name) or name in presets)
                 ):
                     settings.append((name, float(value)))
             if ctl.speed != 1.0:

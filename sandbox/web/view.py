@@ -18,6 +18,7 @@ from sandbox.scenes.base import as_scene
 from sandbox.web import wire
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.challenge_panel import ChallengePanel
 from sandbox.web.cycle_panel import CyclePanel
 from sandbox.web.display_panel import DisplayPanel
 from sandbox.web.isolate_panel import IsolatePanel
@@ -26,8 +27,15 @@ from sandbox.web.lesson_panel import LessonPanel
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.polar_panel import PolarPanel
 from sandbox.web.projector import Projector
-from sandbox.web.readout_panel import PLOTS_FOLDER, SCENE_FOLDER, ReadoutPanel
+from sandbox.web.readout_panel import (
+    ENERGY_FOLDER,
+    PLOTS_FOLDER,
+    SCENE_FOLDER,
+    TORSORS_FOLDER,
+    ReadoutPanel,
+)
 from sandbox.web.renderer import SceneRenderer, mechanism_size
+from sandbox.web.secret import Secret
 from sandbox.web.session import EVERY, Controller, Frame, Notice
 from sandbox.web.trail import Trail
 
@@ -45,6 +53,10 @@ CYCLE_FOLDER = "Sur un tour"
 ISOLATE_FOLDER = "Isoler un solide"
 ACCURACY_FOLDER = "Précision et coût"
 HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+SECRET_SAFE = (SCENE_FOLDER, PLOTS_FOLDER, TORSORS_FOLDER, ENERGY_FOLDER, HYPOTHESES_FOLDER)
+"""Folders a page keeps while a challenge runs: they show only the frame's readouts
+(withheld ones removed). The others read the simulation itself (isolating a solid, the
+polar diagram, accuracy against the course's closed form): closed until it ends."""
 MAX_HELD = 0.5
 """Seconds a session may go without drawing while its sender holds frames; then it
 draws anyway (a browser never waits for its 3D view longer, whatever held it)."""
@@ -187,9 +199,12 @@ class WebView(Generic[D]):
                 self.trail = Trail(client.scene, extent=float(model.stat.extent))
         self.controls: Controls
         self.lesson: LessonPanel | None = None
+        self.challenge: ChallengePanel | None = None
+        self._allowed: tuple[str, ...] | None = None  # folders left by a challenge
         if controls is not None:
             self.controls = controls(client.gui, controller)
         elif isinstance(controller, Controller):
+            self.challenge = ChallengePanel(client.gui, controller, self)
             self.controls = ControlPanel(client.gui, controller)
         else:
             raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
@@ -275,13 +290,40 @@ class WebView(Generic[D]):
         choice, self._pending_folder = self._pending_folder, None
         if choice is None:
             return
-        self.shown = choice if choice in self.groups or choice == ALL_FOLDERS else self.shown
+        allowed = self._allowed if self._allowed is not None else tuple(self.groups)
+        self.shown = choice if choice in allowed or choice == ALL_FOLDERS else self.shown
+        if self.shown not in (*allowed, ALL_FOLDERS):
+            self.shown = SCENE_FOLDER if SCENE_FOLDER in allowed else ALL_FOLDERS
         for label, folder in self.groups.items():
-            folder.visible = self.shown in (label, ALL_FOLDERS)
+            folder.visible = self.shown in (label, ALL_FOLDERS) and label in allowed
         self._last_panel = -math.inf  # fill the folder just shown at once
 
     def _showing(self, folder: str) -> bool:
+        if self._allowed is not None and folder not in self._allowed:
+            return False  # closed by a challenge: neither refreshed nor sent
         return self.shown in (folder, ALL_FOLDERS)
+
+    # -- a challenge ---------------------------------------------------------------------
+    def restrict(self, secret: Secret) -> None:
+        """A challenge starts (from the class board's thread): the secret controls go,
+        the readouts that would give it away and the folders that read the simulation
+        are closed until :meth:`unrestrict`."""
+        keep = (*SECRET_SAFE, self.projector.folder.label or "")
+        self._allowed = tuple(label for label in self.groups if label in keep)
+        self.readouts.withheld = secret.withheld
+        if isinstance(self.controls, ControlPanel):
+            self.controls.conceal(secret.public, secret.locked)
+        self.picker.options = (*self._allowed, ALL_FOLDERS)
+        self._pending_folder = self.shown
+
+    def unrestrict(self) -> None:
+        """The challenge is over: every folder and control back."""
+        self._allowed = None
+        self.readouts.withheld = frozenset()
+        if isinstance(self.controls, ControlPanel):
+            self.controls.reveal()
+        self.picker.options = (*self.groups, ALL_FOLDERS)
+        self._pending_folder = self.shown
 
     # -- View protocol -------------------------------------------------------------------
     @property

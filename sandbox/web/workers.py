@@ -38,7 +38,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from multiprocessing.process import BaseProcess
 from multiprocessing.queues import Queue
 from types import FrameType
@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Any
 from sandbox.cores import DEFAULT_WORKERS_CAP as DEFAULT_WORKERS_CAP  # re-exported
 from sandbox.cores import default_workers as default_workers  # re-exported
 from sandbox.errors import BadOption, SandboxError
-from sandbox.web.board import MAX_ROWS, REFRESH, SETTLE, Board, Roster, from_wire
+from sandbox.web.board import MAX_ROWS, REFRESH, SETTLE, Board, Roster, Run, from_wire
 from sandbox.web.front import Front
 
 if TYPE_CHECKING:
@@ -58,7 +58,8 @@ log = logging.getLogger(__name__)
 Event = tuple[str, int, object]
 """What a worker tells the parent: ("ready", index, port), ("error", index, reason) or
 ("board", index, (rows, wants)): its students' rows (wire dicts) and whether a teacher's
-page there waits for the merged board."""
+page there waits for the merged board; ("run", index, run): a challenge a teacher there
+started or stopped (:meth:`sandbox.web.board.Run.wire`)."""
 
 START_TIMEOUT = 60.0
 """Seconds a worker may take to import, build its first simulation and listen."""
@@ -172,6 +173,11 @@ class WorkerHub:
         """This worker's students to the parent (never blocks: the queue's own thread
         sends)."""
         self.events.put(("board", self.index, (rows, wants)))
+
+    def announce(self, run: Run) -> None:
+        """A teacher here started or stopped a challenge: to the parent, which tells every
+        worker."""
+        self.events.put(("run", self.index, run.wire()))
 
     def _receive(self) -> None:
         while True:
@@ -340,6 +346,8 @@ class WorkerPool:
         self.roster = Roster(time.time(), settle=SETTLE)  # the class board, merged
         self.relay = BoardRelay()  # ... sent to the workers serving a teacher
         self._teachers: set[int] = set()  # those workers
+        self.run: Run | None = None  # the class's challenge
+        self._told: set[int] = set()  # workers that know it
         self._who: tuple[object, ...] = ()  # who was on the board last sent, and when
         self._sent = -math.inf
         self._lifelines: dict[int, Any] = {}  # kept open while this process lives
@@ -364,6 +372,7 @@ class WorkerPool:
         if index in self.processes:  # a restart: the students of the dead one left
             self.roster.drop(index, time.time())
             self._teachers.discard(index)
+            self._told.discard(index)
         for old in (self.pipes.get(index), self._lifelines.get(index)):
             if old is not None:
                 old.close()
@@ -399,6 +408,8 @@ class WorkerPool:
                 raise BadOption(str(detail))
             if kind == "board":
                 self._board(index, detail)
+            elif kind == "run":
+                self._run(detail)
             else:
                 ready.add(index)
 
@@ -438,6 +449,8 @@ class WorkerPool:
                 self.front.set_ready(index)
             elif kind == "board":
                 self._board(index, detail)
+            elif kind == "run":
+                self._run(detail)
 
     def _board(self, index: int, detail: object) -> None:
         """A worker's students: merged; the board to the workers where a teacher waits,
@@ -453,15 +466,31 @@ class WorkerPool:
             self._teachers.add(index)
         else:
             self._teachers.discard(index)
+        if self.run is not None and index not in self._told:  # a worker started since
+            self._told.add(index)
+            self.relay.send(index, replace(self.roster.board(now), run=self.run).wire())
         if not self._teachers:
             return
-        board = self.roster.board(now)
+        board = replace(self.roster.board(now), run=self.run)
         who = tuple((r.key, r.number, r.name, r.connected) for r in board.rows)
         if who == self._who and now - self._sent < REFRESH:
             return  # only values changed: they wait for the next second
         self._who, self._sent = who, now
         wire = board.wire()
         for k in self._teachers:
+            self.relay.send(k, wire)
+
+    def _run(self, detail: object) -> None:
+        """A teacher started or stopped a challenge: every worker is told at once (their
+        students get their secret, or the solution)."""
+        run = Run.from_wire(detail)
+        if run is None:
+            log.warning("a worker sent an unreadable challenge")
+            return
+        self.run = run
+        wire = replace(self.roster.board(time.time()), run=run).wire()
+        self._told = set(self.processes)
+        for k in self.processes:
             self.relay.send(k, wire)
 
     def alive(self) -> int:

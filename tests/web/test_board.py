@@ -172,8 +172,12 @@ def test_the_csv_has_the_contract_columns_and_defuses_formulas():
             value=54.4213,
             unit="N",
             number=1,
+            challenge="rotor_balance",
+            tries=3,
+            solved_s=125.04,
         ),
         _row("b", 100.0, number=2, left=120.0),
+        _row("c", 101.0, number=3, challenge="rotor_speed"),
     ]
     text = csv_text(rows, start=100.0)
     table = list(csv.reader(io.StringIO(text)))
@@ -190,8 +194,13 @@ def test_the_csv_has_the_contract_columns_and_defuses_formulas():
         "54.4213",
         "N",
         "12.2",
+        "rotor_balance",
+        "true",
+        "3",
+        "125.0",
     ]
-    assert table[2] == ["Élève 2", "false", "", "", "", "", "", "", "", "", "0.0"]
+    assert table[2] == ["Élève 2", "false", "", "", "", "", "", "", "", "", "0.0", "", "", "", ""]
+    assert table[3][-4:] == ["rotor_speed", "false", "0", ""]  # given, not tried
 
 
 def test_the_table_escapes_names_and_shows_the_goal():

@@ -1,0 +1,192 @@
+"""Challenges ("Défis") on the pages: the teacher starts one from the board, each student
+gets a secret that nothing their browser receives reveals, tries are counted on the board,
+and stopping shows the solutions."""
+
+from __future__ import annotations
+
+import math
+import struct
+import threading
+import time
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+from conftest import free_port, wait_for
+
+from sandbox.challenges import CHALLENGES, Challenge
+from sandbox.classroom import gui_message, unpack
+from sandbox.physics.picture import geom_local_poses
+from sandbox.web.board import Run
+from sandbox.web.challenge_panel import FOLDER, solution_lines
+from sandbox.web.session import Request
+
+SECRET = {"defect_mass_g": 53.0, "skew_deg": -3.3}
+"""A rotor's secret, fixed for the test (drawn numbers are tested in test_challenges)."""
+
+
+class Recorder:
+    """A student's browser on the websocket: every message kept (decoded)."""
+
+    def __init__(self, url: str) -> None:
+        import viser
+        from websockets.sync.client import connect
+
+        from sandbox.classroom import camera_message
+
+        self.ws = connect(
+            url,
+            subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+            open_timeout=30,
+            max_size=None,
+        )
+        self.ws.send(camera_message())
+        self.inner: list[bytes] = []  # msgpack of each message, decompressed
+        self.raw: list[bytes] = []  # and the whole message (meshes' buffers included)
+        self.thread = threading.Thread(target=self._read, daemon=True)
+        self.thread.start()
+
+    def _read(self) -> None:
+        try:
+            for raw in self.ws:
+                if isinstance(raw, bytes):
+                    self.raw.append(raw)
+                    self.inner.append(bytes(unpack(raw)))
+        except Exception:
+            pass  # closed
+
+    def since(self, k: int) -> bytes:
+        return b"".join(self.inner[k:]) + b"".join(self.raw[k:])
+
+    def close(self) -> None:
+        self.ws.close()
+
+
+def encodings(value: float) -> list[bytes]:
+    """How a number may travel: msgpack's big-endian floats, numpy's little-endian ones."""
+    return [struct.pack(f, value) for f in (">d", "<d", ">f", "<f")]
+
+
+@pytest.fixture
+def rotor_class(monkeypatch) -> Iterator[object]:
+    from sandbox.web.app import start
+
+    monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(SECRET))
+    app = start("rotor", port=free_port(), open_message=False, token="t-ch")
+    try:
+        yield app
+    finally:
+        app.stop()
+
+
+@pytest.mark.slow  # a server and a websocket student: ~10 s
+def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
+    app = rotor_class
+    student = Recorder(app.url.replace("http", "ws"))
+    try:
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        (session,) = app.sessions.values()
+        ctl, view = session.controller, session.view
+        time.sleep(1.0)
+        before = len(student.inner)
+        app.classroom.announce(Run("run-1", "rotor_balance", time.time()))
+        assert wait_for(lambda: ctl.secret is not None, 10)
+        assert all(ctl.sim.values[k] == v for k, v in SECRET.items())  # simulated...
+        view.picker.value = "Tous les panneaux"  # every folder the page may still show
+        view._pending_folder = "Tous les panneaux"
+        time.sleep(3.0)
+        seen = student.since(before)
+        assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page
+        for name, value in SECRET.items():  # ... never the secret, in any form
+            for enc in encodings(value):
+                assert enc not in seen, (name, value, enc)
+        for enc in encodings(math.radians(SECRET["skew_deg"])):
+            assert enc not in seen
+        for text in ("53 g", "-3,3", "3,3°", "Balourd statique", "Produits d'inertie", "tournant"):
+            assert text.encode() not in seen, text
+        # the shapes: no number of the real model's geoms that differs from the public
+        # twin's (the tilted disk's orientation, the defect's size and place)
+        real, twin = geom_local_poses(ctl.sim.model), geom_local_poses(ctl.secret.twin(ctl.sim))
+        told = {float(x) for x in real[np.abs(real - twin) > 1e-6]}
+        assert told  # the secret does change the real shapes...
+        for x in told:  # ... and none of those numbers was sent
+            assert all(enc not in seen for enc in encodings(x)), x
+        # the readouts: the page's values never hold the withheld ones
+        shown = view.lesson.values
+        assert "bearing_A" in shown and not set(shown) & set(ctl.secret.withheld)
+        slider = view.controls.sliders["defect_mass_g"]
+        assert not slider.visible and slider.value == 1.0 and slider.disabled
+        assert "Isoler un solide" not in view.picker.options
+        # a crafted message setting the hidden slider, and a recording, are refused
+        student.ws.send(gui_message(slider._impl.uuid, 20.0))
+        ctl.submit(Request("record"))
+        time.sleep(0.5)
+        assert ctl.sim.values["defect_mass_g"] == SECRET["defect_mass_g"]
+        assert ctl.recorder is None and ctl.refusals >= 1
+    finally:
+        student.close()
+
+
+@pytest.mark.slow  # a server and a websocket student: ~10 s
+def test_tries_are_counted_on_the_board_and_the_end_shows_the_solution(rotor_class):
+    app = rotor_class
+    student = Recorder(app.url.replace("http", "ws"))
+    try:
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        (session,) = app.sessions.values()
+        ctl, panel = session.controller, session.view.challenge
+        assert panel is not None and not panel.folder.visible
+        app.classroom.announce(Run("run-2", "rotor_balance", time.time()))
+        assert wait_for(lambda: ctl.secret is not None, 10)
+        assert panel.folder.visible and panel.folder.label == FOLDER
+        panel._clicked(None)  # a try on the bare machine: not yet
+        assert "Essai 1 : pas encore" in panel.feedback.content
+        assert "100 %" in panel.feedback.content
+        with ctl.sim.lock:
+            values = {**ctl.sim.values}
+        for name, value in CHALLENGES["rotor_balance"].solution(values).items():
+            ctl.submit(Request("set_value", round(value, 1), name=name))  # the sliders' steps
+        assert wait_for(lambda: ctl.requests.empty(), 5)
+        time.sleep(0.3)
+        panel._clicked(None)
+        assert panel.feedback.content.startswith("**Réussi**"), panel.feedback.content
+        (row,) = app.classroom.rows()
+        assert (row.challenge, row.tries) == ("rotor_balance", 2) and math.isfinite(row.solved_s)
+        # the teacher stops it: the page shows the solution and the secret controls again
+        app.classroom.announce(Run("run-2", "rotor_balance", time.time() - 60, ended=time.time()))
+        assert wait_for(lambda: ctl.secret is None, 10)
+        text = panel.feedback.content
+        assert "Défi terminé" in text and "Masselotte de défaut : 53 g" in text, text
+        assert "Inclinaison du disque : -3,3°" in text
+        slider = session.view.controls.sliders["defect_mass_g"]
+        assert wait_for(lambda: slider.visible and slider.value == 53.0, 5)
+        assert "Isoler un solide" in session.view.picker.options
+    finally:
+        student.close()
+
+
+def test_the_solution_is_written_with_the_sliders_words():
+    import sandbox.scenes  # noqa: F401  (the registry)
+    from sandbox.physics.simulation import Simulation
+
+    sim = Simulation("rotor")
+    params = {p.name: p for p in sim.scene.params}
+    values = {**sim.values, **SECRET, "speed_rpm": 1500.0}
+    text = solution_lines(CHALLENGES["rotor_balance"], values, params)
+    assert text.startswith("Masse de correction m₁ : ")
+    assert " g ; Angle de la masse m₁ α₁ : " in text
+    speed = solution_lines(CHALLENGES["rotor_speed"], values, params)
+    assert speed.startswith("Vitesse ω pour 100 N au palier A : ") and speed.endswith("tr/min")
+
+
+def test_every_secret_parameter_is_a_slider():
+    """A secret's control is hidden with its stand-in value: a slider's number (a
+    dropdown or a typed box would need their own stand-ins)."""
+    import sandbox.scenes  # noqa: F401
+    from sandbox.scenes import get_scene
+    from sandbox.web.fields import choices, typed
+
+    for c in CHALLENGES.values():
+        params = {p.name: p for p in get_scene(c.scene).params}
+        for name in c.hidden:
+            assert not choices(params[name]) and not typed(params[name]), (c.name, name)
