@@ -106,3 +106,30 @@ def test_unknown_challenge_names_the_valid_ones() -> None:
         challenge("rotor_balanse")
     assert [c.name for c in for_scene("rotor")] == ["rotor_balance", "rotor_speed"]
     assert for_scene("engine") == []
+
+
+def test_an_attempt_counts_tries_and_dates_the_first_success() -> None:
+    """Course 7.2 for the rotor: the correction masses of the solution bring both bearing
+    forces to round-off; the first try on the bare machine reads 100 % left."""
+    attempt = challenges.start("rotor_balance", "run", get_scene("rotor").defaults(), 100.0,
+                               random.Random(4))  # fmt: skip
+    public = {**get_scene("rotor").defaults(), "speed_rpm": 1500.0}
+    assert not attempt.check(public, 110.0)
+    assert attempt.tries == 1 and attempt.last == pytest.approx(1.0)
+    solved = {**public, **attempt.challenge.solution(attempt.values(public))}
+    assert attempt.check(solved, 160.0) and attempt.solved_after == pytest.approx(60.0)
+    assert attempt.check(public, 170.0)  # once solved, solved: no more tries counted
+    assert attempt.tries == 2 and attempt.solved_after == pytest.approx(60.0)
+
+
+def test_an_answer_attempt_takes_three_percent() -> None:
+    attempt = challenges.start("rotor_speed", "run", get_scene("rotor").defaults(), 0.0,
+                               random.Random(7))  # fmt: skip
+    public = get_scene("rotor").defaults()
+    exact = challenges.speed_for_force(attempt.values(public))
+    assert not attempt.check(public, 1.0, answer=exact * 1.05)
+    assert attempt.last == pytest.approx(0.05, rel=1e-6)
+    assert not attempt.check(public, 2.0, answer=math.nan) and attempt.last == math.inf
+    assert attempt.check(public, 3.0, answer=exact * 0.98) and attempt.tries == 3
+    with pytest.raises(UnknownChallenge, match="valid challenges: rotor_balance"):
+        challenges.start("rotor_mystery", "run", public, 0.0)

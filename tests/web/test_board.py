@@ -560,3 +560,40 @@ def test_a_board_is_shown_sorted_as_the_teacher_chose(gui_server):
     assert panel.by == "progress" and panel.sort.value == "Progression"
     lines = panel.csv().splitlines()
     assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == 1 + len(ROWS)
+
+
+# -- challenges on the board -------------------------------------------------------------
+def test_a_run_travels_with_the_board_and_a_crafted_one_is_dropped():
+    from sandbox.web.board import Run
+
+    run = Run("abc", "rotor_balance", 12.5, 0.0)
+    board = Board(1.0, (_row("a", 2.0, challenge="rotor_balance", tries=2, solved_s=30.0),), 0, run)
+    back = Board.from_wire(board.wire())
+    assert back is not None and back.run == run and back.rows[0].tries == 2
+    for bad in ({"id": "", "name": "x", "started": 1.0}, {"id": 3, "name": "x", "started": 1.0},
+                {"id": "a", "name": "x", "started": math.nan}, "run"):  # fmt: skip
+        assert Board.from_wire({**board.wire(), "run": bad}).run is None  # type: ignore[union-attr]
+
+
+def test_during_a_challenge_the_table_shows_who_solved_it_and_sorts_fastest_first():
+    rows = [
+        _row("a", 1.0, number=1, name="Lou", challenge="rotor_balance", tries=3, solved_s=125.0),
+        _row("b", 2.0, number=2, name="Ana", challenge="rotor_balance", tries=0),
+        _row("c", 3.0, number=3, name="Max", challenge="rotor_balance", tries=1, solved_s=45.0),
+        _row("d", 4.0, number=4, name="Zoé", challenge="rotor_balance", tries=5),
+    ]
+    html = board_html(rows)
+    assert "<th>Défi</th>" in html and "<th>Étape</th>" not in html
+    assert "réussi</span> en 2 min 05 s, 3 essais" in html and "aucun essai" in html
+    assert [r.name for r in sort_rows(rows, SORTS["Défi"])] == ["Max", "Lou", "Zoé", "Ana"]
+
+
+def test_a_challenge_announced_in_one_process_reaches_its_board_at_once():
+    from sandbox.web.board import Run
+    from sandbox.web.board_panel import LocalHub
+
+    got: list[Board] = []
+    hub = LocalHub(0.0, got.append, clock=lambda: 5.0)
+    hub.announce(Run("r", "rotor_balance", 5.0))
+    hub.publish([to_wire(_row("a", 1.0))], wants=True)
+    assert [b.run.name if b.run else None for b in got] == ["rotor_balance"] * 2

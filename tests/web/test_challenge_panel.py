@@ -190,3 +190,37 @@ def test_every_secret_parameter_is_a_slider():
         params = {p.name: p for p in get_scene(c.scene).params}
         for name in c.hidden:
             assert not choices(params[name]) and not typed(params[name]), (c.name, name)
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # two worker processes, one Chromium page, four websocket students: ~40 s
+def test_the_teacher_starts_and_stops_a_challenge_for_students_of_both_workers(open_page, tmp_path):
+    import re
+
+    from test_board import _board_text, _start_workers, _stop
+
+    from sandbox.web.board_panel import START_BUTTON, STOP_BUTTON
+
+    proc, port, teacher_url = _start_workers(tmp_path)
+    students: list[Recorder] = []
+    try:
+        teacher = open_page(teacher_url)
+        teacher.get_by_role("button", name=START_BUTTON).wait_for(timeout=60_000)
+        students = [Recorder(f"ws://127.0.0.1:{port}") for _ in range(4)]
+        assert wait_for(lambda: "4 élèves connectés." in teacher.content(), 60)
+        teacher.get_by_role("button", name=START_BUTTON).click()
+        goal = "Rotor mystère à équilibrer".encode()
+        # every student, whichever worker serves them, gets the goal on their page
+        assert wait_for(lambda: all(goal in s.since(0) for s in students), 30)
+        assert wait_for(lambda: len(re.findall("aucun essai", _board_text(teacher))) == 4, 30), (
+            _board_text(teacher)
+        )
+        assert "Défi en cours depuis" in teacher.content()
+        teacher.get_by_role("button", name=STOP_BUTTON).click()
+        done = "Défi terminé".encode()
+        assert wait_for(lambda: all(done in s.since(0) for s in students), 30)
+        assert wait_for(lambda: "les élèves voient la solution" in teacher.content(), 10)
+    finally:
+        for s in students:
+            s.close()
+        _stop(proc)
