@@ -23,7 +23,7 @@ import secrets
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -179,30 +179,17 @@ class _Student:
     challenge: ChallengePanel | None = None
 
 
-@dataclass
-class _Reading:
-    """What a student's page shows of their lesson, read in one go."""
-
-    lesson: str = ""
-    title: str = ""
-    step: int = 0
-    steps: int = 0
-    goal: str = ""
-    progress: float = math.nan
-    checked: str = ""
-    values: Mapping[str, float] = field(default_factory=dict)
-
-
-def _read_lesson(view: object) -> _Reading:
-    """The lesson panel's state as its page shows it (each attribute read once: the
+def _read_lesson(view: object, row: Row) -> tuple[Row, str, Mapping[str, float]]:
+    """``row`` with the lesson as the student's page shows it, the readout its step
+    checks ("" when none) and the page's readouts (each attribute read once: the
     session's loop may change them meanwhile)."""
     panel = getattr(view, "lesson", None)
     if panel is None:
-        return _Reading()
+        return row, "", {}
     values: Mapping[str, float] = panel.values
     progress: Progress | None = panel.progress
     if progress is None:
-        return _Reading(values=values)
+        return row, "", values
     state, lines = panel.goal_state, panel.goal_lines
     goal = _GOAL_KEYS.get(state, "")
     done = [line.done for line in lines]
@@ -212,16 +199,16 @@ def _read_lesson(view: object) -> _Reading:
     if found and len(found) == len(done):  # the part furthest from its goal
         ranked = [(d if d is not None else 2.0, k) for k, d in enumerate(done)]
         checked = found[min(ranked)[1]].readout
-    return _Reading(
+    row = replace(
+        row,
         lesson=progress.lesson.name,
-        title=progress.lesson.title,
+        lesson_title=progress.lesson.title,
         step=progress.index + 1,
         steps=len(progress.lesson.steps),
         goal=goal,
         progress=progress_of(done, goal) if goal else math.nan,
-        checked=checked,
-        values=values,
     )
+    return row, checked, values
 
 
 def key_readout(
@@ -246,27 +233,18 @@ def student_row(key: str, student: _Student) -> Row:
     base = Row(key=key, joined=student.joined, name=student.name, scene=student.scene)
     if student.mode == "follow":
         return replace(base, mode="follow")
-    seen = _read_lesson(student.view)
+    row, checked, values = _read_lesson(student.view, base)
     readouts = student.readouts
     given, tries, solved_s = student.challenge.state() if student.challenge else ("", 0, math.nan)
-    name = key_readout(student.scene, readouts.names, seen.checked, seen.values)
-    value = float(seen.values.get(name, math.nan)) if name else math.nan
-    return Row(
-        key=key,
-        joined=student.joined,
-        name=student.name,
-        scene=student.scene,
-        lesson=seen.lesson,
-        lesson_title=seen.title,
-        step=seen.step,
-        steps=seen.steps,
-        goal=seen.goal,
-        progress=seen.progress,
+    name = key_readout(student.scene, readouts.names, checked, values)
+    value = float(values.get(name, math.nan)) if name else math.nan
+    return replace(
+        row,
         readout=name,
         label=readouts.labels.get(name, name) if name else "",
         value=value,
         unit=readouts.units.get(name, "") if name else "",
-        shown=readouts.written(name, seen.values) if name and math.isfinite(value) else "",
+        shown=readouts.written(name, values) if name and math.isfinite(value) else "",
         challenge=given,
         tries=tries,
         solved_s=solved_s,
