@@ -253,6 +253,7 @@ class ArrowLayer:
         self._reserved = [0.0] * n  # widest text of each label so far [px]
         self._text_at = -math.inf
         self.camera: Camera | Any = None  # a viser CameraHandle, or a fixed Camera
+        self.laid_out: Camera | None = None  # the camera of the last layout
         self.font: Callable[[], float] | None = None  # the page's text size [px]
         self.marks: Marks | None = None
         self.clock: Callable[[], float] | None = None  # set: text at TEXT_RATE at most
@@ -463,6 +464,7 @@ class ArrowLayer:
         camera = read_camera(self.camera)
         if camera is None:
             return
+        self.laid_out = camera
         em = PX_PER_SCALE * self.font_scale
         blocks: list[Block] = []
         rows: list[list[int]] = []

@@ -231,11 +231,14 @@ def _box(x: float, y: float, anchor: str, width: float, line: float) -> tuple:
 
 
 def _labels(session, page) -> tuple[list[tuple], Camera]:
-    """(name, box, point of its arrow or None) of every visible label, in canvas px."""
+    """(name, box, point of its arrow or None) of every visible label, in canvas px, in
+    the camera the labels were last laid out for, once the browser's is that one (a
+    camera the browser changed is laid out for within a quarter of a second)."""
     view = session.view
-    camera = read_camera(view.client.camera)
-    assert camera is not None
     layer, renderer = view.arrows, view.renderer
+    assert wait_for(lambda: read_camera(view.client.camera) == layer.laid_out, timeout=10)
+    camera = layer.laid_out
+    assert camera is not None
     found = []  # (name, text, world anchor, viser anchor, scale, arrow point)
     for k, label in enumerate(layer.labels):
         if label.visible:
