@@ -20,6 +20,7 @@ from sandbox.physics.picture import geom_local_poses
 from sandbox.web.board import Run
 from sandbox.web.challenge_panel import FOLDER, solution_lines
 from sandbox.web.session import Request
+from sandbox.web.text import number
 
 SECRET = {"defect_mass_g": 53.0, "skew_deg": -3.3}
 """A rotor's secret, fixed for the test (drawn numbers are tested in test_challenges)."""
@@ -43,6 +44,7 @@ class Recorder:
         self.ws.send(camera_message())
         self.inner: list[bytes] = []  # msgpack of each message, decompressed
         self.raw: list[bytes] = []  # and the whole message (meshes' buffers included)
+        self._seen: dict[bytes, tuple[bool, int]] = {}
         self.thread = threading.Thread(target=self._read, daemon=True)
         self.thread.start()
 
@@ -58,6 +60,14 @@ class Recorder:
     def since(self, k: int) -> bytes:
         return b"".join(self.inner[k:]) + b"".join(self.raw[k:])
 
+    def saw(self, text: bytes) -> bool:
+        """Whether a message so far held ``text`` (only the new ones are searched)."""
+        found, upto = self._seen.get(text, (False, 0))
+        end = len(self.inner)
+        found = found or any(text in m for m in self.inner[upto:end])
+        self._seen[text] = (found, end)
+        return found
+
     def close(self) -> None:
         self.ws.close()
 
@@ -67,16 +77,62 @@ def encodings(value: float) -> list[bytes]:
     return [struct.pack(f, value) for f in (">d", "<d", ">f", "<f")]
 
 
-@pytest.fixture
-def rotor_class(monkeypatch) -> Iterator[object]:
+WHEEL_SECRET = {
+    "defect_mass_g": 47.5,
+    "defect_angle_deg": 137.0,
+    "skew_deg": 0.53,
+    "skew_angle_deg": 219.0,
+}
+"""A wheel's secret, fixed for the test."""
+
+
+def _serve(monkeypatch, scene: str, secret: dict[str, float]) -> Iterator[object]:
     from sandbox.web.app import start
 
-    monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(SECRET))
-    app = start("rotor", port=free_port(), open_message=False, token="t-ch")
+    monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(secret))
+    app = start(scene, port=free_port(), open_message=False, token="t-ch")
     try:
         yield app
     finally:
         app.stop()
+
+
+@pytest.fixture
+def rotor_class(monkeypatch) -> Iterator[object]:
+    yield from _serve(monkeypatch, "rotor", SECRET)
+
+
+@pytest.fixture
+def wheel_class(monkeypatch) -> Iterator[object]:
+    yield from _serve(monkeypatch, "wheel_balancer", WHEEL_SECRET)
+
+
+def _never_sent(seen: bytes, ctl, secret: dict[str, float], texts: tuple[str, ...]) -> None:
+    """Nothing in ``seen`` (a student's stream since the start) tells ``secret``: neither
+    its values nor their radians, nor the solution's fractional numbers (what a withheld
+    readout would give), nor ``texts``, nor a number of the real shapes that differs from
+    the public twin's (a tilted disk or tyre, a defect's size and place)."""
+    numbers = [*secret.values(), *(math.radians(v) for v in secret.values())]
+    attempt = ctl.secret.attempt
+    solution = attempt.challenge.solution(attempt.values(ctl.sim.values))
+    numbers += [v for v in solution.values() if abs(v - round(v)) > 1e-3]
+    for value in numbers:
+        for enc in encodings(value):
+            assert enc not in seen, (value, enc)
+    suffixes = {"_g": " g", "_deg": "°"}  # the solution as a table or the overlay writes it
+    written = [
+        f"{number(v, 3)}{unit}"
+        for name, v in solution.items()
+        for end, unit in suffixes.items()
+        if name.endswith(end) and abs(v) >= 1.0
+    ]
+    for text in (*texts, *written):
+        assert text.encode() not in seen, text
+    real, twin = geom_local_poses(ctl.sim.model), geom_local_poses(ctl.secret.twin(ctl.sim))
+    told = {float(x) for x in real[np.abs(real - twin) > 1e-6]}
+    assert told  # the secret does change the real shapes...
+    for x in told:  # ... and none of those numbers was sent
+        assert all(enc not in seen for enc in encodings(x)), x
 
 
 @pytest.mark.slow  # a server and a websocket student: ~10 s
@@ -97,20 +153,8 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
         time.sleep(3.0)
         seen = student.since(before)
         assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page
-        for name, value in SECRET.items():  # ... never the secret, in any form
-            for enc in encodings(value):
-                assert enc not in seen, (name, value, enc)
-        for enc in encodings(math.radians(SECRET["skew_deg"])):
-            assert enc not in seen
-        for text in ("53 g", "-3,3", "3,3°", "Balourd statique", "Produits d'inertie", "tournant"):
-            assert text.encode() not in seen, text
-        # the shapes: no number of the real model's geoms that differs from the public
-        # twin's (the tilted disk's orientation, the defect's size and place)
-        real, twin = geom_local_poses(ctl.sim.model), geom_local_poses(ctl.secret.twin(ctl.sim))
-        told = {float(x) for x in real[np.abs(real - twin) > 1e-6]}
-        assert told  # the secret does change the real shapes...
-        for x in told:  # ... and none of those numbers was sent
-            assert all(enc not in seen for enc in encodings(x)), x
+        _never_sent(seen, ctl, SECRET, ("53 g", "-3,3", "3,3°", "Balourd statique",
+                                        "Produits d'inertie", "tournant"))  # fmt: skip
         # the readouts: the page's values never hold the withheld ones
         shown = view.lesson.values
         assert "bearing_A" in shown and not set(shown) & set(ctl.secret.withheld)
@@ -123,6 +167,31 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
         time.sleep(0.5)
         assert ctl.sim.values["defect_mass_g"] == SECRET["defect_mass_g"]
         assert ctl.recorder is None and ctl.refusals >= 1
+    finally:
+        student.close()
+
+
+@pytest.mark.slow  # a server and a websocket student: ~10 s
+def test_a_wheel_s_heavy_spot_and_wobble_never_reach_the_browser(wheel_class):
+    app = wheel_class
+    student = Recorder(app.url.replace("http", "ws"))
+    try:
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        (session,) = app.sessions.values()
+        ctl, view = session.controller, session.view
+        time.sleep(1.0)
+        before = len(student.inner)
+        app.classroom.announce(Run("run-w", "wheel_balance", time.time()))
+        assert wait_for(lambda: ctl.secret is not None, 10)
+        view._pending_folder = "Tous les panneaux"
+        time.sleep(3.0)
+        seen = student.since(before)
+        assert "Roue mystère".encode() in seen
+        _never_sent(seen, ctl, WHEEL_SECRET, ("47,5", "137°", "0,53", "219°"))
+        assert not [t for t, label, _ in view.renderer.labels.values() if label.visible]
+        hidden = [n for n, h in view.controls.sliders.items() if not h.visible]
+        assert sorted(hidden) == sorted(WHEEL_SECRET)
+        assert view.controls.sliders["supports"].disabled  # fixed for everyone: locked
     finally:
         student.close()
 
@@ -211,14 +280,14 @@ def test_the_teacher_starts_and_stops_a_challenge_for_students_of_both_workers(o
         teacher.get_by_role("button", name=START_BUTTON).click()
         goal = "Rotor mystère à équilibrer".encode()
         # every student, whichever worker serves them, gets the goal on their page
-        assert wait_for(lambda: all(goal in s.since(0) for s in students), 30)
+        assert wait_for(lambda: all(s.saw(goal) for s in students), 30)
         assert wait_for(lambda: len(re.findall("aucun essai", _board_text(teacher))) == 4, 30), (
             _board_text(teacher)
         )
         assert "Défi en cours depuis" in teacher.content()
         teacher.get_by_role("button", name=STOP_BUTTON).click()
         done = "Défi terminé".encode()
-        assert wait_for(lambda: all(done in s.since(0) for s in students), 30)
+        assert wait_for(lambda: all(s.saw(done) for s in students), 30)
         assert wait_for(lambda: "les élèves voient la solution" in teacher.content(), 10)
     finally:
         for s in students:
