@@ -29,7 +29,7 @@ from typing import Any, Protocol
 
 import viser
 
-from sandbox.challenges import Challenge, for_scene, start
+from sandbox.challenges import Attempt, Challenge, for_scene, start
 from sandbox.lessons import Progress
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
@@ -177,6 +177,7 @@ class _Student:
     name: str = ""
     sim: Simulation | None = None
     challenge: ChallengePanel | None = None
+    attempt: Attempt | None = None  # kept across a follow-mode student's switches
 
 
 def _read_lesson(view: object, row: Row) -> tuple[Row, str, Mapping[str, float]]:
@@ -271,6 +272,8 @@ class BoardPanel:
         folder: The folder to fill (default: a new "La classe", first on the page).
         challenges: The challenges the teacher may start (none: no "Défi").
         announce: Where a started or stopped challenge goes (the class's hub).
+        followed: The students follow the teacher's simulation (``--follow``): only those
+            who chose a simulation of their own get a challenge.
     """
 
     def __init__(
@@ -280,8 +283,10 @@ class BoardPanel:
         folder: viser.GuiFolderHandle | None = None,
         challenges: Sequence[Challenge] = (),
         announce: Callable[[Run], None] | None = None,
+        followed: bool = False,
     ) -> None:
         gui = client.gui
+        self.followed = followed
         self.client = client
         self.folder = folder or gui.add_folder(BOARD_FOLDER, order=BOARD_ORDER)
         self.challenges = {c.title: c for c in challenges}
@@ -350,6 +355,8 @@ class BoardPanel:
             text = ""
         elif running:
             text = f"Défi en cours depuis {duration(time.time() - run.started)} : {title}"
+            if self.followed:
+                text += " (seuls les élèves passés sur « Ma simulation » le reçoivent)"
         else:
             text = f"Défi terminé : les élèves voient la solution de leur machine ({title})."
         if self.run_state.content != text:
@@ -446,21 +453,25 @@ class Classroom:
         cid = client.client_id
         with self._lock:
             old = self._students.get(cid)
+        panel = getattr(view, "challenge", None)
         if old is not None:
             if old.field is not None:
                 old.name = clean_name(old.field.value)
             old.view, old.mode, old.field = view, mode, field
-            return
-        scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
-        entry = _Student(client, self.clock(), scene[:80], _Readouts.of(sim), view, mode, field)
-        entry.sim = sim
-        panel = getattr(view, "challenge", None)
-        entry.challenge = panel if isinstance(panel, ChallengePanel) else None
+            old.sim = sim
+            old.challenge = panel if isinstance(panel, ChallengePanel) else None
+            entry = old
+        else:
+            scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
+            entry = _Student(client, self.clock(), scene[:80], _Readouts.of(sim), view, mode, field)
+            entry.sim = sim
+            entry.challenge = panel if isinstance(panel, ChallengePanel) else None
+            with self._lock:
+                self._students[cid] = entry
         with self._lock:
-            self._students[cid] = entry
             run = self.run
-        if run is not None:  # a challenge runs: this student gets one too
-            self._give(entry, run)
+        if run is not None:  # a challenge runs: this student gets one too (the same one
+            self._give(entry, run)  # when they come back to their own simulation)
 
     def name_of(self, client_id: int) -> str:
         """The name a student typed so far ("" when none)."""
@@ -476,11 +487,16 @@ class Classroom:
         *,
         folder: viser.GuiFolderHandle | None = None,
         scene: str = "",
+        followed: bool = False,
     ) -> BoardPanel:
         """Add the board to a teacher's page (with the challenges of ``scene``, whose
         students each have their own simulation)."""
         panel = BoardPanel(
-            client, folder=folder, challenges=for_scene(scene), announce=self.announce
+            client,
+            folder=folder,
+            challenges=for_scene(scene),
+            announce=self.announce,
+            followed=followed,
         )
         panel.show(self.board)
         with self._lock:
@@ -543,9 +559,12 @@ class Classroom:
         attempt = panel.attempt
         try:
             if not run.ended and (attempt is None or attempt.run != run.id):
-                with sim.lock:
-                    values = dict(sim.values)
-                panel.begin(start(run.name, run.id, values, self.clock()))
+                kept = student.attempt
+                if kept is None or kept.run != run.id:
+                    with sim.lock:
+                        values = dict(sim.values)
+                    kept = student.attempt = start(run.name, run.id, values, self.clock())
+                panel.begin(kept)
             elif run.ended and attempt is not None and attempt.run == run.id and not panel.ended:
                 panel.end()
         except Exception:

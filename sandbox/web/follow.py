@@ -264,7 +264,10 @@ class FollowApp(App):
         )
         self._views[client.client_id] = view
         self.broadcast.teachers.append(view)
-        self.classroom.teacher(client, folder=folder)
+        scene = self.shared.sim.scene
+        self.classroom.teacher(
+            client, folder=folder, scene=scene.name if scene else "", followed=True
+        )
         buttons.on_click(lambda event: self._send(event.target.value, view))
         session = _TeacherSession(self, view, counts)
         return session

@@ -293,3 +293,40 @@ def test_the_teacher_starts_and_stops_a_challenge_for_students_of_both_workers(o
         for s in students:
             s.close()
         _stop(proc)
+
+
+@pytest.mark.slow  # a follow-mode server and a websocket student: ~10 s
+def test_in_follow_mode_a_student_on_their_own_simulation_keeps_one_secret(monkeypatch):
+    """Followers watch the teacher's machine: the challenge reaches a student once they
+    choose "Ma simulation", and the same secret (tries included) when they come back."""
+    from sandbox.web.app import start
+
+    monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(SECRET))
+    app = start("rotor", port=free_port(), open_message=False, follow=True, token="t-f")
+    student = Recorder(app.url.replace("http", "ws"))
+    try:
+        assert wait_for(lambda: app.counts()[1] == 1, 30)
+        (cid,) = [c for c, mode in app.modes.items() if mode == "follower"]
+        client = app.server.get_clients()[cid]
+        app.classroom.announce(Run("run-f", "rotor_balance", time.time()))
+        assert wait_for(lambda: app.classroom.run is not None, 5)
+        app.switch(client, own=True)
+        assert wait_for(lambda: app.counts()[2] == 1, 30)
+
+        def own():
+            return next(s for c, s in app.sessions.items() if c == cid)
+
+        assert wait_for(lambda: own().controller.secret is not None, 10)
+        first = own().controller.secret.attempt
+        own().view.challenge._clicked(None)
+        assert first.tries == 1
+        app.switch(client, own=False)
+        assert wait_for(lambda: app.counts()[1] == 1, 30)
+        app.switch(client, own=True)
+        assert wait_for(lambda: app.counts()[2] == 1, 30)
+        assert wait_for(lambda: own().controller.secret is not None, 10)
+        assert own().controller.secret.attempt is first and first.tries == 1
+        assert own().controller.sim.values["defect_mass_g"] == SECRET["defect_mass_g"]
+    finally:
+        student.close()
+        app.stop()
