@@ -45,7 +45,7 @@ REFRESH = 1.0
 SETTLE = 1.5
 """Seconds after a student's arrival before the parent of several workers numbers them:
 each worker reports every :data:`REFRESH` seconds, and the parent looks at its workers
-every quarter of a second."""
+every tenth of a second."""
 
 GOALS: dict[str, str] = {
     "reached": "Réussi",

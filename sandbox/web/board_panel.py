@@ -79,6 +79,10 @@ NAME_ORDER = 900.0
 """Place of "Votre prénom" on a student's page: last, below every control (first, it
 pushed the last parameters of a lesson step below a projected 1280×720 page)."""
 
+ARRIVAL_GAP = 0.25
+"""Seconds at least between two readings of the students: an arrival is reported at once
+(not at the next second), a class arriving together in a few reports."""
+
 BALANCING: dict[str, tuple[str, str]] = {
     "rotor": ("bearing_A", "bearing_B"),
     "wheel_balancer": ("bearing_inner", "bearing_outer"),
@@ -430,6 +434,7 @@ class Classroom:
         self._teachers: dict[int, BoardPanel] = {}
         self._lock = threading.Lock()
         self._stop = threading.Event()
+        self._wake = threading.Event()  # a student arrived: report now
         self._thread: threading.Thread | None = None
         self._failed = False
 
@@ -470,6 +475,7 @@ class Classroom:
                 self._students[cid] = entry
         with self._lock:
             run = self.run
+        self._wake.set()  # on the board within a fraction of a second, not the next one
         if run is not None:  # a challenge runs: this student gets one too (the same one
             self._give(entry, run)  # when they come back to their own simulation)
 
@@ -592,7 +598,16 @@ class Classroom:
         """Read the students every :attr:`period` seconds in a thread of its own."""
 
         def run() -> None:
-            while not self._stop.wait(self.period):
+            last = -math.inf
+            while not self._stop.is_set():
+                self._wake.wait(self.period)  # a second, or at once for an arrival
+                gap = ARRIVAL_GAP - (time.monotonic() - last)
+                if gap > 0 and self._stop.wait(gap):  # a crowd arriving: one report
+                    return
+                if self._stop.is_set():
+                    return
+                self._wake.clear()
+                last = time.monotonic()
                 self.tick()
 
         self._thread = threading.Thread(target=run, name="sandbox-board", daemon=True)
@@ -601,6 +616,7 @@ class Classroom:
     def stop(self) -> None:
         """Stop reading."""
         self._stop.set()
+        self._wake.set()
         if self._thread is not None:
             self._thread.join(2.0)
 

@@ -77,9 +77,10 @@ GRACEFUL_SIGTERM = os.name == "posix"
 """SIGTERM lets a process clean up (POSIX); on Windows os.kill(pid, SIGTERM) is
 TerminateProcess, an immediate kill: workers are then stopped through their lifeline."""
 
-POLL = 0.25
+POLL = 0.1
 """Seconds the parent's loop waits for connections before it looks at its workers (their
-restarts, the class board's rows)."""
+restarts, the class board's rows: a student arriving reaches the teacher's board a tenth
+of a second sooner than with a quarter)."""
 
 ORPHAN_GRACE = 2.0
 """Seconds a worker whose parent died gets to close its sessions before it exits anyway."""
