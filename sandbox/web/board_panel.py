@@ -308,7 +308,7 @@ class BoardPanel:
                     hint="Chaque élève reçoit sa propre machine mystère, tirée au hasard ; "
                     "sa page ne montre ni le défaut caché ni les grandeurs qui le trahiraient",
                 )
-                self.run_button = gui.add_button(START_BUTTON, color="green")
+                self.run_button = gui.add_button(START_BUTTON)
                 self.run_state = gui.add_markdown("")
                 self.run_button.on_click(lambda _: self._start_or_stop())
             self.sort = gui.add_dropdown(
@@ -352,7 +352,7 @@ class BoardPanel:
         label = STOP_BUTTON if running else START_BUTTON
         if self.run_button.label != label:
             self.run_button.label = label
-            self.run_button.color = "red" if running else "green"
+            self.run_button.color = "red" if running else None
         self.challenge.disabled = running
         title = next((t for t, c in self.challenges.items() if run and c.name == run.name), "")
         if run is None:

@@ -330,3 +330,41 @@ def test_in_follow_mode_a_student_on_their_own_simulation_keeps_one_secret(monke
     finally:
         student.close()
         app.stop()
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # two Chromium pages: ~25 s
+def test_the_challenge_s_controls_are_named_in_french_and_readable(open_page, rotor_class):
+    """The teacher's "Défi" controls and the student's "Défi" folder: every control has a
+    French accessible name, every text of both panels reaches 4,5:1 (the green "Lancer le
+    défi" included), the answer box says its unit."""
+    from test_browser_access import _contrasts, _controls, _scrolled_through, _unnamed
+
+    from sandbox.web.board_panel import START_BUTTON
+
+    app = rotor_class
+    teacher = open_page(app.teacher_url)
+    teacher.get_by_role("button", name=START_BUTTON).wait_for(timeout=60_000)
+    student = open_page(app.url)
+    assert wait_for(lambda: app.classroom.students() == 1, 30)
+    teacher.mouse.move(640, 700)
+    low = [f for f in _scrolled_through(teacher, _contrasts) if f["ratio"] < 4.5]
+    assert not low, low
+    assert not _unnamed(_controls(teacher))
+    app.classroom.announce(Run("run-a", "rotor_speed", time.time()))
+    answer = student.get_by_role("textbox", name="Vitesse ω pour 100 N au palier A")
+    answer.wait_for(timeout=30_000)
+    assert wait_for(lambda: "tr/min" in (answer.get_attribute("aria-label") or ""), 10)
+    assert student.get_by_role("button", name="Proposer").is_visible()
+    assert not _unnamed(_controls(student))
+    student.mouse.move(640, 700)
+    low = [f for f in _scrolled_through(student, _contrasts) if f["ratio"] < 4.5]
+    assert not low, low
+    # a proposal typed and sent from the page: counted, and judged by the server
+    answer.fill("1234")
+    answer.press("Enter")
+    (session,) = [s for s in app.sessions.values() if s.view.challenge.attempt is not None]
+    assert wait_for(lambda: session.view.challenge.answer.value == 1234, 10)
+    student.get_by_role("button", name="Proposer").click()
+    assert wait_for(lambda: session.view.challenge.attempt.tries == 1, 10)
+    student.get_by_text("Essai 1 : pas encore", exact=False).wait_for(timeout=10_000)
