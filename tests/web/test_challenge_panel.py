@@ -140,23 +140,28 @@ def _never_sent(seen: bytes, ctl, secret: dict[str, float], texts: tuple[str, ..
         assert all(enc not in seen for enc in encodings(x)), x
 
 
+def _started(app, student: Recorder, name: str):
+    """``name`` started for the one student of ``app``, every folder their page may still
+    show opened: (their session, what their browser received since the start)."""
+    assert wait_for(lambda: len(app.sessions) == 1, 30)
+    (session,) = app.sessions.values()
+    time.sleep(1.0)
+    before = len(student.inner)
+    app.classroom.announce(Run(f"run-{name}", name, time.time()))
+    assert wait_for(lambda: session.controller.secret is not None, 10)
+    session.view._pending_folder = "Tous les panneaux"
+    time.sleep(3.0)
+    return session, student.since(before)
+
+
 @pytest.mark.slow  # a server and a websocket student: ~10 s
 def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
     app = rotor_class
     student = Recorder(app.url.replace("http", "ws"))
     try:
-        assert wait_for(lambda: len(app.sessions) == 1, 30)
-        (session,) = app.sessions.values()
+        session, seen = _started(app, student, "rotor_balance")
         ctl, view = session.controller, session.view
-        time.sleep(1.0)
-        before = len(student.inner)
-        app.classroom.announce(Run("run-1", "rotor_balance", time.time()))
-        assert wait_for(lambda: ctl.secret is not None, 10)
         assert all(ctl.sim.values[k] == v for k, v in SECRET.items())  # simulated...
-        view.picker.value = "Tous les panneaux"  # every folder the page may still show
-        view._pending_folder = "Tous les panneaux"
-        time.sleep(3.0)
-        seen = student.since(before)
         assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page
         _never_sent(seen, ctl, SECRET, ("53 g", "-3,3", "3,3°", "Balourd statique",
                                         "Produits d'inertie", "tournant"))  # fmt: skip
@@ -181,16 +186,8 @@ def test_a_wheel_s_heavy_spot_and_wobble_never_reach_the_browser(wheel_class):
     app = wheel_class
     student = Recorder(app.url.replace("http", "ws"))
     try:
-        assert wait_for(lambda: len(app.sessions) == 1, 30)
-        (session,) = app.sessions.values()
+        session, seen = _started(app, student, "wheel_balance")
         ctl, view = session.controller, session.view
-        time.sleep(1.0)
-        before = len(student.inner)
-        app.classroom.announce(Run("run-w", "wheel_balance", time.time()))
-        assert wait_for(lambda: ctl.secret is not None, 10)
-        view._pending_folder = "Tous les panneaux"
-        time.sleep(3.0)
-        seen = student.since(before)
         assert "Roue mystère".encode() in seen
         _never_sent(seen, ctl, WHEEL_SECRET, ("47,5", "137°", "0,53", "219°"))
         assert not [t for t, label, _ in view.renderer.labels.values() if label.visible]
