@@ -13,7 +13,7 @@ one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
 5. tools:     ``recording.py``, ``bench.py``, ``bench_plot.py``, ``accuracy.py`` (a
                setting on the scene's reference test), ``classroom.py`` and
                ``classroom_suite.py`` (the classroom load benchmark), ``lessons.py``,
-               ``replay.py``
+               ``replay.py``, ``sweep.py`` (parameter studies)
 6. web:       ``sandbox/web/`` (viser)
 7. cli:       ``sandbox/cli.py``
 
@@ -53,6 +53,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.classroom_flood",
             "sandbox.lessons",
             "sandbox.replay",
+            "sandbox.sweep",
         ),
     ),
     ("web", ("sandbox.web",)),

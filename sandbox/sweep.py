@@ -1,0 +1,368 @@
+"""Parameter studies (``sandbox sweep``): one readout measured over a grid of parameter
+values, beside the course's closed form.
+
+A study is a list of runs, one per point of the grid (one or two parameters varied, the
+others fixed). Each run builds its own :class:`~sandbox.physics.simulation.Simulation`,
+steps it for ``duration`` seconds, samples the readout after ``settle`` seconds and
+reduces the samples to one number (:data:`STATISTICS`). Runs are independent: they go to
+a pool of processes (``jobs``), and their rows come back in the grid's order whatever
+the order they finish in, so a study gives the same rows with one process or several.
+A run that diverges is kept as a row marked ``diverged``; the study goes on.
+
+Layer: tools (above :mod:`sandbox.runner`, below cli; see ``tests/test_layers.py``).
+"""
+
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import math
+import re
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sandbox.errors import BadOption, Diverged, shown
+from sandbox.physics.simulation import Simulation
+from sandbox.runner import MAX_STEPS, check_run
+
+MAX_RUNS = 1000
+"""Most runs one study may ask for."""
+
+STATISTICS = ("final", "mean", "max", "amplitude", "order1", "order2")
+"""What a run's samples are reduced to: the last one, their mean, their largest value,
+half their range, or the amplitude of the first or second order over the last revolution
+of the scene's first hinge (least squares on cos kθ, sin kθ)."""
+
+RATE = 1000.0
+"""Samples per simulated second taken after the settling time (at most one a step)."""
+
+COLUMNS_AFTER = ("measure", "closed_form", "gap", "status")
+"""Columns after the varied parameters' (a contract): the measure, the course's value
+where the scene has one for this readout and statistic (its final or mean value: the
+readout's own closed form; an order: the closed form named ``READOUT_hN``), measure minus
+closed form, and ``ok`` or ``diverged``."""
+
+_VARY = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)=([^:]+):([^:]+):([^:]+)$")
+
+
+@dataclass(frozen=True)
+class Vary:
+    """A varied parameter: ``count`` values evenly spaced from ``start`` to ``stop``."""
+
+    name: str
+    start: float
+    stop: float
+    count: int
+
+    @property
+    def values(self) -> list[float]:
+        """The values, in order (``start`` alone for a count of 1)."""
+        if self.count == 1:
+            return [self.start]
+        return [float(x) for x in np.linspace(self.start, self.stop, self.count)]
+
+
+@dataclass(frozen=True)
+class Measure:
+    """The readout a study measures and what it takes of its samples."""
+
+    readout: str
+    statistic: str = "final"
+
+    @property
+    def label(self) -> str:
+        """``readout:statistic``."""
+        return f"{self.readout}:{self.statistic}"
+
+
+def parse_vary(text: str) -> Vary:
+    """``NAME=START:STOP:COUNT``.
+
+    Raises:
+        BadOption: naming the expected form.
+    """
+    found = _VARY.match(text.strip()) if isinstance(text, str) and len(text) <= 200 else None
+    if found is None:
+        raise BadOption(
+            f"--vary expects NAME=START:STOP:COUNT, got {shown(text)}; "
+            "e.g. --vary speed_rpm=0:6000:13"
+        )
+    name, start_text, stop_text, count_text = found.groups()
+    try:
+        start, stop = float(start_text), float(stop_text)
+        count = int(count_text)
+    except ValueError:
+        raise BadOption(
+            f"--vary {shown(text)}: START and STOP must be numbers and COUNT a whole number; "
+            "e.g. --vary speed_rpm=0:6000:13"
+        ) from None
+    if not (math.isfinite(start) and math.isfinite(stop)) or count < 1:
+        raise BadOption(f"--vary {shown(text)}: give finite bounds and a COUNT of 1 or more")
+    return Vary(name, start, stop, count)
+
+
+def parse_measure(text: str) -> Measure:
+    """``READOUT[:STATISTIC]``.
+
+    Raises:
+        BadOption: an unknown statistic (the valid ones named).
+    """
+    readout, _, statistic = str(text).strip().partition(":")
+    statistic = statistic or "final"
+    if statistic not in STATISTICS:
+        raise BadOption(
+            f"--measure {shown(text)}: unknown statistic {shown(statistic)}; "
+            f"choose one of {', '.join(STATISTICS)}"
+        )
+    if not readout:
+        raise BadOption("--measure needs a readout name; e.g. --measure bearing_A:final")
+    return Measure(readout, statistic)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A checked study: what varies, what is measured, for how long, on what."""
+
+    target: str
+    varies: tuple[Vary, ...]
+    measure: Measure
+    duration: float
+    settle: float = 0.0
+    fixed: tuple[tuple[str, str], ...] = ()
+    integrator: str | None = None
+    timestep: float | None = None
+
+    def points(self) -> list[dict[str, float]]:
+        """The grid, first parameter varying slowest."""
+        names = [v.name for v in self.varies]
+        return [
+            dict(zip(names, combo, strict=True))
+            for combo in itertools.product(*(v.values for v in self.varies))
+        ]
+
+
+def check(study: Study) -> int:
+    """Refuse a study before any run: parameters, bounds, readout, budget. Returns the
+    steps of one run.
+
+    Raises:
+        BadOption: a repeated ``--vary``, too many runs or steps, a settling time past
+            the duration, an unknown readout.
+        BadParameter: an unknown parameter or a value outside its bounds (the scene's
+            own message).
+    """
+    names = [v.name for v in study.varies]
+    if not names:
+        raise BadOption("give at least one --vary NAME=START:STOP:COUNT")
+    if len(set(names)) != len(names):
+        raise BadOption(f"--vary {shown(names[-1])} is given twice; vary each parameter once")
+    if len(names) > 2:
+        raise BadOption("at most two --vary (a family of curves); fix the others with --set")
+    runs = math.prod(v.count for v in study.varies)
+    if runs > MAX_RUNS:
+        raise BadOption(f"{runs} runs asked; at most {MAX_RUNS}: lower a COUNT")
+    if not (0 <= study.settle < study.duration) and study.measure.statistic != "final":
+        raise BadOption(
+            f"--settle {study.settle:g} s must be shorter than --duration {study.duration:g} s"
+        )
+    fixed = dict(study.fixed)
+    overlap = [n for n in names if n in fixed]
+    if overlap:
+        raise BadOption(f"{shown(overlap[0])} is both varied and --set; keep one")
+    for vary in study.varies:  # both ends within the parameter's bounds (the scene says)
+        for value in (vary.start, vary.stop):
+            Simulation(
+                study.target,
+                values={**fixed, vary.name: value},
+                integrator=study.integrator,
+                timestep=study.timestep,
+            )
+    sim = Simulation(
+        study.target, values=fixed, integrator=study.integrator, timestep=study.timestep
+    )
+    known = sim.readout_names()
+    if study.measure.readout not in known:
+        raise BadOption(
+            f"unknown readout {shown(study.measure.readout)}; "
+            f"see 'sandbox describe {study.target}' (e.g. {', '.join(known[:6])})"
+        )
+    total, _ = check_run(study.duration, RATE, sim.timestep)
+    if total * runs > MAX_STEPS:
+        raise BadOption(
+            f"{runs} runs of {total:,} steps take {total * runs:.3g} steps (max {MAX_STEPS:,}); "
+            "shorten --duration or lower a COUNT"
+        )
+    return total
+
+
+def _first_hinge(sim: Simulation) -> int | None:
+    """qpos address of the model's first hinge (the angle of the orders), None if none."""
+    import mujoco
+
+    model = sim.model
+    for j in range(model.njnt):
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE:
+            return int(model.jnt_qposadr[j])
+    return None
+
+
+def reduce(statistic: str, values: np.ndarray, angles: np.ndarray | None) -> float:
+    """One number from a run's samples (``angles``: the hinge's, for the orders)."""
+    if len(values) == 0:
+        return math.nan
+    if statistic == "final":
+        return float(values[-1])
+    if statistic == "mean":
+        return float(values.mean())
+    if statistic == "max":
+        return float(values.max())
+    if statistic == "amplitude":
+        return float(values.max() - values.min()) / 2.0
+    order = int(statistic[-1])
+    if angles is None or len(angles) < 8:
+        return math.nan
+    end = angles[-1]
+    turn = np.abs(angles - end) <= 2 * math.pi * (1 + 1e-9)  # the last revolution
+    if abs(angles[turn][0] - end) < 2 * math.pi * 0.9:  # less than a revolution sampled
+        return math.nan
+    theta, y = angles[turn], values[turn]
+    cols = [np.ones_like(theta)]
+    for k in range(1, max(order, 4) + 1):  # the orders up to 4: none leaks into another
+        cols += [np.cos(k * theta), np.sin(k * theta)]
+    coef, *_ = np.linalg.lstsq(np.stack(cols, axis=1), y, rcond=None)
+    return float(math.hypot(coef[2 * order - 1], coef[2 * order]))
+
+
+def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
+    """One run of ``study`` at ``point``: its row (see :data:`COLUMNS_AFTER`)."""
+    import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
+
+    sim = Simulation(
+        study.target,
+        values={**dict(study.fixed), **point},
+        integrator=study.integrator,
+        timestep=study.timestep,
+    )
+    total, per = check_run(study.duration, RATE, sim.timestep)
+    hinge = _first_hinge(sim) if study.measure.statistic.startswith("order") else None
+    name = study.measure.readout
+    values: list[float] = []
+    angles: list[float] = []
+    status = "ok"
+    done = 0
+    every = study.measure.statistic != "final"  # a final value needs the last sample only
+    try:
+        while True:
+            settled = sim.data.time >= study.settle - 0.5 * sim.timestep
+            if (every and settled) or done >= total:
+                values.append(sim.readouts([name])[name])
+                if hinge is not None:
+                    angles.append(float(sim.data.qpos[hinge]))
+            if done >= total:
+                break
+            n = min(per, total - done)
+            sim.step(n)
+            done += n
+    except Diverged:
+        status = "diverged"
+    measure = (
+        reduce(study.measure.statistic, np.asarray(values), np.asarray(angles) if angles else None)
+        if status == "ok"
+        else math.nan
+    )
+    course = math.nan
+    statistic = study.measure.statistic
+    if status == "ok" and statistic in ("final", "mean", "order1", "order2"):
+        # the course's value of the same quantity: the readout's own, or its order's
+        # ("pilon:order2" is the course's pilon_h2)
+        ref = sim.reference()
+        key = name if statistic in ("final", "mean") else f"{name}_h{statistic[-1]}"
+        course = float(ref.get(key, math.nan))
+    return {
+        **point,
+        "measure": measure,
+        "closed_form": course,
+        "gap": measure - course,
+        "status": status,
+    }
+
+
+def run_study(
+    study: Study,
+    jobs: int = 1,
+    progress: Callable[[int], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Every run of ``study`` (checked first), in the grid's order, on ``jobs``
+    processes (1: in this one); ``progress(done)`` after each run finishes."""
+    check(study)
+    points = study.points()
+    rows: list[dict[str, Any] | None] = [None] * len(points)
+    if jobs <= 1 or len(points) == 1:
+        for k, point in enumerate(points):
+            rows[k] = run_one(study, point)
+            if progress is not None:
+                progress(k + 1)
+    else:
+        with ProcessPoolExecutor(
+            max_workers=min(jobs, len(points)), mp_context=get_context("spawn")
+        ) as pool:
+            futures = {pool.submit(run_one, study, point): k for k, point in enumerate(points)}
+            for done, future in enumerate(as_completed(futures), start=1):
+                rows[futures[future]] = future.result()
+                if progress is not None:
+                    progress(done)
+    return [r for r in rows if r is not None]
+
+
+def columns(study: Study) -> list[str]:
+    """The output's columns: the varied parameters, then :data:`COLUMNS_AFTER`."""
+    return [*(v.name for v in study.varies), *COLUMNS_AFTER]
+
+
+def write(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
+    """The rows as CSV (dot decimals, empty cells for NaN) or JSON (NaN as null)."""
+    names = columns(study)
+    if out.suffix.lower() == ".json":
+
+        def clean(v: Any) -> Any:
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+
+        payload = {
+            "target": study.target,
+            "measure": study.measure.label,
+            "duration": study.duration,
+            "settle": study.settle,
+            "columns": names,
+            "rows": [[clean(r[n]) for n in names] for r in rows],
+        }
+        out.write_text(json.dumps(payload, indent=1), encoding="utf-8")
+        return
+    with out.open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(names)
+        for r in rows:
+            writer.writerow(
+                [
+                    ""
+                    if isinstance(r[n], float) and not math.isfinite(r[n])
+                    else (f"{r[n]:.10g}" if isinstance(r[n], float) else r[n])
+                    for n in names
+                ]
+            )
+
+
+def table(study: Study, rows: Sequence[Mapping[str, Any]]) -> Iterator[str]:
+    """The rows as aligned text lines for a terminal."""
+    names = columns(study)
+    yield "  ".join(f"{n:>14}" for n in names)
+    for r in rows:
+        yield "  ".join(
+            f"{r[n]:>14.6g}" if isinstance(r[n], float) else f"{r[n]!s:>14}" for n in names
+        )
