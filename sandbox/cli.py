@@ -201,6 +201,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--jobs", type=int, default=None, help="processes running the study (default: cores)"
     )
     w.add_argument("--out", type=Path, help="FILE.csv or FILE.json")
+    w.add_argument("--plot", type=Path, help="FILE.png: the study as a chart, in French")
     s = sub.add_parser("serve", help="start the web sandbox")
     s.add_argument(
         "target",
@@ -468,6 +469,15 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_plot(path: Path) -> None:
+    """Refuse a chart path that is not a writable .png, before any run."""
+    if path.suffix.lower() != ".png":
+        raise BadOption(f"--plot {shown(str(path))} must end in .png")
+    folder = path.parent
+    if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
+        raise BadOption(f"--plot {shown(str(path))} cannot be written; give a file in a folder")
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     """``sandbox sweep``: a parameter study, checked whole before its first run; a
     progress bar on a terminal; exit 3 when a run diverged (its row is kept)."""
@@ -478,9 +488,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     if args.out is not None:
         check_out(args.out)
-    jobs = default_workers() if args.jobs is None else args.jobs
-    if not 1 <= jobs <= MAX_WORKERS:
-        raise BadOption(f"--jobs must be 1 to {MAX_WORKERS}, got {args.jobs}")
+    if args.plot is not None:
+        _check_plot(args.plot)
     study = sweep.Study(
         target=args.target,
         varies=tuple(sweep.parse_vary(v) for v in args.vary),
@@ -491,14 +500,21 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         integrator=args.integrator,
         timestep=args.timestep,
     )
-    sweep.check(study)
+    steps = sweep.check(study)
     runs = len(study.points())
+    # a small study runs here: starting processes (about a second each) would cost more
+    small = steps * runs < sweep.SMALL_STEPS
+    jobs = (1 if small else default_workers()) if args.jobs is None else args.jobs
+    if not 1 <= jobs <= MAX_WORKERS:
+        raise BadOption(f"--jobs must be 1 to {MAX_WORKERS}, got {args.jobs}")
     with tqdm(
         total=runs, unit="run", file=sys.stderr, disable=not sys.stderr.isatty(), leave=False
     ) as bar:
         rows = sweep.run_study(study, jobs, progress=lambda done: bar.update(done - bar.n))
     if args.out is not None:
         sweep.write(args.out, study, rows)
+    if args.plot is not None:
+        sweep.plot(args.plot, study, rows)
     for line in sweep.table(study, rows):
         print(line)
     diverged = sum(1 for r in rows if r["status"] != "ok")

@@ -134,3 +134,13 @@ def test_parsers_name_their_form():
         parse_vary("1R=0:1:2")
     with pytest.raises(SandboxError, match="valid parameters: angle1_deg"):
         run_study(Study("rotor", (Vary("nope", 0, 1, 2),), Measure("bearing_A"), 0.1))
+
+
+def test_the_chart_is_a_png_and_a_bad_chart_path_costs_no_run(tmp_path, capsys):
+    argv = ["sweep", "rotor", "--vary", "speed_rpm=0:3000:4", "--vary", "mass1_g=0:20:2"]
+    argv += ["--measure", "bearing_A", "--duration", "0.1"]
+    assert main([*argv, "--plot", str(tmp_path / "a.png")]) == 0
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    capsys.readouterr()
+    assert main([*argv, "--plot", str(tmp_path / "a.svg")]) == 2
+    assert "must end in .png" in capsys.readouterr().err
