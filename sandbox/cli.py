@@ -200,6 +200,11 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument(
         "--jobs", type=int, default=None, help="processes running the study (default: cores)"
     )
+    w.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on a Dask distributed cluster (tcp://HOST:8786; the cluster extra)",
+    )
     w.add_argument("--out", type=Path, help="FILE.csv or FILE.json")
     w.add_argument("--plot", type=Path, help="FILE.png: the study as a chart, in French")
     s = sub.add_parser("serve", help="start the web sandbox")
@@ -510,7 +515,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     with tqdm(
         total=runs, unit="run", file=sys.stderr, disable=not sys.stderr.isatty(), leave=False
     ) as bar:
-        rows = sweep.run_study(study, jobs, progress=lambda done: bar.update(done - bar.n))
+        rows = sweep.run_study(
+            study,
+            jobs,
+            progress=lambda done: bar.update(done - bar.n),
+            scheduler=args.scheduler,
+        )
     if args.out is not None:
         sweep.write(args.out, study, rows)
     if args.plot is not None:

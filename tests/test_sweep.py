@@ -144,3 +144,31 @@ def test_the_chart_is_a_png_and_a_bad_chart_path_costs_no_run(tmp_path, capsys):
     capsys.readouterr()
     assert main([*argv, "--plot", str(tmp_path / "a.svg")]) == 2
     assert "must end in .png" in capsys.readouterr().err
+
+
+@pytest.mark.slow  # a Dask cluster of two worker processes: ~10 s
+def test_a_dask_cluster_gives_the_local_rows_bit_for_bit():
+    distributed = pytest.importorskip("distributed")
+    study = Study(
+        "compressor",
+        (Vary("L", 0.04, 0.1, 3),),
+        Measure("pilon", "order2"),
+        duration=0.05,
+        settle=0.02,
+    )
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        remote = run_study(study, scheduler=cluster.scheduler_address)
+    assert repr(remote) == repr(run_study(study))
+
+
+def test_an_unreachable_scheduler_is_one_line(capsys, monkeypatch):
+    pytest.importorskip("distributed")
+    from sandbox import sweep
+
+    monkeypatch.setattr(sweep, "CLUSTER_TIMEOUT", 1.0)
+    argv = ["sweep", "rotor", "--vary", "speed_rpm=0:100:2", "--measure", "bearing_A"]
+    assert main([*argv, "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot reach the Dask scheduler" in err and err.count("\n") == 1
