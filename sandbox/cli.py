@@ -251,6 +251,11 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--effects", action="store_true", help="declared effects vs everything on")
     b.add_argument("--overhead", action="store_true", help="sandbox run vs a bare mj_step loop")
     b.add_argument(
+        "--sweep",
+        action="store_true",
+        help="a study of 50 runs of 2 s (rotor, or SCENE): one process vs every core",
+    )
+    b.add_argument(
         "--classroom",
         type=int,
         metavar="N",
@@ -538,12 +543,42 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bench_sweep(target: str) -> int:
+    """``sandbox bench --sweep``: the same study in one process, then on every core."""
+    from sandbox import sweep
+    from sandbox.cores import default_workers
+
+    study = sweep.bench_study(target)
+    cores = default_workers()
+    v = study.varies[0]
+    print(
+        f"{target}: {v.count} runs of {study.duration:g} s, {study.measure.label} over "
+        f"{v.name} from {v.start:g} to {v.stop:g}"
+    )
+    times = {}
+    for jobs in dict.fromkeys((1, cores)):
+        start = time.perf_counter()
+        rows = sweep.run_study(study, jobs)
+        times[jobs] = time.perf_counter() - start
+        word = "process" if jobs == 1 else "processes"
+        print(f"  {jobs} {word:<9} {times[jobs]:6.2f} s  ({len(rows)} rows)")
+    if cores > 1:
+        ratio = times[1] / times[cores]
+        print(
+            f"  time in one process / time on {cores}: ×{ratio:.2f}"
+            + (" (starting the processes costs more than the runs)" if ratio < 1 else "")
+        )
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
     if args.classroom is not None:
         from sandbox.classroom_suite import cli_classroom
 
         return cli_classroom(args)
+    if args.sweep:
+        return _bench_sweep(args.scenes[0] if args.scenes else "rotor")
     from sandbox import bench
     from sandbox.scenes import SCENES, get_scene
 

@@ -369,6 +369,25 @@ def _on_cluster(
         client.close()
 
 
+def bench_study(target: str, runs: int = 50, duration: float = 2.0) -> Study:
+    """The study ``sandbox bench --sweep`` times: ``runs`` runs of ``duration`` s over the
+    scene's first parameter, from its lowest to its highest value, measuring the maximum
+    of its first readout."""
+    from sandbox.scenes.base import as_scene
+
+    sim = Simulation(target)
+    scene = as_scene(sim.scene)
+    if scene is None or not scene.params or not scene.readouts:
+        raise BadOption(f"{shown(target)} has no parameter or readout of its own to study")
+    p = scene.params[0]
+    return Study(
+        target,
+        (Vary(p.name, float(p.min), float(p.max), runs),),
+        Measure(scene.readouts[0].name, "max"),
+        duration,
+    )
+
+
 def columns(study: Study) -> list[str]:
     """The output's columns: the varied parameters, then :data:`COLUMNS_AFTER`."""
     return [*(v.name for v in study.varies), *COLUMNS_AFTER]

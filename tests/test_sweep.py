@@ -172,3 +172,16 @@ def test_an_unreachable_scheduler_is_one_line(capsys, monkeypatch):
     assert main([*argv, "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
     assert "cannot reach the Dask scheduler" in err and err.count("\n") == 1
+
+
+def test_the_sweep_benchmark_prints_both_times_and_their_ratio(capsys, monkeypatch):
+    from sandbox import sweep
+
+    small = sweep.bench_study("rotor", runs=4, duration=0.1)
+    monkeypatch.setattr(sweep, "bench_study", lambda target: small)
+    monkeypatch.setattr("sandbox.cores.default_workers", lambda: 2)
+    assert main(["bench", "--sweep"]) == 0
+    out = capsys.readouterr().out
+    assert "rotor: 4 runs of 0.1 s, omega:max over speed_rpm from 0 to 6000" in out
+    assert "1 process" in out and "2 processes" in out
+    assert "time in one process / time on 2: ×" in out
