@@ -139,3 +139,19 @@ def submit(scene: Scene, setting: Setting) -> Future[Run]:
         future = _executor.submit(run)
         _PENDING[key] = future
         return future
+
+
+def cheapest(result: SceneResult, tolerance: float) -> Run | None:
+    """The cheapest run of the saved benchmark (least CPU per simulated second) whose key
+    quantity is within ``tolerance`` (relative) of the course and that keeps the scene's
+    drift and constraint limits; None when none does. The cheapest such run is on the
+    Pareto front by construction (none is both cheaper and as accurate)."""
+    fits = [r for r in result.runs if result.admissible(r) and r.error <= tolerance]
+    fits = [r for r in fits if math.isfinite(r.cpu_per_sim_s)]
+    return min(fits, key=lambda r: (r.cpu_per_sim_s, r.error), default=None)
+
+
+def most_accurate(result: SceneResult) -> Run | None:
+    """The admissible run with the smallest error (what a refusal points to)."""
+    fits = [r for r in result.runs if result.admissible(r) and math.isfinite(r.error)]
+    return min(fits, key=lambda r: (r.error, r.cpu_per_sim_s), default=None)

@@ -155,6 +155,12 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--integrator", choices=sorted(INTEGRATORS), help="override the integrator")
     r.add_argument("--timestep", type=_positive_float("--timestep"), help="override dt [s]")
     r.add_argument(
+        "--tolerance",
+        type=_positive_float("--tolerance"),
+        help="relative error wanted on the scene's key quantity (e.g. 1e-4): the cheapest "
+        "integrator and timestep of bench/results.json that reach it",
+    )
+    r.add_argument(
         "--rate",
         type=_positive_float("--rate"),
         default=100.0,
@@ -398,6 +404,50 @@ class _Sinks:
             sink.frame(values)
 
 
+def _for_tolerance(args: argparse.Namespace) -> tuple[str, float]:
+    """The cheapest (integrator, timestep) of the saved benchmark that reaches
+    ``--tolerance`` on the scene's key quantity; says on stderr what it chose and costs.
+
+    Raises:
+        BadOption: with --integrator or --timestep, outside (0, 1), for a scene (or file)
+            without a benchmark, or out of reach (the best one is named).
+    """
+    from sandbox.accuracy import cheapest, most_accurate
+    from sandbox.bench import load_results
+
+    tol = args.tolerance
+    if args.integrator is not None or args.timestep is not None:
+        raise BadOption("give --tolerance or --integrator/--timestep, not both")
+    if not 0 < tol < 1:
+        raise BadOption(f"--tolerance is a relative error in (0, 1), got {tol:g}; e.g. 1e-4")
+    result = load_results(str(args.target))
+    if result is None:
+        raise BadOption(
+            f"no benchmark of {shown(str(args.target))} in bench/results.json to choose from; "
+            "give --integrator and --timestep"
+        )
+    run = cheapest(result, tol)
+    if run is None:
+        best = most_accurate(result)
+        hint = (
+            f" (the best measured: {best.error:.2g} with {best.integrator} at dt = "
+            f"{best.timestep:g} s)"
+            if best is not None
+            else ""
+        )
+        raise BadOption(
+            f"no measured setting of {args.target} reaches --tolerance {tol:g}{hint}; "
+            "ask for a larger tolerance"
+        )
+    print(
+        f"sandbox: --tolerance {tol:g}: {run.integrator} at dt = {run.timestep:g} s "
+        f"(error {run.error:.2g} on {result.key} against the course, "
+        f"{run.realtime_factor:.3g}x real time on the benchmark's machine)",
+        file=sys.stderr,
+    )
+    return run.integrator, run.timestep
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     """``sandbox run``: simulate, write readouts, summarise.
 
@@ -413,11 +463,14 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise BadOption(
                 f"--out and --record name the same file {shown(str(args.out))}; give two names"
             )
+    integrator, timestep = args.integrator, args.timestep
+    if args.tolerance is not None:
+        integrator, timestep = _for_tolerance(args)
     sim = Simulation(
         resolve(args.target),
         values=_pairs(args.set),
-        integrator=args.integrator,
-        timestep=args.timestep,
+        integrator=integrator,
+        timestep=timestep,
     )
     check_run(args.duration, args.rate, sim.timestep)
     columns = sim.readout_names()
