@@ -8,6 +8,7 @@ from __future__ import annotations
 import logging
 import math
 import threading
+from collections.abc import Callable
 from concurrent.futures import Future
 
 import numpy as np
@@ -16,7 +17,8 @@ import viser
 from sandbox import accuracy
 from sandbox.accuracy import Setting
 from sandbox.bench import Run, SceneResult, load_results
-from sandbox.bench_plot import drift_words, duration, integrator_words
+from sandbox.bench_plot import decimal, drift_words, duration, integrator_words
+from sandbox.cores import default_workers
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Scene, as_scene
@@ -172,6 +174,32 @@ def conditions(scene: Scene) -> str:
     return " ; ".join(parts)
 
 
+TOLERANCES: dict[str, float] = {
+    "1 %": 1e-2,
+    "0,1 %": 1e-3,
+    "10⁻⁴": 1e-4,
+    "10⁻⁵": 1e-5,
+    "10⁻⁶": 1e-6,
+}
+"""The precisions a user may ask for (relative error on the scene's key quantity)."""
+
+ASK = "Précision voulue"
+KEEP = "Réglage actuel"
+
+
+def chosen_words(run: Run, tolerance: str, key: str) -> str:
+    """What a precision chose, in French: the setting, its error, its speed and how many
+    students' simulations the laptop's cores could step at that speed."""
+    cores = default_workers()
+    students = int(cores * run.realtime_factor) if math.isfinite(run.realtime_factor) else 0
+    return (
+        f"{ASK} {tolerance} : {integrator_words(run.integrator)}, dt = "
+        f"{duration(run.timestep)} (erreur {decimal(run.error)} sur « {key} » à l'essai de "
+        f"référence ; {number(run.realtime_factor, 3)} fois le temps réel : le calcul seul de "
+        f"{cores} cœur{'s' if cores > 1 else ''} suivrait environ {students} élèves)."
+    )
+
+
 class AccuracyPanel:
     """What accuracy costs in one session.
 
@@ -185,7 +213,13 @@ class AccuracyPanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        sim: Simulation,
+        *,
+        choose: Callable[[str, float], None] | None = None,
+    ) -> None:
         scene = as_scene(sim.scene)
         self.scene = scene if scene is not None and scene.accuracy is not None else None
         self.results = load_results(scene.name) if scene is not None else None
@@ -201,12 +235,45 @@ class AccuracyPanel:
             self.key_words = key[0].lower() + key[1:] if key[1:2].islower() else key
             self.invariant_words = drift_words(acc.invariant)
             self.test_words = conditions(self.scene)
+        self.choose = choose
+        self.ask: viser.GuiDropdownHandle[str] | None = None
+        self.chosen: viser.GuiMarkdownHandle | None = None
         with gui.add_folder("Précision et coût") as self.folder:
+            if choose is not None and self.results is not None:
+                self.ask = gui.add_dropdown(
+                    ASK,
+                    (KEEP, *TOLERANCES),
+                    initial_value=KEEP,
+                    hint="L'erreur relative acceptée sur la grandeur clé : le réglage le "
+                    "moins coûteux mesuré par le banc d'essai qui l'atteint est appliqué",
+                )
+                self.chosen = gui.add_markdown("")
+                self.ask.on_update(lambda event: self._asked(event.client, event.target.value))
             self.text = gui.add_markdown("")
             self.image = None
             if self.results is not None and self.scene is not None:
                 blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
                 self.image = gui.add_image(blank, label="Erreur relative et coût CPU", format="png")
+
+    def _asked(self, client: object, choice: object) -> None:
+        """A precision asked for: the cheapest measured setting reaching it, applied."""
+        if client is None or self.choose is None or self.chosen is None:
+            return
+        if not isinstance(choice, str) or choice not in TOLERANCES or self.results is None:
+            self.chosen.content = ""
+            return
+        found = accuracy.cheapest(self.results, TOLERANCES[choice])
+        if found is None:
+            best = accuracy.most_accurate(self.results)
+            self.chosen.content = f"Aucun réglage mesuré n'atteint {choice}" + (
+                f" (le meilleur : {decimal(best.error)}, {integrator_words(best.integrator)} à "
+                f"dt = {duration(best.timestep)})."
+                if best is not None
+                else "."
+            )
+            return
+        self.choose(found.integrator, found.timestep)
+        self.chosen.content = chosen_words(found, choice, self.key_words or "la grandeur clé")
 
     def run(self, setting: Setting, now: float, *, at_once: bool = False) -> Run | None:
         """``setting``'s run on the reference test: saved by the benchmark, measured by

@@ -36,7 +36,7 @@ from sandbox.web.readout_panel import (
 )
 from sandbox.web.renderer import SceneRenderer, mechanism_size
 from sandbox.web.secret import Secret
-from sandbox.web.session import EVERY, Controller, Frame, Notice
+from sandbox.web.session import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.trail import Trail
 
 if TYPE_CHECKING:
@@ -236,7 +236,15 @@ class WebView(Generic[D]):
         self.polar = PolarPanel.create(client.gui, controller)
         self.cycle = CyclePanel(client.gui, sim)
         self.isolate = IsolatePanel(client.gui, sim)
-        self.accuracy = AccuracyPanel(client.gui, sim)
+        choose = None
+        if isinstance(controller, Controller):  # a precision asked: its setting applied
+            submit = controller.submit
+
+            def choose(integrator: str, timestep: float) -> None:
+                submit(Request("integrator", integrator))
+                submit(Request("timestep", timestep))
+
+        self.accuracy = AccuracyPanel(client.gui, sim, choose=choose)
         self.hypotheses = HypothesesPanel(client.gui, sim)
         # Panels of other modules go here, and their folder in _add_picker's list so that
         # "Panneau affiché" shows one at a time.

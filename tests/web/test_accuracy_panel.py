@@ -35,6 +35,12 @@ class Gui:
     def add_image(self, image, **kwargs):
         return Handle(image=image)
 
+    def add_dropdown(self, label, options, **kwargs):
+        handle = Handle()
+        handle.options, handle.callbacks = options, []
+        handle.on_update = handle.callbacks.append
+        return handle
+
 
 def test_shipped_benchmark_has_the_rotor_default_on_its_front():
     res = load_results("rotor")
@@ -375,3 +381,30 @@ def test_the_star_is_a_five_pointed_star():
     assert inside(np.array(0.0), np.array(0.0), _star(radius))
     assert inside(np.array(0.0), np.array(-95.0), _star(radius))  # the upper point
     assert not inside(np.array(0.0), np.array(80.0), _star(radius))  # between two points
+
+
+def test_a_precision_asked_applies_the_cheapest_measured_setting_that_reaches_it():
+    """Issue 25's accuracy knob: "10⁻⁴" on the compressor applies what the benchmark found
+    cheapest at that error (RK4 at 100 µs, 6,24×10⁻⁵ on the pilon), says its speed and how
+    many students that speed allows; an error no setting reached is refused in French."""
+    import sandbox.scenes  # noqa: F401
+
+    sim = Simulation("compressor")
+    applied: list[tuple[str, float]] = []
+    panel = AccuracyPanel(Gui(), sim, choose=lambda i, dt: applied.append((i, dt)))
+    assert panel.ask is not None and "10⁻⁴" in panel.ask.options
+    panel._asked(object(), "10⁻⁴")
+    assert applied == [("rk4", 1e-4)]
+    assert panel.chosen is not None
+    words = panel.chosen.content
+    assert words.startswith(
+        "Précision voulue 10⁻⁴ : Runge-Kutta 4, dt = 100 µs (erreur 6,24×10⁻⁵ sur « effet de"
+    )
+    assert "fois le temps réel" in words and "élèves" in words
+    panel._asked(object(), "10⁻⁶")
+    assert applied == [("rk4", 1e-4)]  # nothing applied
+    assert panel.chosen.content.startswith("Aucun réglage mesuré n'atteint 10⁻⁶ (le meilleur : ")
+    panel._asked(None, "1 %")  # the server's own change of the dropdown: nothing
+    assert len(applied) == 1
+    panel._asked(object(), "<img>")  # a crafted option
+    assert len(applied) == 1 and panel.chosen.content == ""
