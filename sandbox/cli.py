@@ -532,15 +532,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_plot(path: Path) -> None:
-    """Refuse a chart path that is not a writable .png, before any run."""
-    if path.suffix.lower() != ".png":
-        raise BadOption(f"--plot {shown(str(path))} must end in .png")
-    folder = path.parent
-    if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
-        raise BadOption(f"--plot {shown(str(path))} cannot be written; give a file in a folder")
-
-
 def cmd_sweep(args: argparse.Namespace) -> int:
     """``sandbox sweep``: a parameter study, checked whole before its first run; a
     progress bar on a terminal; exit 3 when a run diverged (its row is kept)."""
@@ -552,7 +543,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.out is not None:
         check_out(args.out)
     if args.plot is not None:
-        _check_plot(args.plot)
+        check_out(args.plot, "--plot", (".png",))
     study = sweep.Study(
         target=args.target,
         varies=tuple(sweep.parse_vary(v) for v in args.vary),

@@ -176,18 +176,20 @@ def special_file(path: Path) -> str | None:
     return None
 
 
-def check_out(out: Path, option: str = "--out") -> None:
+def check_out(
+    out: Path, option: str = "--out", suffixes: tuple[str, ...] = (".csv", ".json")
+) -> None:
     """Refuse an output path that cannot be written, before anything is simulated.
 
     Raises:
-        BadOption: not .csv/.json, a directory, a named pipe or device, a missing or
+        BadOption: not one of ``suffixes``, a directory, a named pipe or device, a missing or
             non-folder parent, or a folder (or file) that cannot be written.
     """
     name = shown(str(out))
     if "\x00" in str(out):
         raise BadOption(f"{option} {name} contains a NUL character; give another path")
-    if out.suffix.lower() not in (".csv", ".json"):
-        raise BadOption(f"{option} {name} must end in .csv or .json")
+    if out.suffix.lower() not in suffixes:
+        raise BadOption(f"{option} {name} must end in {' or '.join(suffixes)}")
     folder = out.parent
     try:
         if out.is_dir():

@@ -237,12 +237,9 @@ def reduce(statistic: str, values: np.ndarray, angles: np.ndarray | None) -> flo
     turn = np.abs(angles - end) <= 2 * math.pi * (1 + 1e-9)  # the last revolution
     if abs(angles[turn][0] - end) < 2 * math.pi * 0.9:  # less than a revolution sampled
         return math.nan
-    theta, y = angles[turn], values[turn]
-    cols = [np.ones_like(theta)]
-    for k in range(1, max(order, 4) + 1):  # the orders up to 4: none leaks into another
-        cols += [np.cos(k * theta), np.sin(k * theta)]
-    coef, *_ = np.linalg.lstsq(np.stack(cols, axis=1), y, rcond=None)
-    return float(math.hypot(coef[2 * order - 1], coef[2 * order]))
+    from sandbox.scenes.compressor import fit_orders  # the course's orders, fitted once
+
+    return float(fit_orders(angles[turn], values[turn], orders=max(order, 4))[order])
 
 
 def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:

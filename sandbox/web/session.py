@@ -1103,6 +1103,7 @@ class Session:
         generation = int(getattr(ctl, "generation", 0))
         drawing: Picture | None = None
         snap: Snapshot | None = None
+        secret: Secret | None = getattr(ctl, "secret", None)  # a replay has none
         key = (id(sim.model), drawn_at, generation)
         if self.view.draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
@@ -1110,7 +1111,6 @@ class Session:
             trail = scene.trail if scene is not None else None
             with sim.lock:
                 snap = drawn_snapshot(ctl, FORCES if arrows or (read and values is None) else ())
-                secret = getattr(ctl, "secret", None)
                 twin = secret.twin(sim) if secret is not None else None
                 drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
@@ -1126,7 +1126,6 @@ class Session:
             ctl.record(values)
         elif self.drive and _records(ctl):
             ctl.record()
-        secret = getattr(ctl, "secret", None)
         if secret is not None and shown is not None:
             shown = secret.hide(shown)
         return Frame(
