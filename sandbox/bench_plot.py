@@ -145,6 +145,14 @@ def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
     return Comma(labelOnlyBase=label_only_base)
 
 
+def comma_formatter() -> Formatter:
+    """Linear tick labels as a French reader writes them: "0,5", "−2", "1,5e+03" stays
+    Matplotlib's short form with a comma."""
+    from matplotlib.ticker import FuncFormatter
+
+    return FuncFormatter(lambda v, _: f"{v:g}".replace(".", ",").replace("-", "−"))
+
+
 STAR = "réglage par défaut"
 DIAMOND = "votre réglage"
 """The compact chart's legend entries for the marks the web panel draws itself."""

@@ -454,9 +454,7 @@ def plot(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
     """The study as a PNG for a slide, in French: the measure against the first varied
     parameter (one curve per value of the second), dots for the runs, the course's
     closed form dashed through them where the scene has one; decimal commas."""
-    from matplotlib.ticker import FuncFormatter
-
-    from sandbox.bench_plot import LOCK, new_figure
+    from sandbox.bench_plot import LOCK, comma_formatter, new_figure
     from sandbox.scenes.base import as_scene
 
     sim = Simulation(study.target, values=dict(study.fixed))
@@ -468,7 +466,7 @@ def plot(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
     x_words = _words(p.label or p.name, p.unit) if p is not None else first
     info = infos[study.measure.readout]
     y_words = STAT_WORDS[study.measure.statistic] + _words(info.label or info.name, info.unit)
-    comma = FuncFormatter(lambda v, _: f"{v:g}".replace(".", ",").replace("-", "−"))
+    comma = comma_formatter()
     with LOCK:
         fig = new_figure(7.0, 4.5)
         ax = fig.add_subplot()

@@ -17,6 +17,7 @@ import numpy as np
 
 from sandbox.errors import BadParameter
 from sandbox.physics.units import display_unit
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 if TYPE_CHECKING:
     from sandbox.physics.snapshot import Snapshot
@@ -393,6 +394,9 @@ class Scene:
             unit): the page shows a number whose magnitude is at most this as 0 (e.g. a
             bearing force of 6e-12 N where the course says 0). Far below anything the
             scene computes on purpose (a closure error of 1e-8 m stays visible).
+        xy_presets: Plots of one readout against another that show the course's laws
+            (folder "Tracé X–Y"; the first is shown at the start).
+        study_presets: Parameter studies that show them (folder "Étude paramétrique").
     """
 
     name: str
@@ -428,6 +432,8 @@ class Scene:
     zero: Mapping[str, float] = field(default_factory=dict)
     overlay: Mapping[str, str] = field(default_factory=dict)
     effects_for: Callable[[Values], Effects] | None = None
+    xy_presets: tuple[XYPreset, ...] = ()
+    study_presets: tuple[StudyPreset, ...] = ()
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

@@ -37,6 +37,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import largest, residual_over_peak
+from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.revolutions import PerModel
 
 RPM = 2 * math.pi / 60
@@ -624,6 +625,35 @@ SCENE = Scene(
     timestep_for=default_timestep,
     # Time plots of slow quantities (the pilon itself is drawn against θ in "Sur un tour").
     plots=("pilon_h1", "pilon_h2", "tamis_h1", "omega"),
+    xy_presets=(
+        XYPreset(
+            "Pilon et tamis sur un tour du vilebrequin",
+            "theta",
+            ("pilon", "tamis"),
+            hint="Les efforts transmis au bâti selon l'angle θ du vilebrequin ; en tirets, "
+            "les expressions du cours (7.3).",
+        ),
+        XYPreset(
+            "Couple moteur sur un tour du vilebrequin",
+            "theta",
+            ("motor_torque",),
+            hint="Le couple que le moteur fournit selon θ ; en tirets, celui que donne le "
+            "théorème de l'énergie cinétique.",
+        ),
+    ),
+    study_presets=(
+        StudyPreset(
+            "Pilon d'ordre 2 selon R/L",
+            ("L", 0.04, 0.2, 9),
+            "pilon",
+            statistic="order2",
+            duration=0.1,
+            settle=0.02,
+            hint="L'harmonique d'ordre 2 de l'effet de pilon est proportionnelle à R/L "
+            "(cours 7.3) : une bielle plus longue secoue moins le bâti.",
+            x=("Rapport R/L", lambda v: v["R"] / v["L"]),
+        ),
+    ),
     arrows=ARROWS,
     body_frame="crank",
     sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",

@@ -78,6 +78,7 @@ from sandbox.scenes.base import (
 )
 from sandbox.scenes.compressor import RPM, fit_orders, kinematics
 from sandbox.scenes.measures import largest, residual_over_peak
+from sandbox.scenes.presets import XYPreset
 from sandbox.scenes.revolutions import PerModel
 
 MAX_CYLINDERS = 4
@@ -592,6 +593,22 @@ SCENE = Scene(
     # The orders, steady at a steady speed: the pilon itself turns at 50 to 280 Hz, which
     # ten samples a second alias into noise (its curve over a turn is « Sur un tour »).
     plots=("shaking_force_h1", "shaking_force_h2", "shaking_moment_max"),
+    xy_presets=(
+        XYPreset(
+            "Pilon sur un tour du vilebrequin",
+            "theta",
+            ("pilon",),
+            hint="La somme des effets de pilon des cylindres selon l'angle θ ; en tirets, "
+            "celle du cours.",
+        ),
+        XYPreset(
+            "Moment de basculement sur un tour du vilebrequin",
+            "theta",
+            ("shaking_moment",),
+            hint="Le moment que les équipages mobiles exercent sur le bâti selon θ ; en "
+            "tirets, celui du cours.",
+        ),
+    ),
     arrows=ARROWS,
     body_frame="crank",
     sections="1, 7.3, figure 1",

@@ -31,6 +31,7 @@ from sandbox.scenes.base import (
     Series,
     Values,
 )
+from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
 MANOEUVRES = {
@@ -199,6 +200,21 @@ SCENE = Scene(
     integrator="rk4",
     timestep=1.5e-3,
     plots=("gimbal_outer", "gimbal_inner", "axis_drift"),
+    xy_presets=(
+        XYPreset(
+            "Angles des cadres au cours du temps",
+            "time",
+            ("gimbal_outer", "gimbal_inner"),
+            hint="Les cadres tournent avec le boîtier pendant que l'axe du rotor garde sa "
+            "direction.",
+        ),
+        XYPreset(
+            "Dérive de l'axe selon l'angle du cadre extérieur",
+            "gimbal_outer",
+            ("axis_drift",),
+            hint="Ce que l'axe du rotor perd de sa direction pendant que le boîtier tourne.",
+        ),
+    ),
     arrows=ARROWS,
     # Longest MJCF names first: the isolate panel replaces them in its texts.
     extra={

@@ -34,6 +34,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import energy_drift
+from sandbox.scenes.presets import XYPreset
 
 G = 9.81
 RPM = 2 * math.pi / 60
@@ -219,6 +220,22 @@ SCENE = Scene(
     timestep=2e-4,
     timestep_for=default_timestep,
     plots=("precession_rate", "nutation"),
+    xy_presets=(
+        XYPreset(
+            "Précession selon la nutation",
+            "nutation",
+            ("precession_rate",),
+            refs={"precession_rate": "precession_fast_top"},
+            hint="La vitesse de précession oscille avec la nutation ; en tirets, la "
+            "précession de la toupie rapide du cours.",
+        ),
+        XYPreset(
+            "Nutation au cours du temps",
+            "time",
+            ("nutation",),
+            hint="L'axe hoche pendant qu'il précesse : la nutation.",
+        ),
+    ),
     arrows=ARROWS,
     # Round-off: {D} and the frame's moment keep 1e-14 N·m about z0 where the course has 0;
     # the powers (2e-8 W: the nutation the launch leaves) stay visible.

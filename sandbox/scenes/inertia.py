@@ -52,6 +52,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import relative_drift
+from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
 SOLIDS = (
@@ -963,6 +964,21 @@ SCENE = Scene(
     timestep=TIMESTEP,
     timestep_for=timestep_for,
     plots=("spin_angle", "omega"),
+    xy_presets=(
+        XYPreset(
+            "Angle de l'axe de rotation au cours du temps",
+            "time",
+            ("spin_angle",),
+            hint="Lancé autour de l'axe d'inertie intermédiaire, le solide bascule "
+            "périodiquement ; autour des deux autres, l'angle reste petit.",
+        ),
+        XYPreset(
+            "Composantes de l'axe principal choisi",
+            "time",
+            ("axis_x", "axis_y", "axis_z"),
+            hint="Les composantes dans R₀ de l'axe principal autour duquel le solide est lancé.",
+        ),
+    ),
     arrows=ARROWS,
     body_frame="solid",
     sections="5.2–5.7, A.3",

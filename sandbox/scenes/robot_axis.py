@@ -58,6 +58,7 @@ from sandbox.scenes.base import (
     Values,
     per_revolution_timestep,
 )
+from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
 SERVO_TIME = 0.01
@@ -562,6 +563,22 @@ SCENE = Scene(
     # and nears its stability limit on the speed servo (time constant 10 ms).
     max_timestep=1e-2,
     plots=("y_ch", "omega_m", "deflection", "C_m"),
+    xy_presets=(
+        XYPreset(
+            "Couple moteur au cours du mouvement",
+            "time",
+            ("C_m",),
+            hint="Le couple que le moteur fournit ; en tirets, celui que donne le cours "
+            "(inertie équivalente, frottement et rendement).",
+        ),
+        XYPreset(
+            "Vitesse du chariot selon sa position",
+            "y_ch",
+            ("V_ch",),
+            hint="Le profil de vitesse du chariot le long de sa course : accélération, "
+            "palier, freinage.",
+        ),
+    ),
     arrows=ARROWS,
     body_frame="carriage",
     sections="6.3, 6.4",

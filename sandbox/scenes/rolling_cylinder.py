@@ -53,6 +53,7 @@ from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import energy_drift
+from sandbox.scenes.presets import XYPreset
 
 G = 9.81
 CYLINDER, PLANE, ECCENTRIC, START = "Cylindre", "Plan incliné", "Masse excentrée", "Lancement"
@@ -580,6 +581,22 @@ SCENE = Scene(
     # 0.1 s): nothing explodes, so such timesteps are refused rather than detected.
     max_timestep=0.02,
     plots=("v", "slip_velocity", "mu_required"),
+    xy_presets=(
+        XYPreset(
+            "Vitesse selon la distance parcourue",
+            "x",
+            ("v",),
+            hint="Sous accélération constante, v² croît comme x : la courbe est une "
+            "demi-parabole couchée.",
+        ),
+        XYPreset(
+            "Accélération au cours du temps",
+            "time",
+            ("a",),
+            hint="L'accélération du centre ; en tirets, celle du cours (roulement sans "
+            "glissement ou glissement selon μ).",
+        ),
+    ),
     arrows=ARROWS,
     body_frame="cylinder",
     sections="3.2, 6.1.3, 6.2",

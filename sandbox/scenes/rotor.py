@@ -9,6 +9,7 @@ needs Y = 0 and E = F = 0.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import mujoco
@@ -19,6 +20,7 @@ from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import relative_drift, worst_relative_error
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 # Geometry (metres, kg/m³), shared by the model edits and the closed-form reference.
 STEEL = 7800.0
@@ -122,6 +124,21 @@ PARAMS = (
         "masselotte de défaut).",
         group="Masses de correction",
     ),
+    Param(
+        "ramp_s",
+        "s",
+        0.0,
+        0.0,
+        10.0,
+        "0: start at speed; > 0: start at rest, the motor's set point rising with this time "
+        "constant.",
+        step=0.1,
+        label="Temps de montée en vitesse τ",
+        hint="0 : le rotor part à sa vitesse ; sinon il part du repos et la consigne du "
+        "moteur monte vers ω avec cette constante de temps (ω atteint 95 % en 3τ).",
+        group="Entraînement",
+        advanced=True,
+    ),
 )
 
 
@@ -169,6 +186,12 @@ def edit(spec: mujoco.MjSpec, values: Values) -> None:
         geom.mass = mass
         geom.pos = pos
         geom.rgba[3] = 1.0 if mass > 0 else 0.0
+    motor = spec.actuator("motor")  # a first-order set point: a start from rest
+    if values["ramp_s"] > 0:
+        motor.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
+        motor.dynprm[0] = values["ramp_s"]
+    else:
+        motor.dyntype = mujoco.mjtDyn.mjDYN_NONE
 
 
 def drive(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
@@ -177,8 +200,8 @@ def drive(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
-    """Start already at the imposed speed (steady state)."""
-    data.qvel[0] = omega(values)
+    """Start already at the imposed speed (steady state), or at rest for a start."""
+    data.qvel[0] = 0.0 if values["ramp_s"] > 0 else omega(values)
 
 
 # -- closed-form reference (course 7.2) ---------------------------------------------------
@@ -246,6 +269,20 @@ def reference(values: Values) -> dict[str, float]:
         "bearing_A": float(np.linalg.norm(f_a)),
         "bearing_B": float(np.linalg.norm(f_b)),
     }
+
+
+@functools.lru_cache(maxsize=64)
+def _bearing_gains(key: tuple[tuple[str, float], ...]) -> tuple[float, float]:
+    """|F_A| / ω² and |F_B| / ω² of the course (7.2) for the rotor of these values."""
+    ref = reference({**dict(key), "speed_rpm": 30.0 / math.pi})  # ω = 1 rad/s
+    return ref["bearing_A"], ref["bearing_B"]
+
+
+def _bearing_ref(s: Snapshot, k: int) -> float:
+    """The course's bearing force at the measured ω (the speed may be ramping)."""
+    key = tuple(sorted((n, float(v)) for n, v in s.values.items() if n != "speed_rpm"))
+    w = s.joint_qvel("spin")
+    return _bearing_gains(key)[k] * w * w
 
 
 def balancing_solution(values: Values) -> dict[str, float]:
@@ -325,6 +362,23 @@ READOUTS = (
         lambda s: float(np.linalg.norm(_bearings(s)[1])),
         label="Effort du palier B",
         hint="Norme de l'effort du bâti sur le rotor au palier B, perpendiculaire à l'axe.",
+    ),
+    SceneReadout(
+        "bearing_A_ref",
+        "N",
+        "Course value of bearing_A at the measured speed (m, E, F and ω²).",
+        lambda s: _bearing_ref(s, 0),
+        label="Effort du palier A selon le cours",
+        hint="Ce que donne le cours (7.2) pour l'effort du palier A à la vitesse mesurée : "
+        "proportionnel à ω².",
+    ),
+    SceneReadout(
+        "bearing_B_ref",
+        "N",
+        "Course value of bearing_B at the measured speed.",
+        lambda s: _bearing_ref(s, 1),
+        label="Effort du palier B selon le cours",
+        hint="Ce que donne le cours (7.2) pour l'effort du palier B à la vitesse mesurée.",
     ),
     SceneReadout(
         "static_unbalance",
@@ -409,6 +463,33 @@ SCENE = Scene(
     integrator="implicitfast",
     timestep=1e-2,
     plots=("bearing_A", "bearing_B"),
+    xy_presets=(
+        XYPreset(
+            "Efforts des paliers selon ω, au démarrage",
+            "omega",
+            ("bearing_A", "bearing_B"),
+            values={"ramp_s": 2.0, "speed_rpm": 6000.0},
+            hint="Le rotor part du repos et monte à 6000 tr/min : les efforts des paliers "
+            "suivent la parabole du cours en ω² (tirets).",
+        ),
+        XYPreset(
+            "Efforts des paliers au cours du temps",
+            "time",
+            ("bearing_A", "bearing_B"),
+            hint="À vitesse constante, les efforts tournent avec le rotor mais gardent leur "
+            "intensité : celle du cours (tirets).",
+        ),
+    ),
+    study_presets=(
+        StudyPreset(
+            "Effort du palier A selon la vitesse (0 à 6000 tr/min)",
+            ("speed_rpm", 0.0, 6000.0, 13),
+            "bearing_A",
+            duration=0.1,
+            hint="Chaque point est une simulation à vitesse constante : l'effort croît "
+            "comme ω² (cours 7.2).",
+        ),
+    ),
     arrows=ARROWS,
     body_frame="rotor",
     sections="2–3, 5, 6, 7.2",

@@ -54,6 +54,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import relative_drift, worst_relative_error
+from sandbox.scenes.presets import XYPreset
 
 RPM = 2.0 * math.pi / 60.0
 AXIS = np.array([1.0, 0.0, 0.0])
@@ -811,6 +812,15 @@ SCENE = Scene(
     # 9e-3 s, diverged at 3e-2 s); rigid bearings use 1e-2 s
     max_timestep=RIGID_TIMESTEP,
     plots=("bearing_inner", "bearing_outer"),
+    xy_presets=(
+        XYPreset(
+            "Efforts des paliers au cours du temps",
+            "time",
+            ("bearing_inner", "bearing_outer"),
+            hint="À vitesse constante, les efforts tournent avec la roue avec une intensité "
+            "fixe ; en tirets, celle du cours.",
+        ),
+    ),
     overlay={
         "bearing_inner": "Palier A",
         "bearing_outer": "Palier B",

@@ -37,6 +37,7 @@ from sandbox.physics.units import display_unit
 from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import text
+from sandbox.web.probe import Probe
 from sandbox.web.secret import Secret
 
 log = logging.getLogger(__name__)
@@ -236,6 +237,7 @@ class Controller:
         self._ended_at: float | None = None  # wall clock the scene's run ended at
         self.display = DisplayState(sim)
         self.secret: Secret | None = None  # a challenge's, kept from the page
+        self.probe = Probe()  # readouts sampled between frames (a "Tracé X–Y")
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -497,7 +499,10 @@ class Controller:
         comes back as its notice."""
         start = time.thread_time()
         try:
-            self.sim.step(n)
+            if self.probe.active:
+                self._step_sampled(n)
+            else:
+                self.sim.step(n)
         except Diverged as exc:
             return self._diverge(exc)
         except Exception as exc:  # stepping again would fail again: pause, say it once
@@ -514,6 +519,15 @@ class Controller:
             self._spent += cost
             self._count(cost, n * self.sim.timestep, n)
         return None
+
+    def _step_sampled(self, n: int) -> None:
+        """Run ``n`` timesteps, stopping where the probe samples its readouts."""
+        sim, probe = self.sim, self.probe
+        names = list(probe.names)
+        for m, sample in probe.chunks(n, sim.timestep, self.speed):
+            sim.step(m)
+            if sample:
+                probe.add(float(sim.data.time), sim.readouts(names))
 
     def _run_owed(self, now: float) -> list[Notice]:
         """Run what this frame's budget allows of a "Pas" (:attr:`_owed` timesteps): a

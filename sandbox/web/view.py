@@ -38,6 +38,8 @@ from sandbox.web.renderer import SceneRenderer, mechanism_size
 from sandbox.web.secret import Secret
 from sandbox.web.session import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.trail import Trail
+from sandbox.web.xy_panel import FOLDER as XY_FOLDER
+from sandbox.web.xy_panel import XYPanel
 
 if TYPE_CHECKING:
     import viser
@@ -235,6 +237,7 @@ class WebView(Generic[D]):
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.polar = PolarPanel.create(client.gui, controller)
         self.cycle = CyclePanel(client.gui, sim)
+        self.xy = XYPanel(client.gui, controller) if isinstance(controller, Controller) else None
         self.isolate = IsolatePanel(client.gui, sim)
         choose = None
         if isinstance(controller, Controller):  # a precision asked: its setting applied
@@ -271,6 +274,7 @@ class WebView(Generic[D]):
         for folder in (
             self.polar.folder if self.polar is not None else None,
             self.cycle.folder,
+            self.xy.folder if self.xy is not None else None,
             self.isolate.folder,
             self.accuracy.folder,
             self.hypotheses.folder,
@@ -363,6 +367,8 @@ class WebView(Generic[D]):
         lesson, at :data:`PANEL_RATE`; None between refreshes."""
         if self._pending_folder is not None:
             self._apply_folder()
+        if self.xy is not None:
+            self.xy.watch(self._showing(XY_FOLDER))
         if now - self._last_panel < 1.0 / PANEL_RATE:
             return None
         if self.lesson is not None and self.lesson.progress is not None:
@@ -423,6 +429,8 @@ class WebView(Generic[D]):
             self.lesson.refresh(values)
         if self._showing(CYCLE_FOLDER):
             self.cycle.refresh(sim, now)
+        if self.xy is not None and self._showing(XY_FOLDER):
+            self.xy.refresh(now)
         drawing = self._picture
         if self.trail is not None and drawing is not None and drawing.trail is not None:
             self.trail.add(drawing.time, drawing.trail)

@@ -1,0 +1,202 @@
+"""The "Tracé X–Y": readouts sampled between frames by the session's probe, folded,
+sorted and read at a cursor, against the course's closed forms."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+import pytest
+
+from sandbox.physics.simulation import Simulation
+from sandbox.physics.units import RAD_S_TO_RPM
+from sandbox.scenes import SCENES
+from sandbox.scenes.presets import TIME
+from sandbox.sweep import STATISTICS
+from sandbox.web.probe import RATE, Probe
+from sandbox.web.session import Controller
+from sandbox.web.xy import TIME_AXIS, Axis, XYData, finite_ends, slope_unit
+
+
+def _axis(sim: Simulation, name: str) -> Axis:
+    if name == TIME:
+        return TIME_AXIS
+    info = {i.name: i for i in sim.readout_infos()}[name]
+    return Axis.of(name, info.label or name, info.unit)
+
+
+def _run(ctl: Controller, seconds: float, fps: float = 60.0) -> None:
+    """Frames of the session loop over ``seconds`` of wall time (a fake clock)."""
+    t0 = ctl.clock()
+    for k in range(1, int(seconds * fps) + 1):
+        ctl.frame(t0 + k / fps)
+
+
+def test_the_probe_splits_steps_and_keeps_its_rate():
+    """Every step is run, and samples come at most RATE per wall second, spaced
+    between half and one and a half times the mean."""
+    probe = Probe()
+    probe.want("view", ["pilon"])
+    dt = 5e-4  # 10 steps per sample at speed 1
+    pieces = list(probe.chunks(20_000, dt, 1.0))
+    assert sum(m for m, _ in pieces) == 20_000
+    samples = sum(1 for _, s in pieces if s)
+    assert samples == pytest.approx(20_000 * dt * RATE, rel=0.02)
+    spans = [m for m, s in pieces if s]
+    assert 5 <= min(spans) and max(spans) <= 15
+    assert len(set(spans)) > 3  # uneven: a periodic motion is met at every phase
+    fresh = Probe()
+    fresh.want("view", ["pilon"])
+    slow = sum(1 for _, s in fresh.chunks(200, dt, 0.01) if s)  # slow motion: every step
+    assert slow == 200
+    probe.release("view")
+    assert not probe.active and probe.names == ()
+
+
+def test_nothing_is_sampled_while_no_view_wants_it():
+    """Counted, not timed: no readout evaluated between frames when no X–Y plot is
+    shown; with one, about RATE samples per wall second whatever the speed."""
+    ctl = Controller(Simulation("compressor"))
+    _run(ctl, 0.5)
+    assert ctl.probe.since(0) == (0, [])
+    ctl.probe.want("view", ["theta", "pilon"])
+    _run(ctl, 1.0)
+    seq, samples = ctl.probe.since(0)
+    assert RATE * 0.9 <= len(samples) <= RATE * 1.1
+    assert set(samples[0][1]) == {"theta", "pilon"}
+    ctl.probe.release("view")
+    _run(ctl, 0.5)
+    assert ctl.probe.since(seq)[1] == []
+
+
+def test_the_compressors_pilon_over_a_revolution_matches_the_course():
+    """Course 7.3: the pilon and tamis against the crank angle θ, folded on one
+    revolution at 3000 rpm, reach every angle the physics steps reach (its per-revolution
+    timestep gives 40 steps a turn: every 9°) and equal the course's exact slider-crank
+    expressions (dashed) within 0.1 % of their peak."""
+    sim = Simulation("compressor")
+    ctl = Controller(sim)
+    data = XYData(
+        _axis(sim, "theta"),
+        [_axis(sim, "pilon"), _axis(sim, "tamis")],
+        {"pilon": "pilon_ref", "tamis": "tamis_ref"},
+    )
+    ctl.probe.want("view", data.names)
+    _run(ctl, 2.0)
+    data.add(ctl.probe.since(0)[1])
+    x, values = data.shown()
+    assert 0 <= x.min() and x.max() < 360 and np.all(np.diff(x) >= 0)
+    step = 360.0 * 50.0 * sim.timestep  # degrees a timestep at 3000 rpm
+    assert step == pytest.approx(9.0)
+    assert np.max(np.diff(np.r_[x, x[0] + 360])) < step * 1.01
+    for name in ("pilon", "tamis"):
+        peak = np.max(np.abs(values[f"{name}_ref"]))
+        assert np.max(np.abs(values[name] - values[f"{name}_ref"])) < 1e-3 * peak
+    arrays = data.arrays(0.5)
+    assert len(arrays) == 1 + len(data.layout()) == 7
+    assert all(len(a) == len(arrays[0]) and np.isfinite(a[[0, -1]]).all() for a in arrays)
+
+
+def test_the_rotors_start_draws_the_course_parabola():
+    """Course 7.2 during the rotor's start from rest (the preset: τ = 2 s to 6000 rpm):
+    bearing A against ω follows K·ω² (its dashed closed form) within 0.1 % above
+    1000 rpm, and the cursor's slope equals 2·K·ω within 2 %."""
+    preset = next(p for p in SCENES["rotor"].xy_presets if p.values)
+    sim = Simulation("rotor", values=dict(preset.values))
+    ctl = Controller(sim)
+    data = XYData(
+        _axis(sim, preset.x),
+        [_axis(sim, y) for y in preset.ys],
+        {y: f"{y}_ref" for y in preset.ys},
+    )
+    assert data.names == ("omega", "bearing_A", "bearing_B", "bearing_A_ref", "bearing_B_ref")
+    ctl.probe.want("view", data.names)
+    _run(ctl, 6.0)
+    data.add(ctl.probe.since(0)[1])
+    x, values = data.shown()  # ω in tr/min
+    assert x.max() > 5000 and x.min() < 200
+    fast = x > 1000
+    gap = np.abs(values["bearing_A"][fast] / values["bearing_A_ref"][fast] - 1)
+    assert gap.max() < 1e-3
+    found = data.read(0.8)
+    assert found is not None
+    at, ((axis, value, slope), _) = found
+    assert axis.name == "bearing_A"
+    k = value / at**2  # N per (tr/min)²
+    assert slope == pytest.approx(2 * k * at, rel=0.02)
+    text = data.reading(0.8, SCENES["rotor"].zero)
+    assert "pente" in text and "N/(tr/min)" in text and "tr/min" in text
+    assert "." not in text.replace("**", "")  # decimal commas only
+
+
+def test_constant_x_says_what_to_do():
+    sim = Simulation("rotor")
+    data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {})
+    data.add((t, {"omega": 157.0, "bearing_A": 54.4}) for t in (0.0, 0.1, 0.2))
+    assert "X ne varie pas" in data.reading(0.5)
+    assert "lancez la simulation" in XYData(TIME_AXIS, [_axis(sim, "T")], {}).reading(0.5)
+
+
+def test_time_keeps_a_window_and_a_reset_starts_again():
+    sim = Simulation("rotor")
+    data = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
+    data.add((t / 10, {"bearing_A": 1.0}) for t in range(300))
+    assert len(data) == 101  # 10 s kept
+    data.add([(0.0, {"bearing_A": 2.0})])  # time went back: a reset
+    assert len(data) == 1
+
+
+def test_the_csv_keeps_contract_names_and_units():
+    """Files keep the contract: ω in rad/s and the readouts' names, dot decimals."""
+    sim = Simulation("rotor")
+    data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {"bearing_A": "bearing_A_ref"})
+    data.add([(0.5, {"omega": 100.0, "bearing_A": 22.0, "bearing_A_ref": 22.1})])
+    rows = list(csv.reader(io.StringIO(data.csv_text())))
+    assert rows == [["time", "omega", "bearing_A", "bearing_A_ref"], ["0.5", "100", "22", "22.1"]]
+    x, _ = data.shown()
+    assert x[0] == pytest.approx(100 * RAD_S_TO_RPM)  # the page: tr/min
+
+
+def test_the_png_is_a_png_in_french():
+    sim = Simulation("rotor")
+    data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {"bearing_A": "bearing_A_ref"})
+    data.add(
+        (t, {"omega": w, "bearing_A": w * w, "bearing_A_ref": w * w})
+        for t, w in enumerate(np.linspace(1, 100, 20))
+    )
+    png = data.png("Effort du palier A selon ω", ["#2860e6"])
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
+
+
+def test_helpers():
+    assert slope_unit("N", "tr/min") == "N/(tr/min)"
+    assert slope_unit("N", "°") == "N/°"
+    assert slope_unit("", "s") == "1/s"
+    column = np.array([math.nan, 1.0, math.nan, 3.0, math.nan])
+    assert finite_ends(column)[[0, -1]].tolist() == [1.0, 3.0]
+    assert finite_ends(np.full(3, math.nan))[[0, -1]].tolist() == [0.0, 0.0]
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_every_preset_names_what_its_scene_has(name):
+    """Each scene proposes X–Y plots and studies made of its own readouts and
+    parameters, within the parameters' bounds, with French labels."""
+    scene = SCENES[name]
+    sim = Simulation(name)
+    readouts = set(sim.readout_names())
+    params = {p.name: p for p in scene.params}
+    assert scene.xy_presets, f"{name} proposes no X–Y plot"
+    for p in scene.xy_presets:
+        assert p.x in readouts and 1 <= len(p.ys) <= 3 and set(p.ys) <= readouts
+        assert set(p.refs.values()) <= readouts
+        assert set(p.values) <= set(params) and p.hint
+        units = {u for n, u in ((i.name, i.unit) for i in sim.readout_infos()) if n in p.ys}
+        assert len(units) == 1, f"{p.label}: one unit on the Y axis"
+    for s in scene.study_presets:
+        for vary in (s.vary, s.family) if s.family else (s.vary,):
+            q = params[vary[0]]
+            assert q.min <= vary[1] < vary[2] <= q.max and vary[3] >= 2
+        assert s.measure in readouts and s.statistic in STATISTICS and s.hint
+        assert set(s.fixed) <= set(params)
