@@ -24,7 +24,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from multiprocessing import get_context
 from pathlib import Path
-from typing import Any
+from typing import IO, Any, TextIO
 
 import numpy as np
 
@@ -35,10 +35,12 @@ from sandbox.runner import MAX_STEPS, check_run
 MAX_RUNS = 1000
 """Most runs one study may ask for."""
 
-STATISTICS = ("final", "mean", "max", "amplitude", "order1", "order2")
+STATISTICS = ("final", "mean", "max", "amplitude", "order1", "order2", "period")
 """What a run's samples are reduced to: the last one, their mean, their largest value,
-half their range, or the amplitude of the first or second order over the last revolution
-of the scene's first hinge (least squares on cos kθ, sin kθ)."""
+half their range, the amplitude of the first or second order over the last revolution
+of the scene's first hinge (least squares on cos kθ, sin kθ), or the mean time between
+two rises through the middle of their range (an oscillation's period, e.g. the flips of
+a solid launched about its intermediate axis)."""
 
 SMALL_STEPS = 300_000
 """Steps in all under which ``sandbox sweep`` runs a study in its own process by default:
@@ -143,6 +145,9 @@ class Study:
     fixed: tuple[tuple[str, str], ...] = ()
     integrator: str | None = None
     timestep: float | None = None
+    course: str | None = None
+    """Key of the closed form in the scene's reference when it is not the readout's own
+    (e.g. ``flip_period`` for the period of ``spin_angle``)."""
 
     def points(self) -> list[dict[str, float]]:
         """The grid, first parameter varying slowest."""
@@ -218,10 +223,32 @@ def _first_hinge(sim: Simulation) -> int | None:
     return None
 
 
-def reduce(statistic: str, values: np.ndarray, angles: np.ndarray | None) -> float:
-    """One number from a run's samples (``angles``: the hinge's, for the orders)."""
+def period(times: np.ndarray, values: np.ndarray) -> float:
+    """Mean time between rises through the middle of the samples' range (linear
+    interpolation between samples); NaN without two rises."""
+    middle = 0.5 * (float(values.max()) + float(values.min()))
+    a = values - middle
+    up = np.nonzero((a[:-1] < 0.0) & (a[1:] >= 0.0))[0]
+    if len(up) < 2:
+        return math.nan
+    at = times[up] - a[up] * (times[up + 1] - times[up]) / (a[up + 1] - a[up])
+    return float(np.mean(np.diff(at)))
+
+
+def reduce(
+    statistic: str,
+    values: np.ndarray,
+    angles: np.ndarray | None,
+    times: np.ndarray | None = None,
+) -> float:
+    """One number from a run's samples (``angles``: the hinge's, for the orders;
+    ``times``: their times, for the period)."""
     if len(values) == 0:
         return math.nan
+    if statistic == "period":
+        return (
+            period(times, values) if times is not None and len(times) == len(values) else math.nan
+        )
     if statistic == "final":
         return float(values[-1])
     if statistic == "mean":
@@ -257,6 +284,7 @@ def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
     name = study.measure.readout
     values: list[float] = []
     angles: list[float] = []
+    times: list[float] = []
     status = "ok"
     done = 0
     every = study.measure.statistic != "final"  # a final value needs the last sample only
@@ -265,6 +293,7 @@ def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
             settled = sim.data.time >= study.settle - 0.5 * sim.timestep
             if (every and settled) or done >= total:
                 values.append(sim.readouts([name])[name])
+                times.append(float(sim.data.time))
                 if hinge is not None:
                     angles.append(float(sim.data.qpos[hinge]))
             if done >= total:
@@ -275,18 +304,23 @@ def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
     except Diverged:
         status = "diverged"
     measure = (
-        reduce(study.measure.statistic, np.asarray(values), np.asarray(angles) if angles else None)
+        reduce(
+            study.measure.statistic,
+            np.asarray(values),
+            np.asarray(angles) if angles else None,
+            np.asarray(times),
+        )
         if status == "ok"
         else math.nan
     )
     course = math.nan
     statistic = study.measure.statistic
-    if status == "ok" and statistic in ("final", "mean", "order1", "order2"):
-        # the course's value of the same quantity: the readout's own, or its order's
-        # ("pilon:order2" is the course's pilon_h2)
+    if status == "ok" and (study.course or statistic in ("final", "mean", "order1", "order2")):
+        # the course's value of the same quantity: the study's key, the readout's own, or
+        # its order's ("pilon:order2" is the course's pilon_h2)
         ref = sim.reference()
         key = name if statistic in ("final", "mean") else f"{name}_h{statistic[-1]}"
-        course = float(ref.get(key, math.nan))
+        course = float(ref.get(study.course or key, math.nan))
     return {
         **point,
         "measure": measure,
@@ -409,17 +443,24 @@ def write(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
         out.write_text(json.dumps(payload, indent=1), encoding="utf-8")
         return
     with out.open("w", newline="", encoding="utf-8") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(names)
-        for r in rows:
-            writer.writerow(
-                [
-                    ""
-                    if isinstance(r[n], float) and not math.isfinite(r[n])
-                    else (f"{r[n]:.10g}" if isinstance(r[n], float) else r[n])
-                    for n in names
-                ]
-            )
+        write_csv(f, study, rows)
+
+
+def write_csv(stream: TextIO, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
+    """The rows as CSV on ``stream`` (dot decimals, empty cells for NaN): the columns of
+    :func:`columns`, a contract shared by ``--out`` and the page's download."""
+    names = columns(study)
+    writer = csv.writer(stream, lineterminator="\n")
+    writer.writerow(names)
+    for r in rows:
+        writer.writerow(
+            [
+                ""
+                if isinstance(r[n], float) and not math.isfinite(r[n])
+                else (f"{r[n]:.10g}" if isinstance(r[n], float) else r[n])
+                for n in names
+            ]
+        )
 
 
 def table(study: Study, rows: Sequence[Mapping[str, Any]]) -> Iterator[str]:
@@ -439,6 +480,7 @@ STAT_WORDS = {
     "amplitude": "amplitude de ",
     "order1": "ordre 1 de ",
     "order2": "ordre 2 de ",
+    "period": "période de ",
 }
 """The statistic in French, before the readout's words on a chart's axis."""
 
@@ -450,7 +492,7 @@ def _words(label: str, unit: str) -> str:
     return f"{label} [{shown}]" if shown else label
 
 
-def plot(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
+def plot(out: Path | IO[bytes], study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
     """The study as a PNG for a slide, in French: the measure against the first varied
     parameter (one curve per value of the second), dots for the runs, the course's
     closed form dashed through them where the scene has one; decimal commas."""
@@ -499,4 +541,4 @@ def plot(out: Path, study: Study, rows: Sequence[Mapping[str, Any]]) -> None:
         ax.grid(True, alpha=0.3)
         ax.legend()
         fig.tight_layout()
-        fig.savefig(out, dpi=150)
+        fig.savefig(out, dpi=150, format="png")

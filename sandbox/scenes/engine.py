@@ -78,7 +78,7 @@ from sandbox.scenes.base import (
 )
 from sandbox.scenes.compressor import RPM, fit_orders, kinematics
 from sandbox.scenes.measures import largest, residual_over_peak
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.revolutions import PerModel
 
 MAX_CYLINDERS = 4
@@ -593,6 +593,16 @@ SCENE = Scene(
     # The orders, steady at a steady speed: the pilon itself turns at 50 to 280 Hz, which
     # ten samples a second alias into noise (its curve over a turn is « Sur un tour »).
     plots=("shaking_force_h1", "shaking_force_h2", "shaking_moment_max"),
+    study_presets=(
+        StudyPreset(
+            "Force de secouement d'ordre 2 selon la vitesse",
+            ("speed_rpm", 1000.0, 6000.0, 11),
+            "shaking_force_h2",
+            duration=0.05,
+            hint="Dans un moteur à quatre cylindres en ligne, les forces d'ordre 2 des "
+            "pistons s'ajoutent : elles croissent comme ω².",
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Pilon sur un tour du vilebrequin",

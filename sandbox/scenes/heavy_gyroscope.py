@@ -34,7 +34,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 G = 9.81
 RPM = 2 * math.pi / 60
@@ -220,6 +220,17 @@ SCENE = Scene(
     timestep=2e-4,
     timestep_for=default_timestep,
     plots=("precession_rate", "nutation"),
+    study_presets=(
+        StudyPreset(
+            "Vitesse de précession selon la rotation propre",
+            ("spin_rpm", 2000.0, 10000.0, 9),
+            "precession_rate",
+            statistic="mean",
+            duration=1.0,
+            hint="Plus la toupie tourne vite, plus elle précesse lentement : la vitesse de "
+            "précession varie comme l'inverse de la rotation propre.",
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Précession selon la nutation",

@@ -52,7 +52,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import relative_drift
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 RPM = 2 * math.pi / 60
 SOLIDS = (
@@ -644,6 +644,14 @@ def flip_period(values: Values) -> float:
     return torque_free_period(moments, omega)
 
 
+def intermediate_place(values: Values) -> float:
+    """(I₂ − I₁)/(I₃ − I₁) of the solid's principal moments at G: where the intermediate
+    moment sits between the two others (0 or 1: two equal moments)."""
+    moments, _ = principal_axes(course_inertia(values).inertia_G)
+    spread = float(moments[2] - moments[0])
+    return float(moments[1] - moments[0]) / spread if spread > 0 else math.nan
+
+
 def _launch(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
     """Give the solid its launch rotation about G (G at rest) and remember the values."""
     sim = simulated(model, values)
@@ -964,6 +972,19 @@ SCENE = Scene(
     timestep=TIMESTEP,
     timestep_for=timestep_for,
     plots=("spin_angle", "omega"),
+    study_presets=(
+        StudyPreset(
+            "Période du basculement selon la place de l'inertie intermédiaire",
+            ("b", 0.12, 0.28, 9),
+            "spin_angle",
+            statistic="period",
+            duration=20.0,
+            course="flip_period",
+            hint="Lancé autour de son axe intermédiaire, le pavé bascule périodiquement ; "
+            "la période (Euler) est la plus courte quand I₂ est à mi-chemin de I₁ et I₃.",
+            x=("Place de I₂ entre I₁ et I₃ : (I₂ − I₁)/(I₃ − I₁)", intermediate_place),
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Angle de l'axe de rotation au cours du temps",

@@ -58,7 +58,7 @@ from sandbox.scenes.base import (
     Values,
     per_revolution_timestep,
 )
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 RPM = 2 * math.pi / 60
 SERVO_TIME = 0.01
@@ -563,6 +563,16 @@ SCENE = Scene(
     # and nears its stability limit on the speed servo (time constant 10 ms).
     max_timestep=1e-2,
     plots=("y_ch", "omega_m", "deflection", "C_m"),
+    study_presets=(
+        StudyPreset(
+            "Inertie équivalente selon le rapport de réduction k",
+            ("k", 0.05, 1.0, 20),
+            "J_eq",
+            duration=0.01,
+            hint="Ramenée à l'arbre moteur, l'inertie de la charge compte avec le carré "
+            "du rapport de réduction : Jₑq = Jₘ + … + k²·(…).",
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Couple moteur au cours du mouvement",

@@ -53,7 +53,7 @@ from sandbox.physics.readouts import _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 G = 9.81
 CYLINDER, PLANE, ECCENTRIC, START = "Cylindre", "Plan incliné", "Masse excentrée", "Lancement"
@@ -581,6 +581,16 @@ SCENE = Scene(
     # 0.1 s): nothing explodes, so such timesteps are refused rather than detected.
     max_timestep=0.02,
     plots=("v", "slip_velocity", "mu_required"),
+    study_presets=(
+        StudyPreset(
+            "Accélération selon la pente, de part et d'autre du glissement",
+            ("slope_deg", 2.0, 60.0, 30),
+            "a",
+            duration=0.3,
+            hint="Tant que μ suffit, le cylindre roule : a = g·sin α / (1 + I/(m·R²)). "
+            "Au-delà de tan α = 3μ (cylindre plein), il glisse : a = g·(sin α − μ·cos α).",
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Vitesse selon la distance parcourue",

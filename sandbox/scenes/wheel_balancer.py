@@ -54,7 +54,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.presets import XYPreset
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 RPM = 2.0 * math.pi / 60.0
 AXIS = np.array([1.0, 0.0, 0.0])
@@ -812,6 +812,15 @@ SCENE = Scene(
     # 9e-3 s, diverged at 3e-2 s); rigid bearings use 1e-2 s
     max_timestep=RIGID_TIMESTEP,
     plots=("bearing_inner", "bearing_outer"),
+    study_presets=(
+        StudyPreset(
+            "Effort du palier intérieur selon la vitesse",
+            ("speed_rpm", 0.0, 2000.0, 11),
+            "bearing_inner",
+            duration=0.5,
+            hint="Chaque point est une simulation à vitesse constante : l'effort croît comme ω².",
+        ),
+    ),
     xy_presets=(
         XYPreset(
             "Efforts des paliers au cours du temps",

@@ -238,6 +238,7 @@ class Controller:
         self.display = DisplayState(sim)
         self.secret: Secret | None = None  # a challenge's, kept from the page
         self.probe = Probe()  # readouts sampled between frames (a "Tracé X–Y")
+        self.cleanups: list[Callable[[], None]] = []  # run when its session ends
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -1170,6 +1171,12 @@ class Session:
     def _end(self) -> None:
         """Called by the scheduler once the session is dropped."""
         self._ended.set()
+        if self.drive:
+            for cleanup in self.controller.cleanups:  # e.g. a study running for the page
+                try:
+                    cleanup()
+                except Exception:
+                    log.exception("a session's cleanup failed")
         if self.alive is not None and self._stop.is_set():
             self._close_recording()
 

@@ -37,6 +37,8 @@ from sandbox.web.readout_panel import (
 from sandbox.web.renderer import SceneRenderer, mechanism_size
 from sandbox.web.secret import Secret
 from sandbox.web.session import EVERY, Controller, Frame, Notice, Request
+from sandbox.web.study_panel import FOLDER as STUDY_FOLDER
+from sandbox.web.study_panel import StudyPanel
 from sandbox.web.trail import Trail
 from sandbox.web.xy_panel import FOLDER as XY_FOLDER
 from sandbox.web.xy_panel import XYPanel
@@ -238,6 +240,9 @@ class WebView(Generic[D]):
         self.polar = PolarPanel.create(client.gui, controller)
         self.cycle = CyclePanel(client.gui, sim)
         self.xy = XYPanel(client.gui, controller) if isinstance(controller, Controller) else None
+        self.study = (
+            StudyPanel(client.gui, controller) if isinstance(controller, Controller) else None
+        )
         self.isolate = IsolatePanel(client.gui, sim)
         choose = None
         if isinstance(controller, Controller):  # a precision asked: its setting applied
@@ -275,6 +280,7 @@ class WebView(Generic[D]):
             self.polar.folder if self.polar is not None else None,
             self.cycle.folder,
             self.xy.folder if self.xy is not None else None,
+            self.study.folder if self.study is not None else None,
             self.isolate.folder,
             self.accuracy.folder,
             self.hypotheses.folder,
@@ -431,6 +437,8 @@ class WebView(Generic[D]):
             self.cycle.refresh(sim, now)
         if self.xy is not None and self._showing(XY_FOLDER):
             self.xy.refresh(now)
+        if self.study is not None and self._showing(STUDY_FOLDER):
+            self.study.refresh()
         drawing = self._picture
         if self.trail is not None and drawing is not None and drawing.trail is not None:
             self.trail.add(drawing.time, drawing.trail)
