@@ -29,7 +29,7 @@ from sandbox.web.session import (
     Refused,
     Request,
     Session,
-    _number,
+    as_number,
     check_speed,
     french_message,
     merged,
@@ -113,7 +113,7 @@ class ReplayController:
             self.playing = False
             self._seek_index(self.index - count if back else self.index + count)
         elif kind == "seek":
-            self._seek_index(self._index_at(_number(value, "Temps")))
+            self._seek_index(self._index_at(as_number(value, "Temps")))
         elif kind == "speed":
             self.speed = check_speed(value)
         else:

@@ -739,7 +739,7 @@ def advance_seconds(sim: Simulation, value: object, unit: object) -> float:
     if unit not in ("s", "deg"):
         raise Refused(f"Unité de pas « {shown_value(unit)} » inconnue : s ou °.")
     what = "Pas en temps" if unit == "s" else "Pas en angle"
-    number = _number(value, what)
+    number = as_number(value, what)
     if unit == "s":
         if not 0 < number <= MAX_ADVANCE:
             raise Refused(
@@ -804,7 +804,7 @@ def french_number(x: float) -> str:
     return text.number(x, 3)
 
 
-def _number(value: object, what: str) -> float:
+def as_number(value: object, what: str) -> float:
     """``value`` as a finite float (numbers and numeric strings; not bool or None).
 
     Raises:
@@ -841,7 +841,7 @@ def check_timestep(sim: Simulation, value: object) -> float:
     """A timestep [s] typed in the browser, between :data:`MIN_TIMESTEP` and the scene's
     maximum (Refused, giving the range, otherwise)."""
     try:
-        dt = _number(value, "Pas de temps")
+        dt = as_number(value, "Pas de temps")
     except Refused:
         raise Refused(_timestep_range(sim, value)) from None
     if not MIN_TIMESTEP <= dt <= max_timestep(sim):
@@ -857,7 +857,7 @@ def check_speed(value: object) -> float:
         f"et ×{french_number(high)}."
     )
     try:
-        speed = _number(value, "Vitesse")
+        speed = as_number(value, "Vitesse")
     except Refused:
         raise Refused(refusal) from None
     if not low <= speed <= high:
@@ -899,7 +899,7 @@ def check_value(sim: Simulation, name: object, value: object) -> float:
         f"{text.number(p.max, 6)}{unit}."
     )
     try:
-        number = _number(value, param_words(p))
+        number = as_number(value, param_words(p))
     except Refused:
         raise Refused(refusal) from None
     if not p.min <= number <= p.max:
@@ -923,7 +923,7 @@ def step_count(value: object) -> int:
         return 1
     refusal = f"Nombre de pas « {shown_value(value)} » refusé : entre 1 et {MAX_STEP_REQUEST}."
     try:
-        number = _number(value, "Pas")
+        number = as_number(value, "Pas")
     except Refused:
         raise Refused(refusal) from None
     if number != int(number) or not 1 <= number <= MAX_STEP_REQUEST:

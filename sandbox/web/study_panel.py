@@ -28,7 +28,7 @@ from sandbox.scenes.presets import StudyPreset
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check, plot, write_csv
 from sandbox.web.fields import param_label, param_unit
 from sandbox.web.plots import PALETTE, nice_ceil
-from sandbox.web.session import Controller, Refused, check_value, french_message
+from sandbox.web.session import Controller, Refused, as_number, check_value, french_message
 from sandbox.web.study_queue import StudyJob, StudyQueue, progress_words
 from sandbox.web.text import html_text, number, with_unit
 from sandbox.web.xy import Axis
@@ -104,7 +104,7 @@ class StudyPanel:
         p0 = next(iter(self.params.values()))
         with gui.add_folder(FOLDER, expand_by_default=True) as self.folder:
             self.preset = gui.add_dropdown(
-                "Préréglage",
+                "Étude proposée",
                 (*self.presets, FREE),
                 initial_value=first.label if first is not None else FREE,
                 hint="Des études qui montrent les lois du cours pour cette scène",
@@ -147,8 +147,8 @@ class StudyPanel:
             self.progress = gui.add_progress_bar(0.0, visible=False)
             self.status = gui.add_markdown("")
             self.chart = self._new_chart(("", ""), [("dots", "")], (0.0, 1.0), (0.0, 1.0))
-            self.csv = gui.add_button("Télécharger en CSV", color="gray", disabled=True)
-            self.png = gui.add_button("Télécharger en PNG", color="gray", disabled=True)
+            self.csv = gui.add_button("Télécharger l'étude (CSV)", color="gray", disabled=True)
+            self.png = gui.add_button("Télécharger l'étude (PNG)", color="gray", disabled=True)
         if first is not None:
             self.fill(first)
         self._connect()
@@ -219,7 +219,8 @@ class StudyPanel:
         readout = self.readouts.get(str(self.measure.value))
         statistics = {w: s for s, w in STAT_LABELS.items()}
         statistic = statistics.get(str(self.statistic.value), "final")
-        duration, settle = float(self.duration.value), float(self.settle.value)
+        duration = as_number(self.duration.value, "Durée de chaque simulation")
+        settle = as_number(self.settle.value, "Mesure à partir de")
         if not (math.isfinite(duration) and 0 < duration <= 60):
             raise Refused("Durée de chaque simulation : choisissez entre 0 et 60 s.")
         if not (math.isfinite(settle) and 0 <= settle < duration):
@@ -260,10 +261,10 @@ class StudyPanel:
         if a == b:
             raise Refused(f"{param_label(self.params[name])} : donnez deux bornes différentes.")
         most = MAX_POINTS if most == 2 else most
-        n = int(count) if isinstance(count, (int, float)) and math.isfinite(count) else 0
-        if not 2 <= n <= most:
+        n = as_number(count, "Nombre de points")
+        if not (2 <= n <= most and n == int(n)):
             raise Refused(f"Nombre de points : choisissez entre 2 et {most}.")
-        return Vary(name, a, b, n)
+        return Vary(name, a, b, int(n))
 
     # -- callbacks (viser's threads) -----------------------------------------------------
     def _connect(self) -> None:

@@ -88,7 +88,7 @@ class XYPanel:
         readouts = tuple(t for t, n in self.words.items() if n != TIME)
         with gui.add_folder(FOLDER, expand_by_default=True) as self.folder:
             self.preset = gui.add_dropdown(
-                "Préréglage",
+                "Tracé proposé",
                 (*self.presets, FREE),
                 initial_value=first.label if first is not None else FREE,
                 hint="Des tracés qui montrent les lois du cours pour cette scène",
@@ -124,8 +124,8 @@ class XYPanel:
                 FREEZE, hint="Arrête d'ajouter des points (et de les calculer)"
             )
             self.clear = gui.add_button("Effacer le tracé", color="gray")
-            self.csv = gui.add_button("Télécharger en CSV", color="gray")
-            self.png = gui.add_button("Télécharger en PNG", color="gray")
+            self.csv = gui.add_button("Télécharger le tracé (CSV)", color="gray")
+            self.png = gui.add_button("Télécharger le tracé (PNG)", color="gray")
         self._connect()
 
     # -- choices -------------------------------------------------------------------------

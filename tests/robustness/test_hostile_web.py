@@ -73,6 +73,8 @@ class Handle:
         self.scales = props.get("scales")
         self.text = ""
         self.disabled = False
+        self.order = props.get("order")
+        self.step = props.get("step")
         self.callbacks: list[Callable[[Any], None]] = []
 
     @property
@@ -166,6 +168,9 @@ class Gui:
 
     def add_uplot(self, **props: Any) -> Handle:
         return self._add("uplot", props.get("title"), data=props.get("data"))
+
+    def add_progress_bar(self, value: float, **props: Any) -> Handle:
+        return self._add("progress", None, value, **props)
 
     def configure_theme(self, **_: Any) -> None:
         pass
