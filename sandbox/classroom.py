@@ -1177,6 +1177,13 @@ def report(results: dict[str, Any]) -> str:
             f"{side['fps_during']:.1f} during; worst client keeps {side['ratio_min']:.2f}"
             + (f"; flooder error: {side['error']}" if side.get("error") else "")
         )
+    if isinstance(side, dict) and "students" in side:
+        lines.append(
+            f"  {side['students']} more students running studies: "
+            f"{side['studies_finished']} studies finished ({side['studies_started']} started); "
+            f"the others' slowest frames/s {side['others_fps_min']:.1f}"
+            + (f"; errors: {'; '.join(side['errors'][:2])}" if side.get("errors") else "")
+        )
     if "drop" in results:
         d = results["drop"]
         series = " ".join(f"{c:.2f}" for c in d["cores_per_s"])

@@ -6,6 +6,7 @@ Usage::
     sandbox bench --classroom 30 --all --compare bench/classroom.json
     sandbox bench --classroom 60 rotor --compare bench/classroom.json
     sandbox bench --classroom 30 rotor --flood     # plus a student flooding "Pas"
+    sandbox bench --classroom 30 rotor --studies 5 # 25 measured, 5 running studies
 
 Each scene runs as :func:`sandbox.classroom.run_classroom` does alone (its own server, N
 headless browsers, each pressing « Lecture » when the scene opens paused); ``--all``
@@ -25,7 +26,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from sandbox import classroom_flood
+from sandbox import classroom_flood, classroom_studies
 from sandbox.classroom import jsonable, report, run_classroom, split
 from sandbox.errors import BadOption
 
@@ -56,7 +57,10 @@ def run_key(results: Mapping[str, Any]) -> str:
     """How a run is named in a saved file: ``rotor×30``, ``rotor --follow×120``,
     ``rotor --flood×30``."""
     mode = " --follow" if results.get("follow") else ""
-    if isinstance(results["main"].get("side"), Mapping):
+    side = results["main"].get("side")
+    if isinstance(side, Mapping) and "students" in side:
+        mode += f" --studies {side['students']}"
+    elif isinstance(side, Mapping):
         mode += " --flood"
     return f"{results['scene']}{mode}×{results['main']['clients']}"
 
@@ -221,6 +225,11 @@ def cli_classroom(
     if not 1 <= clients <= 200:
         raise BadOption(f"--classroom needs 1 to 200 clients, got {clients!r}")
     scenes = scenes_of(args)
+    studies = int(getattr(args, "studies", None) or 0)
+    if studies and not 1 <= studies < clients:
+        raise BadOption(f"--studies needs 1 to {clients - 1} students (of --classroom {clients})")
+    if studies and (getattr(args, "flood", False) or getattr(args, "follow", False)):
+        raise BadOption("--studies goes alone: drop --flood and --follow")
     seconds = float(args.seconds) if getattr(args, "seconds", None) else 15.0
     out: Path | None = getattr(args, "out", None)
     if out is not None and out.suffix.lower() != ".json":
@@ -234,15 +243,18 @@ def cli_classroom(
     runs = []
     for scene in scenes:
         follow = bool(getattr(args, "follow", False))
+        side = classroom_flood.side(follow=follow) if getattr(args, "flood", False) else None
+        if studies:
+            side = classroom_studies.side(studies)
         results = run(
             scene,
-            clients,
+            clients - studies,
             seconds=seconds,
             follow=follow,
             workers=getattr(args, "workers", None),
             drop_clients=0 if many else 20,
             progress=lambda line: print(line, file=sys.stderr, flush=True),
-            side=classroom_flood.side(follow=follow) if getattr(args, "flood", False) else None,
+            side=side,
         )
         runs.append(results)
         print(report(results), flush=True)

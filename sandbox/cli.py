@@ -279,6 +279,13 @@ def build_parser() -> argparse.ArgumentParser:
         "(the others' frame rate before and during it)",
     )
     b.add_argument(
+        "--studies",
+        type=int,
+        metavar="K",
+        help="--classroom: K of the N browsers run the scene's parameter study again and "
+        "again; the other N - K are measured",
+    )
+    b.add_argument(
         "--save",
         type=Path,
         metavar="FILE.json",

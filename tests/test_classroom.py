@@ -490,3 +490,52 @@ def test_the_bench_counts_the_workers_serve_starts(monkeypatch) -> None:
     monkeypatch.delattr(os, "process_cpu_count", raising=False)
     monkeypatch.setattr(os, "cpu_count", lambda: 16)
     assert cr._cores() == workers.default_workers() == workers.DEFAULT_WORKERS_CAP
+
+
+def test_studies_take_k_of_the_n_browsers(capsys) -> None:
+    """``--studies K``: K browsers run studies (the side task), N − K are measured, the
+    run is named apart and the report says what the students did; bad K: one line."""
+    args = build_parser().parse_args(["bench", "--classroom", "30", "rotor", "--studies", "5"])
+    seen: dict[str, object] = {}
+
+    def fake(scene, clients, **kw):
+        seen.update(clients=clients, side=kw["side"])
+        results = _run(scene, clients, 40.0, 0.8)
+        results["main"]["side"] = {
+            "students": 5,
+            "studies_started": 9,
+            "studies_finished": 8,
+            "errors": [],
+            "others_fps_min": 35.0,
+        }
+        return results
+
+    assert suite.cli_classroom(args, run=fake) == 0
+    assert seen["clients"] == 25 and callable(seen["side"])
+    out = capsys.readouterr().out
+    assert "5 more students running studies: 8 studies finished (9 started)" in out
+    assert suite.run_key(fake("rotor", 25, side=None)) == "rotor --studies 5×25"
+    for bad, words in ((["--studies", "30"], "1 to 29"), (["--studies", "2", "--flood"], "alone")):
+        with pytest.raises(BadOption, match=words):
+            suite.cli_classroom(
+                build_parser().parse_args(["bench", "--classroom", "30", "rotor", *bad])
+            )
+
+
+def test_a_studying_student_learns_its_controls_and_sees_a_study_end() -> None:
+    from sandbox import classroom_studies as cs
+
+    student = cs.Student()
+    gui = msgspec.msgpack.encode(
+        {
+            "messages": [
+                {"type": "GuiDropdownMessage", "uuid": "p", "props": {"label": cs.PICKER}},
+                {"type": "GuiButtonMessage", "uuid": "r", "props": {"label": cs.RUN}},
+            ]
+        }
+    )
+    cs._learn(student, gui)
+    assert student.uuids == {cs.PICKER: "p", cs.RUN: "r"}
+    assert not student.finished.is_set()
+    cs._learn(student, "Étude terminée : 13 simulations en 1,0 s.".encode())
+    assert student.finished.is_set()

@@ -51,6 +51,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.classroom",
             "sandbox.classroom_suite",
             "sandbox.classroom_flood",
+            "sandbox.classroom_studies",
             "sandbox.lessons",
             "sandbox.replay",
             "sandbox.sweep",
