@@ -38,6 +38,8 @@ from sandbox.web.board_panel import teacher_path as teacher_path  # re-exported
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import Controller, Frame, Notice, Request, Session
+from sandbox.web.study_chart import StudyChart
+from sandbox.web.study_queue import StudyJob, progress_words
 from sandbox.web.tables import fmt
 from sandbox.web.text import plain, table_row, with_unit
 from sandbox.web.view import WebView, arrow_layer, point_camera
@@ -59,6 +61,8 @@ FOLLOW = "Suivre le professeur"
 SEND_LABEL = "Envoyer aux élèves"
 SEND_VALUES = "Mes réglages"
 SEND_STEP = "Mon étape de leçon"
+SEND_STUDY = "Mon étude"
+STUDY_FOLDER = "Étude du professeur"
 """The teacher's two buttons, short enough for one line at 24 px on a 1280×720 page
 ("Envoyer mes réglages aux élèves" was cut)."""
 
@@ -175,6 +179,30 @@ class FollowerView:
                 "du professeur",
             )
         self.own.on_click(lambda _: on_own())
+        self.client = client
+        self.study: StudyJob | None = None
+        self.chart: StudyChart | None = None
+        self._study_done = -1
+
+    def receive_study(self, job: StudyJob) -> None:
+        """The teacher sent a study: a folder with its chart (replacing an older one),
+        its progress and its files; drawn by :meth:`render` as its runs finish."""
+        gui = self.client.gui
+        if self.chart is None:
+            with gui.add_folder(STUDY_FOLDER) as folder:
+                self.study_text = gui.add_markdown("")
+            self.chart = StudyChart(gui, folder, self.broadcast.controller.sim)
+            with folder:
+                csv = gui.add_button("Télécharger l'étude (CSV)", color="gray")
+                png = gui.add_button("Télécharger l'étude (PNG)", color="gray")
+            csv.on_click(lambda e: self._download(e.client, "csv"))
+            png.on_click(lambda e: self._download(e.client, "png"))
+        self.study, self._study_done = job, -1
+
+    def _download(self, client: viser.ClientHandle | None, kind: str) -> None:
+        job = self.study
+        if client is not None and job is not None and job.done > 0:
+            StudyChart.download(client, kind, job)
 
     draws = False  # the broadcast draws the scene once for every follower
 
@@ -185,6 +213,11 @@ class FollowerView:
         if self.broadcast.version != self._seen:
             self._seen = self.broadcast.version
             self.text.content = self.broadcast.summary
+        job = self.study
+        if job is not None and self.chart is not None and job.done != self._study_done:
+            self._study_done = job.done
+            self.study_text.content = progress_words(job, 0)
+            self.chart.draw(job)
 
     def notify(self, notice: Notice) -> None:
         pass
@@ -226,6 +259,8 @@ class FollowApp(App):
         self.broadcast_session = Session(self.shared, self.broadcast)
         self.modes: dict[int, str] = {}
         self._views: dict[int, WebView[Controller]] = {}
+        self._followers: dict[int, FollowerView] = {}
+        self.study: StudyJob | None = None  # the teacher's, sent to every student
         self._switch = threading.Lock()
         network.page_alias(teacher_path(self.token))
         self.classroom = Classroom(lambda cid: self.connected(cid))
@@ -250,9 +285,9 @@ class FollowApp(App):
             counts = client.gui.add_markdown("")
             buttons = client.gui.add_button_group(
                 SEND_LABEL,
-                (SEND_VALUES, SEND_STEP),
-                hint="Vos réglages, ou l'étape de leçon où vous êtes, vers la simulation de "
-                "chaque élève en autonomie",
+                (SEND_VALUES, SEND_STEP, SEND_STUDY),
+                hint="Vos réglages ou l'étape de leçon où vous êtes, vers la simulation de "
+                "chaque élève en autonomie ; votre étude paramétrique, vers tous les élèves",
             )
         view = WebView(
             client,
@@ -277,6 +312,9 @@ class FollowApp(App):
         self.modes[cid] = "follower"
         point_camera(client, self.shared.sim)
         view = FollowerView(client, self.broadcast, lambda: self.switch(client, own=True))
+        self._followers[cid] = view
+        if self.study is not None:  # the teacher's study, to a student joining later
+            view.receive_study(self.study)
         box = name_field(client.gui, self.classroom.name_of(cid))
         self.classroom.student(client, self.shared.sim, mode="follow", field=box)
         return Session(
@@ -303,6 +341,8 @@ class FollowApp(App):
         back.on_click(lambda _: self.switch(client, own=False))
         view = WebView(client, controller, lesson=self.lesson)
         self._views[cid] = view
+        if self.study is not None and view.study is not None:
+            view.study.receive(self.study)
         box = name_field(client.gui, self.classroom.name_of(cid))
         self.classroom.student(client, controller.sim, view, field=box)
         return Session(controller, view, alive=lambda: self.connected(cid))
@@ -317,6 +357,7 @@ class FollowApp(App):
                 return
             old.stop()
             self._views.pop(cid, None)
+            self._followers.pop(cid, None)
             client.gui.reset()
             client.scene.reset()  # own nodes go; the broadcast's show again
             try:
@@ -330,7 +371,11 @@ class FollowApp(App):
             session.start()
 
     def _send(self, what: str, teacher: WebView[Controller]) -> None:
-        """The teacher's buttons: parameters or lesson step to every own copy."""
+        """The teacher's buttons: parameters or lesson step to every own copy, a study to
+        every student."""
+        if what == SEND_STUDY:
+            self._send_study(teacher)
+            return
         sim = self.shared.sim
         lesson = teacher.lesson.position() if teacher.lesson is not None else None
         setting = Setting(dict(sim.values), sim.integrator, sim.timestep, lesson)
@@ -355,6 +400,32 @@ class FollowApp(App):
         )
         teacher.notify(Notice("info", "Classe", message))
 
+    def _send_study(self, teacher: WebView[Controller]) -> None:
+        """The teacher's study (running or done) to every student: followers get it in a
+        folder of their page, students on their own copy in their « Étude paramétrique »;
+        students who arrive later get it too."""
+        job = teacher.study.job if teacher.study is not None else None
+        if job is None or (teacher.study is not None and teacher.study.received):
+            teacher.notify(
+                Notice(
+                    "error",
+                    "Classe",
+                    "Lancez d'abord une étude dans « Étude paramétrique », puis envoyez-la.",
+                )
+            )
+            return
+        self.study = job
+        count = 0
+        for cid, follower in list(self._followers.items()):
+            if self.modes.get(cid) == "follower":
+                follower.receive_study(job)
+                count += 1
+        for cid, view in list(self._views.items()):
+            if self.modes.get(cid) == "own" and view.study is not None:
+                view.study.receive(job)
+                count += 1
+        teacher.notify(Notice("info", "Classe", f"Étude envoyée à {count} élève(s)."))
+
     def counts(self) -> tuple[int, int, int]:
         """(teachers, followers, students on their own copy) connected now."""
         modes = [self.modes.get(cid) for cid in list(self.sessions)]
@@ -362,6 +433,7 @@ class FollowApp(App):
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         super()._disconnect(client)
+        self._followers.pop(client.client_id, None)
         view = self._views.pop(client.client_id, None)
         if view is not None and view in self.broadcast.teachers:
             self.broadcast.teachers.remove(view)

@@ -11,26 +11,21 @@ study that shows one of the course's laws.
 
 from __future__ import annotations
 
-import io
 import math
 import threading
-import time
-from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-import numpy as np
 import viser
-from viser import uplot
 
 from sandbox.errors import SandboxError
 from sandbox.scenes.base import Param, as_scene
 from sandbox.scenes.presets import StudyPreset
-from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check, plot, write_csv
-from sandbox.web.fields import param_label, param_unit
-from sandbox.web.plots import PALETTE, nice_ceil
+from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
+from sandbox.web.fields import param_label
 from sandbox.web.session import Controller, Refused, as_number, check_value, french_message
+from sandbox.web.study_chart import STAT_LABELS, StudyChart
 from sandbox.web.study_queue import StudyJob, StudyQueue, progress_words
-from sandbox.web.text import html_text, number, with_unit
+from sandbox.web.text import html_text, number
 from sandbox.web.xy import Axis
 
 FOLDER = "Étude paramétrique"
@@ -41,16 +36,6 @@ CANCEL = "Annuler l'étude"
 MAX_POINTS = 50
 """Points of one parameter in the page (a family: at most :data:`MAX_CURVES` curves)."""
 MAX_CURVES = 5
-STAT_LABELS = {
-    "final": "Valeur à la fin",
-    "mean": "Moyenne",
-    "max": "Maximum",
-    "amplitude": "Amplitude (demi-écart crête à crête)",
-    "order1": "Amplitude d'ordre 1 sur le dernier tour",
-    "order2": "Amplitude d'ordre 2 sur le dernier tour",
-    "period": "Période des oscillations",
-}
-"""What a run's samples are reduced to, in words (see :data:`sandbox.sweep.STATISTICS`)."""
 
 
 def _step(p: Param) -> float:
@@ -90,14 +75,14 @@ class StudyPanel:
             p.label: p for p in (scene.study_presets if scene else ())
         }
         self.job: StudyJob | None = None
+        self.received = False  # the job shown is the teacher's (follow mode)
         self._bounds_of: dict[str, str] = {}  # parameter whose range the fields hold
         self.preset_used: StudyPreset | None = None
         self._lock = threading.Lock()
         self._pending: dict[str, Any] = {}
         self._shown_done = -1
-        self._y_range: tuple[float, float] | None = None
         self.folder: viser.GuiFolderHandle | None = None
-        self.chart: viser.GuiUplotHandle | None = None
+        self.chart: StudyChart | None = None
         if not self.params:
             return
         first = next(iter(self.presets.values()), None)
@@ -146,7 +131,8 @@ class StudyPanel:
             self.button = gui.add_button(RUN)
             self.progress = gui.add_progress_bar(0.0, visible=False)
             self.status = gui.add_markdown("")
-            self.chart = self._new_chart(("", ""), [("dots", "")], (0.0, 1.0), (0.0, 1.0))
+        self.chart = StudyChart(gui, self.folder, sim)
+        with self.folder:
             self.csv = gui.add_button("Télécharger l'étude (CSV)", color="gray", disabled=True)
             self.png = gui.add_button("Télécharger l'étude (PNG)", color="gray", disabled=True)
         if first is not None:
@@ -157,7 +143,7 @@ class StudyPanel:
     def close(self) -> None:
         """The browser left: its study stops (runs not started are dropped)."""
         job = self.job
-        if job is not None and not job.finished:
+        if job is not None and not job.finished and not self.received:
             (self.queue or StudyQueue.shared()).cancel(job)
 
     # -- the form ------------------------------------------------------------------------
@@ -294,9 +280,23 @@ class StudyPanel:
         self.csv.on_click(lambda e: self._download(e.client, "csv"))
         self.png.on_click(lambda e: self._download(e.client, "png"))
 
+    def _download(self, client: viser.ClientHandle | None, kind: str) -> None:
+        job = self.job
+        if client is None or job is None or job.done == 0:
+            return
+        if self.controller.secret is not None:
+            return  # a crafted click during a challenge gets nothing
+        StudyChart.download(client, kind, job)
+
+    def receive(self, job: StudyJob) -> None:
+        """Show the teacher's study (follow mode): its dots as they come; the button
+        still runs the student's own study (it never cancels the teacher's)."""
+        self.job, self.received = job, True
+        self._shown_done = -1
+
     def _clicked(self, client: viser.ClientHandle | None) -> None:
         job = self.job
-        if job is not None and not job.finished:
+        if job is not None and not job.finished and not self.received:
             (self.queue or StudyQueue.shared()).cancel(job)
             self._shown_done = -1
             return
@@ -305,7 +305,9 @@ class StudyPanel:
             return
         try:
             study = self.study()
-            job = StudyJob(study, study.points())
+            preset = self.preset_used
+            x = preset.x if preset is not None and preset.vary[0] == study.varies[0].name else None
+            job = StudyJob(study, study.points(), x=x)
             (self.queue or StudyQueue.shared()).submit(job)
         except Refused as exc:
             self._refuse(client, str(exc))
@@ -317,8 +319,7 @@ class StudyPanel:
                 "ou réduisez le nombre de points.",
             )
             return
-        self.job = job
-        self._y_range = None
+        self.job, self.received = job, False
         self._shown_done = -1
 
     def _refuse(self, client: viser.ClientHandle | None, text: str) -> None:
@@ -364,172 +365,9 @@ class StudyPanel:
         queue = self.queue or StudyQueue.shared()
         self.progress.visible = not job.finished
         self.progress.value = 100.0 * job.done / max(job.total, 1)  # type: ignore[misc]
-        self.status.content = progress_words(job, queue.ahead_of(job))
-        self.button.label = RUN if job.finished else CANCEL
+        words = progress_words(job, queue.ahead_of(job))
+        self.status.content = f"Étude du professeur. {words}" if self.received else words
+        self.button.label = RUN if job.finished or self.received else CANCEL
         self.csv.disabled = self.png.disabled = job.done == 0
-        self._draw(job)
-
-    # -- the chart -----------------------------------------------------------------------
-    def x_of(self, job: StudyJob) -> tuple[str, Callable[[Mapping[str, float]], float]]:
-        """(axis title, X of a run's values): the preset's when it names one."""
-        preset = self.preset_used
-        first = job.study.varies[0].name
-        if preset is not None and preset.x is not None and preset.vary[0] == first:
-            return preset.x
-        p = self.params[first]
-        return param_label(p), lambda v: float(v[first])
-
-    def _draw(self, job: StudyJob) -> None:
-        study = job.study
-        x_title, x_of = self.x_of(job)
-        fixed = {n: float(v) for n, v in study.fixed}
-        second = study.varies[1] if len(study.varies) > 1 else None
-        families = second.values if second is not None else [None]
-        points = study.points()  # the first parameter varies slowest
-        xs = [
-            x_of({**fixed, **points[i * len(families)]}) for i in range(len(study.varies[0].values))
-        ]
-        order = np.argsort(xs)
-        x = np.asarray(xs, dtype=float)[order]
-        columns_: list[np.ndarray] = []
-        labels: list[tuple[str, str]] = []
-        found: list[float] = []
-        n = len(study.varies[0].values)
-        for f, family_value in enumerate(families):
-            rows = job.rows[f :: len(families)] if second is not None else job.rows
-            rows = [rows[k] for k in order] if len(rows) == n else rows
-            measure = np.array([r["measure"] if r else math.nan for r in rows], dtype=float)
-            course = np.array([r["closed_form"] if r else math.nan for r in rows], dtype=float)
-            name = (
-                self._family_words(second.name, family_value)
-                if second and family_value is not None
-                else ""
-            )
-            columns_.append(measure)
-            labels.append(("dots", name))
-            found += [v for v in measure if math.isfinite(v)]
-            if np.isfinite(course).any():
-                columns_.append(course)
-                labels.append(("course", name))
-                found += [v for v in course if math.isfinite(v)]
-        y_range = self._range(found)
-        info = self.infos[study.measure.readout]
-        axis = Axis.of(info.name, info.label or info.name, info.unit)
-        y_title = f"{STAT_LABELS[study.measure.statistic]} — {axis.title}"
-        scale = axis.scale
-        data = (x, *(c * scale for c in columns_))
-        x_range = (float(np.nanmin(x)), float(np.nanmax(x)))
-        if x_range[0] == x_range[1]:
-            x_range = (x_range[0] - 1.0, x_range[1] + 1.0)
-        if self.chart is None or self._y_range != y_range or self._labels != (labels, x_title):
-            self._y_range = y_range
-            self._labels = (labels, x_title)
-            scaled = (y_range[0] * scale, y_range[1] * scale)
-            self._replace_chart((x_title, y_title), labels, x_range, scaled, data)
-        else:
-            self.chart.data = data
-
-    _labels: object = None
-
-    def _family_words(self, name: str, value: float) -> str:
-        p = self.params[name]
-        return f"{p.label or p.name} = {with_unit(number(value, 4), param_unit(p))}"
-
-    @staticmethod
-    def _range(values: Sequence[float]) -> tuple[float, float]:
-        """A fixed y range holding every value and 0, in "nice" steps (it changes only
-        when a value passes it: the chart is rebuilt then, a few times a study)."""
-        lo = min([0.0, *values])
-        hi = max([0.0, *values])
-        pad = 0.08 * (hi - lo) or 1.0
-        return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
-
-    def _replace_chart(
-        self,
-        titles: tuple[str, str],
-        labels: Sequence[tuple[str, str]],
-        x_range: tuple[float, float],
-        y_range: tuple[float, float],
-        data: tuple[np.ndarray, ...],
-    ) -> None:
-        order = None
         if self.chart is not None:
-            order = self.chart.order
-            self.chart.remove()
-        assert self.folder is not None
-        with self.folder:
-            self.chart = self._new_chart(titles, labels, x_range, y_range, data, order)
-
-    def _new_chart(
-        self,
-        titles: tuple[str, str],
-        labels: Sequence[tuple[str, str]],
-        x_range: tuple[float, float],
-        y_range: tuple[float, float],
-        data: tuple[np.ndarray, ...] | None = None,
-        order: float | None = None,
-    ) -> viser.GuiUplotHandle:
-        """A chart with fixed ranges on both axes: dots of runs not yet done are NaN,
-        which viser's uPlot draws only with fixed ranges (an automatic range with a NaN
-        first value loses its y axis)."""
-        series: list[uplot.Series] = [{"label": titles[0]}]
-        curve = -1
-        for kind, name in labels:
-            if kind == "dots":
-                curve += 1
-            r, g, b = PALETTE[max(curve, 0) % len(PALETTE)]
-            color = f"rgb({r},{g},{b})"
-            if kind == "dots":
-                series.append(
-                    {
-                        "label": name or "Simulations",
-                        "stroke": color,
-                        "width": 0,
-                        "points": {"show": True, "size": 8, "stroke": color, "fill": color},
-                    }
-                )
-            else:
-                series.append(
-                    {
-                        "label": f"Cours{', ' + name if name else ''}",
-                        "stroke": color,
-                        "width": 1.5,
-                        "dash": (6.0, 4.0),
-                        "points": {"show": False},
-                    }
-                )
-        if data is None:
-            data = (np.array([0.0, 1.0]), *(np.full(2, math.nan) for _ in labels))
-        return self.gui.add_uplot(
-            data=data,
-            series=tuple(series),
-            title=titles[1] or "Lancez une étude : un point par simulation",
-            scales={
-                "x": {"time": False, "auto": False, "range": x_range},
-                "y": {"auto": False, "range": y_range},
-            },
-            axes=({"label": titles[0]}, {"size": 60}),
-            legend={"live": False},
-            padding=(12, 24, 0, 0),
-            aspect=1.3,
-            order=order,
-        )
-
-    # -- files ---------------------------------------------------------------------------
-    def _download(self, client: viser.ClientHandle | None, kind: str) -> None:
-        job = self.job
-        if client is None or job is None or job.done == 0:
-            return
-        if self.controller.secret is not None:
-            return  # a crafted click during a challenge gets nothing
-        rows = [r for r in job.rows if r is not None]
-        stamp = time.strftime("%Y%m%d-%H%M%S")
-        name = f"etude_{job.study.target}_{stamp}"
-        buffer = io.BytesIO()
-        if kind == "csv":
-            text = io.StringIO()
-            write_csv(text, job.study, rows)
-            client.send_file_download(f"{name}.csv", text.getvalue().encode("utf-8"))
-            return
-        plot(buffer, job.study, rows)
-        client.send_file_download(f"{name}.png", buffer.getvalue())
+            self.chart.draw(job)

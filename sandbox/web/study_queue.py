@@ -21,7 +21,7 @@ import logging
 import os
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ProcessPoolExecutor
 from multiprocessing import get_context
 from typing import Any
@@ -69,10 +69,19 @@ class StudyJob:
     Args:
         study: The checked study.
         points: Its grid (see :meth:`~sandbox.sweep.Study.points`).
+        x: What its chart puts on the horizontal axis instead of the first parameter
+            (words, function of a run's values): a preset's, e.g. R/L.
     """
 
-    def __init__(self, study: Study, points: list[dict[str, float]]) -> None:
+    def __init__(
+        self,
+        study: Study,
+        points: list[dict[str, float]],
+        *,
+        x: tuple[str, Callable[[Mapping[str, float]], float]] | None = None,
+    ) -> None:
         self.study = study
+        self.x = x
         self.points = points
         self.rows: list[dict[str, Any] | None] = [None] * len(points)
         self.done = 0

@@ -125,3 +125,41 @@ def test_a_lesson_step_sent_by_the_teacher_moves_the_students_sliders(open_page)
         assert wait_for(lambda: box.input_value() == "3000"), box.input_value()
     finally:
         app.stop()
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # three Chromium pages: about 30 s
+def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_follow):
+    """Issue 25: the teacher runs a study and sends it; a follower sees it in a folder of
+    its page, a student on their own copy in « Étude paramétrique », with the dots."""
+    from conftest import choose
+
+    from sandbox.web.follow import SEND_STUDY, STUDY_FOLDER
+
+    app: FollowApp = served_follow
+    teacher = open_page(app.teacher_url)
+    teacher.get_by_text("La classe", exact=True).first.wait_for(timeout=30_000)
+    follower = open_page(app.url)
+    follower.get_by_text("Simulation du professeur", exact=True).first.wait_for(timeout=30_000)
+    own = open_page(app.url)
+    own.get_by_role("button", name=OWN).click()
+    own.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
+    assert wait_for(lambda: app.counts() == (1, 1, 1))
+    teacher.get_by_role("button", name=SEND_STUDY).click()  # nothing to send yet
+    teacher.get_by_text("Lancez d'abord une étude", exact=False).first.wait_for(timeout=10_000)
+    choose(teacher, "Panneau affiché", "Étude paramétrique")
+    teacher.get_by_role("button", name="Lancer l'étude").click()
+    teacher.get_by_text("Étude terminée", exact=False).first.wait_for(timeout=60_000)
+    teacher.get_by_role("button", name=SEND_STUDY).click()
+    teacher.get_by_text("Étude envoyée à 2 élève(s).", exact=True).first.wait_for(timeout=10_000)
+    follower.get_by_text(STUDY_FOLDER, exact=True).first.wait_for(timeout=10_000)
+    follower.get_by_text("Étude terminée : 13 simulations", exact=False).first.wait_for(
+        timeout=10_000
+    )
+    choose(own, "Panneau affiché", "Étude paramétrique")
+    own.get_by_text("Étude du professeur. Étude terminée", exact=False).first.wait_for(
+        timeout=10_000
+    )
+    views = [v for v in app._views.values() if v.study is not None and v.study.received]
+    assert len(views) == 1 and views[0].study.job is app.study
+    assert sum(1 for r in app.study.rows if r is not None) == 13

@@ -85,7 +85,8 @@ def test_a_study_runs_and_its_dots_and_closed_form_reach_the_chart(page):
     page.tick(0.3)
     assert "Étude terminée : 4 simulations" in panel.status.content
     assert panel.button.label == RUN and not panel.progress.visible
-    x, dots, course = panel.chart.data
+    assert panel.chart is not None
+    x, dots, course = panel.chart.chart.data
     assert x.tolist() == [0.0, 2000.0, 4000.0, 6000.0]
     assert np.allclose(dots, course, rtol=1e-6) and dots[-1] > 800  # ω² (course 7.2)
     got: dict[str, bytes] = {}
@@ -110,11 +111,18 @@ def test_the_compressor_plots_against_r_over_l(tmp_path):
     """The preset's horizontal axis is R/L while L varies."""
     page = Page("compressor", tmp_path)
     panel = _panel(page)
-    study = panel.study()
-    job_points = study.points()
-    title, x_of = panel.x_of(type("J", (), {"study": study})())  # type: ignore[arg-type]
+    panel.count.value = 3
+    page.show(FOLDER)
+    page.send(page.find("button", RUN), True)
+    job = panel.job
+    assert job is not None and panel.chart is not None
+    title, x_of = panel.chart.x_of(job)
     assert title == "Rapport R/L"
-    assert x_of({"R": 0.015, "L": job_points[0]["L"]}) == pytest.approx(0.015 / 0.04)
+    assert x_of({"R": 0.015, "L": job.points[0]["L"]}) == pytest.approx(0.015 / 0.04)
+    assert wait_for(lambda: job.finished, timeout=60)
+    page.tick(0.3)
+    x = panel.chart.chart.data[0]
+    assert x.tolist() == sorted(0.015 / L for L in (0.04, 0.12, 0.2))
 
 
 def test_the_xy_folder_samples_only_while_shown(page):
