@@ -186,7 +186,8 @@ def build_parser() -> argparse.ArgumentParser:
         required=True,
         metavar="READOUT[:STAT]",
         help="the readout and what to take of it after --settle: final (default), mean, "
-        "max, amplitude, order1, order2 (over the last revolution)",
+        "max, amplitude, order1, order2 (over the last revolution), period (of its "
+        "oscillations), onset (the time it leaves its starting value: a slip, a lift-off)",
     )
     w.add_argument(
         "--duration",

@@ -35,12 +35,22 @@ from sandbox.runner import MAX_STEPS, check_run
 MAX_RUNS = 1000
 """Most runs one study may ask for."""
 
-STATISTICS = ("final", "mean", "max", "amplitude", "order1", "order2", "period")
+STATISTICS = ("final", "mean", "max", "amplitude", "order1", "order2", "period", "onset")
 """What a run's samples are reduced to: the last one, their mean, their largest value,
 half their range, the amplitude of the first or second order over the last revolution
 of the scene's first hinge (least squares on cos kθ, sin kθ), or the mean time between
 two rises through the middle of their range (an oscillation's period, e.g. the flips of
-a solid launched about its intermediate axis)."""
+a solid launched about its intermediate axis), or the time of an event: the first instant
+the readout leaves its value at the settling time by more than :data:`ONSET` of its
+largest departure over the run and by more than :data:`ONSET_FLOOR` in its unit (a slip
+velocity that starts growing, a contact flag that drops); NaN when it never does."""
+
+ONSET = 0.01
+"""Share of a readout's largest departure that marks an event (statistic ``onset``)."""
+
+ONSET_FLOOR = 1e-3
+"""Smallest departure that is an event, in the readout's unit (1 mm/s of slip, 1 mN):
+a soft contact lets a rolling cylinder creep at 10⁻⁶ m/s, which is no slip."""
 
 SMALL_STEPS = 300_000
 """Steps in all under which ``sandbox sweep`` runs a study in its own process by default:
@@ -235,6 +245,16 @@ def period(times: np.ndarray, values: np.ndarray) -> float:
     return float(np.mean(np.diff(at)))
 
 
+def onset(times: np.ndarray, values: np.ndarray) -> float:
+    """The first time ``values`` leaves its first value by more than :data:`ONSET` of
+    its largest departure and :data:`ONSET_FLOOR` (NaN when it never does)."""
+    departure = np.abs(values - values[0])
+    largest = float(departure.max()) if len(departure) else 0.0
+    if not math.isfinite(largest) or largest <= ONSET_FLOOR:
+        return math.nan
+    return float(times[int(np.argmax(departure > max(ONSET * largest, ONSET_FLOOR)))])
+
+
 def reduce(
     statistic: str,
     values: np.ndarray,
@@ -245,6 +265,8 @@ def reduce(
     ``times``: their times, for the period)."""
     if len(values) == 0:
         return math.nan
+    if statistic == "onset":
+        return onset(times, values) if times is not None and len(times) == len(values) else math.nan
     if statistic == "period":
         return (
             period(times, values) if times is not None and len(times) == len(values) else math.nan
@@ -481,6 +503,7 @@ STAT_WORDS = {
     "order1": "ordre 1 de ",
     "order2": "ordre 2 de ",
     "period": "période de ",
+    "onset": "instant où change ",
 }
 """The statistic in French, before the readout's words on a chart's axis."""
 

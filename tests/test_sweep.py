@@ -74,6 +74,41 @@ def test_the_statistics_of_a_known_signal():
     assert math.isnan(reduce("order2", values[:30], angles[:30]))  # under a revolution
 
 
+def test_a_period_and_an_event_time():
+    """``period``: mean time between rises through mid-range; ``onset``: the first
+    instant a readout leaves its starting value by 1 % of its largest departure."""
+    import numpy as np
+
+    t = np.linspace(0.0, 10.0, 10_001)
+    assert reduce("period", np.sin(2 * np.pi * t / 2.5), None, t) == pytest.approx(2.5, rel=1e-6)
+    assert math.isnan(reduce("period", t, None, t))  # no oscillation
+    slip = np.where(t < 3.0, 0.0, (t - 3.0) * 0.2)  # starts slipping at 3 s
+    assert reduce("onset", slip, None, t) == pytest.approx(3.0 + 0.01 * 1.4 / 0.2, abs=2e-3)
+    assert math.isnan(reduce("onset", np.full_like(t, 2.0), None, t))  # never
+    assert math.isnan(reduce("onset", 1e-5 * t, None, t))  # a creep under 1e-3: no event
+    lifted = np.where(t < 4.2, 1.0, 0.0)  # a contact flag that drops
+    assert reduce("onset", lifted, None, t) == pytest.approx(4.2, abs=1e-3)
+
+
+def test_a_cylinder_past_the_slip_threshold_slips_at_once():
+    """Course: with μ below tan α / 3 the cylinder slips from the start (onset ~0);
+    below the threshold the slip velocity never leaves 0 (NaN: no event)."""
+
+    def study(mu: float) -> Study:
+        return Study(
+            "rolling_cylinder",
+            (Vary("slope_deg", 50.0, 50.0, 1),),
+            Measure("slip_velocity", "onset"),
+            0.3,
+            fixed=(("mu", repr(mu)),),
+        )
+
+    (slips,) = run_study(study(0.1))
+    assert slips["measure"] < 0.01
+    (rolls,) = run_study(study(1.0))
+    assert math.isnan(rolls["measure"])  # a creep of 10⁻⁶ m/s is no slip
+
+
 @pytest.mark.parametrize(
     ("argv", "words"),
     [

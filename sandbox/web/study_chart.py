@@ -33,6 +33,7 @@ STAT_LABELS = {
     "order1": "Amplitude d'ordre 1 sur le dernier tour",
     "order2": "Amplitude d'ordre 2 sur le dernier tour",
     "period": "Période des oscillations",
+    "onset": "Instant où elle quitte sa valeur de départ (glissement, décollement…)",
 }
 """What a run's samples are reduced to, in words (see :data:`sandbox.sweep.STATISTICS`)."""
 
