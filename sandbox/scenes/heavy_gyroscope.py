@@ -233,18 +233,18 @@ SCENE = Scene(
     ),
     xy_presets=(
         XYPreset(
+            "Nutation au cours du temps",
+            "time",
+            ("nutation",),
+            hint="L'axe hoche pendant qu'il précesse : la nutation.",
+        ),
+        XYPreset(
             "Précession selon la nutation",
             "nutation",
             ("precession_rate",),
             refs={"precession_rate": "precession_fast_top"},
             hint="La vitesse de précession oscille avec la nutation ; en tirets, la "
             "précession de la toupie rapide du cours.",
-        ),
-        XYPreset(
-            "Nutation au cours du temps",
-            "time",
-            ("nutation",),
-            hint="L'axe hoche pendant qu'il précesse : la nutation.",
         ),
     ),
     arrows=ARROWS,

@@ -37,6 +37,22 @@ STAT_LABELS = {
 }
 """What a run's samples are reduced to, in words (see :data:`sandbox.sweep.STATISTICS`)."""
 
+TITLE_WORDS = {
+    "final": "",
+    "mean": ", moyenne",
+    "max": ", maximum",
+    "amplitude": ", amplitude",
+    "order1": ", ordre 1",
+    "order2": ", ordre 2",
+    "period": "Période",
+    "onset": "Instant du changement",
+}
+"""The statistic in a chart's title, short enough for a phone ("Effet de pilon [N], ordre 2";
+a time: "Période de : Angle … [s]")."""
+
+TIMES = frozenset({"period", "onset"})
+"""Statistics that are times [s], whatever the readout's unit."""
+
 
 class StudyChart:
     """A study's chart in ``folder`` of ``gui``, for the scene of ``sim``."""
@@ -98,8 +114,11 @@ class StudyChart:
         y_range = self._range(found)
         info = self.infos[study.measure.readout]
         axis = Axis.of(info.name, info.label or info.name, info.unit)
-        y_title = f"{STAT_LABELS[study.measure.statistic]} — {axis.title}"
+        statistic = study.measure.statistic
+        y_title = f"{axis.title}{TITLE_WORDS[statistic]}"
         scale = axis.scale
+        if statistic in TIMES:  # a time [s], whatever the readout's unit
+            y_title, scale = f"{TITLE_WORDS[statistic]} de : {axis.words} [s]", 1.0
         data = (x, *(c * scale for c in columns_))
         x_range = (float(np.nanmin(x)), float(np.nanmax(x)))
         if x_range[0] == x_range[1]:

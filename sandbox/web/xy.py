@@ -270,11 +270,17 @@ class XYData:
             )
         zero = zero or {}
         lines = [f"**{self.x.words}** = {with_unit(number(x, 4), self.x.shown)}"]
+        xs, values = self.shown()
+        span = float(np.nanmax(xs) - np.nanmin(xs)) if len(xs) else 0.0
         for y, value, slope in ys:
             z = zero.get(y.unit, 0.0) * y.scale
+            # a slope that moves Y by less than its round-off (or 10⁻⁹ of its size) over
+            # the whole range is round-off: 0, not 3×10⁻¹⁴
+            size = float(np.nanmax(np.abs(values[y.name]))) if len(xs) else 0.0
+            flat = max(z, 1e-9 * size) / span if span > 0 else 0.0
             lines.append(
                 f"**{y.words}** = {with_unit(number(value, 4, zero=z), y.shown)} ; "
-                f"pente {with_unit(number(slope, 3), slope_unit(y.shown, self.x.shown))}"
+                f"pente {with_unit(number(slope, 3, zero=flat), slope_unit(y.shown, self.x.shown))}"
             )
         return "  \n".join(lines)
 

@@ -97,7 +97,7 @@ def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page,
     choose(page, "Panneau affiché", "Étude paramétrique")
     page.get_by_role("button", name="Lancer l'étude").click()
     page.get_by_text(re.compile("Étude terminée : 13 simulations")).wait_for(timeout=60_000)
-    title = "Valeur à la fin — Effort du palier A [N]"
+    title = "Effort du palier A [N]"
     assert wait_for(lambda: _chart(page, title).get("coloured", 0) > 150, timeout=10)
     chart = _chart(page, title)
     assert chart["xmin"] == 0 and chart["xmax"] == 6000 and chart["ymax"] >= 870  # 868 N

@@ -150,3 +150,21 @@ def test_an_xy_preset_that_changes_parameters_restarts_the_run(page):
     assert page.ctl.sim.values["ramp_s"] == 2.0 and page.ctl.sim.values["speed_rpm"] == 6000.0
     assert page.ctl.generation == 1
     _ = Study  # the contract type the page builds
+
+
+def test_a_period_is_charted_in_seconds(tmp_path):
+    """The inertia lab's flip period: a time, whatever the angle's unit, titled as one."""
+    page = Page("inertia", tmp_path)
+    panel = _panel(page)
+    panel.count.value = 2
+    page.show(FOLDER)
+    page.send(page.find("button", RUN), True)
+    job = panel.job
+    assert job is not None and wait_for(lambda: job.finished, timeout=60)
+    page.tick(0.3)
+    charts = [h for h in page.client.gui.handles if h.kind == "uplot" and h.visible]
+    titles = [h.label for h in charts]
+    assert "Période de : Angle entre ω et l'axe de lancement [s]" in titles
+    assert panel.chart is not None
+    _, dots, course = panel.chart.chart.data
+    assert np.allclose(dots, course, rtol=1e-5) and 3 < dots.min() < dots.max() < 6  # s

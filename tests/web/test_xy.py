@@ -200,3 +200,14 @@ def test_every_preset_names_what_its_scene_has(name):
             assert q.min <= vary[1] < vary[2] <= q.max and vary[3] >= 2
         assert s.measure in readouts and s.statistic in STATISTICS and s.hint
         assert set(s.fixed) <= set(params)
+
+
+def test_a_flat_curve_reads_a_slope_of_zero_not_round_off():
+    """The rotor's bearing force at constant speed: its slope against time is round-off
+    (3×10⁻¹⁴ N/s), shown as 0."""
+    sim = Simulation("rotor")
+    data = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
+    rng = np.random.default_rng(0)
+    data.add((t / 100, {"bearing_A": 54.4 + 1e-13 * rng.standard_normal()}) for t in range(300))
+    text = data.reading(0.5, SCENES["rotor"].zero)
+    assert "pente 0 N/s" in text and "10⁻" not in text
