@@ -271,7 +271,7 @@ class XYPanel:
         return self.gui.add_uplot(
             data=data.arrays(self.cursor),
             series=tuple(series),
-            title=self.heading(),
+            title=None,  # the preset's name is above it; a phone cut long titles
             scales={"x": x_scale, "y": {"auto": True}},
             axes=(
                 {"label": data.x.title},

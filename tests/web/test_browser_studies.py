@@ -66,7 +66,11 @@ def test_the_xy_plot_draws_the_pilon_over_a_revolution_in_french(open_page, serv
     page = open_page(served_compressor.url)
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
     choose(page, "Panneau affiché", "Tracé X–Y")
-    title = "Pilon et tamis sur un tour du vilebrequin"
+    title = ""  # no title on the chart: the preset's name is above it (a phone cut it)
+    assert _shown(page, "Pilon et tamis sur un tour du vilebrequin") or any(
+        v == "Pilon et tamis sur un tour du vilebrequin"
+        for v in page.locator("input").evaluate_all("(es) => es.map((e) => e.value)")
+    )
     assert wait_for(lambda: _chart(page, title).get("coloured", 0) > 500, timeout=20)
     chart = _chart(page, title)
     assert 0 <= chart["xmin"] < 40 and 320 < chart["xmax"] <= 360  # degrees, one turn
