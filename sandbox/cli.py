@@ -34,7 +34,7 @@ from sandbox.errors import BadOption, BadParameter, SandboxError, choices, one_l
 from sandbox.launch import INTERRUPTED
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
-from sandbox.recording import Recorder, load, write_csv
+from sandbox.recording import Recorder, Recording, load, write_csv
 from sandbox.runner import RowWriter, check_out, check_run, simulate, special_file
 from sandbox.scenes import resolve
 from sandbox.scenes.base import Scene
@@ -246,6 +246,33 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument(
         "--salvage", action="store_true", help="accept a recording that was never closed"
     )
+    rp.add_argument(
+        "--video",
+        type=Path,
+        metavar="OUT.mp4|OUT.gif",
+        help="a video for slides: the mechanism, arrows, key readouts, time (the video extra)",
+    )
+    rp.add_argument("--size", default="1280x720", metavar="WxH", help="--video: frame size")
+    rp.add_argument("--fps", type=int, default=30, metavar="N", help="--video: frames a second")
+    rp.add_argument(
+        "--from", dest="start", type=float, default=0.0, metavar="S", help="--video: start [s]"
+    )
+    rp.add_argument("--to", dest="stop", type=float, metavar="S", help="--video: end [s]")
+    rp.add_argument(
+        "--speed", type=float, default=1.0, metavar="X", help="--video: 0.1 = slow motion ×10"
+    )
+    rp.add_argument(
+        "--plot",
+        default="",
+        metavar="NAME[,NAME...]",
+        help="--video: a strip of these readouts against time, with a moving cursor",
+    )
+    rp.add_argument(
+        "--camera",
+        default="scene",
+        metavar="PRESET",
+        help="--video: scene (the page's view), front, side or top",
+    )
     b = sub.add_parser("bench", help="what accuracy costs in time: integrators × timesteps")
     b.add_argument("scenes", nargs="*", metavar="SCENE", help="scenes (default: all)")
     b.add_argument("--quick", action="store_true", help="shorter runs (under 2 minutes)")
@@ -261,6 +288,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--sweep",
         action="store_true",
         help="a study of 50 runs of 2 s (rotor, or SCENE): one process vs every core",
+    )
+    b.add_argument(
+        "--video",
+        action="store_true",
+        help="30 s of the rotor (or SCENE) recorded, then made a 1280x720 video at 30 fps: "
+        "the time it takes and its ratio to the video's length",
     )
     b.add_argument(
         "--classroom",
@@ -623,6 +656,36 @@ def _bench_sweep(target: str) -> int:
     return 0
 
 
+def _bench_video(target: str, seconds: float = 30.0) -> int:
+    """``sandbox bench --video``: record ``seconds`` of the scene as the page does (a
+    frame every 10 ms), then time the video of it at 1280x720 and 30 fps."""
+    import tempfile
+    import time
+
+    from sandbox.web.video import VideoOptions, render_video
+
+    sim = Simulation(target)
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "bench.sbx"
+        recorder = Recorder(path, sim)
+        recorder.frame(sim.readouts())
+        while sim.data.time < seconds - 1e-9:
+            sim.advance(0.01)
+            recorder.frame(sim.readouts())
+        recorder.close()
+        rec = load(path)
+        options = VideoOptions(Path(folder) / "bench.mp4", plots=())
+        start = time.perf_counter()
+        frames = render_video(rec, options)
+        took = time.perf_counter() - start
+    length = frames / options.fps
+    print(
+        f"{target}: {length:.0f} s of video, {frames} frames of 1280x720, made in {took:.1f} s: "
+        f"{took / length:.2f} × its length ({took / frames * 1000:.0f} ms a frame)"
+    )
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
     if args.classroom is not None:
@@ -631,6 +694,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return cli_classroom(args)
     if args.sweep:
         return _bench_sweep(args.scenes[0] if args.scenes else "rotor")
+    if args.video:
+        return _bench_video(args.scenes[0] if args.scenes else "rotor")
     from sandbox import bench
     from sandbox.scenes import SCENES, get_scene
 
@@ -751,6 +816,30 @@ def _check_record(path: Path) -> None:
         raise BadOption(f"--record {name} cannot be written (permission denied); give another path")
 
 
+def _video(rec: Recording, args: argparse.Namespace) -> None:
+    """``replay --video``: checked before any frame, a progress bar on a terminal."""
+    from tqdm import tqdm
+
+    from sandbox.web.video import VideoOptions, check, parse_size, render_video
+
+    options = VideoOptions(
+        args.video,
+        size=parse_size(args.size),
+        fps=args.fps,
+        start=args.start,
+        stop=args.stop,
+        speed=args.speed,
+        plots=tuple(n.strip() for n in str(args.plot).split(",") if n.strip()),
+        camera=args.camera,
+    )
+    check(options, rec)
+    total = len(options.times(rec))
+    with tqdm(total=total, unit="image", disable=not sys.stderr.isatty(), leave=False) as bar:
+        frames = render_video(rec, options, lambda done, _: bar.update(done - bar.n))
+    seconds = frames / options.fps
+    print(f"video written to {args.video}: {frames} frames, {seconds:.1f} s at {options.fps} fps")
+
+
 def cmd_replay(args: argparse.Namespace) -> int:
     """``sandbox replay``: serve a recording, or verify / export / convert it."""
     rec = load(args.file, salvage=args.salvage)
@@ -759,7 +848,11 @@ def cmd_replay(args: argparse.Namespace) -> int:
             f"sandbox: warning: {args.file} was not closed; replaying its {rec.duration:.2f} s",
             file=sys.stderr,
         )
-    offline = args.verify or args.export is not None or args.csv is not None
+    offline = (
+        args.verify or args.export is not None or args.csv is not None or args.video is not None
+    )
+    if args.video is not None:
+        _video(rec, args)
     if args.csv is not None:
         try:
             usable = not args.csv.is_dir() and args.csv.parent.is_dir()

@@ -70,6 +70,15 @@ def arrow_points(arrow: Arrow, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarr
     return origin, origin + arrow.scale * vector, float(np.linalg.norm(vector))
 
 
+def caption(arrow: Arrow, magnitude: float, unit: str, zero: Mapping[str, float]) -> str:
+    """An arrow's label: its words, magnitude and unit ("Palier A : 0,91 N"); its words
+    alone for an arrow that shows a direction only. ``zero``: round-off by unit."""
+    if not getattr(arrow, "magnitude", True):
+        return arrow.label
+    value = number(magnitude, 3, zero=zero.get(unit, 0.0))
+    return f"{arrow.label} : {with_unit(value, display_unit(unit))}"
+
+
 def auto_factor(current: float, longest: float, size: float) -> float:
     """The length factor of a unit's arrows: ``current`` unless its longest arrow
     (``longest`` metres at the scene's scale) would reach past :data:`MAX_REACH` or stay
@@ -411,11 +420,7 @@ class ArrowLayer:
 
     def caption(self, k: int) -> str:
         """The label of arrow ``k``: its words, magnitude and unit ("Palier A : 0,91 N")."""
-        arrow, magnitude, unit = self.arrows[k], self.magnitudes[k], self.units[k]
-        if not getattr(arrow, "magnitude", True):
-            return arrow.label
-        value = number(magnitude, 3, zero=self.zero.get(unit, 0.0))
-        return f"{arrow.label} : {with_unit(value, display_unit(unit))}"
+        return caption(self.arrows[k], self.magnitudes[k], self.units[k], self.zero)
 
     def relabel(self) -> None:
         """Write the current magnitudes in the labels and place them (called at the panel

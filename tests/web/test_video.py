@@ -1,0 +1,158 @@
+"""``sandbox replay FILE --video``: the video decoded and read back — its frames, size and
+codec, the mechanism moving and the background still, the arrow's colour, the plot
+cursor advancing — and bad input refused before any frame, a failure leaving no file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sandbox.cli import main
+from sandbox.physics.simulation import Simulation
+from sandbox.recording import Recorder, load
+from sandbox.web import video
+from sandbox.web.video import VideoOptions, render_video
+
+imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
+
+SIZE = (480, 270)
+
+
+@pytest.fixture(scope="module")
+def rotor(tmp_path_factory) -> Path:
+    """One second of the rotor at 1500 tr/min, recorded every 10 ms (its timestep)."""
+    sim = Simulation("rotor")
+    path = tmp_path_factory.mktemp("video") / "rotor.sbx"
+    rec = Recorder(path, sim)
+    rec.frame(sim.readouts())
+    for _ in range(100):
+        sim.step(1)
+        rec.frame(sim.readouts())
+    rec.close()
+    return path
+
+
+def _frames(path: Path) -> tuple[dict, list[np.ndarray]]:
+    reader = imageio_ffmpeg.read_frames(str(path))
+    meta = next(reader)
+    w, h = meta["size"]
+    return meta, [np.frombuffer(f, dtype=np.uint8).reshape(h, w, 3) for f in reader]
+
+
+@pytest.fixture(scope="module")
+def clip(rotor, tmp_path_factory) -> tuple[dict, list[np.ndarray], VideoOptions]:
+    """0.4 s of the rotor at ×0.5, 10 frames a second, with bearing A in a strip."""
+    out = tmp_path_factory.mktemp("out") / "rotor.mp4"
+    options = VideoOptions(out, size=SIZE, fps=10, stop=0.4, speed=0.5, plots=("bearing_A",))
+    assert render_video(load(rotor), options) == 8
+    meta, frames = _frames(out)
+    return meta, frames, options
+
+
+def test_frames_size_and_codec(clip):
+    """Frame count = duration / speed × fps (0.4 s / 0.5 × 10 = 8), the size asked,
+    H.264 in an MP4 that any slide program plays."""
+    meta, frames, _ = clip
+    assert len(frames) == 8 and tuple(meta["size"]) == SIZE
+    assert "h264" in meta["codec"]
+    assert meta["fps"] == pytest.approx(10)
+
+
+def test_the_mechanism_moves_and_the_background_stays(clip):
+    """At 1500 tr/min and ×0.5, 0.05 s of motion between frames turns the rotor by
+    225°: the disk's pixels change; the top right corner (white wall) does not."""
+    _, frames, _ = clip
+    view_h = round(SIZE[1] * (1 - video.STRIP))
+    a, b = (f.astype(int) for f in frames[3:5])
+    middle = np.s_[view_h // 5 : 4 * view_h // 5, SIZE[0] // 3 : 2 * SIZE[0] // 3]
+    corner = np.s_[0 : view_h // 6, 5 * SIZE[0] // 6 :]
+    assert np.abs(a[middle] - b[middle]).max() > 60
+    assert np.abs(a[corner] - b[corner]).max() <= 4  # compression noise only
+    assert a[corner].min() > 240  # white, as the page
+
+
+def test_the_arrows_colour_is_drawn(clip):
+    """Bearing A's arrow is blue (40, 110, 230): saturated blue pixels in the view."""
+    _, frames, _ = clip
+    view_h = round(SIZE[1] * (1 - video.STRIP))
+    view = frames[2][:view_h].astype(int)
+    blue = (view[..., 2] > 150) & (view[..., 2] - view[..., 0] > 100)
+    assert blue.sum() > 40
+
+
+def test_the_plot_cursor_advances(clip):
+    """The strip's black cursor moves right frame after frame (inside the axes: their
+    left edge is the first frame's instant), by the same step each time."""
+    _, frames, _ = clip
+    view_h = round(SIZE[1] * (1 - video.STRIP))
+    left, right = int(SIZE[0] * 0.085), int(SIZE[0] * 0.825)
+    columns = []
+    for f in frames[1:]:
+        strip = f[view_h + 5 :, left:right].astype(int)
+        dark = (strip.sum(axis=2) < 120).sum(axis=0)
+        columns.append(left + int(np.argmax(dark)))
+    steps = np.diff(columns)
+    assert (steps > 0).all(), columns
+    assert steps.max() - steps.min() <= 2, columns
+
+
+def test_a_gif_too(rotor, tmp_path):
+    out = tmp_path / "rotor.gif"
+    render_video(load(rotor), VideoOptions(out, size=(320, 180), fps=5, stop=0.6))
+    meta, frames = _frames(out)
+    assert len(frames) == 3 and tuple(meta["size"]) == (320, 180)
+    assert not list(tmp_path.glob(".*part*"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (["--plot", "nope"], "not a readout of this recording"),
+        (["--size", "4000x3000"], "from 160x120 to 3840x2160"),
+        (["--size", "100x80"], "from 160x120 to 3840x2160"),
+        (["--fps", "0"], "choose from 1 to 120"),
+        (["--from", "0.5", "--to", "3"], "choose FROM < TO within it"),
+        (["--speed", "0"], "0.1: slow motion"),
+        (["--camera", "drone"], "choose one of scene, front, side, top"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2_before_any_frame(rotor, tmp_path, capsys, argv, words):
+    out = tmp_path / "x.mp4"
+    assert main(["replay", str(rotor), "--video", str(out), *argv]) == 2
+    err = capsys.readouterr().err
+    assert words in err and len(err.strip().splitlines()) == 1
+    assert not list(tmp_path.iterdir())  # nothing rendered, nothing written
+
+
+def test_a_wrong_extension_is_refused(rotor, tmp_path, capsys):
+    assert main(["replay", str(rotor), "--video", str(tmp_path / "x.avi")]) == 2
+    assert ".mp4 or .gif" in capsys.readouterr().err
+
+
+def test_a_failure_leaves_no_half_written_file(rotor, tmp_path, monkeypatch):
+    calls = {"n": 0}
+    box = video.Text.box
+
+    def failing(self, *args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > 6:
+            raise RuntimeError("the disk is full")
+        return box(self, *args, **kwargs)
+
+    monkeypatch.setattr(video.Text, "box", failing)
+    out = tmp_path / "x.mp4"
+    with pytest.raises(video.VideoError, match="the disk is full"):
+        render_video(load(rotor), VideoOptions(out, size=(320, 180), fps=10, stop=1.0))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_missing_encoder_names_what_to_install(rotor, tmp_path, monkeypatch, capsys):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    assert main(["replay", str(rotor), "--video", str(tmp_path / "x.mp4")]) == 2
+    err = capsys.readouterr().err
+    assert 'pip install ".[video]"' in err and "imageio-ffmpeg" in err
+    assert list(tmp_path.iterdir()) == []
