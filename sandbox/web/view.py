@@ -40,6 +40,7 @@ from sandbox.web.session import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.study_panel import FOLDER as STUDY_FOLDER
 from sandbox.web.study_panel import StudyPanel
 from sandbox.web.trail import Trail
+from sandbox.web.video_export import VideoExport
 from sandbox.web.xy_panel import FOLDER as XY_FOLDER
 from sandbox.web.xy_panel import XYPanel
 
@@ -212,6 +213,11 @@ class WebView(Generic[D]):
             self.controls = ControlPanel(client.gui, controller)
         else:
             raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
+        self.video = (
+            VideoExport(client.gui, controller)
+            if controls is None and isinstance(controller, Controller)
+            else None
+        )
         self.join = JoinPanel(client.gui, join_urls) if join_urls else None
         left = 16
         if controls is None and isinstance(controller, Controller):
@@ -418,6 +424,8 @@ class WebView(Generic[D]):
         controller, now = self.controller, frame.now
         sim = controller.sim
         self.controls.refresh()
+        if self.video is not None:
+            self.video.refresh()
         if self._showing(HYPOTHESES_FOLDER):
             self.hypotheses.refresh()
         self.projector.refresh(None if frame.diverged else frame.readouts)

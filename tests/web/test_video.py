@@ -156,3 +156,36 @@ def test_a_missing_encoder_names_what_to_install(rotor, tmp_path, monkeypatch, c
     err = capsys.readouterr().err
     assert 'pip install ".[video]"' in err and "imageio-ffmpeg" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_page_exports_the_last_seconds_of_its_recording(tmp_path):
+    """« Exporter une vidéo »: without a recording, what to do; with one, a video made in
+    a worker process and downloaded, the folder it used removed."""
+    import time
+
+    from tests.robustness.test_hostile_web import Page
+
+    page = Page("rotor", tmp_path)
+    export = page.view.video
+    assert export is not None
+    page.send(page.find("button", "Exporter une vidéo"), True)
+    page.tick(0.2)
+    assert "Pas d'enregistrement en cours" in export.status.content
+    page.ctl.start_recording()
+    page.tick(3.0)
+    assert page.ctl.recorder is not None
+    page.ctl.recorder.flush()
+    got: dict[str, bytes] = {}
+    page.client.send_file_download = lambda name, data, **_: got.__setitem__(name, data)
+    page.send(page.find("button", "Exporter une vidéo"), True)
+    page.tick(0.2)
+    assert export.future is not None and export.progress.visible
+    folder = export.folder_path
+    end = time.monotonic() + 120
+    while export.future is not None and time.monotonic() < end:
+        time.sleep(0.2)
+        page.tick(0.1)
+    ((name, data),) = got.items()
+    assert name.endswith(".mp4") and data[4:8] == b"ftyp"  # an MP4
+    assert "Vidéo prête" in export.status.content
+    assert folder is not None and not folder.exists()
