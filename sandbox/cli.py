@@ -236,7 +236,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="address students type when they come through a proxy (shown in 'Rejoindre')",
     )
     rp = sub.add_parser("replay", help="replay a recording in the browser, verify or export it")
-    rp.add_argument("file", type=Path, help="recording file (sandbox run --record, web app)")
+    rp.add_argument(
+        "file",
+        type=Path,
+        nargs="+",
+        help="recording file (sandbox run --record, web app); several with --export",
+    )
     _server_options(rp, workers=False)
     rp.add_argument(
         "--verify", action="store_true", help="re-simulate and print the largest deviation"
@@ -842,12 +847,18 @@ def _video(rec: Recording, args: argparse.Namespace) -> None:
 
 def cmd_replay(args: argparse.Namespace) -> int:
     """``sandbox replay``: serve a recording, or verify / export / convert it."""
-    rec = load(args.file, salvage=args.salvage)
-    if not rec.complete:
-        print(
-            f"sandbox: warning: {args.file} was not closed; replaying its {rec.duration:.2f} s",
-            file=sys.stderr,
-        )
+    files: list[Path] = list(args.file)
+    others = args.verify or args.csv is not None or args.video is not None
+    if len(files) > 1 and (args.export is None or others):
+        raise BadOption("give one recording (several go together only with --export DIR)")
+    recs = [load(f, salvage=args.salvage) for f in files]
+    for path, one in zip(files, recs, strict=True):
+        if not one.complete:
+            print(
+                f"sandbox: warning: {path} was not closed; replaying its {one.duration:.2f} s",
+                file=sys.stderr,
+            )
+    rec = recs[0]
     offline = (
         args.verify or args.export is not None or args.csv is not None or args.video is not None
     )
@@ -864,10 +875,13 @@ def cmd_replay(args: argparse.Namespace) -> int:
         print(f"{n} rows of {len(rec.names)} readouts written to {args.csv}")
     if args.export is not None:
         _check_folder(args.export, "--export")
-        from sandbox.web.export import export_static
+        from sandbox.web.pack import export_pack
 
-        index = export_static(rec, args.export)
-        print(f"static replay written to {index} (open it in a browser; no Python needed)")
+        index = export_pack(recs, args.export)
+        print(
+            f"lesson pack written to {index}: {len(recs)} recording(s), each a video with "
+            "its plots and lesson steps, and a 3D view (open it in a browser; no Python needed)"
+        )
     if args.verify:
         from sandbox.replay import verify
 

@@ -128,7 +128,8 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         for i in _thin(clock, fps):
             wanted = rec.values_at(i)
             for name, value in wanted.items():
-                if values.get(name) != value:
+                # a recording whose scene is gone replays its MJCF: no parameters
+                if name in values and values[name] != value:
                     sim.set_value(name, value)
             set_state(sim.model, sim.data, rec.states[i])
             renderer.sync(sim.model, sim.data)

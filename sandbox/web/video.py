@@ -272,7 +272,8 @@ class Follow:
         i = max(0, int(np.searchsorted(rec.times, time + 1e-12, side="right")) - 1)
         if i != self.index or float(sim.data.time) > time + 1e-12:
             for name, value in rec.values_at(i).items():
-                if sim.values.get(name) != value:
+                # a recording whose scene is gone replays its MJCF: no parameters
+                if name in sim.values and sim.values[name] != value:
                     sim.set_value(name, value)
             set_state(sim.model, sim.data, rec.states[i])
             self.index = i
@@ -464,12 +465,8 @@ def render_video(
             values = sim.readouts(names + ["time"], data=data)
             lines = [f"t = {number(float(t), 4)} s"]
             lines += overlay_lines(names, values, labels, units, zeros)
-            text.box(
-                draw,
-                (0.02 * width, view_h - (len(lines) * 1.35 + 0.6) * text.big.size),
-                lines,
-                text.big,
-            )
+            # top left: a player's controls cover the bottom of a video
+            text.box(draw, (0.02 * width, 0.03 * view_h), lines, text.big)
             if strip is not None:
                 frame.paste(strip.image, (0, view_h))
                 x = strip.x_of(float(t))

@@ -1,0 +1,137 @@
+"""Lesson packs (``sandbox replay A.sbx B.sbx --export DIR``): a static site read in
+headless Chromium from the disk — the lesson's steps in French as chapters, the plot's
+cursor following the video and seeking it, no request leaving the page — and recordings
+treated as untrusted."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+
+from sandbox.cli import main
+from sandbox.lessons import catalogue
+from sandbox.physics.simulation import Simulation
+from sandbox.recording import Recorder, load
+from sandbox.web.pack import export_pack
+
+pytest.importorskip("imageio_ffmpeg")
+
+CRAFTED = "<script>alert('x')</script><img src=x onerror=alert(1)>"
+
+
+def _lesson_recording(path: Path, *, speed_up: bool = True) -> Path:
+    """1.5 s of the rotor following the lesson "equilibrage": step 1 at 0, step 2 at
+    0.5 s, step 3 (and 3000 tr/min) at 1.0 s."""
+    sim = Simulation("rotor")
+    rec = Recorder(path, sim, lesson="equilibrage")
+    rec.event("lesson", step=0)
+    rec.frame(sim.readouts())
+    for k in range(150):
+        sim.step(1)
+        if k == 49:
+            rec.event("lesson", step=1)
+        if k == 99:
+            if speed_up:
+                sim.set_value("speed_rpm", 3000)
+            rec.event("lesson", step=2)
+        rec.frame(sim.readouts())
+    rec.close()
+    return path
+
+
+@pytest.fixture(scope="module")
+def pack(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("pack")
+    lesson = _lesson_recording(folder / "lesson.sbx")
+    sim = Simulation("compressor")
+    plain = Recorder(folder / "compressor.sbx", sim)
+    for _ in range(40):
+        sim.step(10)
+        plain.frame(sim.readouts())
+    plain.close()
+    out = folder / "site"
+    assert main(["replay", str(lesson), str(folder / "compressor.sbx"), "--export", str(out)]) == 0
+    return out
+
+
+def test_the_site_holds_each_recording(pack):
+    index = (pack / "index.html").read_text(encoding="utf-8")
+    assert "Rotor déséquilibré à équilibrer" in index and "· leçon" in index
+    folders = sorted(p.name for p in pack.iterdir() if p.is_dir())
+    assert folders == ["01-lesson", "02-compressor"]
+    for name in folders:
+        assert {"index.html", "video.mp4", "3d"} <= {p.name for p in (pack / name).iterdir()}
+        assert (pack / name / "3d" / "readouts.csv").exists()
+    page = (pack / "01-lesson" / "index.html").read_text(encoding="utf-8")
+    assert "http://" not in page and "https://" not in page  # nothing from the network
+
+
+@pytest.mark.browser
+@pytest.mark.slow  # one Chromium page, a few seconds
+def test_the_lesson_plays_offline_with_its_steps_and_plot(pack, browser):
+    steps = [s.title for s in catalogue()[0]["equilibrage"].steps[:3]]
+    page = browser.new_page(viewport={"width": 1280, "height": 720})
+    requests: list[str] = []
+    page.on("request", lambda r: requests.append(r.url))
+    try:
+        page.goto((pack / "index.html").as_uri())
+        page.get_by_role("link", name="Rotor déséquilibré à équilibrer").click()
+        for title in steps:
+            page.get_by_text(title, exact=True).first.wait_for(timeout=10_000)
+        on = page.locator("#steps li.on")
+        assert steps[0] in on.inner_text()
+        start = page.evaluate("() => window.__cursor")
+        page.evaluate("() => { const v = document.getElementById('v'); v.muted = true; v.play(); }")
+        time.sleep(1.2)
+        moved = page.evaluate("() => [document.getElementById('v').currentTime, window.__cursor]")
+        assert moved[0] > 0.3 and moved[1] > start + 50  # the cursor follows the video
+        page.evaluate("() => document.getElementById('v').pause()")
+        # a click on the plot near its right end seeks the video there (step 3's chapter)
+        box = page.locator("#plot").bounding_box()
+        assert box is not None
+        page.mouse.click(box["x"] + box["width"] - 20, box["y"] + box["height"] / 2)
+        page.wait_for_timeout(300)
+        assert page.evaluate("() => document.getElementById('v').currentTime") > 1.2
+        assert steps[2] in on.inner_text()
+        # a chapter's click seeks back to its start
+        page.get_by_text(steps[1], exact=True).first.click()
+        page.wait_for_timeout(300)
+        t = page.evaluate("() => document.getElementById('v').currentTime")
+        assert 0.45 < t < 0.6 and steps[1] in on.inner_text()
+        page.select_option("#speed", "0.5")
+        assert page.evaluate("() => document.getElementById('v').playbackRate") == 0.5
+    finally:
+        page.close()
+    assert requests and all(u.startswith("file://") for u in requests), requests
+
+
+def test_a_crafted_header_shows_as_text(tmp_path):
+    path = _lesson_recording(tmp_path / "r.sbx", speed_up=False)
+    rec = load(path)
+    rec.header["scene"] = "no such scene"  # the title then comes from the file
+    rec.header["target"] = CRAFTED
+    rec.header["lesson"] = CRAFTED
+    index = export_pack([rec], tmp_path / "site")
+    for page in (index, *tmp_path.glob("site/*/index.html")):
+        text = page.read_text(encoding="utf-8")
+        assert "<script>alert" not in text and "<img src=x" not in text
+    assert "&lt;script&gt;alert(" in index.read_text(encoding="utf-8")
+
+
+def test_a_folder_that_is_not_empty_is_refused(tmp_path, capsys):
+    path = _lesson_recording(tmp_path / "r.sbx")
+    out = tmp_path / "site"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    assert main(["replay", str(path), "--export", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "not an empty folder" in err and len(err.strip().splitlines()) == 1
+    assert [p.name for p in out.iterdir()] == ["notes.txt"]
+
+
+def test_several_recordings_go_only_to_an_export(tmp_path, capsys):
+    path = _lesson_recording(tmp_path / "r.sbx")
+    assert main(["replay", str(path), str(path), "--verify"]) == 2
+    assert "several go together only with --export" in capsys.readouterr().err
