@@ -228,17 +228,26 @@ class Recorder:
         self._events += 1
         self._maybe_flush()
 
-    def frame(self, readouts: Mapping[str, float] | None = None) -> None:
-        """Record the current full state, and the readouts shown with it if given."""
+    def frame(
+        self,
+        readouts: Mapping[str, float] | None = None,
+        *,
+        state: np.ndarray | None = None,
+        time: float | None = None,
+    ) -> None:
+        """Record the current full state, and the readouts shown with it if given; or a
+        state taken earlier (``state`` at simulated ``time``, of the same model: the last
+        seconds a page kept, written after the fact)."""
         sim = self.sim
         if self.closed:
             return
-        state = get_state(sim.model, sim.data)
+        if state is None:
+            state = get_state(sim.model, sim.data)
         numbers = len(state) + (len(self.names) if readouts is not None else 0)
         if not self.fits(records=2, numbers=numbers):
             self._close_full()
             return
-        t = float(sim.data.time)
+        t = float(sim.data.time) if time is None else float(time)
         self._write({"k": "frame", "t": t, "s": [float(x) for x in state]})
         if readouts is not None:
             self._write({"k": "readouts", "t": t, "r": [_number(readouts[n]) for n in self.names]})

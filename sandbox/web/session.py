@@ -38,6 +38,7 @@ from sandbox.recording import Recorder, create_unique
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web import text
 from sandbox.web.probe import Probe
+from sandbox.web.rewind import Rewind
 from sandbox.web.secret import Secret
 
 log = logging.getLogger(__name__)
@@ -239,6 +240,7 @@ class Controller:
         self.secret: Secret | None = None  # a challenge's, kept from the page
         self.probe = Probe()  # readouts sampled between frames (a "Tracé X–Y")
         self.cleanups: list[Callable[[], None]] = []  # run when its session ends
+        self.rewind = Rewind()  # the last seconds, for « Exporter une vidéo »
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
@@ -265,6 +267,8 @@ class Controller:
         notices += self._run_owed(now)  # a "Pas" just asked starts within this frame
         if record:
             self.record()
+        if not self.diverged:
+            self.rewind.keep(self.sim)
         return notices
 
     # -- what is drawn -------------------------------------------------------------------

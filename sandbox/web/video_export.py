@@ -1,5 +1,6 @@
-"""Folder « Vidéo » of the page: the last seconds of the recording in progress as an MP4,
-made in the background and downloaded (issue 26's "Exporter une vidéo").
+"""Folder « Vidéo » of the page: the last seconds of the simulation (the recording in
+progress when there is one, else the states the session keeps: :mod:`sandbox.web.rewind`)
+as an MP4, made in the background and downloaded (issue 26's "Exporter une vidéo").
 
 The video is drawn by :func:`sandbox.web.video.render_video` in a worker process at a
 lowered priority (:func:`sandbox.web.study_queue.lower_priority`), one video at a time
@@ -21,7 +22,6 @@ from pathlib import Path
 import viser
 
 from sandbox.errors import SandboxError
-from sandbox.recording import FLUSH_EVERY
 from sandbox.web.session import Controller
 from sandbox.web.study_queue import lower_priority
 from sandbox.web.text import plain
@@ -107,12 +107,13 @@ class VideoExport:
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:
             self.button = gui.add_button(
                 BUTTON,
-                hint=f"Les {LAST:.0f} dernières secondes de l'enregistrement en cours, en "
-                "vidéo MP4 pour vos diapositives (flèches, grandeurs clés, temps)",
+                hint=f"Les {LAST:.0f} dernières secondes, en vidéo MP4 pour vos diapositives "
+                "(flèches, grandeurs clés, temps)",
             )
             self.progress = gui.add_progress_bar(0.0, visible=False)
             self.status = gui.add_markdown(
-                "Enregistrez d'abord (**● Enregistrer**, dossier Simulation), puis exportez."
+                f"Les {LAST:.0f} dernières secondes de la simulation (ou de l'enregistrement "
+                "en cours), en MP4 pour vos diapositives."
             )
         self.button.on_click(lambda e: setattr(self, "_clicked", e.client))
         controller.cleanups.append(self.close)
@@ -150,31 +151,32 @@ class VideoExport:
             shutil.rmtree(folder, ignore_errors=True)
 
     def _start(self, client: viser.ClientHandle) -> None:
-        rec = self.controller.recorder
-        if rec is None:
-            self.status.content = (
-                "Pas d'enregistrement en cours : cliquez sur **● Enregistrer** (dossier "
-                "Simulation), laissez tourner, puis exportez."
-            )
+        ctl = self.controller
+        rec = ctl.recorder
+        folder = Path(tempfile.mkdtemp(prefix="sandbox-video-"))
+        if rec is not None and rec.frames >= 2:
+            source, what = rec.path, "de l'enregistrement en cours"
+        elif ctl.secret is not None:  # a challenge: the states hold the secret
+            shutil.rmtree(folder, ignore_errors=True)
+            self.status.content = "Pas de vidéo pendant un défi : elle montrerait le réglage caché."
             return
-        if rec.frames < 2:
-            self.status.content = "L'enregistrement vient de commencer : réessayez dans un instant."
-            return
+        else:
+            source, what = folder / "last.sbx", "de la simulation"
+            if not ctl.rewind.write(source, ctl.sim, ctl.lesson):
+                shutil.rmtree(folder, ignore_errors=True)
+                self.status.content = "Lancez la simulation (▶ Lecture), puis exportez."
+                return
         self.client = client
-        self.folder_path = Path(tempfile.mkdtemp(prefix="sandbox-video-"))
-        progress = self.folder_path / "progress.txt"
-        self.future = VideoJobs.shared().submit(rec.path, self.folder_path / "video.mp4", progress)
+        self.folder_path = folder
+        self.future = VideoJobs.shared().submit(source, folder / "video.mp4", folder / "p.txt")
         self.progress.value = 0.0  # type: ignore[misc]
         self.progress.visible = True
         self.button.disabled = True
-        self.status.content = (
-            f"Vidéo des {LAST:.0f} dernières secondes en préparation (l'enregistrement est lu "
-            f"tel qu'écrit il y a au plus {FLUSH_EVERY:.0f} s)…"
-        )
+        self.status.content = f"Vidéo des {LAST:.0f} dernières secondes {what} en préparation…"
 
     def _done(self) -> float:
         """Share of the frames made (0 before the worker says)."""
-        note = self.folder_path / "progress.txt" if self.folder_path is not None else None
+        note = self.folder_path / "p.txt" if self.folder_path is not None else None
         try:
             done, total = (note.read_text(encoding="ascii") if note else "0/1").split("/")
             return min(1.0, int(done) / max(int(total), 1))

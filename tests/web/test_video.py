@@ -158,23 +158,10 @@ def test_a_missing_encoder_names_what_to_install(rotor, tmp_path, monkeypatch, c
     assert list(tmp_path.iterdir()) == []
 
 
-def test_the_page_exports_the_last_seconds_of_its_recording(tmp_path):
-    """« Exporter une vidéo »: without a recording, what to do; with one, a video made in
-    a worker process and downloaded, the folder it used removed."""
+def _export(page, export) -> dict[str, bytes]:
+    """Click « Exporter une vidéo » and run the page until the video is downloaded."""
     import time
 
-    from tests.robustness.test_hostile_web import Page
-
-    page = Page("rotor", tmp_path)
-    export = page.view.video
-    assert export is not None
-    page.send(page.find("button", "Exporter une vidéo"), True)
-    page.tick(0.2)
-    assert "Pas d'enregistrement en cours" in export.status.content
-    page.ctl.start_recording()
-    page.tick(3.0)
-    assert page.ctl.recorder is not None
-    page.ctl.recorder.flush()
     got: dict[str, bytes] = {}
     page.client.send_file_download = lambda name, data, **_: got.__setitem__(name, data)
     page.send(page.find("button", "Exporter une vidéo"), True)
@@ -185,7 +172,53 @@ def test_the_page_exports_the_last_seconds_of_its_recording(tmp_path):
     while export.future is not None and time.monotonic() < end:
         time.sleep(0.2)
         page.tick(0.1)
-    ((name, data),) = got.items()
+    assert folder is not None and not folder.exists()  # its work folder removed
+    return got
+
+
+def test_the_page_exports_the_last_seconds_of_the_simulation(tmp_path):
+    """« Exporter une vidéo » without a recording: the last seconds the session kept
+    (30 states a simulated second), made in a worker process and downloaded."""
+    from tests.robustness.test_hostile_web import Page
+
+    page = Page("rotor", tmp_path)
+    export = page.view.video
+    assert export is not None
+    page.tick(3.0)
+    assert 2.5 < page.ctl.rewind.seconds <= 3.0
+    ((name, data),) = _export(page, export).items()
     assert name.endswith(".mp4") and data[4:8] == b"ftyp"  # an MP4
     assert "Vidéo prête" in export.status.content
-    assert folder is not None and not folder.exists()
+    page.ctl.secret = object()  # a challenge: the states hold its secret
+    page.send(page.find("button", "Exporter une vidéo"), True)
+    page.tick(0.2)
+    assert "Pas de vidéo pendant un défi" in export.status.content and export.future is None
+
+
+def test_the_page_exports_the_recording_in_progress(tmp_path):
+    from tests.robustness.test_hostile_web import Page
+
+    page = Page("rotor", tmp_path)
+    export = page.view.video
+    assert export is not None
+    page.ctl.start_recording()
+    page.tick(2.0)
+    assert page.ctl.recorder is not None
+    page.ctl.recorder.flush()
+    ((name, data),) = _export(page, export).items()
+    assert data[4:8] == b"ftyp"
+
+
+def test_the_rewind_keeps_the_last_seconds_of_one_model():
+    from sandbox.web.rewind import Rewind
+
+    sim = Simulation("rotor")
+    ring = Rewind(seconds=1.0, rate=10.0)
+    for _ in range(300):
+        sim.step(1)  # 10 ms
+        ring.keep(sim)
+    assert len(ring.states) == 11 and ring.seconds == pytest.approx(1.0)
+    sim.set_value("defect_mass_g", 40.0)  # rebuilds the model: the ring starts again
+    sim.step(1)
+    ring.keep(sim)
+    assert len(ring.states) == 1
