@@ -338,6 +338,14 @@ def find_slider(inner: bytes, param: str) -> dict[str, Any] | None:
     return find_gui(inner, "Slider", param, *sorted(w for w in words if w))
 
 
+async def read_pages(ws: Any, learn: Callable[[bytes], None]) -> None:
+    """Hand every binary websocket message, unpacked, to ``learn`` until the socket
+    closes (a scripted student reading the page it is sent)."""
+    async for raw in ws:
+        if isinstance(raw, bytes):
+            learn(unpack(raw))
+
+
 def camera_message() -> bytes:
     """The browser's first message: its camera (starts the session)."""
     return msgspec.msgpack.encode(

@@ -24,7 +24,7 @@ from sandbox.classroom import (
     connect_as_browser,
     gui_message,
     messages,
-    unpack,
+    read_pages,
 )
 
 TIMESTEP = "Pas de temps dt [s]"
@@ -73,7 +73,7 @@ async def flood(
     try:
         async with connect_as_browser(url, origin, open_timeout=30) as ws:
             await ws.send(camera_message())
-            reader = asyncio.create_task(_read(ws, flooder))
+            reader = asyncio.create_task(read_pages(ws, lambda inner: _learn(flooder, inner)))
             try:
                 await _wait_for(flooder, OWN if follow else STEP_BUTTON)
                 if follow:
@@ -97,12 +97,6 @@ async def flood(
         raise
     except Exception as exc:
         flooder.error = f"{type(exc).__name__}: {exc}"
-
-
-async def _read(ws: Any, flooder: Flooder) -> None:
-    async for raw in ws:
-        if isinstance(raw, bytes):
-            _learn(flooder, unpack(raw))
 
 
 async def _wait_for(flooder: Flooder, label: str, timeout: float = 30.0) -> None:

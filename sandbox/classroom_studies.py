@@ -24,7 +24,7 @@ from sandbox.classroom import (
     connect_as_browser,
     gui_message,
     messages,
-    unpack,
+    read_pages,
 )
 
 PICKER = "Panneau affiché"
@@ -61,7 +61,7 @@ async def study(url: str, origin: str, window: Window, student: Student) -> None
     try:
         async with connect_as_browser(url, origin, open_timeout=30) as ws:
             await ws.send(camera_message())
-            reader = asyncio.create_task(_read(ws, student))
+            reader = asyncio.create_task(read_pages(ws, lambda inner: _learn(student, inner)))
             try:
                 end = time.perf_counter() + 30.0
                 while not {PICKER, RUN} <= set(student.uuids):
@@ -84,12 +84,6 @@ async def study(url: str, origin: str, window: Window, student: Student) -> None
         raise
     except Exception as exc:
         student.error = f"{type(exc).__name__}: {exc}"
-
-
-async def _read(ws: Any, student: Student) -> None:
-    async for raw in ws:
-        if isinstance(raw, bytes):
-            _learn(student, unpack(raw))
 
 
 def side(students: int) -> Side:

@@ -21,6 +21,27 @@ PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 1
 """Line colours when a readout has no arrow colour of its own."""
 
 
+def dots(label: str, color: str, size: float = 4.0) -> uplot.Series:
+    """A series drawn as dots only (samples whose order along X means nothing)."""
+    return {
+        "label": label,
+        "stroke": color,
+        "width": 0,
+        "points": {"show": True, "size": size, "stroke": color, "fill": color},
+    }
+
+
+def dashed(label: str, color: str, width: float, dash: tuple[float, float]) -> uplot.Series:
+    """A dashed line without points (the course's curve, a cursor's line)."""
+    return {
+        "label": label,
+        "stroke": color,
+        "width": width,
+        "dash": dash,
+        "points": {"show": False},
+    }
+
+
 def nice_ceil(x: float) -> float:
     """Smallest of 1, 1.5, 2, 2.5, 3, 4, 5, 6, 8 × 10^k that is >= ``x`` (``x`` > 0)."""
     if not math.isfinite(x) or x <= 0:

@@ -18,7 +18,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.sweep import plot, write_csv
 from sandbox.web.fields import param_label, param_unit
-from sandbox.web.plots import PALETTE, nice_ceil
+from sandbox.web.plots import PALETTE, dashed, dots, nice_ceil
 from sandbox.web.study_queue import StudyJob
 from sandbox.web.text import number, with_unit
 from sandbox.web.xy import Axis
@@ -177,24 +177,9 @@ class StudyChart:
             r, g, b = PALETTE[max(curve, 0) % len(PALETTE)]
             color = f"rgb({r},{g},{b})"
             if kind == "dots":
-                series.append(
-                    {
-                        "label": name or "Simulations",
-                        "stroke": color,
-                        "width": 0,
-                        "points": {"show": True, "size": 8, "stroke": color, "fill": color},
-                    }
-                )
+                series.append(dots(name or "Simulations", color, 8.0))
             else:
-                series.append(
-                    {
-                        "label": f"Cours{', ' + name if name else ''}",
-                        "stroke": color,
-                        "width": 1.5,
-                        "dash": (6.0, 4.0),
-                        "points": {"show": False},
-                    }
-                )
+                series.append(dashed(f"Cours{', ' + name if name else ''}", color, 1.5, (6.0, 4.0)))
         if data is None:
             data = (np.array([0.0, 1.0]), *(np.full(2, math.nan) for _ in labels))
         return self.gui.add_uplot(

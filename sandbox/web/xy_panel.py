@@ -21,7 +21,7 @@ from viser import uplot
 
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
-from sandbox.web.plots import PALETTE
+from sandbox.web.plots import PALETTE, dashed, dots
 from sandbox.web.session import Controller, Request
 from sandbox.web.text import html_text
 from sandbox.web.xy import TIME_AXIS, Axis, XYData
@@ -238,32 +238,12 @@ class XYPanel:
             if role == "y":
                 style: uplot.Series = {"label": y.title, "stroke": color, "width": 2}
                 if not lines:  # a cloud of points: lines would join far-apart samples
-                    style = {
-                        "label": y.title,
-                        "stroke": color,
-                        "width": 0,
-                        "points": {"show": True, "size": 4, "stroke": color, "fill": color},
-                    }
+                    style = dots(y.title, color)
                 series.append(style)
             elif role == "ref":
-                series.append(
-                    {
-                        "label": f"{y.words}, cours",
-                        "stroke": color,
-                        "width": 1.5,
-                        "dash": (6.0, 4.0),
-                    }
-                )
+                series.append(dashed(f"{y.words}, cours", color, 1.5, (6.0, 4.0)))
             else:
-                series.append(
-                    {
-                        "label": f"{y.words} au curseur",
-                        "stroke": color,
-                        "width": 1,
-                        "dash": (2.0, 3.0),
-                        "points": {"show": False},
-                    }
-                )
+                series.append(dashed(f"{y.words} au curseur", color, 1, (2.0, 3.0)))
         # x follows the samples: viser re-ranges y only when it re-ranges an automatic x
         # (a fixed x range left the y axis of the first, empty data for good)
         x_scale: uplot.Scale = {"time": False}
