@@ -1187,8 +1187,8 @@ def report(results: dict[str, Any]) -> str:
         )
     if isinstance(side, dict) and "students" in side:
         lines.append(
-            f"  {side['students']} more students running studies: "
-            f"{side['studies_finished']} studies finished ({side['studies_started']} started); "
+            f"  {side['students']} more students running {side.get('work', 'studies')}: "
+            f"{side['studies_finished']} finished ({side['studies_started']} started); "
             f"the others' slowest frames/s {side['others_fps_min']:.1f}"
             + (f"; errors: {'; '.join(side['errors'][:2])}" if side.get("errors") else "")
         )

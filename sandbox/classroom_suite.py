@@ -59,7 +59,7 @@ def run_key(results: Mapping[str, Any]) -> str:
     mode = " --follow" if results.get("follow") else ""
     side = results["main"].get("side")
     if isinstance(side, Mapping) and "students" in side:
-        mode += f" --studies {side['students']}"
+        mode += f" --{side.get('work', 'studies')} {side['students']}"
     elif isinstance(side, Mapping):
         mode += " --flood"
     return f"{results['scene']}{mode}×{results['main']['clients']}"
@@ -226,10 +226,15 @@ def cli_classroom(
         raise BadOption(f"--classroom needs 1 to 200 clients, got {clients!r}")
     scenes = scenes_of(args)
     studies = int(getattr(args, "studies", None) or 0)
+    videos = int(getattr(args, "videos", None) or 0)
+    option = "--videos" if videos else "--studies"
+    if studies and videos:
+        raise BadOption("give --studies or --videos, not both")
+    studies = studies or videos
     if studies and not 1 <= studies < clients:
-        raise BadOption(f"--studies needs 1 to {clients - 1} students (of --classroom {clients})")
+        raise BadOption(f"{option} needs 1 to {clients - 1} students (of --classroom {clients})")
     if studies and (getattr(args, "flood", False) or getattr(args, "follow", False)):
-        raise BadOption("--studies goes alone: drop --flood and --follow")
+        raise BadOption(f"{option} goes alone: drop --flood and --follow")
     seconds = float(args.seconds) if getattr(args, "seconds", None) else 15.0
     out: Path | None = getattr(args, "out", None)
     if out is not None and out.suffix.lower() != ".json":
@@ -245,7 +250,8 @@ def cli_classroom(
         follow = bool(getattr(args, "follow", False))
         side = classroom_flood.side(follow=follow) if getattr(args, "flood", False) else None
         if studies:
-            side = classroom_studies.side(studies)
+            work = classroom_studies.VIDEO if videos else classroom_studies.STUDY
+            side = classroom_studies.side(studies, work)
         results = run(
             scene,
             clients - studies,

@@ -325,6 +325,13 @@ def build_parser() -> argparse.ArgumentParser:
         "again; the other N - K are measured",
     )
     b.add_argument(
+        "--videos",
+        type=int,
+        metavar="K",
+        help="--classroom: K of the N browsers click « Exporter une vidéo » again and again; "
+        "the other N - K are measured",
+    )
+    b.add_argument(
         "--save",
         type=Path,
         metavar="FILE.json",

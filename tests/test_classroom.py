@@ -513,7 +513,7 @@ def test_studies_take_k_of_the_n_browsers(capsys) -> None:
     assert suite.cli_classroom(args, run=fake) == 0
     assert seen["clients"] == 25 and callable(seen["side"])
     out = capsys.readouterr().out
-    assert "5 more students running studies: 8 studies finished (9 started)" in out
+    assert "5 more students running studies: 8 finished (9 started)" in out
     assert suite.run_key(fake("rotor", 25, side=None)) == "rotor --studies 5×25"
     for bad, words in ((["--studies", "30"], "1 to 29"), (["--studies", "2", "--flood"], "alone")):
         with pytest.raises(BadOption, match=words):

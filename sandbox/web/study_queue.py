@@ -2,7 +2,7 @@
 live sessions (folder "Étude paramétrique").
 
 One queue per server process, shared by all its browsers. Runs go to a small pool of
-worker processes whose priority is lowered (``nice`` on Linux and macOS, "below normal"
+worker processes whose priority is lowered (``nice`` 19 on Linux and macOS, "below normal"
 on Windows through psutil), so that a study only takes the CPU the live sessions leave:
 a class keeps its frame rate while some students run studies. The queue is bounded (runs
 waiting in all), a browser has one study at a time, and studies take turns run by run
@@ -41,8 +41,10 @@ IN_FLIGHT = 2
 """Runs handed to the pool ahead (one running per process, one waiting): a cancelled
 study stops within a run or two."""
 
-NICE = 10
-"""How much lower the study processes run on Linux and macOS (0 normal, 19 lowest)."""
+NICE = 19
+"""How much lower the study and video processes run on Linux and macOS (0 normal, 19
+lowest): at 10, 2 pages exporting videos took a class of 28 on the rotor from 51 to 45
+frames/s; at 19 it kept 51 (``sandbox bench --classroom 30 rotor --videos 2``)."""
 
 
 def lower_priority() -> None:

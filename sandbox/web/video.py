@@ -165,8 +165,9 @@ def offscreen_renderer(model: mujoco.MjModel, height: int, width: int) -> mujoco
         return mujoco.Renderer(model, height, width)
     except Exception as exc:
         raise VideoError(
-            f"no OpenGL to draw the video offscreen ({type(exc).__name__}: {exc}); on Linux "
-            "install libegl1 (apt install libegl1) or libosmesa6 with MUJOCO_GL=osmesa"
+            "vidéo : pas d'OpenGL pour dessiner hors écran / no OpenGL to draw the video "
+            f"offscreen ({type(exc).__name__}: {exc}); Linux: apt install libegl1 (or "
+            "libosmesa6 and MUJOCO_GL=osmesa); macOS and Windows: update the graphics driver"
         ) from None
 
 

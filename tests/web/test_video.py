@@ -221,3 +221,32 @@ def test_the_rewind_keeps_the_last_seconds_of_one_model():
     sim.step(1)
     ring.keep(sim)
     assert len(ring.states) == 1
+
+
+@pytest.mark.parametrize("system", ["Windows", "Darwin"])
+def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
+    """On a teacher's Windows or macOS laptop the renderer uses MuJoCo's own context
+    (a hidden window, CGL): EGL and OSMesa are Linux's and are not tried; a context that
+    cannot be made is one line naming what to do."""
+    import mujoco
+
+    from sandbox.web import video as v
+
+    monkeypatch.setattr(v.platform, "system", lambda: system)
+    tried: list[str] = []
+    real_import = __import__
+
+    def spy(name, *args, **kwargs):
+        if name in ("mujoco.egl", "mujoco.osmesa"):
+            tried.append(name)
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr("builtins.__import__", spy)
+
+    def no_context(*args, **kwargs):
+        raise RuntimeError("no display")
+
+    monkeypatch.setattr(mujoco, "Renderer", no_context)
+    with pytest.raises(v.VideoError, match="no OpenGL to draw the video offscreen"):
+        v.offscreen_renderer(Simulation("rotor").model, 120, 160)
+    assert tried == []
