@@ -135,3 +135,24 @@ def test_several_recordings_go_only_to_an_export(tmp_path, capsys):
     path = _lesson_recording(tmp_path / "r.sbx")
     assert main(["replay", str(path), str(path), "--verify"]) == 2
     assert "several go together only with --export" in capsys.readouterr().err
+
+
+def test_a_failure_mid_export_leaves_no_site(tmp_path, monkeypatch):
+    """The second recording's video fails: the folder the export made is gone."""
+    from sandbox.web import pack as packing
+
+    path = _lesson_recording(tmp_path / "r.sbx", speed_up=False)
+    made = {"n": 0}
+    real = packing.render_video
+
+    def second_fails(rec, options, *args, **kwargs):
+        made["n"] += 1
+        if made["n"] == 2:
+            raise RuntimeError("the stick was pulled out")
+        return real(rec, options, *args, **kwargs)
+
+    monkeypatch.setattr(packing, "render_video", second_fails)
+    out = tmp_path / "site"
+    with pytest.raises(RuntimeError, match="pulled out"):
+        export_pack([load(path), load(path)], out)
+    assert not out.exists()
