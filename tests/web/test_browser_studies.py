@@ -124,8 +124,9 @@ def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page,
     page.get_by_role("button", name="Lancer l'étude").click()
     page.get_by_text(re.compile("refusé, choisissez entre 0 et 6")).wait_for(timeout=10_000)
 
-    # a long study, cancelled: no process is left
+    # a long study (50 speeds × 3 defect masses × 20 s), cancelled: no process is left
     row.locator("input").first.fill("6000")
+    choose(page, "Famille de courbes (second paramètre)", "Masselotte de défaut [g]")
     count = (
         page.locator("div.mantine-Flex-root", has=page.get_by_text("Nombre de points", exact=True))
         .last.locator("input")
