@@ -184,10 +184,14 @@ class VideoExport:
             return 0.0
 
     def close(self) -> None:
-        """The browser left: the video being made is dropped when it ends."""
-        future = self.future
-        if future is not None:
-            future.cancel()
-        folder = self.folder_path
-        if folder is not None and (future is None or future.done()):
-            shutil.rmtree(folder, ignore_errors=True)
+        """The browser left: the video being made is dropped, its folder removed once the
+        worker is done with it."""
+        future, folder = self.future, self.folder_path
+        self.future = self.folder_path = None
+        if folder is None:
+            return
+        if future is not None and not future.cancel() and not future.done():
+            # running: the worker still writes there; removed when it ends
+            future.add_done_callback(lambda _: shutil.rmtree(folder, ignore_errors=True))
+            return
+        shutil.rmtree(folder, ignore_errors=True)

@@ -250,3 +250,23 @@ def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
     with pytest.raises(v.VideoError, match="no OpenGL to draw the video offscreen"):
         v.offscreen_renderer(Simulation("rotor").model, 120, 160)
     assert tried == []
+
+
+def test_a_page_that_leaves_mid_export_leaves_no_folder(tmp_path):
+    import time
+
+    from tests.robustness.test_hostile_web import Page
+
+    page = Page("rotor", tmp_path)
+    export = page.view.video
+    assert export is not None
+    page.tick(2.0)
+    page.send(page.find("button", "Exporter une vidéo"), True)
+    page.tick(0.2)
+    future, folder = export.future, export.folder_path
+    assert future is not None and folder is not None and folder.exists()
+    export.close()  # the browser left
+    end = time.monotonic() + 120
+    while (folder.exists() or not future.done()) and time.monotonic() < end:
+        time.sleep(0.2)
+    assert not folder.exists()
