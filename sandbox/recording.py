@@ -49,7 +49,7 @@ import numpy as np
 from sandbox.errors import SandboxError, choices
 from sandbox.physics.limits import MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
-from sandbox.runner import special_file
+from sandbox.runner import csv_cell, special_file
 
 FORMAT = "sandbox-recording"
 VERSION = 1
@@ -860,5 +860,5 @@ def write_csv(recording: Recording, out: str | Path, names: Sequence[str] | None
         writer = csv.writer(fh)
         writer.writerow(cols)
         for row in recording.readouts:
-            writer.writerow(["" if math.isnan(row[i]) else f"{row[i]:.10g}" for i in idx])
+            writer.writerow([csv_cell(float(row[i])) for i in idx])
     return len(recording.readouts)

@@ -157,6 +157,14 @@ def simulate(
     return columns, rows, None
 
 
+def csv_cell(value: object) -> object:
+    """A value as every CSV of the sandbox writes it: floats with 10 significant digits
+    and a dot, an empty cell for NaN or an infinity, anything else as it is."""
+    if isinstance(value, float):
+        return f"{value:.10g}" if math.isfinite(value) else ""
+    return value
+
+
 def special_file(path: Path) -> str | None:
     """What ``path`` is in words when it exists and is not a regular file or a folder
     ("a named pipe", "a device", "a socket"), else None. Writing to a named pipe blocks
@@ -261,7 +269,7 @@ class RowWriter:
             clean = [v if math.isfinite(v) else None for v in values]
             self._fh.write(("," if self.count else "") + json.dumps(clean))
         else:
-            self._csv.writerow([f"{v:.10g}" for v in values])
+            self._csv.writerow([csv_cell(float(v)) for v in values])
         self.count += 1
 
     def frame(self, values: Mapping[str, float]) -> None:

@@ -30,7 +30,7 @@ import numpy as np
 
 from sandbox.errors import BadOption, Diverged, shown
 from sandbox.physics.simulation import Simulation
-from sandbox.runner import MAX_STEPS, check_run
+from sandbox.runner import MAX_STEPS, check_run, csv_cell
 
 MAX_RUNS = 1000
 """Most runs one study may ask for."""
@@ -475,14 +475,7 @@ def write_csv(stream: TextIO, study: Study, rows: Sequence[Mapping[str, Any]]) -
     writer = csv.writer(stream, lineterminator="\n")
     writer.writerow(names)
     for r in rows:
-        writer.writerow(
-            [
-                ""
-                if isinstance(r[n], float) and not math.isfinite(r[n])
-                else (f"{r[n]:.10g}" if isinstance(r[n], float) else r[n])
-                for n in names
-            ]
-        )
+        writer.writerow([csv_cell(r[n]) for n in names])
 
 
 def table(study: Study, rows: Sequence[Mapping[str, Any]]) -> Iterator[str]:

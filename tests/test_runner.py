@@ -16,6 +16,7 @@ from sandbox.runner import (
     check_out,
     check_run,
     chunks,
+    csv_cell,
     simulate,
     write_rows,
 )
@@ -137,3 +138,10 @@ def test_check_out_refusals(name, words, tmp_path):
     with pytest.raises(BadOption) as info:
         check_out(tmp_path / name)
     assert words in str(info.value)
+
+
+def test_every_csv_writes_a_number_the_same_way():
+    assert csv_cell(0.1 + 0.2) == "0.3"  # the round-off of the last digits is not written
+    assert csv_cell(1.0 / 3.0) == "0.3333333333"
+    assert csv_cell(float("nan")) == "" and csv_cell(float("inf")) == ""
+    assert csv_cell("ok") == "ok" and csv_cell(3) == 3

@@ -5,7 +5,7 @@ from __future__ import annotations
 import copy
 import math
 from collections import deque
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,6 +51,32 @@ def nice_ceil(x: float) -> float:
         if m * 10.0**k >= x * (1 - 1e-12):
             return m * 10.0**k
     return 10.0 ** (k + 1)
+
+
+def nice_range(values: ArrayLike, headroom: float = 0.1) -> tuple[float, float]:
+    """A vertical range holding 0 and every finite value, with ``headroom`` of the span
+    above and below, its bounds rounded up to "nice" numbers (:func:`nice_ceil`)."""
+    found = np.asarray(values, dtype=float).ravel()
+    found = found[np.isfinite(found)]
+    lo = min(0.0, float(found.min())) if found.size else 0.0
+    hi = max(0.0, float(found.max())) if found.size else 1.0
+    pad = headroom * (hi - lo) or 1.0
+    return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
+
+
+def replace_chart(
+    folder: viser.GuiFolderHandle,
+    chart: viser.GuiUplotHandle,
+    build: Callable[[float], viser.GuiUplotHandle],
+) -> viser.GuiUplotHandle:
+    """A new chart in ``chart``'s place (same folder, same order), built by ``build(order)``.
+
+    Used when a chart's scales or series change: viser rebuilds a uPlot whose ``scales``
+    change anyway, and a fresh one starts from its own ranges."""
+    order = chart.order
+    chart.remove()
+    with folder:
+        return build(order)
 
 
 SOFT_ZERO = {"pad": 0.0, "soft": 0.0, "mode": 1}
@@ -183,12 +209,9 @@ class Plot:
     def y_range(self) -> tuple[float, float]:
         """Vertical range including 0 and every sample, with 10 % headroom, rounded to
         "nice" bounds (the chart's range, sent as the range series)."""
-        values = np.concatenate([np.asarray(s, dtype=float) for s in self.y] or [np.zeros(1)])
-        values = values[np.isfinite(values)]
-        lo = min(0.0, float(values.min())) if values.size else 0.0
-        hi = max(0.0, float(values.max())) if values.size else 1.0
-        pad = 0.1 * (hi - lo) or 1.0
-        return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
+        return nice_range(
+            np.concatenate([np.asarray(s, dtype=float) for s in self.y] or [np.zeros(1)])
+        )
 
     def scales(self) -> dict[str, uplot.Scale]:
         """uPlot scales, the same for the chart's whole life (:data:`SCALES`)."""

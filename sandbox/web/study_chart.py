@@ -18,7 +18,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.sweep import plot, write_csv
 from sandbox.web.fields import param_label, param_unit
-from sandbox.web.plots import PALETTE, dashed, dots, nice_ceil
+from sandbox.web.plots import PALETTE, dashed, dots, nice_range, replace_chart
 from sandbox.web.study_queue import StudyJob
 from sandbox.web.text import number, with_unit
 from sandbox.web.xy import Axis
@@ -111,7 +111,7 @@ class StudyChart:
                 columns_.append(course)
                 labels.append(("course", name))
                 found += [v for v in course if math.isfinite(v)]
-        y_range = self._range(found)
+        y_range = nice_range(found or [0.0], 0.08)  # a few rebuilds a study
         info = self.infos[study.measure.readout]
         axis = Axis.of(info.name, info.label or info.name, info.unit)
         statistic = study.measure.statistic
@@ -135,15 +135,6 @@ class StudyChart:
         p = self.params[name]
         return f"{p.label or p.name} = {with_unit(number(value, 4), param_unit(p))}"
 
-    @staticmethod
-    def _range(values: Sequence[float]) -> tuple[float, float]:
-        """A fixed y range holding every value and 0, in "nice" steps (it changes only
-        when a value passes it: the chart is rebuilt then, a few times a study)."""
-        lo = min([0.0, *values])
-        hi = max([0.0, *values])
-        pad = 0.08 * (hi - lo) or 1.0
-        return (-nice_ceil(pad - lo) if lo < 0 else 0.0, nice_ceil(hi + pad))
-
     def _replace_chart(
         self,
         titles: tuple[str, str],
@@ -152,10 +143,11 @@ class StudyChart:
         y_range: tuple[float, float],
         data: tuple[np.ndarray, ...],
     ) -> None:
-        order = self.chart.order
-        self.chart.remove()
-        with self.folder:
-            self.chart = self._new_chart(titles, labels, x_range, y_range, data, order)
+        self.chart = replace_chart(
+            self.folder,
+            self.chart,
+            lambda order: self._new_chart(titles, labels, x_range, y_range, data, order),
+        )
 
     def _new_chart(
         self,

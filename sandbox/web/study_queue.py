@@ -18,15 +18,16 @@ from __future__ import annotations
 import atexit
 import functools
 import logging
-import os
 import threading
 import time
 from collections.abc import Callable, Mapping
-from concurrent.futures import Future, ProcessPoolExecutor
-from multiprocessing import get_context
+from concurrent.futures import Future
 from typing import Any
 
 from sandbox.sweep import Study, run_one
+from sandbox.web.background import NICE, BackgroundPool, lower_priority
+
+__all__ = ["NICE", "StudyJob", "StudyQueue", "lower_priority", "progress_words"]
 
 log = logging.getLogger(__name__)
 
@@ -40,29 +41,6 @@ MAX_WAITING = 400
 IN_FLIGHT = 2
 """Runs handed to the pool ahead (one running per process, one waiting): a cancelled
 study stops within a run or two."""
-
-NICE = 19
-"""How much lower the study and video processes run on Linux and macOS (0 normal, 19
-lowest): at 10, 2 pages exporting videos took a class of 28 on the rotor from 51 to 45
-frames/s; at 19 it kept 51 (``sandbox bench --classroom 30 rotor --videos 2``)."""
-
-
-def lower_priority() -> None:
-    """Lower this process's CPU priority (a worker's initializer): ``os.nice`` where it
-    exists (Linux, macOS), else psutil's "below normal" class (Windows); nothing, with a
-    log line, when neither is available."""
-    if hasattr(os, "nice"):
-        try:
-            os.nice(NICE)
-        except OSError:  # already at the lowest, or not allowed
-            log.debug("could not lower the study process's priority", exc_info=True)
-        return
-    try:
-        import psutil  # optional here: a Windows laptop without it runs studies unlowered
-    except ImportError:
-        log.info("studies run at normal priority: pip install psutil to lower it")
-        return
-    psutil.Process().nice(getattr(psutil, "BELOW_NORMAL_PRIORITY_CLASS", NICE))
 
 
 class StudyJob:
@@ -130,7 +108,7 @@ class StudyQueue:
         self.max_waiting = max_waiting
         self.run = run
         self.jobs: list[StudyJob] = []
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool = BackgroundPool(workers)
         self._in_flight = 0
         self._turn = 0
         self._closed = False
@@ -179,9 +157,7 @@ class StudyQueue:
     @property
     def processes(self) -> int:
         """Worker processes alive now (0 when no study runs)."""
-        pool = self._pool
-        procs = getattr(pool, "_processes", None) if pool is not None else None
-        return sum(1 for p in (procs or {}).values() if p.is_alive())
+        return self._pool.processes
 
     def close(self) -> None:
         """Cancel every study and stop the pool (the server stops)."""
@@ -190,7 +166,7 @@ class StudyQueue:
             for job in self.jobs:
                 job.cancelled = True
             self.jobs.clear()
-            self._stop_pool()
+            self._pool.stop()
 
     # -- inside ----------------------------------------------------------------------------
     def _feed(self) -> None:
@@ -204,8 +180,7 @@ class StudyQueue:
             self._turn += 1
             k = job._next
             job._next += 1
-            pool = self._ensure_pool()
-            future = pool.submit(self.run, job.study, job.points[k])
+            future = self._pool.submit(self.run, job.study, job.points[k])
             self._in_flight += 1
             future.add_done_callback(functools.partial(self._done, job, k))
 
@@ -228,21 +203,7 @@ class StudyQueue:
     def _forget_finished(self) -> None:
         self.jobs = [j for j in self.jobs if not j.finished]
         if not self.jobs and self._in_flight == 0:
-            self._stop_pool()
-
-    def _ensure_pool(self) -> ProcessPoolExecutor:
-        if self._pool is None:
-            self._pool = ProcessPoolExecutor(
-                max_workers=self.workers,
-                mp_context=get_context("spawn"),  # no fork of a threaded server
-                initializer=lower_priority,
-            )
-        return self._pool
-
-    def _stop_pool(self) -> None:
-        pool, self._pool = self._pool, None
-        if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
+            self._pool.stop()
 
 
 def progress_words(job: StudyJob, ahead: int) -> str:

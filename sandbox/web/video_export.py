@@ -3,7 +3,7 @@ progress when there is one, else the states the session keeps: :mod:`sandbox.web
 as an MP4, made in the background and downloaded (issue 26's "Exporter une vidéo").
 
 The video is drawn by :func:`sandbox.web.video.render_video` in a worker process at a
-lowered priority (:func:`sandbox.web.study_queue.lower_priority`), one video at a time
+lowered priority (:mod:`sandbox.web.background`), one video at a time
 per server process: the other browsers keep their frames. The worker reads the recording
 as written so far (a recording in progress is flushed every few seconds, and read as a
 salvaged file), reports its progress in a small file, and writes the video to a
@@ -15,15 +15,14 @@ from __future__ import annotations
 import shutil
 import tempfile
 import threading
-from concurrent.futures import Future, ProcessPoolExecutor
-from multiprocessing import get_context
+from concurrent.futures import Future
 from pathlib import Path
 
 import viser
 
 from sandbox.errors import SandboxError
+from sandbox.web.background import BackgroundPool
 from sandbox.web.session import Controller
-from sandbox.web.study_queue import lower_priority
 from sandbox.web.text import plain
 
 FOLDER = "Vidéo"
@@ -58,7 +57,7 @@ class VideoJobs:
     _lock = threading.Lock()
 
     def __init__(self) -> None:
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool = BackgroundPool(1)
         self._waiting = 0
         self._mutex = threading.Lock()
 
@@ -73,10 +72,6 @@ class VideoJobs:
     def submit(self, recording: Path, out: Path, progress: Path) -> Future[int]:
         """Queue a video of ``recording``'s last seconds."""
         with self._mutex:
-            if self._pool is None:
-                self._pool = ProcessPoolExecutor(
-                    max_workers=1, mp_context=get_context("spawn"), initializer=lower_priority
-                )
             self._waiting += 1
             future = self._pool.submit(render_last, str(recording), str(out), str(progress))
         future.add_done_callback(lambda _: self._finished())
@@ -85,9 +80,8 @@ class VideoJobs:
     def _finished(self) -> None:
         with self._mutex:
             self._waiting -= 1
-            if self._waiting == 0 and self._pool is not None:
-                pool, self._pool = self._pool, None
-                pool.shutdown(wait=False)
+            if self._waiting == 0:
+                self._pool.stop()
 
 
 class VideoExport:

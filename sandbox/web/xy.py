@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sandbox.physics.units import TURN_ANGLES, shown_scale
+from sandbox.runner import csv_cell
 from sandbox.scenes.presets import TIME
 from sandbox.web.text import number, with_unit
 
@@ -235,11 +236,16 @@ class XYData:
         target = lo + min(max(cursor, 0.0), 1.0) * (hi - lo)
         return int(np.nanargmin(np.abs(x - target)))
 
-    def read(self, cursor: float) -> tuple[float, list[tuple[Axis, float, float]]] | None:
+    def read(
+        self,
+        cursor: float,
+        shown: tuple[np.ndarray, dict[str, np.ndarray]] | None = None,
+    ) -> tuple[float, list[tuple[Axis, float, float]]] | None:
         """At the cursor (a fraction 0..1 of the X range): X, and for each Y its value
         and slope dY/dX in the page's units (a least-squares line over
-        :data:`SLOPE_SPAN` of the range either side); None before any sample."""
-        x, values = self.shown()
+        :data:`SLOPE_SPAN` of the range either side); None before any sample.
+        ``shown``: what :meth:`shown` returned, when the caller has it already."""
+        x, values = shown if shown is not None else self.shown()
         at = self.cursor_index(x, cursor)
         if at is None:
             return None
@@ -257,12 +263,12 @@ class XYData:
 
     def reading(self, cursor: float, zero: Mapping[str, float] | None = None) -> str:
         """The cursor's reading as French markdown lines (no sample: what to do)."""
-        found = self.read(cursor)
+        xs, values = shown = self.shown()
+        found = self.read(cursor, shown)
         if found is None:
             return "Pas encore de points : lancez la simulation (▶ Lecture)."
         x, ys = found
-        spread = self.shown()[0]
-        if len(spread) > 1 and np.nanmax(spread) == np.nanmin(spread):
+        if len(xs) > 1 and np.nanmax(xs) == np.nanmin(xs):
             return (
                 f"X ne varie pas ({self.x.words} = {with_unit(number(x, 4), self.x.shown)}) : "
                 "aucune courbe à tracer. Choisissez une autre grandeur en X, ou un "
@@ -270,7 +276,6 @@ class XYData:
             )
         zero = zero or {}
         lines = [f"**{self.x.words}** = {with_unit(number(x, 4), self.x.shown)}"]
-        xs, values = self.shown()
         span = float(np.nanmax(xs) - np.nanmin(xs)) if len(xs) else 0.0
         for y, value, slope in ys:
             z = zero.get(y.unit, 0.0) * y.scale
@@ -298,7 +303,7 @@ class XYData:
         writer.writerow(names)
         for k in range(len(t)):
             row = [t[k]] + ([] if self.x.name == TIME else [x[k]]) + [ys[n][k] for n in ys]
-            writer.writerow(["" if not math.isfinite(v) else f"{v:.10g}" for v in row])
+            writer.writerow([csv_cell(float(v)) for v in row])
         return out.getvalue()
 
     def png(self, title: str, colors: Sequence[str]) -> bytes:

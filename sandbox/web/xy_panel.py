@@ -21,7 +21,7 @@ from viser import uplot
 
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
-from sandbox.web.plots import PALETTE, dashed, dots
+from sandbox.web.plots import PALETTE, dashed, dots, replace_chart
 from sandbox.web.session import Controller, Request
 from sandbox.web.text import html_text
 from sandbox.web.xy import TIME_AXIS, Axis, XYData
@@ -210,10 +210,7 @@ class XYPanel:
     def _rebuild(self, x: str, ys: Sequence[str], refs: Mapping[str, str]) -> None:
         self.data = XYData(self.axes[x], [self.axes[y] for y in ys], refs)
         self._seq = self.controller.probe.since(0)[0]  # only samples of the new choice
-        order = self.chart.order
-        self.chart.remove()
-        with self.folder:
-            self.chart = self._new_chart(order)
+        self.chart = replace_chart(self.folder, self.chart, self._new_chart)
         self._dirty = True
 
     # -- the chart -----------------------------------------------------------------------

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from sandbox.web.plots import Plot, group_by_unit, nice_ceil
+from sandbox.web.plots import Plot, group_by_unit, nice_ceil, nice_range
 
 
 class Handle:
@@ -172,3 +172,10 @@ def test_a_paused_simulation_keeps_one_sample_showing_the_last_values():
     for k in range(50):  # paused: the same time, a parameter moved
         plot.append({"time": 2.0, "a": float(k)})
     assert list(plot.t) == [1.0, 2.0] and list(plot.y[0]) == [1.0, 49.0]
+
+
+def test_nice_range_holds_zero_every_finite_value_and_its_headroom():
+    assert nice_range([3.0, 7.0, math.nan]) == (0.0, 8.0)  # 7 + 0.7 → 8
+    assert nice_range([-2.0, 1.0]) == (-2.5, 1.5)  # pad 0.3 each side
+    assert nice_range([0.0], 0.08) == (0.0, 1.0)  # nothing to hold: a unit range
+    assert nice_range([95.0], 0.08) == (0.0, 150.0)  # 95 + 7.6 → 150
