@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sandbox.mechanics.unbalance import PointMass
+from sandbox.mechanics.vectors import cross
 
 
 @dataclass(frozen=True)
@@ -259,13 +260,14 @@ def split_across_axis(
     """
     r = np.asarray(resultant, dtype=float)
     a, b = np.asarray(p_a, dtype=float), np.asarray(p_b, dtype=float)
-    length = float(np.linalg.norm(b - a))
+    ab = b - a
+    length = math.sqrt(float(ab @ ab))
     if not length > 0:
         raise ValueError(f"p_a and p_b must differ (one bearing), both {a.tolist()!r}")
-    n = (b - a) / length
-    m_a = np.asarray(moment_o, dtype=float) - np.cross(a, r)
-    f_b = np.cross(m_a, n) / length
-    return r - np.dot(r, n) * n - f_b, f_b
+    n = ab / length
+    m_a = np.asarray(moment_o, dtype=float) - cross(a, r)
+    f_b = cross(m_a, n) / length
+    return r - float(r @ n) * n - f_b, f_b
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ UI (sliders, panels), the lessons and the tests.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -462,7 +463,12 @@ class Scene:
         )
 
     def defaults(self) -> dict[str, float]:
-        """Default value of every parameter."""
+        """Default value of every parameter (a new dict: the caller may change it)."""
+        return dict(self._defaults)
+
+    @functools.cached_property
+    def _defaults(self) -> dict[str, float]:
+        """The defaults, built once (a session asks for them after every frame's steps)."""
         return {p.name: p.default for p in self.params}
 
     def default_timestep(
@@ -472,7 +478,7 @@ class Scene:
         given, the current state ``data``."""
         if self.timestep_for is None:
             return self.timestep
-        return float(self.timestep_for({**self.defaults(), **(values or {})}, data))
+        return float(self.timestep_for({**self._defaults, **(values or {})}, data))
 
 
 def as_scene(spec: object) -> Scene | None:

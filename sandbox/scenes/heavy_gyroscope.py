@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
-from sandbox.physics.readouts import _cross
+from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import (
     Accuracy,

@@ -31,6 +31,7 @@ depend on the timestep.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -148,8 +149,15 @@ def position_gain(v: Values) -> float:
 
 def default_timestep(v: Values, data: mujoco.MjData | None = None) -> float:
     """RK4 step [s] turning the model's fastest eigenvalue by at most STEP_ANGLE (1 ms at
-    the course's numbers: the arm against the free chain is 58.5 rad/s)."""
-    v = {**DEFAULTS, **v}
+    the course's numbers: the arm against the free chain is 58.5 rad/s). It depends on
+    the parameters only: computed once for each set of values (a session asks after every
+    frame's steps, and an eigenvalue problem costs a tenth of a millisecond)."""
+    return _default_timestep(tuple(sorted({**DEFAULTS, **v}.items())))
+
+
+@functools.lru_cache(maxsize=64)
+def _default_timestep(items: tuple[tuple[str, float], ...]) -> float:
+    v = dict(items)
     a, _ = state_matrices(
         axis_of(v), flexible=flexible(v), rho=v["eta"], servo_gain=servo_gain(v),
         position_gain=position_gain(v),

@@ -49,7 +49,7 @@ import math
 import mujoco
 import numpy as np
 
-from sandbox.physics.readouts import _cross
+from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import energy_drift
@@ -347,7 +347,7 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
     axis) from states at t ± h along the current motion; the direct value is
     δG + AG ∧ m Γ(G) from MuJoCo's accelerations.
     """
-    from sandbox.physics.readouts import Kinematics, _cross
+    from sandbox.physics.readouts import Kinematics
 
     m, d = s.model, s.data
     ids = [s.body_id("cylinder"), s.body_id("eccentric")]

@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics import MassProperties, coefficients, combine, cylinder, huygens, sphere
-from sandbox.physics.readouts import _cross
+from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import Accuracy, Arrow, Effects, Param, Scene, SceneReadout, Values
 from sandbox.scenes.measures import relative_drift, worst_relative_error

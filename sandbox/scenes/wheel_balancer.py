@@ -41,6 +41,7 @@ from sandbox.mechanics.two_planes import (
     synchronous_whirl,
     to_complex,
 )
+from sandbox.mechanics.vectors import cross
 from sandbox.physics import readouts as generic
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import (
@@ -602,7 +603,7 @@ def accelerometer(s: Snapshot, site: str) -> complex:
     p = s.data.site_xpos[mujoco.mj_name2id(s.model, mujoco.mjtObj.mjOBJ_SITE, site)]
     arm = p - s.data.xipos[b]
     w = kin.omega[b]
-    a = kin.a_g[b] + np.cross(kin.alpha[b], arm) + np.cross(w, np.cross(w, arm))
+    a = kin.a_g[b] + cross(kin.alpha[b], arm) + cross(w, cross(w, arm))
     return _rotor_frame(s, a)
 
 

@@ -346,23 +346,25 @@ class ArrowLayer:
             # blown up to a visible length by the automatic scale
             lengths = np.sqrt((vectors * vectors).sum(axis=1))
         wanted = self._wanted()
+        wanted_list, length_list = wanted.tolist(), lengths.tolist()  # Python floats: cheap
         scale = np.empty(len(self.arrows))
         for unit, members in self._by_unit.items():
-            pick = [k for k in members if wanted[k] and math.isfinite(lengths[k])]
-            if pick:
-                longest = float(lengths[pick].max())
-                self.factors[unit] = auto_factor(self.factors.get(unit, 1.0), longest, self.size)
+            picked = [
+                length_list[k] for k in members if wanted_list[k] and math.isfinite(length_list[k])
+            ]
+            if picked:
+                self.factors[unit] = auto_factor(
+                    self.factors.get(unit, 1.0), max(picked), self.size
+                )
             scale[members] = self.factors.get(unit, 1.0) * self.user_scale
         tips = starts + scale[:, None] * vectors
         with np.errstate(invalid="ignore"):
             ok = np.isfinite(tips).all(axis=1) & np.isfinite(starts).all(axis=1)
             show = ok & wanted & (scale * lengths > MIN_LENGTH)
-        self.magnitudes = [
-            float(m) if good else math.nan for m, good in zip(sizes, ok, strict=True)
-        ]
+        self.magnitudes = np.where(ok, sizes, math.nan).tolist()
         self.origins = np.where(ok[:, None], starts, self.origins)
         self.ends = np.where(ok[:, None], tips, self.ends)
-        self.shown = [bool(x) for x in show]
+        self.shown = show.tolist()
         self._send(np.stack([starts[show], tips[show]], axis=1), show)
         self._carry_labels(show)
 
@@ -375,7 +377,7 @@ class ArrowLayer:
     def _send(self, points: np.ndarray, show: np.ndarray) -> None:
         """One message for the node: its points when they moved, with the colours when
         the set of arrows shown changed; its visibility when none or some show."""
-        mask = tuple(bool(x) for x in show)
+        mask = tuple(show.tolist())
         if not len(points):
             if self.node.visible:
                 self.node.visible = False

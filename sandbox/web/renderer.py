@@ -357,7 +357,7 @@ class SceneRenderer:
         dots = np.abs((poses[:, 3:] * sent[:, 3:]).sum(axis=1))
         turned = ~(1.0 - dots <= 0.125 * POSE_MOVE**2)
         if self.labels:  # how far the labels rode: 2 acos|q·q'| per sent turn
-            angle = 2.0 * np.arccos(np.clip(np.nan_to_num(dots, nan=1.0), 0.0, 1.0))
+            angle = 2.0 * np.arccos(np.fmin(dots, 1.0))  # dots >= 0; fmin(NaN, 1) = 1
             self._turned += np.where(turned & ok, angle, 0.0)
         for k in np.flatnonzero(ok & (moved | turned)):
             frame = self.bodies.get(int(roots[k]))
