@@ -18,6 +18,7 @@ the widths a browser measures.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -99,6 +100,11 @@ class Camera:
 
     def axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(right, up, forward) unit vectors of the image."""
+        return self._axes
+
+    @functools.cached_property
+    def _axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The axes, computed once for this camera (a layout projects every point)."""
         forward = np.asarray(self.look_at, float) - np.asarray(self.position, float)
         forward /= max(float(np.linalg.norm(forward)), 1e-12)
         right = np.cross(forward, np.asarray(self.up, float))
@@ -107,7 +113,10 @@ class Camera:
             right = np.cross(forward, np.array([1.0, 0.0, 0.0]))
             norm = float(np.linalg.norm(right)) or 1.0
         right /= norm
-        return right, np.cross(right, forward), forward
+        out = (right, np.cross(right, forward), forward)
+        for a in out:
+            a.flags.writeable = False  # shared by every call on this camera
+        return out
 
     @property
     def focal(self) -> float:
