@@ -35,6 +35,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, cast
 
+from sandbox.web.patches import internals_present
+
 if TYPE_CHECKING:
     from viser import ClientHandle
     from viser._gui_api import GuiApi
@@ -96,12 +98,9 @@ def install() -> bool:
     global _installed
     if _installed:
         return True
-    try:
-        ok = _has_internals()
-    except ImportError:
-        ok = False
-    if not ok:  # pragma: no cover - depends on the installed viser
-        log.warning("this viser lacks the upload internals: uploads are not capped")
+    if not internals_present(  # pragma: no cover - depends on the installed viser
+        _has_internals, "this viser lacks the upload internals: uploads are not capped"
+    ):
         return False
     from viser._gui_api import GuiApi
 

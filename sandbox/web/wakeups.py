@@ -18,10 +18,9 @@ loop's own call, which viser always makes, then wakes them: no wake-up is lost).
 from __future__ import annotations
 
 import asyncio
-import logging
 from typing import Any
 
-log = logging.getLogger(__name__)
+from sandbox.web.patches import internals_present
 
 _installed = False
 
@@ -63,12 +62,9 @@ def install() -> bool:
     global _installed
     if _installed:
         return True
-    try:
-        ok = _has_internals()
-    except ImportError:
-        ok = False
-    if not ok:  # pragma: no cover - depends on the installed viser and Python
-        log.warning("this viser's message buffer differs: its events stay as they are")
+    if not internals_present(  # pragma: no cover - depends on the installed viser and Python
+        _has_internals, "this viser's message buffer differs: its events stay as they are"
+    ):
         return False
     from viser.infra._async_message_buffer import AsyncMessageBuffer
 

@@ -1,0 +1,22 @@
+"""What the project's changes to viser's server share: each one (:mod:`.uploads`,
+:mod:`.wakeups`) first checks that the viser installed has the internals it changes, and
+leaves viser as it is, with one warning line, when it does not."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+
+log = logging.getLogger(__name__)
+
+
+def internals_present(check: Callable[[], bool], missing: str) -> bool:
+    """True when ``check()`` finds what a change to viser needs; else log ``missing``
+    (what stays as viser has it) once and return False. An ImportError counts as absent."""
+    try:
+        ok = check()
+    except ImportError:
+        ok = False
+    if not ok:
+        log.warning(missing)
+    return ok
