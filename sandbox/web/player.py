@@ -66,6 +66,7 @@ class ReplayController:
         self.timeline = rec.timeline
         self.position = 0.0
         self._last = clock()
+        self.cleanups: list[Callable[[], None]] = []  # run when its session ends
         self._show(0)
 
     # -- requests ------------------------------------------------------------------------

@@ -1318,7 +1318,10 @@ class Scheduler:
             log.exception("session turn failed")
             keep = True
         if not keep:
-            session._end()
+            try:
+                session._end()
+            except Exception:  # the loop serves every other page: it outlives this one
+                log.exception("session end failed")
             return
         after = self.clock()
         following = due + session.period

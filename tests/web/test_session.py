@@ -418,6 +418,50 @@ def test_one_scheduler_serves_many_sessions_in_turn():
     assert all(s.finished for s in sessions)
 
 
+def test_a_session_whose_end_fails_leaves_the_scheduler_serving_the_others(caplog):
+    """A page leaving whose clean-up raises (a replay's controller once had no
+    ``cleanups``: the session thread died and every other page of the process froze)."""
+    clock = Clock()
+    scheduler = Scheduler(clock=clock, threaded=False)
+    gone = Session(Controller(Simulation("rotor"), clock=clock), Recorder(), scheduler=scheduler)
+    stays = Session(Controller(Simulation("rotor"), clock=clock), Recorder(), scheduler=scheduler)
+
+    def broken() -> None:
+        raise RuntimeError("clean-up failed")
+
+    gone._end = broken  # type: ignore[method-assign]
+    gone.start()
+    stays.start()
+    gone.request_stop()
+    for _ in range(10):
+        clock.now += 1 / 60
+        scheduler.run_due()
+    assert stays.view.frames >= 9 and scheduler.sessions == 1
+    assert "session end failed" in caplog.text
+
+
+def test_a_replay_session_ends_cleanly(tmp_path):
+    """A replay's controller has the clean-ups a live one has (none of its own)."""
+    from sandbox.recording import load
+    from sandbox.web.player import ReplayController
+
+    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl.submit(Request("record"))
+    _run(ctl, 0.5)
+    ctl.submit(Request("stop_record"))
+    path = next(n.text for n in ctl.frame() if n.level == "file")
+    clock = Clock()
+    scheduler = Scheduler(clock=clock, threaded=False)
+    session = Session(ReplayController(load(path), clock=clock), Recorder(), scheduler=scheduler)
+    session.start()
+    clock.now += 1 / 60
+    scheduler.run_due()
+    session.request_stop()
+    clock.now += 1 / 60
+    scheduler.run_due()
+    assert session.finished and scheduler.sessions == 0
+
+
 def test_one_scheduler_thread_serves_many_sessions():
     import threading
 
