@@ -82,6 +82,7 @@ if TYPE_CHECKING:
     import psutil
     from websockets.asyncio.client import ClientConnection, connect
 
+from sandbox.classroom_speed import SpeedProbe
 from sandbox.cores import DEFAULT_WORKERS_CAP, default_workers
 from sandbox.errors import BadOption
 
@@ -792,6 +793,8 @@ async def main_phase(
         if side is not None:
             beside = asyncio.create_task(side(url, origin, window, stats))
         await asyncio.sleep(warmup)
+        speed = SpeedProbe()
+        speed.start()
         own0, cpu0, threads0 = time.process_time(), tree_cpu(server.pid), thread_cpu(server.pid)
         window.start = time.perf_counter()
         window.end = window.start + seconds
@@ -800,6 +803,7 @@ async def main_phase(
             rss.append(tree_rss(server.pid))
             await asyncio.sleep(min(1.0, max(0.0, window.end - time.perf_counter())))
         cpu1, threads1, own1 = tree_cpu(server.pid), thread_cpu(server.pid), time.process_time()
+        machine_ms = speed.stop()
         rss.append(tree_rss(server.pid))
         processes = len(process_tree(server.pid))
         spread = sorted(connections_per_process(server.pid, server.port).values(), reverse=True)
@@ -847,6 +851,7 @@ async def main_phase(
         "server_top_thread_cores": threads[:6],
         "server_rss_bytes": max(rss),
         "bench_cpu_cores": (own1 - own0) / seconds,
+        "machine_probe_ms": machine_ms,
         "per_client_ws_messages_per_s": ws_msgs / seconds / clients,
         "per_client_kbytes_per_s": wire / seconds / clients / 1000.0,
         "bytes_per_ws_message": wire / ws_msgs if ws_msgs else math.nan,
@@ -1170,6 +1175,9 @@ def report(results: dict[str, Any]) -> str:
         f"{m['big_messages_per_client_per_s']:.2f}/s per client, largest "
         f"{m['largest_message_bytes'] / 1000:.0f} kB",
         f"  bench clients' own CPU       {m['bench_cpu_cores']:.2f} cores",
+        f"  machine speed probe          {m.get('machine_probe_ms', math.nan):.2f} ms for a "
+        "fixed piece of work, median over the window (lower is faster; the machine's own "
+        "speed, whatever the server does)",
     ]
     if m["errors"]:
         lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")

@@ -48,6 +48,7 @@ FIGURES: tuple[tuple[str, str, str, str], ...] = (
     ("split", "session split", "lower", ".0f"),
     ("server_rss_bytes", "RSS MB", "lower", ".0f"),
     ("side.ratio_min", "flood ratio", "higher", ".2f"),
+    ("machine_probe_ms", "machine probe ms", "", ".2f"),
 )
 """(key, column, which way is better, format) of the figures a run is summed up by ("":
 neither way: the cores a server uses grow with the frames it delivers)."""
@@ -184,7 +185,28 @@ def compare(runs: Sequence[Mapping[str, Any]], saved: Mapping[str, Mapping[str, 
                 f"  {label:<16} {_fmt(new_v, spec):>8}  saved {_fmt(old_v, spec):>8}  "
                 f"{ratio:>7} {word}".rstrip()
             )
+        lines += _at_saved_speed(r, old)
     return "\n".join(lines)
+
+
+def _at_saved_speed(new: Mapping[str, Any], old: Mapping[str, Any]) -> list[str]:
+    """The CPU per frame the new run would have taken at the saved run's machine speed
+    (its probe timing scaled back), when both runs timed the machine; else nothing."""
+    new_probe, old_probe = figure(new, "machine_probe_ms"), figure(old, "machine_probe_ms")
+    cpu_new, cpu_old = (
+        figure(new, "server_cpu_ms_per_frame"),
+        figure(old, "server_cpu_ms_per_frame"),
+    )
+    if not all(math.isfinite(v) and v > 0 for v in (new_probe, old_probe, cpu_new, cpu_old)):
+        return []
+    speed = new_probe / old_probe  # > 1: this machine ran slower than at the saved run
+    adjusted = cpu_new / speed
+    q = adjusted / cpu_old
+    word = "" if abs(q - 1.0) < 0.05 else ("better" if q < 1.0 else "WORSE")
+    return [
+        f"  machine ran ×{speed:.2f} the saved run's time for the same work; CPU ms/frame "
+        f"at the saved speed {adjusted:.2f}  saved {cpu_old:.2f}  ×{q:.2f} {word}".rstrip()
+    ]
 
 
 def scenes_of(args: argparse.Namespace) -> list[str]:

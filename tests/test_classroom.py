@@ -11,6 +11,7 @@ import msgspec
 import numpy as np
 import pytest
 import zstandard
+from conftest import wait_for
 from viser import _messages as vm
 
 from sandbox import classroom as cr
@@ -351,6 +352,35 @@ def test_all_scenes_one_table_saved_and_compared(tmp_path, capsys) -> None:
     (tmp_path / "bad.json").write_text('{"schema": 99, "runs": {}}')
     with pytest.raises(BadOption, match="not a saved classroom run"):
         suite.load(tmp_path / "bad.json")
+
+
+def test_the_comparison_reads_cpu_per_frame_at_the_saved_runs_machine_speed() -> None:
+    """Both runs timed the machine (the speed probe): a run on a machine that took 1.5×
+    the time for the same work is compared at the saved speed; a run without a probe
+    (saved by an older version) gets no such line."""
+    old = _run("rotor", 30, 40.0, 0.8)
+    new = _run("rotor", 30, 40.0, 1.2)
+    old["main"]["machine_probe_ms"], new["main"]["machine_probe_ms"] = 3.0, 4.5
+    text = suite.compare([new], {suite.run_key(old): old})
+    assert "×1.50 WORSE" in text  # the raw figure: 1.2 against 0.8 ms
+    assert "machine ran ×1.50 the saved run's time for the same work" in text
+    assert "at the saved speed 0.80  saved 0.80  ×1.00" in text  # the machine, not the code
+    del old["main"]["machine_probe_ms"]
+    assert "machine ran" not in suite.compare([new], {suite.run_key(old): old})
+
+
+def test_the_speed_probe_times_its_work_during_the_window() -> None:
+    from sandbox.classroom_speed import SpeedProbe
+
+    probe = SpeedProbe(period=0.01)
+    assert math.isnan(SpeedProbe().stop())  # never started: nothing timed
+    probe.start()
+    assert wait_for(lambda: len(probe.times) >= 3, timeout=10)
+    median = probe.stop()
+    assert 0.0 < median < 1000.0 and len(probe.times) >= 3
+    count = len(probe.times)
+    time.sleep(0.05)
+    assert len(probe.times) == count  # stopped: no more timings
 
 
 def _gone(pid: int) -> bool:

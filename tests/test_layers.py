@@ -50,6 +50,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.bench_plot",
             "sandbox.classroom",
             "sandbox.classroom_suite",
+            "sandbox.classroom_speed",
             "sandbox.classroom_flood",
             "sandbox.classroom_studies",
             "sandbox.lessons",
