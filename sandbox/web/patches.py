@@ -1,6 +1,6 @@
-"""What the project's changes to viser's server share: each one (:mod:`.uploads`,
-:mod:`.wakeups`) first checks that the viser installed has the internals it changes, and
-leaves viser as it is, with one warning line, when it does not."""
+"""What the project's changes to viser's server share: each one (:mod:`.uploads`) first
+checks that the viser installed has the internals it changes, and leaves viser as it is,
+with one warning line, when it does not."""
 
 from __future__ import annotations
 
