@@ -1,6 +1,7 @@
-"""What the project's changes to viser's server share: each one (:mod:`.uploads`) first
-checks that the viser installed has the internals it changes, and leaves viser as it is,
-with one warning line, when it does not."""
+"""What the project's uses of viser's internals share: each one (the upload cap of
+:mod:`.uploads`, the fast pose messages of :mod:`.wire`) first checks that the viser
+installed has the internals it relies on, and leaves viser as it is, with one warning
+line, when it does not."""
 
 from __future__ import annotations
 

@@ -14,15 +14,14 @@ page module sends through here, so the cap is in place before any server exists.
 
 from __future__ import annotations
 
-import logging
 from typing import Any
 
 import numpy as np
 from viser import _messages
 
 from sandbox.web import uploads
+from sandbox.web.patches import internals_present
 
-log = logging.getLogger(__name__)
 uploads.install()  # before any viser GUI exists: viser binds its handlers then
 
 
@@ -31,11 +30,9 @@ def _has_internals() -> bool:
     needed = ("SetPositionMessage", "SetOrientationMessage", "SceneNodeUpdateMessage")
     if not all(hasattr(_messages, name) for name in needed):
         return False
-    try:
-        from viser._scene_api import SceneApi
-        from viser._scene_handles import _SceneNodeHandleState
-    except ImportError:
-        return False
+    from viser._scene_api import SceneApi
+    from viser._scene_handles import _SceneNodeHandleState
+
     fields = getattr(_SceneNodeHandleState, "__dataclass_fields__", {})
     return hasattr(SceneApi, "_queue_scene_message") and {
         "name",
@@ -47,10 +44,10 @@ def _has_internals() -> bool:
     } <= set(fields)
 
 
-FAST = _has_internals()
+FAST = internals_present(
+    _has_internals, "this viser lacks the internals of the fast path: poses use its setters"
+)
 """viser's internals are there: messages are queued directly."""
-if not FAST:  # pragma: no cover - depends on the installed viser
-    log.warning("this viser lacks the internals of the fast path: poses use its setters")
 
 
 def _state(node: Any) -> Any:
