@@ -1176,8 +1176,8 @@ def report(results: dict[str, Any]) -> str:
         f"{m['largest_message_bytes'] / 1000:.0f} kB",
         f"  bench clients' own CPU       {m['bench_cpu_cores']:.2f} cores",
         f"  machine speed probe          {m.get('machine_probe_ms', math.nan):.2f} ms for a "
-        "fixed piece of work, median over the window (lower is faster; the machine's own "
-        "speed, whatever the server does)",
+        "fixed piece of work, median over the window (lower is faster; the processor's "
+        "speed on a small piece of work, whatever the server does)",
     ]
     if m["errors"]:
         lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")
