@@ -1,5 +1,6 @@
 """What the project's uses of viser's internals share: each one (the upload cap of
-:mod:`.uploads`, the fast pose messages of :mod:`.wire`) first checks that the viser
+:mod:`.uploads`, the fast pose messages of :mod:`.wire`, the loop-bound message events of
+:mod:`.wakeups`) first checks that the viser
 installed has the internals it relies on, and leaves viser as it is, with one warning
 line, when it does not."""
 

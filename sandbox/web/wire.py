@@ -8,8 +8,9 @@ the handle's cached value is kept in step, so that a later public setter still c
 with what the browser shows. The internals used are checked once (:data:`FAST`); a viser
 without them gets the public setters.
 
-Importing this module also caps what browsers may upload (:func:`uploads.install`): every
-page module sends through here, so the cap is in place before any server exists.
+Importing this module also caps what browsers may upload (:func:`uploads.install`) and
+keeps viser's "a message is waiting" events in their loop (:func:`wakeups.install`): every
+page module sends through here, so both are in place before any server exists.
 """
 
 from __future__ import annotations
@@ -19,10 +20,11 @@ from typing import Any
 import numpy as np
 from viser import _messages
 
-from sandbox.web import uploads
+from sandbox.web import uploads, wakeups
 from sandbox.web.patches import internals_present
 
 uploads.install()  # before any viser GUI exists: viser binds its handlers then
+wakeups.install()  # before any message buffer exists: each gets its event then
 
 
 def _has_internals() -> bool:
