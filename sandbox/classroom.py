@@ -53,6 +53,7 @@ Definitions:
 from __future__ import annotations
 
 import asyncio
+import collections
 import contextlib
 import itertools
 import math
@@ -83,6 +84,7 @@ if TYPE_CHECKING:
     from websockets.asyncio.client import ClientConnection, connect
 
 from sandbox.classroom_speed import SpeedProbe
+from sandbox.classroom_workers import by_worker, worker_lines
 from sandbox.cores import DEFAULT_WORKERS_CAP, default_workers
 from sandbox.errors import BadOption
 
@@ -241,24 +243,27 @@ def thread_cpu(pid: int) -> dict[tuple[int, int], float]:
     return out
 
 
+def browsers_by_process(pid: int, port: int) -> dict[int, int]:
+    """The process of ``pid``'s tree holding each established TCP connection on local
+    ``port``: the connection's remote port (a browser's own) -> the process's pid."""
+    ps, owner = _psutil(), {}
+    for p in _tree(pid):
+        with contextlib.suppress(ps.Error):
+            # net_connections since psutil 6.0, connections before
+            listed = getattr(p, "net_connections", None) or p.connections
+            for c in listed(kind="tcp"):
+                here = c.laddr and c.laddr.port == port
+                if c.status == ps.CONN_ESTABLISHED and here and c.raddr:
+                    owner[int(c.raddr.port)] = p.pid
+    return owner
+
+
 def connections_per_process(pid: int, port: int) -> dict[int, int]:
     """Established TCP connections on local ``port`` held by each process of the tree.
 
     Shows how the kernel spread the browsers over the server's worker processes.
     """
-    ps, counts = _psutil(), {}
-    for p in _tree(pid):
-        with contextlib.suppress(ps.Error):
-            # net_connections since psutil 6.0, connections before
-            listed = getattr(p, "net_connections", None) or p.connections
-            n = sum(
-                1
-                for c in listed(kind="tcp")
-                if c.status == ps.CONN_ESTABLISHED and c.laddr and c.laddr.port == port
-            )
-            if n:
-                counts[p.pid] = n
-    return counts
+    return dict(collections.Counter(browsers_by_process(pid, port).values()))
 
 
 def load_average() -> tuple[float, float, float] | None:
@@ -416,6 +421,7 @@ class ClientStats:
     buttons: str | None = None  # uuid of the "Temps" button group, once seen
     played: bool = False  # "Lecture" pressed (the scene opened paused)
     pending: float | None = None  # perf_counter of the unshown slider change
+    port: int | None = None  # local port of its connection (tells its server process)
 
     def feed(self, raw: bytes, now: float, window: Window) -> None:
         """Account for one server message received at ``now``."""
@@ -506,6 +512,7 @@ async def run_client(
     """
     try:
         async with connect_as_browser(url, origin, open_timeout=30) as ws:
+            stats.port = _local_port(ws)
             await ws.send(camera_message())
             prober = None
             if param is not None:
@@ -536,6 +543,12 @@ async def run_client(
         raise
     except Exception as exc:  # reported per client, the bench goes on
         stats.error = f"{type(exc).__name__}: {exc}"
+
+
+def _local_port(ws: Any) -> int | None:
+    """The local port of a client connection (None when the transport does not say)."""
+    address = getattr(ws, "local_address", None)
+    return int(address[1]) if isinstance(address, tuple) and len(address) >= 2 else None
 
 
 async def _probe(
@@ -806,7 +819,8 @@ async def main_phase(
         machine_ms = speed.stop()
         rss.append(tree_rss(server.pid))
         processes = len(process_tree(server.pid))
-        spread = sorted(connections_per_process(server.pid, server.port).values(), reverse=True)
+        owner = browsers_by_process(server.pid, server.port)
+        spread = sorted(collections.Counter(owner.values()).values(), reverse=True)
         side_result = None
         if beside is not None:
             side_result = await asyncio.wait_for(beside, timeout=30.0)
@@ -817,9 +831,8 @@ async def main_phase(
     fps = [s.fps(window) for s in stats]
     rates = [r for r in (s.sim_rate() for s in stats) if math.isfinite(r)]
     delays = [d for s in stats for d in s.delays]
-    threads = sorted(
-        ((threads1[k] - threads0.get(k, 0.0)) / seconds for k in threads1), reverse=True
-    )
+    used = {k: (threads1[k] - threads0.get(k, 0.0)) / seconds for k in threads1}
+    threads = sorted(used.values(), reverse=True)
     frames = sum(s.frames for s in stats)
     ws_msgs = sum(s.ws_messages for s in stats)
     wire = sum(s.wire_bytes for s in stats)
@@ -849,6 +862,7 @@ async def main_phase(
         "clients_per_process": spread,
         "server_threads": len(threads1),
         "server_top_thread_cores": threads[:6],
+        "workers": by_worker(fps, [s.port for s in stats], owner, used),
         "server_rss_bytes": max(rss),
         "bench_cpu_cores": (own1 - own0) / seconds,
         "machine_probe_ms": machine_ms,
@@ -1163,6 +1177,7 @@ def report(results: dict[str, Any]) -> str:
         "busiest " + ", ".join(f"{c:.2f}" for c in m["server_top_thread_cores"][:4]) + ")",
         f"  server CPU per update frame  {m['server_cpu_ms_per_frame']:.2f} ms (all clients' "
         "frames; lower is better, less sensitive to other load than frames/s)",
+        *worker_lines(m.get("workers", [])),
         f"  server RSS                   {m['server_rss_bytes'] / 1e6:.0f} MB",
         f"  slider -> first frame        p95 {delay['p95'] * 1000:.0f} ms  median "
         f"{delay['median'] * 1000:.0f} ms  ({m['slider_param']}: {m['slider_samples']} "

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 from sandbox import classroom_flood, classroom_studies
 from sandbox.classroom import jsonable, report, run_classroom, split
+from sandbox.classroom_workers import fps_ratio
 from sandbox.errors import BadOption
 
 if TYPE_CHECKING:
@@ -46,6 +47,7 @@ FIGURES: tuple[tuple[str, str, str, str], ...] = (
     ("server_cpu_ms_per_frame", "CPU ms/frame", "lower", ".2f"),
     ("server_cpu_cores", "server cores", "", ".2f"),
     ("split", "session split", "lower", ".0f"),
+    ("worker_fps_ratio", "worker fps ratio", "higher", ".2f"),
     ("server_rss_bytes", "RSS MB", "lower", ".0f"),
     ("side.ratio_min", "flood ratio", "higher", ".2f"),
     ("machine_probe_ms", "machine probe ms", "", ".2f"),
@@ -67,9 +69,12 @@ def run_key(results: Mapping[str, Any]) -> str:
 
 
 def figure(results: Mapping[str, Any], key: str) -> float:
-    """One figure of a run (NaN when missing); ``split`` counts sessions per worker."""
+    """One figure of a run (NaN when missing); ``split`` counts sessions per worker,
+    ``worker_fps_ratio`` compares the workers' frame rates (:func:`fps_ratio`)."""
     if key == "split":
         return split(dict(results))
+    if key == "worker_fps_ratio":
+        return fps_ratio(results["main"].get("workers", []))
     value: Any = results["main"]
     for part in key.split("."):
         if not isinstance(value, Mapping) or part not in value:

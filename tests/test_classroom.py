@@ -458,6 +458,12 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> 
     assert main["server_cpu_cores"] > 0 and main["server_cpu_ms_per_frame"] > 0
     assert main["server_threads"] >= main["server_processes"] >= 2  # parent and workers
     assert main["server_top_thread_cores"][0] > 0
+    # each browser found in the worker that served it, with that worker's CPU
+    workers = main["workers"]
+    assert sum(w["browsers"] for w in workers) == 2
+    assert sorted(w["browsers"] for w in workers) == sorted(main["clients_per_process"])
+    assert all(w["fps_median"] > 0 and w["cpu_cores"] > 0 for w in workers)
+    assert sum(w["cpu_cores"] for w in workers) <= main["server_cpu_cores"] * 1.05
     assert results["load_average_before"] is None is results["load_average_after"]
     assert len(stopped) == main["server_processes"] and all(_gone(p) for p in stopped)
     assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)

@@ -53,6 +53,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.classroom_speed",
             "sandbox.classroom_flood",
             "sandbox.classroom_studies",
+            "sandbox.classroom_workers",
             "sandbox.lessons",
             "sandbox.replay",
             "sandbox.sweep",
