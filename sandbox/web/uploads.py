@@ -35,7 +35,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, cast
 
-from sandbox.web.patches import internals_present
+from sandbox.web.patches import install_once
 
 if TYPE_CHECKING:
     from viser import ClientHandle
@@ -73,7 +73,6 @@ class _Ledger:
 
 
 _ledgers: weakref.WeakKeyDictionary[ClientHandle, _Ledger] = weakref.WeakKeyDictionary()
-_installed = False
 
 
 def _has_internals() -> bool:
@@ -95,13 +94,15 @@ def install() -> bool:
     Applies to the GUIs made after the call (viser binds its handlers then). A viser
     without the internals used here is left as it is, with one warning.
     """
-    global _installed
-    if _installed:
-        return True
-    if not internals_present(  # pragma: no cover - depends on the installed viser
-        _has_internals, "this viser lacks the upload internals: uploads are not capped"
-    ):
-        return False
+    return install_once(
+        __name__,
+        _has_internals,
+        "this viser lacks the upload internals: uploads are not capped",
+        _wrap_handlers,
+    )
+
+
+def _wrap_handlers() -> None:
     from viser._gui_api import GuiApi
 
     start, part = GuiApi._handle_file_transfer_start, GuiApi._handle_file_transfer_part
@@ -122,8 +123,6 @@ def install() -> bool:
     # a function (self first) in place of a method: mypy sees two different signatures
     GuiApi._handle_file_transfer_start = guarded_start  # type: ignore[method-assign,assignment]
     GuiApi._handle_file_transfer_part = guarded_part  # type: ignore[method-assign,assignment]
-    _installed = True
-    return True
 
 
 def _apis(client: ClientHandle) -> tuple[GuiApi, GuiApi]:

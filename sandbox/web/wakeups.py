@@ -21,9 +21,7 @@ from __future__ import annotations
 import asyncio
 from typing import Any
 
-from sandbox.web.patches import internals_present
-
-_installed = False
+from sandbox.web.patches import install_once
 
 
 class LoopEvent(asyncio.Event):
@@ -56,13 +54,15 @@ def install() -> bool:
     """Give the buffers viser creates from now on a :class:`LoopEvent` as their message
     event, once per process; True when done (a viser without the internals used here is
     left as it is, with one warning)."""
-    global _installed
-    if _installed:
-        return True
-    if not internals_present(  # pragma: no cover - depends on the installed viser
-        _has_internals, "this viser's message buffer differs: its events stay as they are"
-    ):
-        return False
+    return install_once(
+        __name__,
+        _has_internals,
+        "this viser's message buffer differs: its events stay as they are",
+        _bind_new_events,
+    )
+
+
+def _bind_new_events() -> None:
     from viser.infra._async_message_buffer import AsyncMessageBuffer
 
     made = AsyncMessageBuffer.__init__
@@ -75,5 +75,3 @@ def install() -> bool:
             event.home = buffer.event_loop  # type: ignore[attr-defined]
 
     AsyncMessageBuffer.__init__ = init  # type: ignore[method-assign,assignment]
-    _installed = True
-    return True
