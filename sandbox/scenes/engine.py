@@ -494,8 +494,20 @@ def _orders(s: Snapshot) -> np.ndarray:
     return out
 
 
+def _force_ref(s: Snapshot) -> np.ndarray:
+    """The course's force on the block at the snapshot's angle and speed (tamis, pilon)."""
+    out = s.cache.get("engine_force_ref")
+    if out is None:
+        out = s.cache["engine_force_ref"] = shaking_force(_engine(s), _theta(s))
+    return out
+
+
 def _pilon_ref(s: Snapshot) -> float:
-    return float(shaking_force(_engine(s), _theta(s))[1])
+    return float(_force_ref(s)[1])
+
+
+def _tamis_ref(s: Snapshot) -> float:
+    return float(_force_ref(s)[0])
 
 
 def _moment_ref(s: Snapshot) -> float:
@@ -518,6 +530,7 @@ READOUTS = (
     SceneReadout("pilon", "N", "Force of the moving parts on the block along y0 (the cylinders' axis).", lambda s: float(_block(s)[0][1]), label="Effet de pilon", hint="Effort des pièces mobiles sur le bloc moteur le long de l'axe des cylindres y₀."),
     SceneReadout("tamis", "N", "Force of the moving parts on the block along x0 (across the cylinders).", lambda s: float(_block(s)[0][0]), label="Effet de tamis", hint="Effort des pièces mobiles sur le bloc moteur perpendiculairement aux cylindres, le long de x₀."),
     SceneReadout("pilon_ref", "N", "Course value of the pilon at the current angle and speed (exact slider-cranks, constant speed).", _pilon_ref, label="Pilon selon le cours", hint="Pilon calculé par le cours pour les systèmes bielle-manivelle exacts, à l'angle et à la vitesse actuels."),
+    SceneReadout("tamis_ref", "N", "Course value of the tamis at the current angle and speed (as pilon_ref): zero when the counterweights balance the rotating masses exactly, and for two or four cylinders whatever they balance (their throws cancel the first order).", _tamis_ref, label="Tamis selon le cours", hint="Tamis calculé par le cours, nul quand les contrepoids compensent juste les masses tournantes ou quand les manivelles sont opposées deux à deux."),
     *(_pilon_i(i) for i in range(1, MAX_CYLINDERS + 1)),
     SceneReadout("shaking_force_h1", "N", "Order-1 amplitude of the pilon over a revolution simulated ahead (least-squares projection).", lambda s: float(_orders(s)[0]), label="Pilon, ordre 1", hint="Amplitude de la composante du pilon à la fréquence de rotation, sur un tour simulé."),
     SceneReadout("shaking_force_h2", "N", "Order-2 amplitude of the pilon over a revolution simulated ahead (as shaking_force_h1).", lambda s: float(_orders(s)[1]), label="Pilon, ordre 2", hint="Amplitude de la composante du pilon à deux fois la fréquence de rotation, sur un tour simulé."),

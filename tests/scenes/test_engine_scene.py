@@ -150,6 +150,28 @@ def test_counterweights_trade_first_order_pilon_for_tamis_and_leave_the_second()
     assert np.abs(_revolution(base)["tamis"]).max() < 1e-4 * f1
 
 
+def test_the_tamis_against_the_course_at_every_angle():
+    """Course 1: the tamis comes from the rotating mass left on a throw (here half the
+    reciprocating mass taken by the counterweight); opposite throws cancel it."""
+    one = _sim(cylinders=1, counterweight_rec=0.5)
+    one.advance(0.02)
+    rows = []
+    period = 2 * math.pi / abs(float(one.data.qvel[0]))
+    for _ in range(int(1.02 * period / one.timestep) + 1):
+        one.step(1)
+        rows.append(one.readouts(("tamis", "tamis_ref")))
+    tamis = np.array([r["tamis"] for r in rows])
+    ref = np.array([r["tamis_ref"] for r in rows])
+    assert np.abs(ref).max() == pytest.approx(0.5 * _single_f1(one), rel=5e-3)  # sampled peak
+    assert np.abs(tamis - ref).max() < 5e-3 * np.abs(ref).max()
+    for n in (2, 4):  # throws at 0 and 180 degrees: zero for any counterweight
+        sim = _sim(cylinders=n, counterweight_rot=0.3, counterweight_rec=0.7)
+        sim.advance(0.02)
+        r = sim.readouts(("tamis", "tamis_ref"))
+        assert abs(r["tamis_ref"]) < 1e-12 * _single_f1(sim)
+        assert abs(r["tamis"]) < 1e-4 * _single_f1(sim)
+
+
 @pytest.mark.parametrize("n", [1, 4])
 def test_lanchester_shafts_cancel_the_second_order(n):
     """Two shafts at ±2ω: left is the exact second order beyond m R ω² λ (1.9 % of it)."""
