@@ -36,13 +36,16 @@ def plain(value: object, limit: int = MAX_SHOWN) -> str:
 
 def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
     """``value`` as a French reader writes it: ``digits`` significant digits, a decimal
-    comma, a narrow no-break space between thousands, ``×10⁻⁵`` instead of ``e-05``,
-    "—" when not finite, and "0" when ``|value| <= zero`` (below the scene's round-off,
-    e.g. 1.959e-19 N). CSV and JSON files keep Python's dot."""
+    comma, a narrow no-break space between thousands, ``×10⁻⁵`` instead of ``e-05``, the
+    minus sign "−" (not a hyphen), "—" when not finite, and "0" when ``|value| <= zero``
+    (below the scene's round-off, e.g. 1.959e-19 N). CSV and JSON files keep Python's dot
+    and hyphen."""
     if value != value or value in (float("inf"), float("-inf")):
         return "—"
     if abs(value) <= zero or value == 0:
         return "0"
+    if value < 0:
+        return "\u2212" + number(-value, digits)
     exponent = int(f"{abs(value):.{max(digits - 1, 0)}e}".split("e")[1])
     if -4 <= exponent < digits + 2:
         decimals = max(digits - 1 - exponent, 0)

@@ -45,7 +45,7 @@ def _box(page, label: str):
 
 def _shown(page, label: str) -> float:
     text = _box(page, label).input_value()
-    return float(text.replace("\u202f", "").replace(",", "."))
+    return float(text.replace("\u202f", "").replace(",", ".").replace("−", "-"))
 
 
 def _params():

@@ -159,7 +159,7 @@ def test_reset_brings_the_display_back():
 @pytest.mark.parametrize(
     "value, unit, needle",
     [
-        (-5, "s", "Pas de -5 s refusé : choisissez entre 0 et 10 s."),
+        (-5, "s", "Pas de −5 s refusé : choisissez entre 0 et 10 s."),
         ("abc", "deg", "Pas en angle : un nombre est attendu, reçu « abc »."),
         (1e9, "deg", "Pas de 1×10⁹° refusé : choisissez entre 0 et 3600°."),
         (1, "furlong", "Unité de pas « furlong » inconnue : s ou °."),
@@ -215,11 +215,11 @@ def test_refusals_name_parameters_in_french_words(monkeypatch):
         check_value(sim, "speed_rpm", -1)
     speed = param_words(labelled.params[0])
     assert str(err.value) == (
-        f"{speed} : -1 tr/min refusé, choisissez entre 0 et 6\u202f000 tr/min."
+        f"{speed} : −1 tr/min refusé, choisissez entre 0 et 6\u202f000 tr/min."
     )
     with pytest.raises(session_module.Refused) as err:
         check_value(sim, "angle1_deg", 200)
-    assert str(err.value).endswith(": 200° refusé, choisissez entre -180 et 180°.")
+    assert str(err.value).endswith(": 200° refusé, choisissez entre −180 et 180°.")
     assert param_words(dataclasses.replace(labelled.params[0], label="")) == "speed_rpm"
 
 

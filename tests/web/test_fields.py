@@ -142,7 +142,7 @@ def test_labels_in_words_with_the_display_unit_and_a_french_tooltip():
     assert param_label(p) == "Vitesse ω [tr/min]"
     bare = Param("angle1_deg", "deg", 0.0, -180.0, 180.0, "Angle.", hint="Angle de la masse.")
     assert param_label(bare) == "angle1_deg [°]"  # until the labels are filled
-    assert param_hint(bare) == "Angle de la masse (de -180 à 180 °)."
+    assert param_hint(bare) == "Angle de la masse (de −180 à 180 °)."
 
 
 def test_integrators_in_words_and_back():
@@ -177,4 +177,4 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
     (gimbal,) = overlay_lines(["gimbal_outer"], {"gimbal_outer": -0.5}, {}, {"gimbal_outer": "rad"})
     (residual,) = overlay_lines(["r"], {"r": -5.5e-15}, {"r": "Écart"}, {"r": "W"}, {"r": 1e-9})
     assert residual == "Écart = 0 W"  # below the scene's round-off
-    assert gimbal == "gimbal_outer = -28,6°"  # not modulo: a gimbal swings both ways
+    assert gimbal == "gimbal_outer = −28,6°"  # not modulo: a gimbal swings both ways

@@ -116,7 +116,7 @@ def test_values_get_the_checks_of_the_slider_in_french(rotor_page):
         rotor_page,
     )
     assert setup.settings == ()
-    assert "999° refusé, choisissez entre -180 et 180°" in _why(ignored, "angle1_deg=999")
+    assert "999° refusé, choisissez entre −180 et 180°" in _why(ignored, "angle1_deg=999")
     assert "choisissez entre 0 et 200 g" in _why(ignored, "mass1_g=-1")
     for part in ("speed_rpm=nan", "mass2_g=inf", "angle2_deg=0x10", "defect_mass_g=1,5"):
         assert _why(ignored, part) == "un nombre écrit avec un point est attendu"
