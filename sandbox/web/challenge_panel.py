@@ -41,11 +41,17 @@ class Page(Protocol):
     def unrestrict(self) -> None: ...
 
 
+ROUND_OFF = 1e-9
+"""A solution's value below this fraction of its parameter's range is round-off: shown 0
+(an angle the solver finds as 8,48×10⁻¹⁴° is 0°)."""
+
+
 def _words(p: Param | None, name: str, value: float) -> str:
     """ "Masse de correction m₁ : 23,4 g" (the parameter's words and unit)."""
     if p is None:
         return f"{name} : {number(value, 3)}"
-    return f"{p.label or p.name} : {with_unit(number(value, 3), param_unit(p))}"
+    floor = ROUND_OFF * max(abs(p.min), abs(p.max))
+    return f"{p.label or p.name} : {with_unit(number(value, 3, zero=floor), param_unit(p))}"
 
 
 def solution_lines(c: Challenge, values: Mapping[str, float], params: Mapping[str, Param]) -> str:
