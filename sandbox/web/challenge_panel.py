@@ -25,6 +25,7 @@ from sandbox.web.board import duration
 from sandbox.web.fields import param_unit
 from sandbox.web.secret import Secret
 from sandbox.web.session import Controller, Request
+from sandbox.web.tables import RELATIVE_ZERO
 from sandbox.web.text import html_text, number, with_unit
 
 FOLDER = "Défi"
@@ -41,16 +42,12 @@ class Page(Protocol):
     def unrestrict(self) -> None: ...
 
 
-ROUND_OFF = 1e-9
-"""A solution's value below this fraction of its parameter's range is round-off: shown 0
-(an angle the solver finds as 8,48×10⁻¹⁴° is 0°)."""
-
-
 def _words(p: Param | None, name: str, value: float) -> str:
     """ "Masse de correction m₁ : 23,4 g" (the parameter's words and unit)."""
     if p is None:
         return f"{name} : {number(value, 3)}"
-    floor = ROUND_OFF * max(abs(p.min), abs(p.max))
+    # below the tables' round-off of its range: an angle solved as 8,48×10⁻¹⁴° reads 0°
+    floor = RELATIVE_ZERO * max(abs(p.min), abs(p.max))
     return f"{p.label or p.name} : {with_unit(number(value, 3, zero=floor), param_unit(p))}"
 
 
