@@ -59,9 +59,11 @@ def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
     return f"{mantissa.replace('.', ',')}×10{superscript}"
 
 
-GAP = "\u2002"
-"""An en space written before every cell of a table but the first: a table copied, read
-aloud or shown without cell padding never runs two numbers together ("0,12130,1213")."""
+GAP = "\u2007"
+"""A figure space (a digit's width, no line break after it) written before every cell of
+a table but the first: a table copied, read aloud or shown without cell padding never
+runs two numbers together ("0,12130,1213"), and a narrow column never wraps a number
+below an empty line (an en space, breakable, did: « −0,001115 » took two lines)."""
 
 
 def table_row(*cells: str) -> str:

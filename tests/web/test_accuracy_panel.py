@@ -12,7 +12,7 @@ from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
 from sandbox.web.accuracy_panel import AccuracyPanel, chart_image, load_results
-from sandbox.web.text import number
+from sandbox.web.text import GAP, number
 
 
 class Handle:
@@ -88,7 +88,7 @@ def test_the_robot_axis_default_shows_the_error_the_benchmark_measured():
     panel = AccuracyPanel(Gui(), sim)
     text = _settle(panel, sim)
     assert "◆ ★ Votre réglage, celui par défaut" in text
-    assert f"| Erreur relative | \u2002{number(saved.error, 2)} |" in text
+    assert f"| Erreur relative | {GAP}{number(saved.error, 2)} |" in text
     assert "Commande du moteur : couple constant" in text  # the test's conditions in words
     assert "kinetic" not in text and "integrated" not in text
     assert "écart au théorème de l'énergie cinétique intégré" in text

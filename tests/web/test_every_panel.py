@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 from sandbox.scenes import SCENES
+from sandbox.web.text import GAP
 from sandbox.web.view import ALL_FOLDERS
 from tests.robustness.test_hostile_web import Page
 
@@ -108,5 +109,5 @@ def test_the_reader_finds_what_it_must():
         "cells run together: '0,1213' | '0,1213'",
         "cells run together: '0,1213' | '+0,00 %'",
     ]
-    assert problems("| x |\u20020,1213 |\u20020,1213 |\u2002+0,00 % |") == []
+    assert problems(f"| x |{GAP}0,1213 |{GAP}0,1213 |{GAP}+0,00 % |") == []
     assert not math.isnan(magnitude("1\u202f500", None))

@@ -47,7 +47,7 @@ def test_every_number_sits_in_its_own_column():
             for value in cells[1:]:
                 assert value.strip(" ").startswith(GAP), line
                 assert re.fullmatch(
-                    r"\u2002(−|-)?[\d\u202f]+(,\d+)?(×10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?", value.strip(" ")
+                    GAP + r"(−|-)?[\d\u202f]+(,\d+)?(×10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?", value.strip(" ")
                 ), value
         assert raw not in re.sub(r"<[^>]*>", "", md).replace(names[raw], "")
         assert not re.search(r"\d\.\d", md)
@@ -93,7 +93,7 @@ def test_a_component_six_decades_under_the_largest_reads_0():
     md = isolate_markdown(pfd, zero=scene.zero)
     d_rows = [line for line in md.splitlines() if line.startswith("| **{𝒟}**")]
     assert len(d_rows) == 2
-    force, moment = ([c.strip(" \u2002") for c in r.strip().strip("|").split("|")[1:]]
+    force, moment = ([c.strip(" " + GAP) for c in r.strip().strip("|").split("|")[1:]]
                      for r in d_rows)  # fmt: skip
     assert force[2] == "0" and moment[2] == "0", d_rows
     m, d = sim.values["mass"], sim.values["d"]

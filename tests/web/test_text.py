@@ -46,3 +46,13 @@ def test_a_number_and_its_unit_as_french_typography_writes_them():
     assert with_unit("54,4", "N") == "54,4 N"
     assert with_unit("29", "°") == "29°"  # the degree sign of an angle follows the number
     assert with_unit("0,25", "") == "0,25"
+
+
+def test_the_gap_before_a_cell_never_breaks_a_line():
+    """A narrow column wrapped « −0,001115 » below an empty line after the en space that
+    was the gap: the gap is a space of Unicode's no-break class (GL: U+00A0, U+2007,
+    U+202F), and still a space (numbers never run together)."""
+    from sandbox.web.text import GAP, table_row
+
+    assert GAP in ("\u00a0", "\u2007", "\u202f")
+    assert table_row("Effet de pilon", "−0,001115") == f"| Effet de pilon | {GAP}−0,001115 |"
