@@ -145,7 +145,11 @@ def test_static_export_speaks_french_beside_the_mechanism_and_shows_it_is_loadin
     values = {"time": 1.25, "omega": 1500 * math.pi / 30, "bearing_A": 54.4175}
     words = {"omega": "ω", "bearing_A": "Palier A"}
     text = overlay_text(rec, values, ["omega", "bearing_A"], words, {"bearing_A": 1e-9})
-    assert text.splitlines() == ["t = 1,25 s", "ω = 1\u202f500 tr/min", "Palier A = 54,4 N"]
+    assert text.splitlines() == [
+        "t = 1,25\u00a0s",
+        "ω = 1\u202f500\u00a0tr/min",
+        "Palier A = 54,4\u00a0N",
+    ]
     html = export_static(rec, tmp_path / "export").read_text(encoding="utf-8")
     assert f"id='{LOADING_ID}'" in html and "Chargement de l'animation" in html
     assert html.index(LOADING_ID) < html.index("</body>") and "<title>Dynamique des solides" in html

@@ -25,7 +25,7 @@ from sandbox.web import client_text
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.projector import key_readouts, overlay_lines
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.text import number
+from sandbox.web.text import number, with_unit
 from sandbox.web.view import camera_pose, scene_view
 
 EXPORT_FPS = 30.0
@@ -43,7 +43,7 @@ def overlay_text(
     the time, then "label = value unit" per readout in French (decimal comma, tr/min and
     degrees, 0 below the scene's round-off)."""
     units = dict(zip(rec.names, rec.header.get("units", [""] * len(rec.names)), strict=False))
-    lines = [f"t = {number(values.get('time', math.nan), 3)} s"]
+    lines = [f"t = {with_unit(number(values.get('time', math.nan), 3), 's')}"]
     lines += overlay_lines(names, values, labels or {}, units, zeros)
     return "\n".join(lines)
 

@@ -132,7 +132,7 @@ class BroadcastView:
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller
         state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"t = {fmt(frame.time, digits=4)} s · {state}"]
+        lines = [f"t = {with_unit(fmt(frame.time, digits=4), 's')} · {state}"]
         if frame.diverged:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:

@@ -72,9 +72,14 @@ def table_row(*cells: str) -> str:
     return "| " + " | ".join([cells[0], *(GAP + c for c in cells[1:])]) + " |"
 
 
+UNIT_SPACE = "\u00a0"
+"""The no-break space between a number and its unit."""
+
+
 def with_unit(shown: str, unit: str) -> str:
-    """A written number and its unit as French typography has them: "54,4 N", "29°"
-    (an angle's degree sign follows the number), the number alone without a unit."""
+    """A written number and its unit as French typography has them: "54,4 N" with a
+    no-break space (a narrow line never puts the unit alone on the next one), "29°" (an
+    angle's degree sign follows the number), the number alone without a unit."""
     if not unit:
         return shown
-    return f"{shown}{unit}" if unit == "°" else f"{shown} {unit}"
+    return f"{shown}{unit}" if unit == "°" else f"{shown}{UNIT_SPACE}{unit}"

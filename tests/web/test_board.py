@@ -288,13 +288,13 @@ def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     assert row.progress == pytest.approx(0.5)  # a tenth of the way to a hundredth: log scale
     assert row.readout == "static_unbalance"  # what the step checks
     assert row.value == pytest.approx(now["static_unbalance"]) and row.unit == "kg·m"
-    assert row.shown.endswith(" kg·m") and "," in row.shown
+    assert row.shown.endswith("\u00a0kg·m") and "," in row.shown
     # free exploration: the larger bearing force (A: 54 N, B: 15 N), no step
     panel.go_to(None)
     panel.refresh(now)
     free = student_row("p:7", student)
     assert (free.step, free.goal, free.readout, free.label) == (0, "", "bearing_A", "Palier A")
-    assert free.shown == "54,4 N"
+    assert free.shown == "54,4\u00a0N"
     assert math.isnan(free.progress)
 
 

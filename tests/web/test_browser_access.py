@@ -219,7 +219,7 @@ def test_tab_reaches_every_folder_and_opens_it(context, served):
 
 def _overlay_speed(page) -> str:
     text = page.locator("#sandbox-overlay").inner_text()
-    match = re.search(r"ω = ([\d\u202f\u00a0 ]+) tr/min", text)
+    match = re.search(r"ω = ([\d\u202f]+)\u00a0tr/min", text)
     return re.sub(r"[\u202f\u00a0 ]", "", match.group(1)) if match else ""
 
 

@@ -36,7 +36,9 @@ def test_the_balancing_goal_is_a_sentence_with_a_bar_that_fills(open_page):
         goal.get_by_text("Objectif — En cours").wait_for(timeout=10_000)
         # "Balourd statique m·Y : 0,0016 kg·m → objectif < 0,000016 kg·m" (French label,
         # decimal comma, the bound computed from the value at the step's start)
-        sentence = re.compile(r"Balourd statique .*: 0,0016 kg·m → objectif < 1,6×10⁻⁵ kg·m")
+        sentence = re.compile(
+            r"Balourd statique .*: 0,0016\u00a0kg·m → objectif < 1,6×10⁻⁵\u00a0kg·m"
+        )
         goal.get_by_text(sentence).wait_for(timeout=10_000)
         bar = goal.locator('[role="progressbar"]')
         assert bar.is_visible() and bar.get_attribute("aria-valuenow") == "0"

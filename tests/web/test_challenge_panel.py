@@ -21,7 +21,7 @@ from sandbox.physics.picture import geom_local_poses
 from sandbox.web.board import Run
 from sandbox.web.challenge_panel import FOLDER, solution_lines
 from sandbox.web.session import Request
-from sandbox.web.text import number
+from sandbox.web.text import UNIT_SPACE, number
 
 SECRET = {"defect_mass_g": 53.0, "skew_deg": -3.3}
 """A rotor's secret, fixed for the test (drawn numbers are tested in test_challenges)."""
@@ -125,7 +125,10 @@ def _never_sent(seen: bytes, ctl, secret: dict[str, float], texts: tuple[str, ..
     for value in numbers:
         for enc in encodings(value):
             assert enc not in seen, (value, enc)
-    suffixes = {"_g": " g", "_deg": "°"}  # the solution as a table or the overlay writes it
+    suffixes = {
+        "_g": UNIT_SPACE + "g",
+        "_deg": "°",
+    }  # the solution as a table or the overlay writes it
     written = [
         f"{number(v, 3)}{unit}"
         for name, v in solution.items()
@@ -146,6 +149,9 @@ def _started(app, student: Recorder, name: str):
     show opened: (their session, what their browser received since the start)."""
     assert wait_for(lambda: len(app.sessions) == 1, 30)
     (session,) = app.sessions.values()
+    # the page is built once its scene table came (a page still building when the run was
+    # announced sent its labels after ``before``, as if the secret page had shown them)
+    assert wait_for(lambda: student.saw(b"forme close du cours"), 30)
     time.sleep(1.0)
     before = len(student.inner)
     app.classroom.announce(Run(f"run-{name}", name, time.time()))
@@ -164,8 +170,9 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
         ctl, view = session.controller, session.view
         assert all(ctl.sim.values[k] == v for k, v in SECRET.items())  # simulated...
         assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page
-        _never_sent(seen, ctl, SECRET, ("53 g", "-3,3", "3,3°", "Balourd statique",
-                                        "Produits d'inertie", "tournant"))  # fmt: skip
+        hidden = ("53 g", f"53{UNIT_SPACE}g", "-3,3", "3,3°", "Balourd statique",
+                  "Produits d'inertie", "tournant")  # fmt: skip
+        _never_sent(seen, ctl, SECRET, hidden)
         # the readouts: the page's values never hold the withheld ones
         shown = view.lesson.values
         assert "bearing_A" in shown and not set(shown) & set(ctl.secret.withheld)
@@ -228,7 +235,7 @@ def test_tries_are_counted_on_the_board_and_the_end_shows_the_solution(rotor_cla
         app.classroom.announce(Run("run-2", "rotor_balance", time.time() - 60, ended=time.time()))
         assert wait_for(lambda: ctl.secret is None, 10)
         text = panel.feedback.content
-        assert "Défi terminé" in text and "Masselotte de défaut : 53 g" in text, text
+        assert "Défi terminé" in text and f"Masselotte de défaut : 53{UNIT_SPACE}g" in text, text
         assert "Inclinaison du disque : −3,3°" in text
         assert "×10" not in text  # the solver's round-off (an angle of 8,48×10⁻¹⁴°) reads 0
         slider = session.view.controls.sliders["defect_mass_g"]
@@ -247,7 +254,7 @@ def test_the_solution_is_written_with_the_sliders_words():
     values = {**sim.values, **SECRET, "speed_rpm": 1500.0}
     text = solution_lines(CHALLENGES["rotor_balance"], values, params)
     assert text.startswith("Masse de correction m₁ : ")
-    assert " g ; Angle de la masse m₁ α₁ : " in text
+    assert "\u00a0g ; Angle de la masse m₁ α₁ : " in text
     speed = solution_lines(CHALLENGES["rotor_speed"], values, params)
     assert speed.startswith("Vitesse ω pour 100 N au palier A : ") and speed.endswith("tr/min")
     # the solver's round-off is no number: an angle found as 8,48×10⁻¹⁴° reads 0°

@@ -159,7 +159,11 @@ def test_overlay_lines_are_french_and_escaped():
         {"omega": "rad/s", "bearing_A": "N"},
     )
     # ω in tr/min, as the speed slider (157,08 rad/s = 1500 tr/min)
-    assert lines == ["Vitesse ω = 1\u202f500 tr/min", "<b>Palier A</b> = 54,4 N", "gone = —"]
+    assert lines == [
+        "Vitesse ω = 1\u202f500\u00a0tr/min",
+        "<b>Palier A</b> = 54,4\u00a0N",
+        "gone = —",
+    ]
     html = overlay_html(lines)
     assert "<b>" not in html and "&lt;b&gt;" in html
 
@@ -176,5 +180,5 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
     assert lines == ["theta = 29°", "contact = oui"]
     (gimbal,) = overlay_lines(["gimbal_outer"], {"gimbal_outer": -0.5}, {}, {"gimbal_outer": "rad"})
     (residual,) = overlay_lines(["r"], {"r": -5.5e-15}, {"r": "Écart"}, {"r": "W"}, {"r": 1e-9})
-    assert residual == "Écart = 0 W"  # below the scene's round-off
+    assert residual == "Écart = 0\u00a0W"  # below the scene's round-off
     assert gimbal == "gimbal_outer = −28,6°"  # not modulo: a gimbal swings both ways

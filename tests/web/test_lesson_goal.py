@@ -24,8 +24,8 @@ def test_the_balancing_goal_reads_like_the_issue():
         check, WORDS, {"bearing_A": 0.9, "bearing_B": 20.0}, {"bearing_A": 54.0, "bearing_B": 15.0}
     )
     assert [line.text for line in shown] == [
-        "Palier A : 0,9 N → objectif < 0,54 N",
-        "Palier B : 20 N → objectif < 0,15 N",
+        "Palier A : 0,9\u00a0N → objectif < 0,54\u00a0N",
+        "Palier B : 20\u00a0N → objectif < 0,15\u00a0N",
     ]
     # 54 N -> 0.9 N out of 54 N -> 0.54 N on a log scale: log(60)/log(100) = 0.889
     assert shown[0].done == pytest.approx(math.log(60) / math.log(100))
@@ -37,12 +37,12 @@ def test_labels_fall_back_to_names_and_bounds_may_be_written_on_the_left():
     check = compile_check("0.05 < abs(slip_velocity) and x >= 2")
     shown = lines(check, WORDS, {"slip_velocity": -0.02, "x": 1.0}, {"slip_velocity": 0.0, "x": 0})
     assert [line.text for line in shown] == [
-        "|Glissement| : 0,02 m/s → objectif > 0,05 m/s",
-        "x : 1 m → objectif ≥ 2 m",
+        "|Glissement| : 0,02\u00a0m/s → objectif > 0,05\u00a0m/s",
+        "x : 1\u00a0m → objectif ≥ 2\u00a0m",
     ]
     assert shown[0].done == pytest.approx(0.4) and shown[1].done == pytest.approx(0.5)
     brief = lines(check, WORDS, {"slip_velocity": 0.0, "x": 1.0}, None, brief=True)
-    assert [line.text for line in brief] == ["|Glissement| : 0 m/s", "x : 1 m"]
+    assert [line.text for line in brief] == ["|Glissement| : 0\u00a0m/s", "x : 1\u00a0m"]
 
 
 @pytest.mark.parametrize(
@@ -91,5 +91,5 @@ def test_the_block_escapes_text_and_has_no_emoji():
 
 def test_values_under_the_round_off_are_written_0():
     words = Words({}, {"F": "N"}, {"F": 1e-9})
-    assert words.quantity(1.959e-19, "F") == "0 N" and words.quantity(0.5, "F") == "0,5 N"
+    assert words.quantity(1.959e-19, "F") == "0\u00a0N" and words.quantity(0.5, "F") == "0,5\u00a0N"
     assert words.label("F") == "F"

@@ -43,7 +43,7 @@ def test_numbers_have_a_decimal_comma_and_no_round_off_noise(value, digits, zero
 def test_a_number_and_its_unit_as_french_typography_writes_them():
     from sandbox.web.text import with_unit
 
-    assert with_unit("54,4", "N") == "54,4 N"
+    assert with_unit("54,4", "N") == "54,4\u00a0N"  # no line break before the unit
     assert with_unit("29", "°") == "29°"  # the degree sign of an angle follows the number
     assert with_unit("0,25", "") == "0,25"
 

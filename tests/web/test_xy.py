@@ -210,4 +210,4 @@ def test_a_flat_curve_reads_a_slope_of_zero_not_round_off():
     rng = np.random.default_rng(0)
     data.add((t / 100, {"bearing_A": 54.4 + 1e-13 * rng.standard_normal()}) for t in range(300))
     text = data.reading(0.5, SCENES["rotor"].zero)
-    assert "pente 0 N/s" in text and "10⁻" not in text
+    assert "pente 0\u00a0N/s" in text and "10⁻" not in text
