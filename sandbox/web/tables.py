@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,6 +33,18 @@ def fmt(value: float, *, digits: int = 4, floor: float = 0.0) -> str:
     """A number for French readers: ``digits`` significant digits, decimal comma, ×10ⁿ,
     0 when ``|value| <= floor``, — if not finite (:func:`sandbox.web.text.number`)."""
     return number(float(value), digits, zero=floor)
+
+
+def written_floor(values: Iterable[float], digits: int = 4) -> float:
+    """Half the last digit written of the largest ``|value|`` at ``digits`` significant
+    digits: the components of one vector, or the powers of one balance, are written to
+    the precision of the largest, so a component below this reads 0 beside it (the heavy
+    top's vertical momentum, 2×10⁻⁹ kg·m/s beside 0,03; the compressor's loop closure
+    working 0,009 W beside a motor's 390 W), a component above it keeps its digits."""
+    big = max((abs(float(v)) for v in values), default=0.0)
+    if not (math.isfinite(big) and big > 0.0):
+        return 0.0
+    return 0.5 * 10.0 ** (math.floor(math.log10(big)) - (digits - 1))
 
 
 def cell(value: object, limit: int = 200) -> str:
@@ -120,13 +132,14 @@ def torsor_table(
 ) -> str:
     """Markdown table of one torsor: rows R and M_point, columns the basis' axes.
 
-    A component is 0 below :data:`RELATIVE_ZERO` of the largest component, or below the
-    scene's round-off ``zero`` of its unit (contract unit -> value)."""
+    A component is 0 below :data:`RELATIVE_ZERO` of the largest component, below the
+    scene's round-off ``zero`` of its unit (contract unit -> value), or below the last
+    digit written of its vector's largest component (:func:`written_floor`)."""
     r, m = torsor.in_basis(basis)
     floor = RELATIVE_ZERO * max(float(np.abs(r).max()), float(np.abs(m).max()), 1e-300)
     zero = zero or {}
-    r_floor = max(floor, zero.get(spec.r_unit, 0.0))
-    m_floor = max(floor, zero.get(spec.m_unit, 0.0))
+    r_floor = max(floor, zero.get(spec.r_unit, 0.0), written_floor(r))
+    m_floor = max(floor, zero.get(spec.m_unit, 0.0), written_floor(m))
     head = table_row(spec.symbol, *axes) + "\n|:--|" + "--:|" * len(axes) + "\n"
     row_r = (
         table_row(
@@ -189,7 +202,12 @@ ENERGY_ROWS = (
     ("T", "T<sub>Σ/R0</sub>", "J", "énergie cinétique"),
     ("V", "V", "J", "énergie potentielle"),
     ("P_ext", "P<sub>ext</sub>", "W", "poids, moteurs, charges"),
-    ("P_int", "P<sub>int</sub>", "W", "inter-efforts (≤ 0)"),
+    (
+        "P_int",
+        "P<sub>int</sub>",
+        "W",
+        "inter-efforts : nulle si liaisons parfaites, négative avec frottement",
+    ),
     ("P_acc", "dT/dt", "W", "puissance des quantités d'accélération"),
 )
 
@@ -198,21 +216,26 @@ def energy_markdown(values: Mapping[str, float], *, zero: Mapping[str, float] | 
     """Table of T, V and the powers, and the kinetic-energy theorem's balance.
 
     Powers below :data:`RELATIVE_ZERO` of the largest power (or of T per second), or
-    below the scene's round-off ``zero`` of their unit, are round-off: shown 0."""
+    below the scene's round-off ``zero`` of their unit, are round-off: shown 0. The
+    powers of the balance are written to the precision of the largest one
+    (:func:`written_floor`): one below its last digit reads 0."""
     names = [n for n, *_ in ENERGY_ROWS[2:]] + ["T"]
     scale = max(abs(values.get(n, 0.0)) for n in names) if values else 0.0
     floor = RELATIVE_ZERO * max(scale, 1e-300)
     zero = zero or {}
+    frame = frame_power(values)
+    powers = [values.get(n, math.nan) for n, *_ in ENERGY_ROWS[2:]] + [frame]
+    balance = max(floor, written_floor(p for p in powers if math.isfinite(p)))
     lines = ["| Grandeur | Valeur | |\n|:--|--:|:--|"]
     for name, symbol, unit, doc in ENERGY_ROWS:
         v = values.get(name, math.nan)
-        shown = fmt(v, floor=max(floor, zero.get(unit, 0.0)))
+        least = balance if unit == "W" else floor
+        shown = fmt(v, floor=max(least, zero.get(unit, 0.0)))
         lines.append(table_row(f"{symbol} [{unit}]", _span(name, shown, v), doc))
-    frame = frame_power(values)
     lines.append(
         table_row(
             "dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W]",
-            _span("P_frame", fmt(frame, floor=max(floor, zero.get("W", 0.0))), frame),
+            _span("P_frame", fmt(frame, floor=max(balance, zero.get("W", 0.0))), frame),
             "puissance des liaisons avec le bâti (0 si parfaites)",
         )
     )

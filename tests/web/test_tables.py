@@ -176,3 +176,35 @@ def test_a_pipe_in_a_tooltip_or_label_stays_inside_its_cell():
     assert len(line.strip("|").split("|")) == 4
     assert 'title="&#124;Tt&#124; / N: the friction used."' in line
     assert ">μ = &#124;T&#124;/N</span>" in line and ">0,25</span>" in line
+
+
+def test_a_vector_is_written_to_the_precision_of_its_largest_component():
+    """The heavy top in steady precession: G turns in a horizontal plane, so {𝒞} has no
+    vertical resultant; the integration leaves 2×10⁻⁹ kg·m/s there (θ held to 10⁻⁷ rad),
+    which read as a number beside 0,03409. Below the last digit written of the largest
+    component it reads 0; above it, a small component keeps its digits."""
+    assert tables.written_floor([0.01535, 0.02678, -3.063e-7]) == pytest.approx(5e-6)
+    assert tables.written_floor([389.9, 0.0087]) == pytest.approx(0.05)
+    assert tables.written_floor([0.0, math.nan]) == 0.0 and tables.written_floor([]) == 0.0
+    values = {f"{p}_{k}_{c}": 0.0 for p in ("kin", "dyn", "sup") for k in "RM" for c in "xyz"}
+    values.update({"kin_R_x": 0.03409, "kin_R_y": -0.01954, "kin_R_z": 1.963e-9})
+    values.update({"kin_M_x": -0.3104, "kin_M_y": 2.7e-3, "kin_M_z": 1.091})
+    md = tables.torsors_markdown(
+        values, point=np.zeros(3), point_name="O", basis=np.eye(3), basis_name="B0", axes="xyz"
+    )
+    assert _shown(md, "shown_kin_R2") == 0.0 and "10⁻⁹" not in md
+    assert _shown(md, "shown_kin_R0") == pytest.approx(0.03409)
+    assert _shown(md, "shown_kin_M1") == pytest.approx(2.7e-3)  # above 5×10⁻⁴: kept
+
+
+def test_the_powers_of_the_balance_are_written_to_the_largest_ones_precision():
+    """The compressor: the loop closure works 0,0087 W (2×10⁻⁵ of the motor's 390 W, the
+    simulation's error) and read « 0,008738 » beside « inter-efforts : nulle si liaisons
+    parfaites »; written to the motor's precision it reads 0, and dT/dt = Pext + Pint reads
+    389,9 = 389,9 + 0. A friction power within the written digits is kept."""
+    values = {"T": 999.1, "V": 0.0, "P_ext": 389.9, "P_int": 0.008738, "P_acc": 389.91}
+    md = tables.energy_markdown(values)
+    assert _shown(md, "P_int") == 0.0 and _shown(md, "P_ext") == pytest.approx(389.9)
+    assert _shown(md, "T") == pytest.approx(999.1)
+    rubbing = tables.energy_markdown({**values, "P_int": -1.25, "P_acc": 388.65})
+    assert _shown(rubbing, "P_int") == pytest.approx(-1.25)
