@@ -1,11 +1,12 @@
 """Run the installed ``sandbox`` console script as a hostile input's victim: in a child
 process with a time limit and a 4 GB address-space cap, its peak memory read from
-``wait4``; and the clean refusal every robustness suite expects (one line, exit 2)."""
+``wait4`` by a small launcher; and the clean refusal every robustness suite expects
+(one line, exit 2)."""
 
 from __future__ import annotations
 
 import os
-import resource
+import signal
 import subprocess
 import sys
 import tempfile
@@ -29,6 +30,25 @@ class Outcome:
     rss_bytes: int
 
 
+LAUNCHER = """
+import os, resource, sys
+limit, report, argv = int(sys.argv[1]), sys.argv[2], sys.argv[3:]
+pid = os.fork()
+if pid == 0:
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    os.execv(argv[0], argv)
+_, status, usage = os.wait4(pid, 0)
+with open(report, "w") as f:
+    f.write(str(usage.ru_maxrss))
+code = os.waitstatus_to_exitcode(status)
+sys.exit(code if code >= 0 else 128 - code)
+"""
+"""Starts ``sandbox`` from a fresh, small Python and reports its peak RSS. Linux carries
+a process's high-water RSS across ``exec``: a child forked straight from this test
+process (hundreds of MB after a thousand tests) would report the test process's own
+peak, not the one of ``sandbox``."""
+
+
 def run_cli(
     *args: str, cwd: Path | None = None, timeout: float = TIMEOUT, env: dict | None = None
 ) -> Outcome:
@@ -37,39 +57,37 @@ def run_cli(
     A child still running after ``timeout`` seconds is killed and the test fails. The
     address space is capped at 4 GB so that a regression fails here instead of swapping.
     """
-
-    def limit() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (4 * GIB, 4 * GIB))
-
-    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+    with (
+        tempfile.TemporaryFile() as out,
+        tempfile.TemporaryFile() as err,
+        tempfile.TemporaryDirectory() as tmp,
+    ):
+        report = Path(tmp) / "maxrss"
         start = time.monotonic()
         proc = subprocess.Popen(
-            [SANDBOX, *args],
+            [sys.executable, "-c", LAUNCHER, str(4 * GIB), str(report), SANDBOX, *args],
             cwd=cwd,
             stdout=out,
             stderr=err,
             stdin=subprocess.DEVNULL,
-            preexec_fn=limit,
             env={**os.environ, **(env or {})},
+            start_new_session=True,  # the launcher and sandbox: one group, killed together
         )
-        while True:
-            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.monotonic() - start > timeout:
-                proc.kill()
-                os.wait4(proc.pid, 0)
-                pytest.fail(f"sandbox {' '.join(a[:40] for a in args)} ran over {timeout} s")
-            time.sleep(0.01)
+        try:
+            code = proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            pytest.fail(f"sandbox {' '.join(a[:40] for a in args)} ran over {timeout} s")
         seconds = time.monotonic() - start
         out.seek(0)
         err.seek(0)
         return Outcome(
-            os.waitstatus_to_exitcode(status),
+            code,
             out.read().decode(errors="replace"),
             err.read().decode(errors="replace"),
             seconds,
-            usage.ru_maxrss * 1024,
+            int(report.read_text()) * 1024,
         )
 
 
