@@ -53,6 +53,14 @@ def shown_scale(name: str, unit: str) -> tuple[str, float]:
 TURN_ANGLES: frozenset[str] = frozenset({"theta"})
 """Readouts that count turns [rad], unwrapped in files: the page shows them modulo 360°."""
 
+FLAGS: frozenset[str] = frozenset({"contact", "on_plane", "gimbal_lock"})
+"""Readouts that are 0 or 1 (1 in files): the page says « oui » or « non »."""
+
+
+def flag_words(value: float) -> str:
+    """A flag readout as the page writes it: « oui » above one half, else « non »."""
+    return "oui" if value > 0.5 else "non"
+
 
 def shown_value(name: str, unit: str, value: float) -> float:
     """``value`` of readout ``name`` (contract ``unit``) in the unit the page shows

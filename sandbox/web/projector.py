@@ -14,7 +14,14 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from sandbox.physics.units import TURN_ANGLES, TURN_SPEEDS, shown_scale, shown_value
+from sandbox.physics.units import (
+    FLAGS,
+    TURN_ANGLES,
+    TURN_SPEEDS,
+    flag_words,
+    shown_scale,
+    shown_value,
+)
 from sandbox.scenes.base import as_scene
 from sandbox.web.fields import on_user, set_value
 from sandbox.web.text import html_text, number, with_unit
@@ -23,9 +30,6 @@ if TYPE_CHECKING:
     import viser
 
     from sandbox.physics.simulation import Simulation
-
-FLAGS = frozenset({"contact", "on_plane", "gimbal_lock"})
-"""Readouts that are 0 or 1: the overlay says "oui" or "non"."""
 
 FALLBACK_READOUTS = ("T", "V")
 """Overlay of a scene without key readouts: kinetic and potential energy."""
@@ -108,7 +112,7 @@ def overlay_lines(
         elif name in TURN_SPEEDS and unit == "tr/min":
             shown = number(value * factor, 4, zero=zero)
         elif name in FLAGS and math.isfinite(value):
-            shown, unit = ("oui" if value > 0.5 else "non"), ""
+            shown, unit = flag_words(value), ""
         lines.append(f"{labels.get(name) or name} = {with_unit(shown, unit)}")
     return lines
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
-from sandbox.physics.units import shown_scale, shown_value
+from sandbox.physics.units import FLAGS, flag_words, shown_scale, shown_value
 from sandbox.web.fields import INTEGRATOR_LABELS
 from sandbox.web.text import html_text, number, table_row
 
@@ -129,17 +129,19 @@ def torsor_table(
     basis: np.ndarray,
     axes: Sequence[str],
     zero: Mapping[str, float] | None = None,
+    least: tuple[float, float] = (0.0, 0.0),
 ) -> str:
     """Markdown table of one torsor: rows R and M_point, columns the basis' axes.
 
     A component is 0 below :data:`RELATIVE_ZERO` of the largest component, below the
     scene's round-off ``zero`` of its unit (contract unit -> value), or below the last
-    digit written of its vector's largest component (:func:`written_floor`)."""
+    digit written of its vector's largest component (:func:`written_floor`), or below
+    ``least`` (resultant, moment: the precision of the equation the torsor is a term of)."""
     r, m = torsor.in_basis(basis)
     floor = RELATIVE_ZERO * max(float(np.abs(r).max()), float(np.abs(m).max()), 1e-300)
     zero = zero or {}
-    r_floor = max(floor, zero.get(spec.r_unit, 0.0), written_floor(r))
-    m_floor = max(floor, zero.get(spec.m_unit, 0.0), written_floor(m))
+    r_floor = max(floor, zero.get(spec.r_unit, 0.0), written_floor(r), least[0])
+    m_floor = max(floor, zero.get(spec.m_unit, 0.0), written_floor(m), least[1])
     head = table_row(spec.symbol, *axes) + "\n|:--|" + "--:|" * len(axes) + "\n"
     row_r = (
         table_row(
@@ -162,6 +164,10 @@ def torsor_table(
         + "\n"
     )
     return f"*{spec.caption}*\n\n" + head + row_r + row_m
+
+
+PFD_TERMS = ("dyn", "sup")
+"""The torsors of the fundamental principle's two sides ({𝒟} and the frame's action)."""
 
 
 def torsors_markdown(
@@ -188,9 +194,28 @@ def torsors_markdown(
     p = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in point)
     point_name, basis_name = html_text(point_name, 40), html_text(basis_name, 40)
     out = [f"Réduits en **{point_name}** = ({p}) m, composantes dans **{basis_name}**.\n"]
+    torsors = {spec.prefix: torsor_at_o(values, spec.prefix).at(point) for spec in TORSORS}
+    # {𝒟} and {𝒯} are terms of one equation (PFD), written to one precision: {𝒟} of a
+    # machine at constant speed reads 0 beside the frame's hundreds of newtons, not the
+    # integration's 10⁻⁵ N (robot axis)
+    parts = [torsors[k].in_basis(basis) for k in PFD_TERMS]
+    shared = (
+        written_floor(np.concatenate([r for r, _ in parts])),
+        written_floor(np.concatenate([m for _, m in parts])),
+    )
     for spec in TORSORS:
-        t = torsor_at_o(values, spec.prefix).at(point)
-        out.append(torsor_table(spec, t, point=point_name, basis=basis, axes=axes, zero=zero))
+        least = shared if spec.prefix in PFD_TERMS else (0.0, 0.0)
+        out.append(
+            torsor_table(
+                spec,
+                torsors[spec.prefix],
+                point=point_name,
+                basis=basis,
+                axes=axes,
+                zero=zero,
+                least=least,
+            )
+        )
     out.append(
         "PFD : {𝒟<sub>Σ/R0</sub>} = {𝒯<sub>0/Σ</sub>} + actions extérieures "
         "(poids, moteur, charges)."
@@ -287,10 +312,14 @@ def scene_markdown(
         label = _label_cell(row)
         floor = row.zero * shown_scale(row.name, row.unit)[1]
         course = fmt(shown_value(row.name, row.unit, ref), floor=floor) if ref is not None else "—"
+        if row.name in FLAGS and math.isfinite(v):
+            shown = flag_words(v)  # « Contact avec le plan : oui », not « 1 »
+        else:
+            shown = fmt(shown_value(row.name, row.unit, v), floor=floor)
         lines.append(
             table_row(
                 label,
-                _span(row.name, fmt(shown_value(row.name, row.unit, v), floor=floor), v),
+                _span(row.name, shown, v),
                 course,
                 gap(v, ref) if ref is not None else "—",
             )

@@ -208,3 +208,31 @@ def test_the_powers_of_the_balance_are_written_to_the_largest_ones_precision():
     assert _shown(md, "T") == pytest.approx(999.1)
     rubbing = tables.energy_markdown({**values, "P_int": -1.25, "P_acc": 388.65})
     assert _shown(rubbing, "P_int") == pytest.approx(-1.25)
+
+
+def test_the_two_sides_of_the_pfd_are_written_to_one_precision():
+    """The robot axis at constant speed: {𝒟} is nil, and the integration left « R y₀ =
+    −1,164×10⁻⁵ N » and moments of 4×10⁻⁷ N·m beside the frame's 223,8 N and 22,38 N·m.
+    {𝒟} and {𝒯} are written to the precision of the larger: those read 0. {𝒞}, in other
+    units, keeps its own."""
+    values = {f"{p}_{k}_{c}": 0.0 for p in ("kin", "dyn", "sup") for k in "RM" for c in "xyz"}
+    values.update({"kin_R_y": -38.12, "kin_M_x": -0.5236, "kin_M_z": -1.349, "kin_R_x": 0.02})
+    values.update({"dyn_R_y": -1.164e-5, "dyn_M_x": -3.954e-7, "dyn_M_z": -4.851e-7})
+    values.update({"sup_R_y": 223.8, "sup_M_x": -22.38})
+    md = tables.torsors_markdown(
+        values, point=np.zeros(3), point_name="O", basis=np.eye(3), basis_name="B0", axes="xyz"
+    )
+    for key in ("shown_dyn_R1", "shown_dyn_M0", "shown_dyn_M2"):
+        assert _shown(md, key) == 0.0, key
+    assert _shown(md, "shown_sup_R1") == pytest.approx(223.8)
+    assert _shown(md, "shown_kin_R0") == pytest.approx(0.02)  # 0,02 beside 38,12: kept
+    assert "10⁻" not in md
+
+
+def test_a_flag_reads_oui_or_non_in_the_scene_table():
+    """The rolling cylinder's table read « Contact avec le plan 1 » and « Sur le plan 1 »;
+    the overlay already said « oui ». The cell keeps the file's 1 as its exact value."""
+    rows = [tables.Row("contact", "", "", "Contact avec le plan"), tables.Row("on_plane", "", "")]
+    md = tables.scene_markdown(rows, {"contact": 1.0, "on_plane": 0.0}, {})
+    assert 'data-readout="contact" data-value="1.0">oui<' in md
+    assert 'data-readout="on_plane" data-value="0.0">non<' in md
