@@ -17,6 +17,7 @@ import json
 import math
 import os
 import secrets
+import stat
 import sys
 import time
 from collections.abc import Iterable, Mapping
@@ -169,8 +170,6 @@ def special_file(path: Path) -> str | None:
     """What ``path`` is in words when it exists and is not a regular file or a folder
     ("a named pipe", "a device", "a socket"), else None. Writing to a named pipe blocks
     until something reads it: an output must be a file."""
-    import stat
-
     try:
         mode = path.stat().st_mode
     except OSError:

@@ -10,7 +10,7 @@ from typing import Any
 
 import mujoco
 
-from sandbox.errors import Diverged, shown
+from sandbox.errors import BadOption, Diverged, UnknownParameter, shown
 from sandbox.physics import readouts as generic
 from sandbox.physics.limits import check_timestep
 from sandbox.physics.model import (
@@ -77,8 +77,6 @@ class Simulation:
     # -- construction -------------------------------------------------------------------
     def _check(self, name: str, value: object) -> float:
         if self.scene is None:
-            from sandbox.errors import UnknownParameter
-
             raise UnknownParameter(
                 f"{shown(self.source.label)} is an MJCF file and has no parameter {shown(name)}; "
                 "parameters exist only for registered scenes (see 'sandbox list')"
@@ -246,8 +244,6 @@ class Simulation:
         dt = check_timestep(value)
         limit = self.scene.max_timestep if self.scene is not None else math.inf
         if dt > limit:
-            from sandbox.errors import BadOption
-
             raise BadOption(
                 f"timestep {value!r} s is too large for {self.scene.name!r} (max {limit:g} s: "  # type: ignore[union-attr]
                 f"beyond it the results drift from the course); try --timestep "
@@ -304,8 +300,6 @@ class Simulation:
             BadOption: ``duration`` is not a finite number of seconds, zero or more.
         """
         if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration >= 0):
-            from sandbox.errors import BadOption
-
             raise BadOption(f"a duration must be a finite number of seconds >= 0, got {duration!r}")
         self.step(int(round(duration / self.timestep)))
 

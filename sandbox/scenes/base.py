@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from sandbox.errors import BadParameter
+from sandbox.errors import BadParameter, UnknownParameter, choices
 from sandbox.physics.units import display_unit
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
@@ -452,8 +452,6 @@ class Scene:
         Raises:
             UnknownParameter: naming the valid parameters.
         """
-        from sandbox.errors import UnknownParameter, choices
-
         for p in self.params:
             if p.name == name:
                 return p

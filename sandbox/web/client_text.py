@@ -31,6 +31,8 @@ import threading
 from pathlib import Path
 from typing import Any
 
+import viser.infra as infra
+
 from sandbox.web import client_access, client_layout, client_link
 
 FRENCH: dict[str, str] = {
@@ -282,7 +284,6 @@ def install() -> bool:
         its web server the way this relies on (its page is then served unchanged).
     """
     global _installed
-    import viser.infra as infra
 
     with _lock:
         if _installed:

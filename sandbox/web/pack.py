@@ -29,8 +29,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from sandbox.errors import BadOption, shown
+from sandbox.lessons import catalogue
 from sandbox.physics.units import shown_scale
 from sandbox.recording import Recording
+from sandbox.replay import open_simulation
 from sandbox.scenes import SCENES
 from sandbox.web.export import export_static
 from sandbox.web.video import VideoOptions, render_video
@@ -65,8 +67,6 @@ def check_folder(folder: Path) -> None:
 def chapters(rec: Recording) -> tuple[str, list[Chapter]]:
     """The lesson's title and the steps a recording went through, with their times
     (none without a lesson, or when this sandbox does not know the lesson)."""
-    from sandbox.lessons import catalogue
-
     name = rec.header.get("lesson")
     lesson = catalogue()[0].get(name) if isinstance(name, str) else None
     if lesson is None:
@@ -143,8 +143,6 @@ _TAG = r"<\1\2>"
 def export_pack(recordings: Sequence[Recording], folder: Path) -> Path:
     """Write the site; returns ``folder/index.html``. Every recording is opened (its
     model checked) before anything is written; a failure removes what was written."""
-    from sandbox.replay import open_simulation
-
     check_folder(folder)
     for rec in recordings:
         open_simulation(rec)  # a crafted model is refused before the folder exists

@@ -35,10 +35,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, cast
 
+from viser import ClientHandle
+
 from sandbox.web.patches import install_once
 
 if TYPE_CHECKING:
-    from viser import ClientHandle
     from viser._gui_api import GuiApi
     from viser._messages import FileTransferPart, FileTransferStartUpload
 
@@ -77,6 +78,7 @@ _ledgers: weakref.WeakKeyDictionary[ClientHandle, _Ledger] = weakref.WeakKeyDict
 
 def _has_internals() -> bool:
     """True when this viser has the upload handlers and the state used here."""
+    # viser's private modules, absent from some releases: this is the check itself
     from viser._gui_api import GuiApi
     from viser._gui_handles import GuiUploadButtonHandle  # noqa: F401
 
@@ -103,6 +105,7 @@ def install() -> bool:
 
 
 def _wrap_handlers() -> None:
+    # viser's private module, absent from some releases: loaded once _has_internals() said yes
     from viser._gui_api import GuiApi
 
     start, part = GuiApi._handle_file_transfer_start, GuiApi._handle_file_transfer_part
@@ -139,8 +142,6 @@ def _browser(api: GuiApi) -> tuple[ClientHandle, _Ledger] | None:
     the GUI of the button. Judged twice, the last part of an upload finished by the
     first GUI would look unannounced to the second.
     """
-    from viser import ClientHandle
-
     client = getattr(api, "_owner", None)
     if not isinstance(client, ClientHandle):
         return None
@@ -151,6 +152,7 @@ def _browser(api: GuiApi) -> tuple[ClientHandle, _Ledger] | None:
 def _take_start(api: GuiApi, message: FileTransferStartUpload) -> GuiApi | None:
     """The GUI of the upload button ``message`` announces a file for, when the file is
     taken; None when it is refused (or ``api`` is not the browser's own GUI)."""
+    # viser's private module, absent from some releases: loaded once _has_internals() said yes
     from viser._gui_handles import GuiUploadButtonHandle
 
     found = _browser(api)

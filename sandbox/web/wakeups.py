@@ -44,6 +44,7 @@ class LoopEvent(asyncio.Event):
 
 
 def _has_internals() -> bool:
+    # viser's private module, absent from some releases: this is the check itself
     from viser.infra._async_message_buffer import AsyncMessageBuffer
 
     fields = getattr(AsyncMessageBuffer, "__dataclass_fields__", {})
@@ -63,6 +64,7 @@ def install() -> bool:
 
 
 def _bind_new_events() -> None:
+    # viser's private module, absent from some releases: loaded once _has_internals() said yes
     from viser.infra._async_message_buffer import AsyncMessageBuffer
 
     made = AsyncMessageBuffer.__init__

@@ -32,6 +32,7 @@ def _has_internals() -> bool:
     needed = ("SetPositionMessage", "SetOrientationMessage", "SceneNodeUpdateMessage")
     if not all(hasattr(_messages, name) for name in needed):
         return False
+    # viser's private modules, absent from some releases: this is the check itself
     from viser._scene_api import SceneApi
     from viser._scene_handles import _SceneNodeHandleState
 
