@@ -344,7 +344,7 @@ def test_the_installed_command_is_the_guarded_one():
 @pytest.fixture
 def opened_lessons(monkeypatch):
     """Lesson files opened by path in this test only (the catalogue is process-wide)."""
-    from sandbox import lessons
+    from sandbox.lessons import registry as lessons
 
     monkeypatch.setattr(lessons, "_opened", {}, raising=False)
     lessons.catalogue.cache_clear()

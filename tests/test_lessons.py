@@ -477,7 +477,7 @@ def test_checks_are_parsed_one_at_a_time(monkeypatch):
     import threading
     import time
 
-    from sandbox import lessons
+    from sandbox.lessons import checks
 
     inside, most = [0], [0]
     real = ast.parse
@@ -489,7 +489,7 @@ def test_checks_are_parsed_one_at_a_time(monkeypatch):
         inside[0] -= 1
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(lessons.ast, "parse", slow_parse)
+    monkeypatch.setattr(checks.ast, "parse", slow_parse)
     threads = [
         threading.Thread(target=lambda: [compile_check("x < 2 * y", "t") for _ in range(20)])
         for _ in range(4)

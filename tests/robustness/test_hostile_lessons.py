@@ -21,7 +21,8 @@ from pathlib import Path
 import pytest
 from test_lessons import FakeController, Gui  # tests/ is on the path (conftest)
 
-import sandbox.lessons as lessons_module
+import sandbox.lessons.progress as progress_module
+import sandbox.lessons.registry as lessons_module
 from sandbox.cli import main
 from sandbox.lessons import (
     MAX_LESSON_BYTES,
@@ -204,7 +205,7 @@ def test_sandbox_list_names_the_bad_file_on_one_line_exit_2(tmp_path):
     """End to end, in a fresh interpreter: no traceback, one line, exit 2."""
     (tmp_path / "bad.md").write_text(lesson_text("9**9**9 < bearing_A"), encoding="utf-8")
     code = (
-        "import sys, sandbox.lessons as L\n"
+        "import sys, sandbox.lessons.registry as L\n"
         f"L.data_dir = lambda kind: __import__('pathlib').Path({str(tmp_path)!r})\n"
         "from sandbox.cli import main\n"
         "sys.exit(main(['list']))\n"
@@ -294,7 +295,7 @@ def open_panel(
 def test_a_check_broken_by_live_values_is_shown_once_in_french_with_file_line(
     monkeypatch, tmp_path, caplog
 ):
-    lessons_module._REPORTED.clear()
+    progress_module._REPORTED.clear()
     second = "\n## Suite\nshow: bearing_A\n\nFin.\n"
     text = lesson_text("bearing_A * 1e15 * 1e15 > 1") + second
     panel, _ = open_panel(monkeypatch, tmp_path, text)

@@ -257,7 +257,7 @@ def test_a_lesson_file_opens_in_every_new_browser(tmp_path, monkeypatch):
     picked in the page (as a worker process opens it: from its path)."""
     from conftest import free_port
 
-    from sandbox import lessons
+    from sandbox.lessons import registry as lessons
     from sandbox.web.app import start
 
     monkeypatch.setattr(lessons, "_opened", {}, raising=False)  # opened in this test only
