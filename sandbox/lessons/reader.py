@@ -26,7 +26,6 @@ REPEATABLE = ("question", "hint")
 """Directives a step may give several times; the others at most once."""
 MAX_LESSON_BYTES = 64 * 1024
 """Largest lesson file read [bytes] (the course's longest is under 4 KiB)."""
-
 MAX_LINE_CHARS = 2000
 """Longest line of a lesson file [characters]."""
 
