@@ -204,7 +204,7 @@ def test_a_run_longer_than_one_recording_holds_keeps_a_replayable_file_and_says_
     run says where it stopped (one warning line, exit 0)."""
     out = tmp_path / "r.sbx"
     code = (
-        "import sys; from sandbox import recording; recording.MAX_RECORDS = 200; "
+        "import sys; from sandbox.recording import limits; limits.MAX_RECORDS = 200; "
         "from sandbox.cli import main; sys.exit(main(sys.argv[1:]))"
     )
     done = subprocess.run(

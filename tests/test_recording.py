@@ -228,8 +228,9 @@ def test_a_recording_that_reaches_a_reader_limit_is_closed_and_stays_replayable(
     """The reader refuses files past its limits (untrusted input); the writer stops just
     before them, so what was recorded is never lost."""
     from sandbox import recording
+    from sandbox.recording import limits
 
-    monkeypatch.setattr(recording, limit, value)
+    monkeypatch.setattr(limits, limit, value)
     sim = Simulation("rotor")
     rec = recording.Recorder(tmp_path / "r.sbx", sim)
     for _ in range(400):
@@ -243,8 +244,9 @@ def test_a_recording_that_reaches_a_reader_limit_is_closed_and_stays_replayable(
 
 def test_a_flood_of_events_closes_the_recording_before_the_event_limit(tmp_path, monkeypatch):
     from sandbox import recording
+    from sandbox.recording import limits
 
-    monkeypatch.setattr(recording, "MAX_EVENTS", 50)
+    monkeypatch.setattr(limits, "MAX_EVENTS", 50)
     sim = Simulation("rotor")
     rec = recording.Recorder(tmp_path / "r.sbx", sim)
     for i in range(100):

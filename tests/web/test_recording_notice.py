@@ -65,9 +65,9 @@ def test_the_recording_pop_ups_name_the_file_only(tmp_path, caplog):
 
 
 def test_a_full_recording_names_the_next_file_only(tmp_path, monkeypatch):
-    from sandbox import recording
+    from sandbox.recording import limits
 
-    monkeypatch.setattr(recording, "MAX_RECORDS", 150)
+    monkeypatch.setattr(limits, "MAX_RECORDS", 150)
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path / "secret")
     ctl.submit(Request("record"))
     notices = _frames(ctl, 3.0)

@@ -503,8 +503,9 @@ def test_a_session_whose_browser_left_stops_within_a_second_even_at_a_tiny_times
 
 def test_a_full_recording_goes_on_in_a_new_file_and_both_are_downloaded(tmp_path, monkeypatch):
     from sandbox import recording
+    from sandbox.recording import limits
 
-    monkeypatch.setattr(recording, "MAX_RECORDS", 150)
+    monkeypatch.setattr(limits, "MAX_RECORDS", 150)
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
     ctl.submit(Request("record"))
     notices = _run(ctl, 3.0)
