@@ -13,8 +13,8 @@ import numpy as np
 
 from sandbox.mechanics.two_planes import clips_from_bearings, split_across_axis, to_complex
 from sandbox.mechanics.vectors import cross
-from sandbox.physics import readouts as generic
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import dynamic_torsor
 from sandbox.scenes.base import Arrow, SceneReadout
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, X_A, X_B, X_INNER, X_OUTER, soft
 
@@ -29,7 +29,7 @@ def _shaft_action(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
     cached = s.cache.get("wheel_dyn")
     if cached is None:
         bodies = [s.body_id(b) for b in WHEEL_BODIES]
-        cached = generic.dynamic_torsor(s.model, s.data, bodies, kin=s.kinematics)
+        cached = dynamic_torsor(s.model, s.data, bodies, kin=s.kinematics)
         s.cache["wheel_dyn"] = cached
     return cached
 
