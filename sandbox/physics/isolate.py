@@ -16,13 +16,11 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics import Torsor
-from sandbox.physics.readouts import (
-    Kinematics,
-    _cross,
-    _dof_wrenches,
-    _gravity,
-    _spatial_at_origin,
-)
+from sandbox.mechanics.vectors import cross as _cross
+from sandbox.physics.kinematics import Kinematics
+from sandbox.physics.mechanism import gravity_vector as _gravity
+from sandbox.physics.torsors import dof_wrenches as _dof_wrenches
+from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
 
 JOINT_NAMES = {
     int(mujoco.mjtJoint.mjJNT_HINGE): "pivot",

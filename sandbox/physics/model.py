@@ -108,9 +108,12 @@ _SCENES: Mapping[str, SceneSpec] = {}
 def register_scenes(scenes: Mapping[str, SceneSpec]) -> None:
     """Let :func:`resolve` (and ``Simulation(name)``) find scenes by name.
 
-    :mod:`sandbox.scenes` passes its registry down when it is imported, so that physics
-    never imports the layer above it; the entry points (cli, bench, replay, the web
-    package) import it.
+    :mod:`sandbox.scenes` passes its registry down when it is imported
+    (:mod:`sandbox.scenes.registry` makes the call), so that physics never imports the
+    layer above it; the entry points (cli, bench, replay, the web package) import it.
+    This injected registry is the seam that lets ``Simulation("rotor")`` take a name;
+    a caller holding a spec can pass ``Source.of_scene(spec)`` instead and need no
+    registry.
     """
     global _SCENES
     _SCENES = scenes

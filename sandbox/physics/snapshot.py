@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from sandbox.physics import readouts
+from sandbox.physics.kinematics import Kinematics, cached_kinematics
 
 
 class Snapshot:
@@ -28,9 +29,9 @@ class Snapshot:
         self.cache: dict[str, Any] = {}
 
     @property
-    def kinematics(self) -> readouts.Kinematics:
+    def kinematics(self) -> Kinematics:
         """Per-body velocities, accelerations and inertias, shared by every readout."""
-        return readouts._cached_kin(self.model, self.data, self.cache)
+        return cached_kinematics(self.model, self.data, self.cache)
 
     @property
     def kinetic(self) -> tuple[np.ndarray, np.ndarray]:

@@ -24,8 +24,8 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from sandbox.physics.readouts import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.base import (
     Accuracy,
     Arrow,
@@ -426,7 +426,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     itself is untouched): crank angle [deg], pilon, tamis and motor torque, and the
     course's values at the same angles. Cached while the model, the parameters and the
     speed (to 0.1 %) stay the same: in steady state the revolution does not change."""
-    from sandbox.physics import readouts as generic
+    from sandbox.physics import torsors as generic
 
     model, v = s.model, s.values
     omega = float(s.data.qvel[0])
@@ -480,7 +480,7 @@ def loop_forces(s: Snapshot) -> tuple[np.ndarray, np.ndarray]:
     """Pilon and tamis [N] that MuJoCo computes for the mechanism put on the loop at
     ``LOOP_SAMPLES`` crank angles, at the current speed and motor state, without
     stepping (a scratch copy: the trajectory is untouched). Returns (θ, forces (n, 2))."""
-    from sandbox.physics import readouts as generic
+    from sandbox.physics import torsors as generic
 
     model, v = s.model, s.values
     data = mujoco.MjData(model)

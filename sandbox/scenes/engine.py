@@ -63,8 +63,8 @@ from sandbox.mechanics.engine import (
     shaking_force,
     shaking_moment,
 )
-from sandbox.physics.readouts import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes import compressor
 from sandbox.scenes.base import (
     Accuracy,
@@ -406,7 +406,7 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     [deg], pilon, tamis, moment at C (x0, y0) and motor torque, with the course's values
     at the same angles. Cached while model, parameters, timestep and speed (to 0.1 %)
     stay the same: at constant speed every revolution is the same."""
-    from sandbox.physics import readouts as generic
+    from sandbox.physics import torsors as generic
 
     model, v = s.model, s.values
     omega = s.joint_qvel("crank")

@@ -19,8 +19,8 @@ import math
 import mujoco
 import numpy as np
 
-from sandbox.physics.readouts import _spatial_at_origin
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
 from sandbox.scenes.base import (
     Accuracy,
     Arrow,

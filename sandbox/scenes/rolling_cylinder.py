@@ -347,7 +347,7 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
     axis) from states at t ± h along the current motion; the direct value is
     δG + AG ∧ m Γ(G) from MuJoCo's accelerations.
     """
-    from sandbox.physics.readouts import Kinematics
+    from sandbox.physics.kinematics import Kinematics
 
     m, d = s.model, s.data
     ids = [s.body_id("cylinder"), s.body_id("eccentric")]

@@ -11,6 +11,15 @@ import numpy as np
 import pytest
 
 from sandbox.physics import readouts as R
+from sandbox.physics.energy import acceleration_power, kinetic_energy, potential_energy
+from sandbox.physics.kinematics import body_accelerations, body_velocities
+from sandbox.physics.torsors import (
+    actuator_torsor,
+    applied_torsor,
+    dynamic_torsor,
+    gravity_torsor,
+    support_torsor,
+)
 
 CHAIN = """
 <mujoco>
@@ -78,8 +87,8 @@ def _state(
 
 def test_body_motion_matches_mujoco_object_functions():
     model, data = _state(CHAIN, damping="")
-    v_g, omega = R.body_velocities(model, data)
-    a_g, alpha = R.body_accelerations(model, data)
+    v_g, omega = body_velocities(model, data)
+    a_g, alpha = body_accelerations(model, data)
     res = np.zeros(6)
     for b in range(1, model.nbody):
         mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, b, res, 0)
@@ -94,7 +103,7 @@ def test_kinetic_energy_is_half_qdot_m_qdot():
     model, data = _state(CHAIN, damping="")
     mass = np.zeros((model.nv, model.nv))
     mujoco.mj_fullM(model, data, mass)
-    assert R.kinetic_energy(model, data) == pytest.approx(
+    assert kinetic_energy(model, data) == pytest.approx(
         0.5 * data.qvel @ mass @ data.qvel, rel=1e-12
     )
 
@@ -102,7 +111,7 @@ def test_kinetic_energy_is_half_qdot_m_qdot():
 def test_p_acc_is_dT_dt_by_finite_difference():
     model, data = _state(CHAIN, damping="")
     h = 1e-6
-    p_acc = R.acceleration_power(model, data)
+    p_acc = acceleration_power(model, data)
     saved = (data.qpos.copy(), data.qvel.copy())
 
     def energy_at(dt: float) -> float:
@@ -113,7 +122,7 @@ def test_p_acc_is_dT_dt_by_finite_difference():
         mujoco.mj_integratePos(model, q, data.qvel + 0.5 * dt * data.qacc, dt)
         data.qpos[:], data.qvel[:] = q, v
         mujoco.mj_forward(model, data)
-        return R.kinetic_energy(model, data)
+        return kinetic_energy(model, data)
 
     dTdt = (energy_at(h) - energy_at(-h)) / (2 * h)
     assert dTdt == pytest.approx(p_acc, rel=1e-4, abs=1e-6)
@@ -142,10 +151,10 @@ def test_perfect_double_pendulum_conserves_T_plus_V():
     data = mujoco.MjData(model)
     data.qvel[:] = [2.0, 0.5, 1.0, -1.0, 0.5]
     mujoco.mj_forward(model, data)
-    e0 = R.kinetic_energy(model, data) + R.potential_energy(model, data)
+    e0 = kinetic_energy(model, data) + potential_energy(model, data)
     mujoco.mj_step(model, data, 4000)
     R.prepare(model, data, ["P_int"])
-    e1 = R.kinetic_energy(model, data) + R.potential_energy(model, data)
+    e1 = kinetic_energy(model, data) + potential_energy(model, data)
     assert e1 == pytest.approx(e0, rel=1e-4)
     assert R.compute(model, data, ["P_int"])["P_int"] == 0.0
 
@@ -163,12 +172,12 @@ def test_pfd_closes(gravity):
     for _ in range(10):
         mujoco.mj_step(model, data, 50)
         R.prepare(model, data, ["dyn_R_x"])
-        d_r, d_m = R.dynamic_torsor(model, data)
+        d_r, d_m = dynamic_torsor(model, data)
         parts = [
-            R.support_torsor(model, data),
-            R.gravity_torsor(model, data),
-            R.actuator_torsor(model, data),
-            R.applied_torsor(model, data),
+            support_torsor(model, data),
+            gravity_torsor(model, data),
+            actuator_torsor(model, data),
+            applied_torsor(model, data),
         ]
         scale = 1.0 + np.abs(d_r).max() + np.abs(d_m).max()
         np.testing.assert_allclose(d_r, sum(p[0] for p in parts), atol=1e-9 * scale)
@@ -185,7 +194,7 @@ def test_unbalanced_rotor_bearing_force_is_m_omega2_r():
     data.qvel[0] = 100.0
     mujoco.mj_step(model, data, 37)
     R.prepare(model, data, ["sup_R_x"])
-    r, _ = R.support_torsor(model, data)
+    r, _ = support_torsor(model, data)
     com_radius = 0.01 * 0.05 / 1.01  # G of the whole rotor
     assert np.linalg.norm(r) == pytest.approx(1.01 * 100.0**2 * com_radius, rel=1e-6)
 
@@ -196,8 +205,8 @@ def test_hanging_pendulum_at_rest_is_held_by_its_weight():
     data.qpos[:] = [np.pi / 2 - np.arctan2(0.1, 0.3), 0, 1, 0, 0, 0][: model.nq]
     R.prepare(model, data, ["sup_R_x"])
     total = model.body_subtreemass[1]
-    r, _ = R.support_torsor(model, data)
-    d_r, _ = R.dynamic_torsor(model, data)
+    r, _ = support_torsor(model, data)
+    d_r, _ = dynamic_torsor(model, data)
     np.testing.assert_allclose(r, d_r - total * model.opt.gravity, atol=1e-9)
 
 

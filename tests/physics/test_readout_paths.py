@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from sandbox.physics import readouts as R
+from sandbox.physics.mechanism import mechanism_bodies
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 
@@ -172,10 +173,10 @@ def test_each_scene_matches_the_naive_sums_and_its_readouts_do_not_depend_on_sha
 def test_model_constant_indices_follow_a_rebuilt_model():
     """The cached structure belongs to one compiled model: a rebuild gets its own."""
     sim = Simulation("compressor")
-    first = R.mechanism_bodies(sim.model)
+    first = mechanism_bodies(sim.model)
     sim.set_value("counterweight_mass", 0.1)  # rebuild
-    assert R.mechanism_bodies(sim.model) is not first
-    assert not R.mechanism_bodies(sim.model).flags.writeable
+    assert mechanism_bodies(sim.model) is not first
+    assert not mechanism_bodies(sim.model).flags.writeable
     _assert_same(sim.readouts(), _naive(sim.model, sim.data))
 
 

@@ -121,7 +121,7 @@ def test_3000_rpm_matches_the_course_within_half_a_percent_of_the_peak():
 
 def test_the_frame_force_is_minus_the_sum_of_m_gamma():
     """Simulated pilon vs −Σ m Γ(G_i) from MuJoCo's own accelerations of the centres."""
-    from sandbox.physics.readouts import body_accelerations
+    from sandbox.physics.kinematics import body_accelerations
 
     sim = Simulation("compressor")
     sim.advance(0.007)

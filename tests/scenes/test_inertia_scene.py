@@ -29,6 +29,7 @@ from sandbox.scenes.inertia import (
     flip_times,
     parts,
 )
+from sandbox.scenes.inertia.params import choice_index
 
 SCENE = SCENES["inertia"]
 TOL = 5e-3  # the 0.5 %
@@ -415,3 +416,9 @@ def test_course_5_6_2_hollow_cylinder_is_the_full_one_minus_the_hole(ratio):
     assert c == pytest.approx(1.0 * (big_r**2 + r**2) / 2)  # m (R² + r²)/2
     sim.advance(1.0)  # a thin-walled tube spins as well
     assert sim.readouts(["omega"])["omega"] == pytest.approx(4 * math.pi, rel=1e-3)
+
+
+def test_choice_index_rounds_a_choice_parameter_to_its_index():
+    assert choice_index({"solid": 2.0}, "solid") == 2
+    assert choice_index({"point": 0.6, "solid": 0.0}, "point") == 1
+    assert choice_index({"spin_axis": 1.4}, "spin_axis") == 1

@@ -19,6 +19,9 @@ from sandbox.scenes.wheel_balancer import (
     supports_model,
     wheel_properties,
 )
+from sandbox.scenes.wheel_balancer.geometry import mass_points, springs, tube_inertia, z_to
+from sandbox.scenes.wheel_balancer.params import AXIS, DAMPER, HALF_SPAN, SPRING
+from sandbox.scenes.wheel_balancer.readouts import phase
 from sandbox.web.display_panel import markers
 
 RPM = 2 * math.pi / 60
@@ -384,3 +387,39 @@ def test_the_machines_clips_are_blank_on_the_soft_bench():
     rigid = Simulation("wheel_balancer", values={"supports": 0.0})
     rigid.advance(0.2)
     assert all(math.isfinite(v) for v in rigid.readouts(names).values())
+
+
+def test_springs_are_twice_the_per_bearing_ones_and_tilt_with_the_half_span_squared():
+    k_t, c_t, k_r, c_r = springs()
+    assert (k_t, c_t) == (2 * SPRING, 2 * DAMPER)
+    assert k_r == pytest.approx(2 * SPRING * HALF_SPAN**2)
+    assert c_r == pytest.approx(2 * DAMPER * HALF_SPAN**2)
+
+
+def test_z_to_turns_z_onto_the_axis_and_tube_inertia_is_the_hollow_cylinder():
+    for axis in (AXIS, np.array([0.0, 0.6, 0.8]), np.array([0.0, 0.0, 1.0])):
+        turned = np.zeros(3)
+        mujoco.mju_rotVecQuat(turned, np.array([0.0, 0.0, 1.0]), z_to(axis))
+        assert turned == pytest.approx(axis, abs=1e-12)
+    i = tube_inertia(8.0, 0.31, 0.19, 0.15)
+    assert np.diag(i) == pytest.approx(
+        [8.0 * (0.31**2 + 0.19**2) / 4 + 8.0 * 0.15**2 / 12] * 2 + [8.0 * (0.31**2 + 0.19**2) / 2]
+    )
+
+
+def test_mass_points_place_the_heavy_spot_the_clips_and_the_trial_mass():
+    values = SCENE.defaults() | {"mass_inner_g": 25.0, "angle_inner_deg": 90.0}
+    points = {name: (mass, pos) for name, mass, pos in mass_points(values)}
+    assert list(points) == ["defect", "clip_inner", "clip_outer", "trial"]
+    assert points["clip_inner"][0] == pytest.approx(0.025)
+    assert points["clip_inner"][1] == pytest.approx([0.015, 0.0, 0.19], abs=1e-12)
+    assert points["trial"][0] == 0.0  # trial_plane 0: no trial mass
+    hidden = mass_points(values | {"mystery": 1.0})[0]
+    assert hidden[1] == pytest.approx(MYSTERIES[0]["defect_mass_g"] / 1000)
+
+
+def test_phase_counts_degrees_from_the_valve_in_0_360():
+    assert phase(0j) == 0.0
+    assert phase(1j) == pytest.approx(90.0)
+    assert phase(-1 + 0j) == pytest.approx(180.0)
+    assert phase(-1j) == pytest.approx(270.0)

@@ -21,6 +21,7 @@ from conftest import wait_for
 from sandbox import classroom
 from sandbox.physics import readouts as generic
 from sandbox.physics import simulation as simulation_module
+from sandbox.physics import torsors
 from sandbox.physics.picture import body_groups
 from sandbox.scenes import SCENES
 from sandbox.scenes.revolutions import PerModel
@@ -128,6 +129,7 @@ def _count(session: Session, monkeypatch) -> Counts:
     monkeypatch.setattr(PerModel, "put", put)
     monkeypatch.setattr(generic, "prepare", prepare)
     monkeypatch.setattr(generic, "support_torsor", support)
+    monkeypatch.setattr(torsors, "support_torsor", support)  # the scenes' revolutions
     monkeypatch.setattr(simulation_module.Simulation, "readouts", readouts)
     render = session.view.render
     seen: list[session_module.Frame] = []
