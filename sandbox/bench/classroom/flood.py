@@ -16,16 +16,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from sandbox.classroom import (
-    ClientStats,
-    Side,
-    Window,
+from sandbox.bench.classroom.browser import (
     camera_message,
     connect_as_browser,
     gui_message,
-    messages,
     read_pages,
 )
+from sandbox.bench.classroom.client import ClientStats, Window
+from sandbox.bench.classroom.phases import Side
+from sandbox.bench.classroom.wire import messages
 
 TIMESTEP = "Pas de temps dt [s]"
 STEP_LENGTH = "Pas"
