@@ -24,17 +24,17 @@ Definitions:
   10 Hz) is read from the wire; the rate of a client = (last t - first t) / (wall time
   between the two messages) inside the window [sim s per wall s].
 - **Slider delay**: during the window each client toggles a parameter slider every
-  :data:`PROBE_PERIOD` s between its initial value and that value plus a quarter of
-  its range, as a ``GuiUpdateMessage`` (the browser's own message). It "shows" in the
-  first server message received after the send that creates or removes a 3D node under
-  ``/model``: the renderer rebuilt the geom the parameter changed (the rotor's
-  correction mass ``mass1_g`` and the compressor's ``counterweight_mass`` appear or
-  disappear). With ``--follow``, one extra client opens the teacher link the server
-  prints (``/prof/<token>``) and toggles the shared simulation's slider; every one of the
-  N followers waits for the change under ``/prof/model`` (N samples per change). Delay =
-  receive time - send time [s]; a change not shown before the next toggle counts as
-  *not shown*. Other scenes probe their first parameter, which may
-  never show this way.
+  :data:`~sandbox.bench.classroom.client.PROBE_PERIOD` s between its initial value and
+  that value plus a quarter of its range, as a ``GuiUpdateMessage`` (the browser's own
+  message). It "shows" in the first server message received after the send that creates
+  or removes a 3D node under ``/model``: the renderer rebuilt the geom the parameter
+  changed (the rotor's correction mass ``mass1_g`` and the compressor's
+  ``counterweight_mass`` appear or disappear). With ``--follow``, one extra client opens
+  the teacher link the server prints (``/prof/<token>``) and toggles the shared
+  simulation's slider; every one of the N followers waits for the change under
+  ``/prof/model`` (N samples per change). Delay = receive time - send time [s]; a change
+  not shown before the next toggle counts as *not shown*. Other scenes probe their first
+  parameter, which may never show this way.
 - **Server CPU**: user + system time (+ reaped children, on Linux) of the server
   process and all its descendants, over the window [cores]. **RSS**: sum of the
   resident sizes over that tree (shared pages count once per process) [bytes]. These,

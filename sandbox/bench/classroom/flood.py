@@ -112,8 +112,9 @@ def flood_start(window: Window) -> float:
 
 
 def side(*, follow: bool = False) -> Side:
-    """The flood as a task beside the classroom's clients (:func:`main_phase`'s ``side``):
-    it returns the clients' frame rates before and during it (:func:`flood_ratio`)."""
+    """The flood as a task beside the classroom's clients
+    (:func:`~sandbox.bench.classroom.phases.main_phase`'s ``side``): it returns the clients'
+    frame rates before and during it (:func:`flood_ratio`)."""
 
     async def run(
         url: str, origin: str, window: Window, stats: list[ClientStats]

@@ -101,13 +101,14 @@ def run_classroom(
         workers: Pass ``--workers`` to the server when not None.
         drop_clients: Connect-and-drop clients (0 skips that phase).
         idle_seconds: CPU sampling after the drop [s].
-        panel: Readout folder every client picks in :data:`PANEL_PICKER` (e.g.
-            ``"Tous les panneaux"``, ``"Précision et coût"``); None keeps the default.
+        panel: Readout folder every client picks in
+            :data:`~sandbox.bench.classroom.client.PANEL_PICKER` (e.g. ``"Tous les panneaux"``,
+            ``"Précision et coût"``); None keeps the default.
         progress: Called with one line per phase.
         side: A task beside the clients (:func:`main_phase`).
 
     Returns:
-        JSON-able results (see :func:`report`).
+        JSON-able results (see :func:`~sandbox.bench.classroom.report.report`).
     """
     say = progress or (lambda _line: None)
     require_psutil()  # missing: say how to install it before a server starts
