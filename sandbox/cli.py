@@ -701,7 +701,7 @@ def _bench_video(target: str, seconds: float = 30.0) -> int:
 def cmd_bench(args: argparse.Namespace) -> int:
     """``sandbox bench``: work-precision grid, or the effects / overhead comparisons."""
     if args.classroom is not None:
-        from sandbox.classroom_suite import cli_classroom
+        from sandbox.bench.classroom import cli_classroom
 
         return cli_classroom(args)
     if args.sweep:

@@ -512,7 +512,7 @@ def plot(out: Path | IO[bytes], study: Study, rows: Sequence[Mapping[str, Any]])
     """The study as a PNG for a slide, in French: the measure against the first varied
     parameter (one curve per value of the second), dots for the runs, the course's
     closed form dashed through them where the scene has one; decimal commas."""
-    from sandbox.bench_plot import LOCK, comma_formatter, new_figure
+    from sandbox.bench.plot import LOCK, comma_formatter, new_figure
     from sandbox.scenes.base import as_scene
 
     sim = Simulation(study.target, values=dict(study.fixed))

@@ -14,8 +14,16 @@ import zstandard
 from conftest import wait_for
 from viser import _messages as vm
 
-from sandbox import classroom as cr
-from sandbox import classroom_suite as suite
+from sandbox.bench.classroom import browser as br
+from sandbox.bench.classroom import client as cl
+from sandbox.bench.classroom import command, suite
+from sandbox.bench.classroom import processes as pr
+from sandbox.bench.classroom import report as rp
+from sandbox.bench.classroom import run as rn
+from sandbox.bench.classroom import server as sv
+from sandbox.bench.classroom import stats as st
+from sandbox.bench.classroom import targets as tg
+from sandbox.bench.classroom import wire as wi
 from sandbox.cli import build_parser
 from sandbox.errors import BadOption
 
@@ -42,13 +50,13 @@ def status(t: float) -> vm.GuiUpdateMessage:
 
 
 def test_percentile_and_summary() -> None:
-    assert cr.percentile([3.0, 1.0, 2.0], 50) == 2.0
-    assert cr.percentile([0.0, 10.0], 95) == pytest.approx(9.5)
-    assert cr.percentile(list(range(101)), 95) == pytest.approx(95.0)
-    assert math.isnan(cr.percentile([], 95))
-    s = cr.summary([4.0, 1.0, 3.0, 2.0])
+    assert st.percentile([3.0, 1.0, 2.0], 50) == 2.0
+    assert st.percentile([0.0, 10.0], 95) == pytest.approx(9.5)
+    assert st.percentile(list(range(101)), 95) == pytest.approx(95.0)
+    assert math.isnan(st.percentile([], 95))
+    s = st.summary([4.0, 1.0, 3.0, 2.0])
     assert (s["min"], s["median"], s["max"]) == (1.0, 2.5, 4.0)
-    assert math.isnan(cr.summary([])["median"])
+    assert math.isnan(st.summary([])["median"])
 
 
 def test_tree_cpu_and_rss_include_a_busy_grandchild() -> None:
@@ -56,27 +64,27 @@ def test_tree_cpu_and_rss_include_a_busy_grandchild() -> None:
     parent = subprocess.Popen(["sh", "-c", '"$0" -c "$1" & wait', sys.executable, busy])
     try:
         deadline = time.monotonic() + 5
-        while len(cr.process_tree(parent.pid)) < 2 and time.monotonic() < deadline:
+        while len(pr.process_tree(parent.pid)) < 2 and time.monotonic() < deadline:
             time.sleep(0.05)
-        assert len(cr.process_tree(parent.pid)) == 2  # sh and its python child
-        cpu0, wall0 = cr.tree_cpu(parent.pid), time.perf_counter()
+        assert len(pr.process_tree(parent.pid)) == 2  # sh and its python child
+        cpu0, wall0 = pr.tree_cpu(parent.pid), time.perf_counter()
         time.sleep(1.0)
-        cores = (cr.tree_cpu(parent.pid) - cpu0) / (time.perf_counter() - wall0)
+        cores = (pr.tree_cpu(parent.pid) - cpu0) / (time.perf_counter() - wall0)
         assert 0.1 < cores < 1.3  # one busy thread, on cores shared with other work
-        assert cr.tree_rss(parent.pid) > 1_000_000
-        assert sum(cr.thread_cpu(parent.pid).values()) > 0
+        assert pr.tree_rss(parent.pid) > 1_000_000
+        assert sum(pr.thread_cpu(parent.pid).values()) > 0
     finally:
         subprocess.run(["pkill", "-P", str(parent.pid)], check=False)
         parent.kill()
         parent.wait(5)
-    assert cr.process_tree(parent.pid) == []
-    assert cr.tree_cpu(parent.pid) == 0.0
+    assert pr.process_tree(parent.pid) == []
+    assert pr.tree_cpu(parent.pid) == 0.0
 
 
 def test_client_messages_are_what_viser_expects() -> None:
-    camera = vm.Message.deserialize(cr.camera_message())
+    camera = vm.Message.deserialize(br.camera_message())
     assert isinstance(camera, vm.ViewerCameraMessage) and camera.image_width > 0
-    slider = vm.Message.deserialize(cr.slider_message("abc", 50))
+    slider = vm.Message.deserialize(br.slider_message("abc", 50))
     assert isinstance(slider, vm.GuiUpdateMessage)
     assert (slider.uuid, slider.updates) == ("abc", {"value": 50.0})
 
@@ -103,21 +111,21 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
             scale=1.0,
         ),
     )
-    assert cr.is_update_frame(cr.unpack(pose)) and not cr.is_update_frame(cr.unpack(panel))
+    assert wi.is_update_frame(wi.unpack(pose)) and not wi.is_update_frame(wi.unpack(panel))
     batched = vm.SceneNodeUpdateMessage(
         "/model/batch", {"batched_positions": np.zeros((4, 3), np.float32)}
     )
-    assert cr.is_update_frame(cr.unpack(wire(batched)))
-    assert not cr.is_update_frame(cr.unpack(wire(vm.SceneNodeUpdateMessage("/a", {"text": "F"}))))
-    assert cr.status_time(cr.unpack(panel)) == 2.5
-    assert cr.status_time(cr.unpack(pose)) is None
-    assert cr.shows_rebuild(cr.unpack(wire(mesh)))  # binary buffers after the zstd part
-    assert cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/model/g2"))))
-    assert not cr.shows_rebuild(cr.unpack(pose))
-    assert not cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/arrows/a"))))
+    assert wi.is_update_frame(wi.unpack(wire(batched)))
+    assert not wi.is_update_frame(wi.unpack(wire(vm.SceneNodeUpdateMessage("/a", {"text": "F"}))))
+    assert wi.status_time(wi.unpack(panel)) == 2.5
+    assert wi.status_time(wi.unpack(pose)) is None
+    assert wi.shows_rebuild(wi.unpack(wire(mesh)))  # binary buffers after the zstd part
+    assert wi.shows_rebuild(wi.unpack(wire(vm.RemoveSceneNodeMessage("/model/g2"))))
+    assert not wi.shows_rebuild(wi.unpack(pose))
+    assert not wi.shows_rebuild(wi.unpack(wire(vm.RemoveSceneNodeMessage("/arrows/a"))))
 
-    window = cr.Window(start=10.0, end=12.0)
-    stats = cr.ClientStats(0)
+    window = cl.Window(start=10.0, end=12.0)
+    stats = cl.ClientStats(0)
     stats.feed(pose, 9.0, window)  # warm-up: first frame, not counted
     for k in range(60):  # 30 frames/s for 2 s, a status line every 0.5 s of wall
         now = 10.0 + k / 30
@@ -130,11 +138,11 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
     assert stats.ws_messages == 64 and stats.viser_messages == 124
     assert stats.sim_rate() == pytest.approx(0.5)
     # a run that starts again (time back to 0): measured between restarts
-    restarts = cr.ClientStats(1)
+    restarts = cl.ClientStats(1)
     restarts.times = [(0.0, 3.0), (1.0, 4.0), (2.0, 0.5), (3.0, 1.5), (4.0, 2.0)]
     assert restarts.sim_rate() == pytest.approx((1.0 + 1.0 + 0.5) / 3.0)
     assert stats.longest_gap(window) == pytest.approx(1 / 30)
-    assert stats.longest_gap(cr.Window(start=10.0, end=20.0)) == pytest.approx(8.0)
+    assert stats.longest_gap(cl.Window(start=10.0, end=20.0)) == pytest.approx(8.0)
 
     stats.pending = 11.0
     stats.feed(pose, 11.01, window)
@@ -144,9 +152,9 @@ def test_frames_sim_time_and_slider_delay_from_synthetic_messages() -> None:
 
 
 def test_follow_mode_pieces(monkeypatch: pytest.MonkeyPatch) -> None:
-    assert cr.shows_rebuild(cr.unpack(wire(vm.RemoveSceneNodeMessage("/prof/model/g2"))))
+    assert wi.shows_rebuild(wi.unpack(wire(vm.RemoveSceneNodeMessage("/prof/model/g2"))))
 
-    server = cr.Server("rotor")  # not started: only its log is read
+    server = sv.Server("rotor")  # not started: only its log is read
     server.log.write(b"sandbox: teacher link (keep it) http://127.0.0.1:8080/prof/Ab_9-x\n")
     assert server.teacher_path(timeout=0.1) == "/prof/Ab_9-x"
     server.log.close()
@@ -158,13 +166,13 @@ def test_follow_mode_pieces(monkeypatch: pytest.MonkeyPatch) -> None:
         async def send(self, data: bytes) -> None:
             self.sent.append(msgspec.msgpack.decode(data))
 
-    monkeypatch.setattr(cr, "PROBE_PERIOD", 0.2)
-    teacher, followers = cr.ClientStats(-1), [cr.ClientStats(0), cr.ClientStats(1)]
+    monkeypatch.setattr(cl, "PROBE_PERIOD", 0.2)
+    teacher, followers = cl.ClientStats(-1), [cl.ClientStats(0), cl.ClientStats(1)]
     teacher.slider = {"uuid": "u", "value": 0.0, "props": {"min": 0.0, "max": 200.0}}
     ws = FakeSocket()
     now = time.perf_counter()
-    window = cr.Window(start=now, end=now + 1.0)
-    cr.run_async(cr._probe(ws, teacher, window, cr.random.Random(0), followers))
+    window = cl.Window(start=now, end=now + 1.0)
+    rn.run_async(cl._probe(ws, teacher, window, cl.random.Random(0), followers))
     values = [m["updates"]["value"] for m in ws.sent]
     assert len(values) >= 2 and values[:2] == [50.0, 0.0]  # a quarter of the range, back
     assert all(f.not_shown == len(values) and f.pending is None for f in followers)
@@ -184,26 +192,26 @@ def test_find_slider_by_parameter_name() -> None:
         precision=0,
         _marks=None,
     )
-    inner = cr.unpack(wire(vm.GuiSliderMessage("u1", value=0.0, container_uuid="c", props=props)))
-    found = cr.find_slider(inner, "mass1_g")
+    inner = wi.unpack(wire(vm.GuiSliderMessage("u1", value=0.0, container_uuid="c", props=props)))
+    found = wi.find_slider(inner, "mass1_g")
     assert found is not None and found["uuid"] == "u1" and found["props"]["max"] == 200.0
-    assert cr.find_slider(inner, "mass1") is None
+    assert wi.find_slider(inner, "mass1") is None
     dropdown = vm.GuiDropdownMessage(
         "d1",
         value="A",
         container_uuid="c",
         props=vm.GuiDropdownProps(
             order=1.0,
-            label=cr.PANEL_PICKER,
+            label=cl.PANEL_PICKER,
             hint=None,
             visible=True,
             disabled=False,
             options=("A",),
         ),
     )
-    picker = cr.find_gui(cr.unpack(wire(dropdown)), "Dropdown", cr.PANEL_PICKER)
+    picker = wi.find_gui(wi.unpack(wire(dropdown)), "Dropdown", cl.PANEL_PICKER)
     assert picker is not None and picker["uuid"] == "d1"
-    choice = vm.Message.deserialize(cr.gui_message("d1", "Tous les panneaux"))
+    choice = vm.Message.deserialize(br.gui_message("d1", "Tous les panneaux"))
     assert isinstance(choice, vm.GuiUpdateMessage)
     assert choice.updates == {"value": "Tous les panneaux"}
 
@@ -228,9 +236,9 @@ def _results(fps: float, idle: float, refused: bool, split: tuple[int, ...] = (1
 
 
 def test_targets_give_pass_and_fail() -> None:
-    good = {t["target"]: t["verdict"] for t in cr.targets(_results(46.0, 0.01, True))}
+    good = {t["target"]: t["verdict"] for t in tg.targets(_results(46.0, 0.01, True))}
     assert set(good.values()) == {"PASS"} and len(good) == 7
-    bad = {t["key"]: t["verdict"] for t in cr.targets(_results(40.0, 0.2, False, (22, 8)))}
+    bad = {t["key"]: t["verdict"] for t in tg.targets(_results(40.0, 0.2, False, (22, 8)))}
     assert bad == {
         "fps.median": "FAIL",
         "fps.min": "PASS",
@@ -241,16 +249,16 @@ def test_targets_give_pass_and_fail() -> None:
         "origin": "FAIL",
     }
     # a worker that got no browser at all is counted (it is absent from /proc's list)
-    assert cr.split(_results(46.0, 0.0, True, (30,))) == 30
-    follow = cr.targets({**_results(31.0, 0.01, True), "follow": True})
+    assert tg.split(_results(46.0, 0.0, True, (30,))) == 30
+    follow = tg.targets({**_results(31.0, 0.01, True), "follow": True})
     assert [t["key"] for t in follow][:2] == ["fps.median", "server_cpu_cores"]
     crowd = _results(31.0, 0.01, True)
     crowd["main"]["clients"] = 60
-    assert {t["key"]: t["verdict"] for t in cr.targets(crowd)}["fps.median"] == "PASS"
+    assert {t["key"]: t["verdict"] for t in tg.targets(crowd)}["fps.median"] == "PASS"
     no_drop = _results(46.0, 0.01, True)
     del no_drop["drop"]  # phase not run: its target is left out, not failed
-    assert "idle" not in [t["key"] for t in cr.targets(no_drop)]
-    assert cr.jsonable({"a": (math.nan, 1.0)}) == {"a": [None, 1.0]}
+    assert "idle" not in [t["key"] for t in tg.targets(no_drop)]
+    assert rp.jsonable({"a": (math.nan, 1.0)}) == {"a": [None, 1.0]}
 
 
 def test_cli_options_and_their_checks(tmp_path) -> None:
@@ -259,21 +267,21 @@ def test_cli_options_and_their_checks(tmp_path) -> None:
     )
     assert (args.classroom, args.scenes, args.seconds, args.follow) == (3, ["rotor"], 4.0, True)
     with pytest.raises(BadOption, match="1 to 200"):
-        suite.cli_classroom(build_parser().parse_args(["bench", "--classroom", "0"]))
+        command.cli_classroom(build_parser().parse_args(["bench", "--classroom", "0"]))
     with pytest.raises(BadOption, match="one scene"):
-        suite.cli_classroom(
+        command.cli_classroom(
             build_parser().parse_args(["bench", "--classroom", "2", "rotor", "gyroscope"])
         )
     with pytest.raises(BadOption, match="--all runs every scene"):
-        suite.cli_classroom(
+        command.cli_classroom(
             build_parser().parse_args(["bench", "--classroom", "2", "rotor", "--all"])
         )
     with pytest.raises(BadOption, match="needs a .json file"):
-        suite.cli_classroom(
+        command.cli_classroom(
             build_parser().parse_args(["bench", "--classroom", "2", "--save", "x.txt"])
         )
     with pytest.raises(BadOption, match="no saved classroom run"):
-        suite.cli_classroom(
+        command.cli_classroom(
             build_parser().parse_args(
                 ["bench", "--classroom", "2", "--compare", str(tmp_path / "none.json")]
             )
@@ -316,7 +324,7 @@ def _run(scene: str, clients: int, fps: float, cpu: float, **_: object) -> dict:
     results["origin"] = {"origin": "x", "refused": True, "detail": "403"}
     del results["drop"]
     results.update(scene=scene, date="then")
-    results["targets"] = cr.targets(results)
+    results["targets"] = tg.targets(results)
     return results
 
 
@@ -334,7 +342,7 @@ def test_all_scenes_one_table_saved_and_compared(tmp_path, capsys) -> None:
         assert kw["drop_clients"] == 0  # --all skips the 13 s idle phase
         return _run(scene, clients, 40.0, 0.8)
 
-    assert suite.cli_classroom(args, run=fake) == 0
+    assert command.cli_classroom(args, run=fake) == 0
     assert seen == list(SCENES)
     out = capsys.readouterr().out
     assert out.count("| rotor×30 |") == 1 and "| compressor×30 |" in out
@@ -343,7 +351,7 @@ def test_all_scenes_one_table_saved_and_compared(tmp_path, capsys) -> None:
     again = build_parser().parse_args(
         ["bench", "--classroom", "30", "compressor", "--compare", str(saved)]
     )
-    assert suite.cli_classroom(again, run=lambda s, c, **kw: _run(s, c, 50.0, 0.4)) == 0
+    assert command.cli_classroom(again, run=lambda s, c, **kw: _run(s, c, 50.0, 0.4)) == 0
     text = capsys.readouterr().out
     assert "compressor×30 (saved then):" in text
     assert "×1.25 better" in text  # frames/s: 50 against 40
@@ -370,7 +378,7 @@ def test_the_comparison_reads_cpu_per_frame_at_the_saved_runs_machine_speed() ->
 
 
 def test_the_speed_probe_times_its_work_during_the_window() -> None:
-    from sandbox.classroom_speed import SpeedProbe
+    from sandbox.bench.classroom.speed import SpeedProbe
 
     probe = SpeedProbe(period=0.01)
     assert math.isnan(SpeedProbe().stop())  # never started: nothing timed
@@ -397,37 +405,46 @@ def without_process_groups(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     """Run as on Windows: no os.killpg for :meth:`Server.stop` (psutil stops the tree) and
     no os.getloadavg. Returns the list the stopped trees' pids are added to."""
     stopped: list[int] = []
-    stop_tree = cr.stop_tree
+    stop_tree = sv.stop_tree
 
     def spy(pid: int, **kw: float) -> None:
-        stopped.extend(cr.process_tree(pid))
+        stopped.extend(pr.process_tree(pid))
         stop_tree(pid, **kw)
 
-    monkeypatch.setattr(cr, "PROCESS_GROUPS", False)
-    monkeypatch.setattr(cr, "stop_tree", spy)
-    monkeypatch.delattr(cr.os, "getloadavg")
+    monkeypatch.setattr(sv, "PROCESS_GROUPS", False)
+    monkeypatch.setattr(sv, "stop_tree", spy)
+    monkeypatch.delattr(pr.os, "getloadavg")
     return stopped
 
 
 def test_server_stop_without_process_groups_ends_the_whole_tree(monkeypatch) -> None:
     stopped = without_process_groups(monkeypatch)
-    assert cr.load_average() is None
-    server = cr.Server("rotor")  # not started: a shell and its child stand in for it
+    assert pr.load_average() is None
+    server = sv.Server("rotor")  # not started: a shell and its child stand in for it
     server.proc = subprocess.Popen(
         ["sh", "-c", '"$0" -c "$1" & wait', sys.executable, "import time; time.sleep(60)"]
     )
     try:
         deadline = time.monotonic() + 10
-        while len(cr.process_tree(server.pid)) < 2 and time.monotonic() < deadline:
+        while len(pr.process_tree(server.pid)) < 2 and time.monotonic() < deadline:
             time.sleep(0.05)
-        tree = cr.process_tree(server.pid)
+        tree = pr.process_tree(server.pid)
         assert len(tree) == 2
         server.stop()
         assert stopped == tree and all(_gone(p) for p in tree)
         assert server.proc is None and server.log.closed
     finally:
         if server.proc is not None:  # the test failed before the stop: end the shell's tree
-            cr.stop_tree(server.proc.pid, wait=1.0)
+            sv.stop_tree(server.proc.pid, wait=1.0)
+
+
+def test_require_psutil_gives_the_module_or_its_install_command(monkeypatch) -> None:
+    import psutil
+
+    assert pr.require_psutil() is psutil
+    monkeypatch.setitem(sys.modules, "psutil", None)  # `import psutil` raises ImportError
+    with pytest.raises(BadOption, match=r'pip install "sandbox\[bench\]"'):
+        pr.require_psutil()
 
 
 def test_a_missing_psutil_is_named_with_its_install_command(monkeypatch, capsys) -> None:
@@ -435,8 +452,8 @@ def test_a_missing_psutil_is_named_with_its_install_command(monkeypatch, capsys)
 
     monkeypatch.setitem(sys.modules, "psutil", None)  # `import psutil` raises ImportError
     with pytest.raises(BadOption, match=r'pip install "sandbox\[bench\]"'):
-        cr.tree_cpu(1)
-    monkeypatch.setattr(cr, "Server", None)  # no server may start before the message
+        pr.tree_cpu(1)
+    monkeypatch.setattr(rn, "Server", None)  # no server may start before the message
     assert main(["bench", "--classroom", "2", "rotor", "--seconds", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and 'pip install "sandbox[bench]"' in err
@@ -446,7 +463,7 @@ def test_a_missing_psutil_is_named_with_its_install_command(monkeypatch, capsys)
 def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> None:
     """Measured and stopped as on Windows or macOS: psutil only, no process group."""
     stopped = without_process_groups(monkeypatch)
-    results = cr.run_classroom("rotor", 2, seconds=3.0, warmup=1.0, drop_clients=0)
+    results = rn.run_classroom("rotor", 2, seconds=3.0, warmup=1.0, drop_clients=0)
     main = results["main"]
     assert main["connected"] == 2 and not main["errors"]
     assert all(f > 0 for f in main["fps_per_client"])
@@ -466,11 +483,11 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> 
     assert sum(w["cpu_cores"] for w in workers) <= main["server_cpu_cores"] * 1.05
     assert results["load_average_before"] is None is results["load_average_after"]
     assert len(stopped) == main["server_processes"] and all(_gone(p) for p in stopped)
-    assert "PASS" in cr.report(results) or "FAIL" in cr.report(results)
-    assert "server_output" not in results and "server's last lines" not in cr.report(results)
+    assert "PASS" in rp.report(results) or "FAIL" in rp.report(results)
+    assert "server_output" not in results and "server's last lines" not in rp.report(results)
     # a browser left without frames: the report shows what the server said then
     stalled = {**results, "server_output": "banner\nTraceback (most recent call last):\nBoom"}
-    text = cr.report(stalled)
+    text = rp.report(stalled)
     assert "a browser waited over 2 s for a frame" in text and "    | Boom" in text
 
 
@@ -479,12 +496,12 @@ def test_status_time_reads_the_french_status_line():
 
     for t in (0.0, 5.8, 12.345, 1234.567):
         line = f"t = {_seconds(t)} s · vitesse ×1 · **lecture**".encode()
-        assert cr.status_time(line) == pytest.approx(t, abs=0.005)
+        assert wi.status_time(line) == pytest.approx(t, abs=0.005)
     assert "," in _seconds(12.345) and "." not in _seconds(12.345)
 
 
 def test_the_flood_finds_its_controls_and_measures_the_others_before_and_during() -> None:
-    from sandbox import classroom_flood as fl
+    from sandbox.bench.classroom import flood as fl
 
     def number(uuid: str, label: str) -> vm.GuiNumberMessage:
         props = vm.GuiNumberProps(
@@ -501,13 +518,13 @@ def test_the_flood_finds_its_controls_and_measures_the_others_before_and_during(
         return vm.GuiNumberMessage(uuid, value=0.01, container_uuid="c", props=props)
 
     flooder = fl.Flooder()
-    fl._learn(flooder, cr.unpack(wire(number("n1", fl.TIMESTEP), number("n2", fl.STEP_LENGTH))))
+    fl._learn(flooder, wi.unpack(wire(number("n1", fl.TIMESTEP), number("n2", fl.STEP_LENGTH))))
     assert flooder.uuids == {fl.TIMESTEP: "n1", fl.STEP_LENGTH: "n2"}
-    fl._learn(flooder, cr.unpack(wire(number("n3", fl.STEP_LENGTH))))  # rebuilt panels
+    fl._learn(flooder, wi.unpack(wire(number("n3", fl.STEP_LENGTH))))  # rebuilt panels
     assert flooder.uuids[fl.STEP_LENGTH] == "n3"
-    window = cr.Window(100.0, 110.0)
+    window = cl.Window(100.0, 110.0)
     assert fl.flood_start(window) == 105.0
-    steady, starved = cr.ClientStats(0), cr.ClientStats(1)
+    steady, starved = cl.ClientStats(0), cl.ClientStats(1)
     steady.frame_times = [100 + k / 50 for k in range(500)]  # 50 frames/s throughout
     starved.frame_times = [100 + k / 50 for k in range(250)] + [105 + k for k in range(5)]
     out = fl.flood_ratio([steady, starved], window, 105.0)
@@ -521,11 +538,11 @@ def test_the_bench_counts_the_workers_serve_starts(monkeypatch) -> None:
 
     from sandbox.web import workers
 
-    assert cr.SERVE_WORKERS_CAP == workers.DEFAULT_WORKERS_CAP
+    assert rn.SERVE_WORKERS_CAP == workers.DEFAULT_WORKERS_CAP
     monkeypatch.delattr(os, "sched_getaffinity", raising=False)
     monkeypatch.delattr(os, "process_cpu_count", raising=False)
     monkeypatch.setattr(os, "cpu_count", lambda: 16)
-    assert cr._cores() == workers.default_workers() == workers.DEFAULT_WORKERS_CAP
+    assert rn._cores() == workers.default_workers() == workers.DEFAULT_WORKERS_CAP
 
 
 def test_studies_take_k_of_the_n_browsers(capsys) -> None:
@@ -546,20 +563,20 @@ def test_studies_take_k_of_the_n_browsers(capsys) -> None:
         }
         return results
 
-    assert suite.cli_classroom(args, run=fake) == 0
+    assert command.cli_classroom(args, run=fake) == 0
     assert seen["clients"] == 25 and callable(seen["side"])
     out = capsys.readouterr().out
     assert "5 more students running studies: 8 finished (9 started)" in out
     assert suite.run_key(fake("rotor", 25, side=None)) == "rotor --studies 5×25"
     for bad, words in ((["--studies", "30"], "1 to 29"), (["--studies", "2", "--flood"], "alone")):
         with pytest.raises(BadOption, match=words):
-            suite.cli_classroom(
+            command.cli_classroom(
                 build_parser().parse_args(["bench", "--classroom", "30", "rotor", *bad])
             )
 
 
 def test_a_studying_student_learns_its_controls_and_sees_a_study_end() -> None:
-    from sandbox import classroom_studies as cs
+    from sandbox.bench.classroom import studies as cs
 
     student = cs.Student()
     gui = msgspec.msgpack.encode(

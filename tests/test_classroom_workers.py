@@ -1,4 +1,4 @@
-"""A classroom run worker by worker (sandbox.classroom_workers)."""
+"""A classroom run worker by worker (sandbox.bench.classroom.workers)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from sandbox.classroom_workers import by_worker, fps_ratio, worker_lines
+from sandbox.bench.classroom.workers import by_worker, fps_ratio, worker_lines
 
 
 def test_each_browser_counts_in_the_worker_that_served_it() -> None:
@@ -44,7 +44,7 @@ def test_the_report_shows_workers_only_when_there_are_several() -> None:
 
 
 def test_the_workers_frame_rate_ratio_is_one_when_they_serve_alike() -> None:
-    from sandbox.classroom_suite import figure
+    from sandbox.bench.classroom.suite import figure
 
     even = by_worker([50.0, 50.0], [1, 2], {1: 9, 2: 8}, {})
     uneven = by_worker([36.0, 25.0, 34.0, 26.0], [1, 2, 3, 4], {1: 9, 2: 8, 3: 9, 4: 8}, {})

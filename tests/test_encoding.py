@@ -18,12 +18,12 @@ encoding = locale.getpreferredencoding(False)
 print(encoding)
 out = Path(sys.argv[1])
 
-import sandbox.bench_plot
+import sandbox.bench.plot
 from sandbox import bench
 from sandbox.recording import Recorder, load, write_csv
 from sandbox.web.export import export_static
 
-sandbox.bench_plot.plot_scene = lambda res, path: path  # no PNG: the text files are tested
+sandbox.bench.plot.plot_scene = lambda res, path: path  # no PNG: the text files are tested
 run = bench.Run("rotor", "euler", 1e-3, 1.0, error=0.01, drift=0.0, default=True)
 cost = bench.SessionCost("rotor", "euler", 1e-3, 1e-4, 1e-5, 1e-5)
 result = bench.SceneResult("rotor", "ω", "énergie", "euler", 1e-3, [run], session=cost)

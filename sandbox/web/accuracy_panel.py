@@ -17,7 +17,7 @@ import viser
 from sandbox import accuracy
 from sandbox.accuracy import Setting
 from sandbox.bench import Run, SceneResult, load_results
-from sandbox.bench_plot import decimal, drift_words, duration, integrator_words
+from sandbox.bench.plot import decimal, drift_words, duration, integrator_words
 from sandbox.cores import default_workers
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import display_unit
@@ -50,7 +50,7 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
         cached = _BASES.get(key)
         if cached is not None:
             return cached
-        from sandbox.bench_plot import draw
+        from sandbox.bench.plot import draw
 
         fig = draw(res, None, compact=True)  # a Figure on its own Agg canvas: no pyplot
         fig.set_dpi(CHART_DPI)
@@ -399,7 +399,7 @@ def accuracy_markdown(
             test, only the cost is shown).
         mine_run, default_run: Their runs on the reference test (None: being measured).
         key: The key quantity in words (its label).
-        invariant: What the drift measures (:func:`~sandbox.bench_plot.drift_words`).
+        invariant: What the drift measures (:func:`~sandbox.bench.plot.drift_words`).
         test: The reference test in words (:func:`conditions`).
         result: The saved benchmark (for the chart's legend notes).
         chart: Add the sentences that explain the chart.

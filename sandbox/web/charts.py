@@ -15,7 +15,7 @@ from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from typing import ParamSpec, TypeVar
 
-from sandbox.bench_plot import LOCK
+from sandbox.bench.plot import LOCK
 
 __all__ = ["LOCK", "submit"]
 

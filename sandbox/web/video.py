@@ -332,7 +332,7 @@ class Strip:
         """The curves, French axis and legend (decimal comma), once for the clip."""
         from PIL import Image
 
-        from sandbox.bench_plot import LOCK, comma_formatter, new_figure
+        from sandbox.bench.plot import LOCK, comma_formatter, new_figure
         from sandbox.physics.units import shown_scale
 
         with LOCK:

@@ -309,7 +309,7 @@ class XYData:
     def png(self, title: str, colors: Sequence[str]) -> bytes:
         """The chart as a PNG for a slide: French axes with units, decimal commas, the
         course's values dashed."""
-        from sandbox.bench_plot import LOCK, comma_formatter, new_figure
+        from sandbox.bench.plot import LOCK, comma_formatter, new_figure
 
         x, values = self.shown()
         with LOCK:

@@ -96,13 +96,13 @@ class Raw:
         self.stored = -1  # uploads the server held at some point of the visit
 
     def connect(self) -> Any:
-        from sandbox.classroom import connect_as_browser
+        from sandbox.bench.classroom import connect_as_browser
 
         url, origin = f"ws://127.0.0.1:{self.port}", f"http://127.0.0.1:{self.port}"
         return connect_as_browser(url, origin, open_timeout=10)
 
     async def read(self, ws: Any, until: Callable[[], bool], timeout: float) -> None:
-        from sandbox.classroom import messages, unpack
+        from sandbox.bench.classroom import messages, unpack
 
         end = time.monotonic() + timeout
         while time.monotonic() < end and not until():
@@ -155,7 +155,7 @@ class Served:
 
     def visit(self, actions: Callable[[Any, Raw], Awaitable[None]] | None = None) -> Raw:
         """A browser that opens the page (waits for its controls), then ``actions``."""
-        from sandbox.classroom import camera_message
+        from sandbox.bench.classroom import camera_message
 
         b = Raw(self.port)
 
@@ -278,7 +278,7 @@ class Buttons:
     def visit(self, actions: Callable[[Any, Raw], Awaitable[None]]) -> Raw:
         """A browser that opens the page (viser takes it in at its first camera message)
         and waits for the three controls, then ``actions``."""
-        from sandbox.classroom import camera_message
+        from sandbox.bench.classroom import camera_message
 
         b = Raw(self.port)
 

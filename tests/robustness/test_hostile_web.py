@@ -545,7 +545,7 @@ def server() -> Iterator[Any]:
 
 
 class Browser:
-    """A raw websocket client speaking viser's protocol (see sandbox.classroom)."""
+    """A raw websocket client speaking viser's protocol (see sandbox.bench.classroom)."""
 
     def __init__(self, port: int) -> None:
         self.url = f"ws://127.0.0.1:{port}"
@@ -556,7 +556,7 @@ class Browser:
         self.closed = False
 
     async def session(self, actions: Callable[[Any, Browser], Any]) -> None:
-        from sandbox.classroom import camera_message, connect_as_browser
+        from sandbox.bench.classroom import camera_message, connect_as_browser
 
         async with connect_as_browser(self.url, self.origin, open_timeout=10) as ws:
             await ws.send(camera_message())
@@ -564,7 +564,7 @@ class Browser:
             await actions(ws, self)
 
     async def read(self, ws: Any, until: Callable[[], bool], timeout: float = 10.0) -> None:
-        from sandbox.classroom import messages, unpack
+        from sandbox.bench.classroom import messages, unpack
 
         end = time.monotonic() + timeout
         while time.monotonic() < end and not until():

@@ -209,7 +209,7 @@ def test_charts_drawn_by_several_threads_at_once_are_all_correct():
 
     import numpy as np
 
-    from sandbox.bench_plot import LOCK, draw
+    from sandbox.bench.plot import LOCK, draw
     from sandbox.web import charts
     from sandbox.web.accuracy_panel import _BASES
 
@@ -263,7 +263,7 @@ def test_the_chart_speaks_french_with_decimal_commas():
     0,5 % line, tick labels without a decimal point, no code name."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from sandbox.bench_plot import LOCK, draw
+    from sandbox.bench.plot import LOCK, draw
 
     res = load_results("rolling_cylinder")
     assert res is not None
@@ -300,7 +300,7 @@ def test_the_chart_speaks_french_with_decimal_commas():
 
 
 def test_drift_words():
-    from sandbox.bench_plot import drift_words
+    from sandbox.bench.plot import drift_words
 
     assert drift_words("T (constant speed)") == "dérive de T"
     assert drift_words("|σG|") == "dérive de |σG|"
@@ -318,7 +318,7 @@ def test_the_web_chart_is_readable_at_panel_size():
     frame is blank (a word cut by the edge would mark it)."""
     import numpy as np
 
-    from sandbox.bench_plot import LOCK, draw
+    from sandbox.bench.plot import LOCK, draw
     from sandbox.web.accuracy_panel import CHART_DPI, chart_base
 
     shown_width = 390.0

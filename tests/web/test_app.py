@@ -197,7 +197,7 @@ def _visit(port: int, until: Callable[[dict[str, Any]], bool] | None = None) -> 
     import viser
     from websockets.sync.client import connect
 
-    from sandbox.classroom import camera_message, messages, unpack
+    from sandbox.bench.classroom import camera_message, messages, unpack
 
     with connect(
         f"ws://127.0.0.1:{port}",

@@ -332,7 +332,7 @@ class FakeStudent:
         import viser
         from websockets.sync.client import connect
 
-        from sandbox.classroom import camera_message
+        from sandbox.bench.classroom import camera_message
 
         self.name = name
         self.typed = False
@@ -347,7 +347,7 @@ class FakeStudent:
         self.thread.start()
 
     def _read(self) -> None:
-        from sandbox.classroom import find_gui, gui_message, unpack
+        from sandbox.bench.classroom import find_gui, gui_message, unpack
 
         try:
             for raw in self.ws:

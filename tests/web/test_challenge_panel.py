@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from conftest import free_port, wait_for
 
+from sandbox.bench.classroom import gui_message, unpack
 from sandbox.challenges import CHALLENGES, Challenge
-from sandbox.classroom import gui_message, unpack
 from sandbox.physics.picture import geom_local_poses
 from sandbox.web.board import Run
 from sandbox.web.challenge_panel import FOLDER, solution_lines
@@ -34,7 +34,7 @@ class Recorder:
         import viser
         from websockets.sync.client import connect
 
-        from sandbox.classroom import camera_message
+        from sandbox.bench.classroom import camera_message
 
         self.ws = connect(
             url,

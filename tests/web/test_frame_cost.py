@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from conftest import wait_for
 
-from sandbox import classroom
+from sandbox.bench import classroom
 from sandbox.physics import readouts as generic
 from sandbox.physics import simulation as simulation_module
 from sandbox.physics import torsors

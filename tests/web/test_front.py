@@ -145,7 +145,7 @@ def test_thirty_one_browsers_split_16_15_over_two_workers_without_so_reuseport(t
     Windows lacks)."""
     import asyncio
 
-    from sandbox import classroom
+    from sandbox.bench import classroom
     from tests.conftest import serve_workers
 
     proc, port = serve_workers(tmp_path)
@@ -192,7 +192,7 @@ def test_thirty_one_browsers_split_16_15_over_two_workers_without_so_reuseport(t
 def _listeners(pid: int, port: int) -> dict[int, int]:
     """Sockets listening on ``port`` held by each process of ``pid``'s tree (Linux /proc):
     with SO_REUSEPORT every worker would hold one."""
-    from sandbox import classroom
+    from sandbox.bench import classroom
 
     inodes: dict[str, int] = {}
     for p in classroom.process_tree(pid):

@@ -14,7 +14,7 @@ from urllib.parse import quote, urlencode
 import pytest
 from conftest import free_port, serve_workers, wait_for
 
-from sandbox import classroom
+from sandbox.bench import classroom
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 from sandbox.scenes.base import as_scene

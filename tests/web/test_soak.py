@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from sandbox import classroom
+from sandbox.bench import classroom
 from sandbox.web import app as web_app
 
 SECONDS = 12.0

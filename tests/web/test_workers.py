@@ -215,7 +215,7 @@ def test_thirty_browsers_split_15_15_over_two_workers_without_so_reuseport(tmp_p
     """``sandbox serve rotor --workers 2`` in a Python whose ``socket`` module has no
     ``SO_REUSEPORT`` (Windows; macOS has it but does not spread connections): it starts,
     and 30 browsers connecting one after the other are served 15 by each worker."""
-    from sandbox import classroom
+    from sandbox.bench import classroom
     from tests.conftest import free_port
 
     site, marks = tmp_path / "site", tmp_path / "marks.txt"

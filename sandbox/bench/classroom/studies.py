@@ -17,16 +17,15 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from sandbox.classroom import (
-    ClientStats,
-    Side,
-    Window,
+from sandbox.bench.classroom.browser import (
     camera_message,
     connect_as_browser,
     gui_message,
-    messages,
     read_pages,
 )
+from sandbox.bench.classroom.client import ClientStats, Window
+from sandbox.bench.classroom.phases import Side
+from sandbox.bench.classroom.wire import messages
 
 PICKER = "Panneau affiché"
 FOLDER = "Étude paramétrique"
@@ -109,8 +108,8 @@ async def study(url: str, origin: str, window: Window, student: Student) -> None
 
 def side(students: int, work: Work = STUDY) -> Side:
     """``students`` browsers doing ``work`` beside the measured class (for
-    :func:`~sandbox.classroom.main_phase`'s ``side``): returns how many they finished and
-    the measured clients' slowest frame rate."""
+    :func:`~sandbox.bench.classroom.phases.main_phase`'s ``side``): returns how many they
+    finished and the measured clients' slowest frame rate."""
 
     async def run(
         url: str, origin: str, window: Window, stats: list[ClientStats]

@@ -10,7 +10,8 @@ the next run can tell a worker that costs more per frame from one that gets less
 processor.
 
 Browsers are told apart by the local port of their connection: the server's connection
-of that browser has it as its remote port (:func:`sandbox.classroom.browsers_by_process`).
+of that browser has it as its remote port
+(:func:`sandbox.bench.classroom.processes.browsers_by_process`).
 """
 
 from __future__ import annotations
@@ -31,7 +32,8 @@ def by_worker(
     Args:
         fps: Update frames/s of each browser over the window.
         ports: Local port of each browser's connection (None: not known).
-        owner: Browser port -> server pid (:func:`sandbox.classroom.browsers_by_process`).
+        owner: Browser port -> server pid
+            (:func:`sandbox.bench.classroom.processes.browsers_by_process`).
         thread_cores: Cores each server thread used over the window, keyed (pid, tid).
 
     Returns:

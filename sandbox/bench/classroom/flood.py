@@ -16,16 +16,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from sandbox.classroom import (
-    ClientStats,
-    Side,
-    Window,
+from sandbox.bench.classroom.browser import (
     camera_message,
     connect_as_browser,
     gui_message,
-    messages,
     read_pages,
 )
+from sandbox.bench.classroom.client import ClientStats, Window
+from sandbox.bench.classroom.phases import Side
+from sandbox.bench.classroom.wire import messages
 
 TIMESTEP = "Pas de temps dt [s]"
 STEP_LENGTH = "Pas"
@@ -113,8 +112,9 @@ def flood_start(window: Window) -> float:
 
 
 def side(*, follow: bool = False) -> Side:
-    """The flood as a task beside the classroom's clients (:func:`main_phase`'s ``side``):
-    it returns the clients' frame rates before and during it (:func:`flood_ratio`)."""
+    """The flood as a task beside the classroom's clients
+    (:func:`~sandbox.bench.classroom.phases.main_phase`'s ``side``): it returns the clients'
+    frame rates before and during it (:func:`flood_ratio`)."""
 
     async def run(
         url: str, origin: str, window: Window, stats: list[ClientStats]

@@ -15,8 +15,9 @@ import threading
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sandbox.bench import Run, SceneResult
+from sandbox.bench.results import Run, SceneResult
 from sandbox.physics.model import INTEGRATOR_WORDS
+from sandbox.scenes import get_scene
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -75,8 +76,6 @@ def words(res: SceneResult) -> tuple[str, str, str]:
     and the key readout's label from the registry, the invariant's symbol."""
     title, key = res.scene, res.key
     try:
-        from sandbox.scenes import get_scene
-
         scene = get_scene(res.scene)
     except Exception:  # a result file of a scene this version does not know
         scene = None
@@ -110,6 +109,7 @@ def plot_scene(res: SceneResult, path: Path) -> Path:
 
 def new_figure(width: float, height: float) -> Figure:
     """A figure of ``width`` x ``height`` inches on its own Agg canvas (no pyplot)."""
+    # matplotlib on the first chart only: its import takes 0.5-1 s of every start-up
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -135,6 +135,7 @@ def draw(res: SceneResult, live: Run | None = None, *, compact: bool = False) ->
 def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
     """Matplotlib's log tick labels (10⁻³, 2×10⁻³) with a decimal comma in any plain
     number it may write, without touching the process locale."""
+    # matplotlib on the first chart only: its import takes 0.5-1 s of every start-up
     from matplotlib.ticker import LogFormatterSciNotation
 
     class Comma(LogFormatterSciNotation):
@@ -148,6 +149,7 @@ def comma_log_formatter(*, label_only_base: bool = False) -> Formatter:
 def comma_formatter() -> Formatter:
     """Linear tick labels as a French reader writes them: "0,5", "−2", "1,5e+03" stays
     Matplotlib's short form with a comma."""
+    # matplotlib on the first chart only: its import takes 0.5-1 s of every start-up
     from matplotlib.ticker import FuncFormatter
 
     return FuncFormatter(lambda v, _: f"{v:g}".replace(".", ",").replace("-", "−"))

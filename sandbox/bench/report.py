@@ -1,0 +1,119 @@
+"""What ``sandbox bench`` writes and prints: results.json, results.csv, the Markdown tables
+(the sessions' costs, then every run of each scene) and one chart per scene.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import asdict
+from pathlib import Path
+
+from sandbox.bench import plot
+from sandbox.bench.cost import FRAME_RATE, GOAL, PANEL_RATE, TARGET
+from sandbox.bench.results import SceneResult
+from sandbox.bench.store import to_json
+
+CSV_COLUMNS = (
+    "scene",
+    "integrator",
+    "timestep",
+    "duration",
+    "error",
+    "drift",
+    "constraint",
+    "cpu_per_sim_s",
+    "realtime_factor",
+    "diverged",
+    "pareto",
+    "default",
+)
+
+
+def write_results(results: Sequence[SceneResult], out: Path, *, quick: bool) -> list[Path]:
+    """results.json, results.csv, results.md and one PNG per scene in ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "results.json").write_text(
+        json.dumps(to_json(results, quick=quick), indent=1), encoding="utf-8"
+    )
+    with (out / "results.csv").open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(CSV_COLUMNS)
+        for res in results:
+            for r in res.runs:
+                row = asdict(r)
+                writer.writerow(["" if row[c] is None else row[c] for c in CSV_COLUMNS])
+    (out / "results.md").write_text(markdown(results), encoding="utf-8")
+    paths = [out / "results.json", out / "results.csv", out / "results.md"]
+    for res in results:
+        paths.append(plot.plot_scene(res, out / f"{res.scene}.png"))
+    return paths
+
+
+def _fmt(x: float | None, spec: str = ".2e") -> str:
+    if x is None:
+        return "—"
+    return "∞" if math.isinf(x) else format(x, spec)
+
+
+def session_markdown(results: Sequence[SceneResult]) -> str:
+    """One row per scene: its default session's cost on one core, the 20× goal and the 60×
+    target."""
+    rows = [r for r in results if r.session is not None]
+    if not rows:
+        return ""
+    lines = [
+        f"### Sessions at the defaults — one core, goal ≥ {GOAL:g}× real time\n",
+        f"A web session steps in real time, takes an arrows snapshot {FRAME_RATE:g} times "
+        f"and a row of every readout {PANEL_RATE:g} times per simulated second. "
+        "Default parameters (the grids below may use harder ones: the benchmark's "
+        "default run is also given).\n",
+        "| scene | default | stepping × real time | snapshot [ms] | row [ms] | "
+        f"session × real time | ≥ {GOAL:g}× | ≥ {TARGET:g}× | benchmark case |",
+        "|:--|:--|--:|--:|--:|--:|:--|:--|:--|",
+    ]
+    for res in rows:
+        c = res.session
+        assert c is not None
+        d = res.default
+        case = (
+            f"{d.integrator} dt = {d.timestep:.3g} s: {_fmt(d.realtime_factor, '.1f')}×"
+            if d is not None
+            else "—"
+        )
+        lines.append(
+            f"| {res.scene} | {c.integrator}, dt = {c.timestep:.3g} s | "
+            f"{_fmt(c.step_factor, '.1f')} | {c.snapshot_s * 1e3:.3f} | {c.row_s * 1e3:.3f} | "
+            f"{c.realtime_factor:.1f} | {'yes' if c.meets_goal else '**no**'} | "
+            f"{'yes' if c.realtime_factor >= TARGET else 'no'} | {case} |"
+        )
+    return "\n".join(lines) + "\n\n"
+
+
+def markdown(results: Sequence[SceneResult]) -> str:
+    """The sessions' table (:func:`session_markdown`), then one table per scene: every
+    run, the Pareto front and the default marked."""
+    parts = [session_markdown(results)] if any(r.session for r in results) else []
+    for res in results:
+        parts.append(
+            f"### {res.scene} — key: `{res.key}`, invariant: {res.invariant}\n\n"
+            "| integrator | dt [s] | error | drift | constraint [m] | CPU s / sim s | "
+            "× real time | |\n|:--|--:|--:|--:|--:|--:|--:|:--|"
+        )
+        for r in res.runs:
+            tags = []
+            if r.default:
+                tags.append("**default**")
+            if r.pareto:
+                tags.append("Pareto")
+            if r.diverged:
+                tags.append("diverged")
+            parts.append(
+                f"| {r.integrator} | {r.timestep:.3g} | {_fmt(r.error)} | {_fmt(r.drift)} | "
+                f"{_fmt(r.constraint)} | {_fmt(r.cpu_per_sim_s, '.3g')} | "
+                f"{_fmt(r.realtime_factor, '.1f')} | {', '.join(tags)} |"
+            )
+        parts.append("")
+    return "\n".join(parts)
