@@ -8,6 +8,25 @@ import pytest
 from sandbox.physics.simulation import Simulation
 from sandbox.web.loop import Controller, Refused, Scheduler, Session, check_timestep
 from sandbox.web.loop.refusals import max_timestep, timestep_range
+from sandbox.web.loop.requests import (
+    Advance,
+    Button,
+    Challenge,
+    Integrator,
+    Pause,
+    Play,
+    Record,
+    Request,
+    Reset,
+    SetValue,
+    Speed,
+    Steps,
+    StopRecord,
+    Timestep,
+    Toggle,
+    Unknown,
+    command,
+)
 from sandbox.web.loop.scheduler import Turns
 
 
@@ -43,3 +62,30 @@ def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
     assert not turns.stopping
     session.request_stop()
     assert turns.stopping
+
+
+@pytest.mark.parametrize(
+    ("request_", "typed"),
+    [
+        (Request("play"), Play()),
+        (Request("pause"), Pause()),
+        (Request("toggle"), Toggle()),
+        (Request("reset"), Reset()),
+        (Request("step"), Steps(None)),
+        (Request("step", 3), Steps(3)),
+        (Request("advance", 0.02, name="s"), Advance(0.02, "s")),
+        (Request("speed", "2"), Speed("2")),
+        (Request("set_value", 40, name="mass1_g"), SetValue("mass1_g", 40)),
+        (Request("integrator", "RK4"), Integrator("RK4")),
+        (Request("timestep", 1e-4), Timestep(1e-4)),
+        (Request("challenge", None), Challenge(None)),
+        (Request("record"), Record()),
+        (Request("stop_record"), StopRecord()),
+        (Request("button", "Lancer"), Button("Lancer")),
+        (Request("launch_missiles"), Unknown("launch_missiles")),
+        (Request("seek", 1.0), Unknown("seek")),  # a replay's, not the live loop's
+        (Request(["not", "a", "kind"]), Unknown(["not", "a", "kind"])),  # type: ignore[arg-type]
+    ],
+)
+def test_a_request_reads_as_its_typed_request(request_, typed):
+    assert command(request_) == typed

@@ -30,7 +30,28 @@ from sandbox.web.loop.refusals import (
     shown_value,
     step_count,
 )
-from sandbox.web.loop.requests import Request, merged, pending
+from sandbox.web.loop.requests import (
+    Advance,
+    Button,
+    Challenge,
+    Command,
+    Integrator,
+    Pause,
+    Play,
+    Record,
+    Request,
+    Reset,
+    SetValue,
+    Speed,
+    Steps,
+    StopRecord,
+    Timestep,
+    Toggle,
+    Unknown,
+    command,
+    merged,
+    pending,
+)
 from sandbox.web.rewind import Rewind
 from sandbox.web.secret import Secret
 
@@ -224,77 +245,91 @@ class Controller(Pacing):
         return notices
 
     def _apply(self, request: Request) -> Notice | None:
-        kind, value, sim = request.kind, request.value, self.sim
-        if kind == "reset":
-            sim.reset()
-            self._owed, self._owed_target = 0, None
-            self.display_time = float(sim.data.time)
-            self.diverged = None
-            self.generation += 1
-            return None
-        if kind in ("play", "pause", "toggle"):
-            want = {"play": True, "pause": False}.get(kind, not self.playing)
-            if want and self.diverged:
-                return _reset_first()
-            self.playing = want
-            if want:  # playing takes over from a "Pas" in progress
+        """Do what ``request`` asks (read as a typed request, :func:`command`)."""
+        return self._do(command(request))
+
+    def _do(self, cmd: Command) -> Notice | None:
+        """Apply one typed request; a refusal raises (French), a message returns."""
+        sim = self.sim
+        match cmd:
+            case Reset():
+                sim.reset()
                 self._owed, self._owed_target = 0, None
-            return None
-        if kind == "step":
-            if self.diverged:
-                return _reset_first()
-            count = step_count(value)
-            self._owe(count, None)
-            return None
-        if kind == "advance":
-            if self.diverged:
-                return _reset_first()
-            seconds = advance_seconds(sim, value, request.name)
-            start = self._owed_target if self._owed_target is not None else self.display_time
-            target = start + seconds
-            dt = sim.timestep
-            reach = float(sim.data.time) + self._owed * dt  # where the steps owed lead
-            count = math.floor((target - reach) / dt * (1 + 1e-9) + 1e-9)
-            if count > MAX_ADVANCE_STEPS:
-                raise Refused(
-                    f"Pas de {text.number(seconds, 3)} s refusé : il demanderait "
-                    f"{count} pas de calcul (au plus {MAX_ADVANCE_STEPS}). Choisissez un pas "
-                    "plus court."
-                )
-            self._owe(max(count, 0), target)
-            return None
-        if kind == "speed":
-            self.speed = check_speed(value)
-            return None
-        if kind == "set_value":
-            if self.secret is not None and request.name in self.secret.locked:
-                raise Refused("Ce réglage est caché pendant le défi : il reste tel quel.")
-            sim.set_value(request.name, check_value(sim, request.name, value))
-            return None
-        if kind == "challenge":  # built by the server only (no control sends it)
-            return self._challenge(value)
-        if kind == "record":
-            if self.secret is not None:
-                raise Refused(
-                    "Pas d'enregistrement pendant un défi : le fichier contiendrait la "
-                    "solution. Enregistrez après la fin du défi."
-                )
-            path = self.start_recording()
-            return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path.name}")
-        if kind == "stop_record":
-            closed = self.stop_recording()
-            if closed is None:
+                self.display_time = float(sim.data.time)
+                self.diverged = None
+                self.generation += 1
                 return None
-            return Notice("file", "Enregistrement terminé", str(closed))
-        if kind == "integrator":
-            sim.set_integrator(check_integrator(value))
-            return None
-        if kind == "timestep":
-            sim.set_timestep(check_timestep(sim, value))
-            return None
-        if kind == "button":  # a label no button has (only a crafted message sends it)
-            raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
-        raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
+            case Play():
+                return self._play(True)
+            case Pause():
+                return self._play(False)
+            case Toggle():
+                return self._play(not self.playing)
+            case Steps(value):
+                if self.diverged:
+                    return _reset_first()
+                count = step_count(value)
+                self._owe(count, None)
+                return None
+            case Advance(value, unit):
+                if self.diverged:
+                    return _reset_first()
+                seconds = advance_seconds(sim, value, unit)
+                start = self._owed_target if self._owed_target is not None else self.display_time
+                target = start + seconds
+                dt = sim.timestep
+                reach = float(sim.data.time) + self._owed * dt  # where the steps owed lead
+                count = math.floor((target - reach) / dt * (1 + 1e-9) + 1e-9)
+                if count > MAX_ADVANCE_STEPS:
+                    raise Refused(
+                        f"Pas de {text.number(seconds, 3)} s refusé : il demanderait "
+                        f"{count} pas de calcul (au plus {MAX_ADVANCE_STEPS}). Choisissez un pas "
+                        "plus court."
+                    )
+                self._owe(max(count, 0), target)
+                return None
+            case Speed(value):
+                self.speed = check_speed(value)
+                return None
+            case SetValue(name, value):
+                if self.secret is not None and name in self.secret.locked:
+                    raise Refused("Ce réglage est caché pendant le défi : il reste tel quel.")
+                sim.set_value(name, check_value(sim, name, value))
+                return None
+            case Challenge(secret):  # built by the server only (no control sends it)
+                return self._challenge(secret)
+            case Record():
+                if self.secret is not None:
+                    raise Refused(
+                        "Pas d'enregistrement pendant un défi : le fichier contiendrait la "
+                        "solution. Enregistrez après la fin du défi."
+                    )
+                path = self.start_recording()
+                return Notice("info", "Enregistrement", f"Enregistrement en cours dans {path.name}")
+            case StopRecord():
+                closed = self.stop_recording()
+                if closed is None:
+                    return None
+                return Notice("file", "Enregistrement terminé", str(closed))
+            case Integrator(value):
+                sim.set_integrator(check_integrator(value))
+                return None
+            case Timestep(value):
+                sim.set_timestep(check_timestep(sim, value))
+                return None
+            case Button(value):  # a label no button has (only a crafted message sends it)
+                raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
+            case Unknown(kind):
+                raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
+
+    def _play(self, want: bool) -> Notice | None:
+        """Play (``want``) or pause; a diverged simulation must be reset first."""
+        if want and self.diverged:
+            return _reset_first()
+        self.playing = want
+        if want:  # playing takes over from a "Pas" in progress
+            self._owed, self._owed_target = 0, None
+        return None
 
     def _challenge(self, secret: object) -> Notice | None:
         """Start a challenge (a :class:`Secret`: its values set, the run from its start)
@@ -308,7 +343,7 @@ class Controller(Pacing):
         closed = self.stop_recording()  # kept whole: what came before the challenge
         secret.apply(self.sim)
         self.secret = secret
-        self._apply(Request("reset"))
+        self._do(Reset())
         self.playing = True
         if closed is not None:
             return Notice("file", "Enregistrement terminé", str(closed))
