@@ -6,7 +6,9 @@ from __future__ import annotations
 import pytest
 
 from sandbox.physics.simulation import Simulation
+from sandbox.recording import load
 from sandbox.web.loop import Controller, Refused, Scheduler, Session, check_timestep
+from sandbox.web.loop.frame import ReplaySource
 from sandbox.web.loop.refusals import max_timestep, timestep_range
 from sandbox.web.loop.requests import (
     Advance,
@@ -28,6 +30,8 @@ from sandbox.web.loop.requests import (
     command,
 )
 from sandbox.web.loop.scheduler import Turns
+from sandbox.web.loop.session import drawn_snapshot, drawn_time, readouts, shown_readouts
+from sandbox.web.player import ReplayController
 
 
 def test_the_timestep_refusal_gives_the_range_in_french():
@@ -89,3 +93,26 @@ def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
 )
 def test_a_request_reads_as_its_typed_request(request_, typed):
     assert command(request_) == typed
+
+
+def test_a_live_controller_and_a_replay_are_read_each_their_own_way(tmp_path):
+    ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
+    ctl.submit(Request("pause"))
+    ctl.submit(Request("advance", 0.0011, name="s"))  # drawn between two physics steps
+    ctl.submit(Request("record"))
+    for _ in range(30):
+        ctl.frame()
+    ctl.submit(Request("stop_record"))
+    path = next(n.text for n in ctl.frame() if n.level == "file")
+    assert drawn_time(ctl) == ctl.drawn_time
+    assert drawn_snapshot(ctl).data.time == pytest.approx(ctl.drawn_time)
+    names = ["omega", "T"]
+    assert readouts(ctl, names) == ctl.readouts(names)
+    assert shown_readouts(ctl, names, None) == ctl.shown_readouts(names)
+    assert shown_readouts(ctl, names, {"omega": 1.0}) == {"omega": 1.0}
+
+    replay: ReplaySource = ReplayController(load(path))
+    assert drawn_time(replay) == float(replay.sim.data.time)
+    assert drawn_snapshot(replay).data.time == replay.sim.data.time
+    assert readouts(replay, names) == replay.values()
+    assert shown_readouts(replay, names, None) == replay.values()

@@ -1,15 +1,17 @@
 """What one display tick shows: the :class:`Frame` built once per tick, the :class:`Notice`
-messages for the user, and the :class:`View` protocol of a display (the viser panels, or
-anything with the same methods) the loop hands them to.
+messages for the user, the :class:`View` protocol of a display (the viser panels, or
+anything with the same methods) the loop hands them to, and the :class:`ReplaySource`
+protocol of a session's source that only plays a recording back.
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
 from sandbox.physics.picture import Picture
+from sandbox.physics.simulation import Simulation
 
 FPS = 60.0
 """Frame rate of pose updates sent to the browser [Hz]."""
@@ -81,3 +83,40 @@ class View(Protocol):
 
     def notify(self, notice: Notice) -> None:
         """Show a message to the user."""
+
+
+class ReplaySource(Protocol):
+    """What a session reads from a source that is not a live
+    :class:`~sandbox.web.loop.controller.Controller`: a replay's, which moves along its
+    recording (:class:`~sandbox.web.player.ReplayController`). It draws its simulation's
+    own state, records nothing and has no challenge."""
+
+    @property
+    def sim(self) -> Simulation:
+        """The simulation whose state is drawn."""
+
+    @property
+    def clock(self) -> Callable[[], float]:
+        """Wall clock [s]."""
+
+    @property
+    def playing(self) -> bool:
+        """True while the replay runs."""
+
+    @property
+    def diverged(self) -> str | None:
+        """The divergence message, or None."""
+
+    @property
+    def generation(self) -> int:
+        """Bumped when the plots restart."""
+
+    @property
+    def cleanups(self) -> list[Callable[[], None]]:
+        """Run when its session ends."""
+
+    def frame(self, now: float | None = None) -> list[Notice]:
+        """Apply the requests and move along the recording; returns the messages."""
+
+    def values(self) -> Mapping[str, float]:
+        """The readouts of the state shown, all at once."""

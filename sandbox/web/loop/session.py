@@ -11,14 +11,13 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable, Collection, Mapping
-from typing import Any
 
 from sandbox.errors import SandboxError
 from sandbox.physics.picture import FORCES, Picture, picture
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.loop.controller import Controller
-from sandbox.web.loop.frame import FPS, Frame, Notice, View
+from sandbox.web.loop.frame import FPS, Frame, Notice, ReplaySource, View
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.secret import Secret
@@ -58,7 +57,8 @@ class Session:
         scheduler: Scheduler | None = None,
         drive: bool = True,
     ) -> None:
-        self.controller = controller
+        # a replay passes its own (a ReplaySource): what is read of it is typed as such
+        self.controller: Controller | ReplaySource = controller
         self.drive = drive
         self.view = view
         self.period = 1.0 / fps
@@ -99,10 +99,10 @@ class Session:
             if self._recording_closed:
                 return
             self._recording_closed = True
-        stop_recording = getattr(self.controller, "stop_recording", None)
-        if stop_recording is not None and self.drive:
-            with self.controller.sim.lock:
-                stop_recording()
+        ctl = self.controller
+        if isinstance(ctl, Controller) and self.drive:
+            with ctl.sim.lock:
+                ctl.stop_recording()
 
     @property
     def stopping(self) -> bool:
@@ -180,24 +180,25 @@ class Session:
         this tick from one state: the picture when the drawn state changed and the view
         draws, the readouts it asks for (sharing the picture's forces), and record."""
         ctl = self.controller
+        live = ctl if isinstance(ctl, Controller) else None  # a replay's is not
         notices: list[Notice] = []
         if self.drive:
-            notices = ctl.frame(now, record=False) if _records(ctl) else ctl.frame(now)
+            notices = live.frame(now, record=False) if live is not None else ctl.frame(now)
         wanted = self.view.wants(now)
         every = wanted is not None and "*" in wanted
         names = set() if wanted is None or every else set(wanted)
-        recording = self.drive and _records(ctl) and ctl.readouts_due()
+        recording = self.drive and live is not None and live.readouts_due()
         values: Mapping[str, float] | None = None  # the physics state's, for the recorder
         shown: Mapping[str, float] | None = None  # the drawn state's, for the view
         read = (every or bool(names)) and not ctl.diverged
         if recording and not ctl.diverged:
-            values = _readouts(ctl, ())
+            values = readouts(ctl, ())
         sim = ctl.sim
-        drawn_at = float(getattr(ctl, "drawn_time", sim.data.time))
-        generation = int(getattr(ctl, "generation", 0))
+        drawn_at = drawn_time(ctl)
+        generation = int(ctl.generation)
         drawing: Picture | None = None
         snap: Snapshot | None = None
-        secret: Secret | None = getattr(ctl, "secret", None)  # a replay has none
+        secret: Secret | None = live.secret if live is not None else None  # a replay has none
         key = (id(sim.model), drawn_at, generation)
         if self.view.draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
@@ -211,15 +212,15 @@ class Session:
         if read:
             if values is not None:  # while recording, tables step with the physics
                 shown = values
-            elif snap is not None and hasattr(ctl, "shown_readouts"):
+            elif snap is not None and live is not None:
                 with sim.lock:
-                    shown = ctl.shown_readouts(() if every else names, snapshot=snap)
+                    shown = live.shown_readouts(() if every else names, snapshot=snap)
             else:
-                shown = _shown_readouts(ctl, () if every else names, None)
-        if recording:
-            ctl.record(values)
-        elif self.drive and _records(ctl):
-            ctl.record()
+                shown = shown_readouts(ctl, () if every else names, None)
+        if live is not None and recording:
+            live.record(values)
+        elif live is not None and self.drive:
+            live.record()
         if secret is not None and shown is not None:
             shown = secret.hide(shown)
         return Frame(
@@ -267,15 +268,20 @@ class Session:
             return False
 
 
-def drawn_snapshot(ctl: Any, names: Collection[str] = ()) -> Snapshot:
+def drawn_time(ctl: Controller | ReplaySource) -> float:
+    """Simulated time drawn [s]: a live controller's (:attr:`Controller.drawn_time`,
+    between physics steps), else its simulation's own time (a replay)."""
+    return ctl.drawn_time if isinstance(ctl, Controller) else float(ctl.sim.data.time)
+
+
+def drawn_snapshot(ctl: Controller | ReplaySource, names: Collection[str] = ()) -> Snapshot:
     """The state a view draws: a live controller's display state (:meth:`Controller.drawn`,
     between physics steps), else its simulation's own state (a replay)."""
-    drawn = getattr(ctl, "drawn", None)
-    return drawn(names) if drawn is not None else ctl.sim.snapshot(names)
+    return ctl.drawn(names) if isinstance(ctl, Controller) else ctl.sim.snapshot(names)
 
 
-def _shown_readouts(
-    ctl: Any, names: Collection[str], physics: Mapping[str, float] | None
+def shown_readouts(
+    ctl: Controller | ReplaySource, names: Collection[str], physics: Mapping[str, float] | None
 ) -> Mapping[str, float]:
     """The readouts a view shows: those of the drawn state when the controller draws
     between physics steps (:meth:`Controller.shown_readouts`); while recording, the
@@ -283,16 +289,9 @@ def _shown_readouts(
     both, so tables step with the physics while a recording runs)."""
     if physics is not None:
         return physics
-    fn = getattr(ctl, "shown_readouts", None)
-    return fn(names) if fn is not None else _readouts(ctl, names)
+    return ctl.shown_readouts(names) if isinstance(ctl, Controller) else readouts(ctl, names)
 
 
-def _records(ctl: Any) -> bool:
-    """True for a live controller (it records); a replay's controller does not."""
-    return hasattr(ctl, "readouts_due")
-
-
-def _readouts(ctl: Any, names: Collection[str]) -> Mapping[str, float]:
+def readouts(ctl: Controller | ReplaySource, names: Collection[str]) -> Mapping[str, float]:
     """The controller's readouts (a replay's come from its recording, all at once)."""
-    fn = getattr(ctl, "readouts", None)
-    return fn(names) if fn is not None else ctl.values()
+    return ctl.readouts(names) if isinstance(ctl, Controller) else ctl.values()
