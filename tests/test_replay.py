@@ -18,8 +18,8 @@ from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_simulation, planned_steps, resimulate
 from sandbox.web.export import export_static
+from sandbox.web.loop import Request
 from sandbox.web.player import ReplayController
-from sandbox.web.session import Request
 
 
 @pytest.fixture

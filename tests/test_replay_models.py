@@ -16,8 +16,8 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_replay, verify
+from sandbox.web.loop import Request
 from sandbox.web.player import ReplayController
-from sandbox.web.session import Request
 
 FLOOD = 20_000
 

@@ -26,7 +26,7 @@ from sandbox.errors import BadOption
 from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
 from sandbox.web import client_text, network, share_panel
-from sandbox.web.session import Controller, Session
+from sandbox.web.loop import Controller, Session
 from sandbox.web.view import WebView
 
 log = logging.getLogger(__name__)

@@ -57,8 +57,8 @@ from sandbox.web.board import (
 from sandbox.web.challenge_panel import ChallengePanel
 from sandbox.web.fields import on_user, set_value
 from sandbox.web.lesson_goal import parts
+from sandbox.web.loop import Session
 from sandbox.web.projector import key_readouts, overlay_lines
-from sandbox.web.session import Session
 
 log = logging.getLogger(__name__)
 

@@ -23,8 +23,8 @@ from sandbox.challenges import BALANCED, Attempt, Challenge
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.board import duration
 from sandbox.web.fields import param_unit
+from sandbox.web.loop import Controller, Request
 from sandbox.web.secret import Secret
-from sandbox.web.session import Controller, Request
 from sandbox.web.tables import RELATIVE_ZERO
 from sandbox.web.text import html_text, number, with_unit
 

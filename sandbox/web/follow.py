@@ -35,9 +35,9 @@ from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.board_panel import BOARD_FOLDER, TEACHER_PREFIX, Classroom, name_field
 from sandbox.web.board_panel import teacher_path as teacher_path  # re-exported
+from sandbox.web.loop import Controller, Frame, Notice, Request, Session
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
-from sandbox.web.session import Controller, Frame, Notice, Request, Session
 from sandbox.web.study_chart import StudyChart
 from sandbox.web.study_queue import StudyJob, progress_words
 from sandbox.web.tables import fmt

@@ -29,8 +29,8 @@ from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.physics.units import shown_scale
 from sandbox.web.arrows import ArrowLayer
 from sandbox.web.lesson_goal import Line, Words, goal_html, lines
+from sandbox.web.loop import Controller, Request
 from sandbox.web.plots import Plot, group_by_unit
-from sandbox.web.session import Controller, Request
 from sandbox.web.text import plain, table_row
 
 FREE = "Exploration libre"

@@ -1,6 +1,6 @@
 """GUI folders of a session: simulation controls, parameters, hypotheses.
 
-Callbacks only queue :class:`~sandbox.web.session.Request` objects; the loop thread
+Callbacks only queue :class:`~sandbox.web.loop.Request` objects; the loop thread
 applies them. Refresh methods are called by the view from the loop thread. Values
 set programmatically (event.client is None) are never sent back as requests.
 """
@@ -37,7 +37,7 @@ from sandbox.web.fields import (
 from sandbox.web.fields import (
     set_value as set_value,
 )
-from sandbox.web.session import SPEEDS, Controller, Request, max_timestep
+from sandbox.web.loop import SPEEDS, Controller, Request, max_timestep
 from sandbox.web.text import number, plain
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")

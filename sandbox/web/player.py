@@ -23,8 +23,7 @@ from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
 from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
-from sandbox.web.panels import bounds, command, speed_slider
-from sandbox.web.session import (
+from sandbox.web.loop import (
     Notice,
     Refused,
     Request,
@@ -37,6 +36,7 @@ from sandbox.web.session import (
     shown_value,
     step_count,
 )
+from sandbox.web.panels import bounds, command, speed_slider
 from sandbox.web.text import number, plain, table_row
 from sandbox.web.view import WebView
 

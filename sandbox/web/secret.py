@@ -6,7 +6,7 @@ a model built with the secret parameters' stand-ins
 (:func:`sandbox.physics.picture.picture`'s ``shown``), the readouts without those that
 give the secret away (:attr:`sandbox.challenges.Challenge.withheld`), and no control of a
 secret parameter, nor a recording (it would hold the model). The session's
-:class:`~sandbox.web.session.Controller` applies it (a ``challenge`` request, built by the
+:class:`~sandbox.web.loop.Controller` applies it (a ``challenge`` request, built by the
 server only) and refuses any change of a locked parameter.
 """
 

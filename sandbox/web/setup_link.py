@@ -18,7 +18,7 @@ neither of which ever raises:
    control characters; a repeated name keeps its first value.
 2. :func:`validate` checks each part against what this page has: the scene's parameters
    (by their CLI names, a contract) and the same checks as the page's controls
-   (:func:`sandbox.web.session.check_value`, ``check_speed``, ``check_integrator``,
+   (:func:`sandbox.web.loop.check_value`, ``check_speed``, ``check_integrator``,
    ``check_timestep``), the folders that can be opened, the lessons of the scene and
    their number of steps.
 
@@ -53,7 +53,7 @@ from sandbox.errors import SandboxError
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.fields import choices
-from sandbox.web.session import (
+from sandbox.web.loop import (
     check_integrator,
     check_speed,
     check_timestep,
@@ -104,7 +104,7 @@ class Ignored:
 
     Attributes:
         part: The part as the link wrote it (untrusted: shown through
-            :func:`sandbox.web.session.shown_value`).
+            :func:`sandbox.web.loop.shown_value`).
         why: Why, in French.
     """
 

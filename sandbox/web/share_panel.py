@@ -42,6 +42,7 @@ from sandbox.web.client_link import (
 )
 from sandbox.web.display_panel import FOLDER as DISPLAY_FOLDER
 from sandbox.web.fields import on_user, param_label, set_value
+from sandbox.web.loop import Controller, Request
 from sandbox.web.panels import (
     ADVANCED_FOLDER,
     INTEGRATOR_LABEL,
@@ -51,7 +52,6 @@ from sandbox.web.panels import (
     advanced,
 )
 from sandbox.web.projector import style_html
-from sandbox.web.session import Controller, Request
 from sandbox.web.setup_link import Page, Setup
 from sandbox.web.text import plain
 from sandbox.web.view import LESSON_WIDTH, WebView, point_camera

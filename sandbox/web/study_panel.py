@@ -22,7 +22,7 @@ from sandbox.scenes.base import Param, as_scene
 from sandbox.scenes.presets import StudyPreset
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
 from sandbox.web.fields import param_label
-from sandbox.web.session import Controller, Refused, as_number, check_value, french_message
+from sandbox.web.loop import Controller, Refused, as_number, check_value, french_message
 from sandbox.web.study_chart import STAT_LABELS, StudyChart
 from sandbox.web.study_queue import StudyJob, StudyQueue, progress_words
 from sandbox.web.text import html_text, number

@@ -22,7 +22,7 @@ import viser
 
 from sandbox.errors import SandboxError
 from sandbox.web.background import BackgroundPool
-from sandbox.web.session import Controller
+from sandbox.web.loop import Controller
 from sandbox.web.text import plain
 
 FOLDER = "Vidéo"

@@ -24,6 +24,7 @@ from sandbox.web.display_panel import DisplayPanel
 from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
+from sandbox.web.loop import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.panels import ControlPanel, HypothesesPanel
 from sandbox.web.polar_panel import PolarPanel
 from sandbox.web.projector import Projector
@@ -36,7 +37,6 @@ from sandbox.web.readout_panel import (
 )
 from sandbox.web.renderer import SceneRenderer, mechanism_size
 from sandbox.web.secret import Secret
-from sandbox.web.session import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.study_panel import FOLDER as STUDY_FOLDER
 from sandbox.web.study_panel import StudyPanel
 from sandbox.web.trail import Trail

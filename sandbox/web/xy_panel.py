@@ -21,8 +21,8 @@ from viser import uplot
 
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
+from sandbox.web.loop import Controller, Request
 from sandbox.web.plots import PALETTE, dashed, dots, replace_chart
-from sandbox.web.session import Controller, Request
 from sandbox.web.text import html_text
 from sandbox.web.xy import TIME_AXIS, Axis, XYData
 

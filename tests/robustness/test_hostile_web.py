@@ -31,9 +31,9 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 from sandbox.web import tables
 from sandbox.web.fields import integrator_label, param_label
+from sandbox.web.loop import Controller, Scheduler, Session
 from sandbox.web.panels import TIMESTEP_LABEL
 from sandbox.web.player import ReplayPanel
-from sandbox.web.session import Controller, Scheduler, Session
 from sandbox.web.view import WebView
 
 # -- a fake viser client -------------------------------------------------------------------
@@ -480,7 +480,7 @@ def test_scene_tables_escape_names_units_and_docs():
 
 @pytest.fixture(scope="module")
 def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    from sandbox.web.session import Request
+    from sandbox.web.loop import Request
 
     clock = Clock()
     ctl = Controller(Simulation("rotor"), clock=clock, record_dir=tmp_path_factory.mktemp("rec"))
@@ -508,8 +508,8 @@ def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 )
 def test_a_replay_refuses_bad_timeline_requests_in_french(short_recording, kind, value, needle):
     from sandbox.recording import load
+    from sandbox.web.loop import Request
     from sandbox.web.player import ReplayController
-    from sandbox.web.session import Request
 
     clock = Clock()
     ctl = ReplayController(load(short_recording), clock=clock)

@@ -14,7 +14,7 @@ from conftest import LESSON_FILE, wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.app import App
-from sandbox.web.session import Controller, Scheduler, Session
+from sandbox.web.loop import Controller, Scheduler, Session
 
 PENDULUM = """
 <mujoco><option timestep="0.01"/><worldbody>

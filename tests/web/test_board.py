@@ -254,7 +254,7 @@ def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     from sandbox.physics.simulation import Simulation
     from sandbox.web.board_panel import _Readouts, _Student
     from sandbox.web.lesson_panel import LessonPanel
-    from sandbox.web.session import Controller
+    from sandbox.web.loop import Controller
 
     controller = Controller(Simulation("rotor"))
     panel = LessonPanel(gui_server.gui, controller, lesson="equilibrage")

@@ -7,8 +7,8 @@ import re
 import pytest
 from conftest import free_port, wait_for
 
+from sandbox.web.loop import Request
 from sandbox.web.polar_panel import FOLDER, PolarPanel
-from sandbox.web.session import Request
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 5-15 s each
 

@@ -9,7 +9,7 @@ from collections.abc import Iterator
 import pytest
 from conftest import choose, free_port, wait_for
 
-from sandbox.web.session import Request
+from sandbox.web.loop import Request
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-20 s each
 

@@ -20,7 +20,7 @@ from sandbox.challenges import CHALLENGES, Challenge
 from sandbox.physics.picture import geom_local_poses
 from sandbox.web.board import Run
 from sandbox.web.challenge_panel import FOLDER, solution_lines
-from sandbox.web.session import Request
+from sandbox.web.loop import Request
 from sandbox.web.text import UNIT_SPACE, number
 
 SECRET = {"defect_mass_g": 53.0, "skew_deg": -3.3}

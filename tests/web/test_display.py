@@ -14,8 +14,7 @@ from sandbox.physics.display import angle_between, main_joint
 from sandbox.physics.picture import picture
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web import session as session_module
-from sandbox.web.session import (
+from sandbox.web.loop import (
     SPEEDS,
     Controller,
     Request,
@@ -24,6 +23,7 @@ from sandbox.web.session import (
     french_message,
     param_words,
 )
+from sandbox.web.loop import refusals as session_module
 
 
 class Clock:

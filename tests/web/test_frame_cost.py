@@ -26,9 +26,9 @@ from sandbox.physics.picture import body_groups
 from sandbox.scenes import SCENES
 from sandbox.scenes.revolutions import PerModel
 from sandbox.web import app as web_app
-from sandbox.web import session as session_module
 from sandbox.web import wire
-from sandbox.web.session import Request, Session
+from sandbox.web.loop import Request, Session
+from sandbox.web.loop import frame as session_module
 from sandbox.web.view import IN_FLIGHT, MAX_HELD
 
 FRAMES = 120

@@ -32,7 +32,7 @@ from sandbox.web.label_layout import (
     preferred_sides,
     text_width,
 )
-from sandbox.web.session import Request
+from sandbox.web.loop import Request
 
 SCENES = (
     "rotor",

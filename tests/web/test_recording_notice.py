@@ -8,7 +8,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from sandbox.physics.simulation import Simulation
-from sandbox.web.session import Controller, Notice, Request
+from sandbox.web.loop import Controller, Notice, Request
 from sandbox.web.view import WebView
 
 

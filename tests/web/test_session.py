@@ -6,17 +6,9 @@ import pytest
 
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
-from sandbox.web.session import (
-    MAX_FRAME_STEPS,
-    MAX_LAG,
-    NOTICE_QUIET,
-    STEP_BUDGET,
-    Controller,
-    Notice,
-    Request,
-    Scheduler,
-    Session,
-)
+from sandbox.web.loop import Controller, Notice, Request, Scheduler, Session
+from sandbox.web.loop.pacing import MAX_FRAME_STEPS, MAX_LAG, STEP_BUDGET
+from sandbox.web.loop.session import NOTICE_QUIET
 
 
 class Clock:
@@ -292,7 +284,7 @@ def test_recording_from_the_web_session_replays_identically(tmp_path):
 
 def test_three_browsers_recording_in_the_same_second_keep_three_files(tmp_path, monkeypatch):
     from sandbox.recording import load
-    from sandbox.web import session as session_module
+    from sandbox.web.loop import controller as session_module
 
     monkeypatch.setattr(session_module.time, "strftime", lambda fmt: "20261123-101500")
     ctls = [Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path) for _ in range(3)]
@@ -628,7 +620,8 @@ def test_a_finished_run_starts_again_a_moment_later():
     """The rolling cylinder opens rolling; past the plane's end it stays in view for
     RESTART_AFTER s of wall time, then the descent starts again from the top."""
     from sandbox.physics.simulation import Simulation
-    from sandbox.web.session import RESTART_AFTER, Controller
+    from sandbox.web.loop import Controller
+    from sandbox.web.loop.pacing import RESTART_AFTER
 
     now = [0.0]
     sim = Simulation("rolling_cylinder", values={"plane_length": 2.0})

@@ -15,8 +15,8 @@ from sandbox.physics.units import RAD_S_TO_RPM
 from sandbox.scenes import SCENES
 from sandbox.scenes.presets import TIME
 from sandbox.sweep import STATISTICS
+from sandbox.web.loop import Controller
 from sandbox.web.probe import RATE, Probe
-from sandbox.web.session import Controller
 from sandbox.web.xy import TIME_AXIS, Axis, XYData, finite_ends, slope_unit
 
 

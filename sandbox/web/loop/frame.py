@@ -1,0 +1,122 @@
+"""What one display tick shows: the :class:`Frame` built once per tick, the :class:`Notice`
+messages for the user, the :class:`View` protocol of a display (the viser panels, or
+anything with the same methods) the loop hands them to, and the :class:`ReplaySource`
+protocol of a session's source that only plays a recording back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection, Mapping
+from dataclasses import dataclass
+from typing import Protocol
+
+from sandbox.physics.picture import Picture
+from sandbox.physics.simulation import Simulation
+
+FPS = 60.0
+"""Frame rate of pose updates sent to the browser [Hz]."""
+
+
+@dataclass(frozen=True)
+class Notice:
+    """A message for the user: ``level`` is ``error``, ``diverged``, ``info`` or ``file``
+    (``text`` is then the path of a file to offer for download)."""
+
+    level: str
+    title: str
+    text: str
+
+
+EVERY = frozenset({"*"})
+"""What a view wants when it needs every readout (an open lesson may check any)."""
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What one display tick shows, built once by the session loop and handed to every
+    consumer (the browser's view, the recorder).
+
+    Attributes:
+        now: Wall clock of the tick [s].
+        time: Simulated time drawn [s] (the display time, between two physics steps).
+        generation: Bumped on every reset (plots restart).
+        model_id: Identity of the compiled model (a new one rebuilds the 3D nodes).
+        playing: The simulation runs.
+        diverged: The divergence message, or None.
+        notices: Messages raised since the previous tick.
+        readouts: Values of the readouts asked for this tick (computed once, only the
+            names a consumer needs); None on ticks that refresh no panel.
+        picture: What the 3D view draws (poses, arrows), computed once when the drawn
+            state changed and a view draws; None otherwise (nothing moved: nothing sent).
+    """
+
+    now: float
+    time: float
+    generation: int
+    model_id: int
+    playing: bool
+    diverged: str | None
+    notices: tuple[Notice, ...] = ()
+    readouts: Mapping[str, float] | None = None
+    picture: Picture | None = None
+
+    @property
+    def key(self) -> tuple[int, float, int]:
+        """Changes whenever the drawn state changes (model, time, reset)."""
+        return (self.model_id, self.time, self.generation)
+
+
+class View(Protocol):
+    """What the loop needs from a display (the viser panels implement it)."""
+
+    @property
+    def draws(self) -> bool:
+        """True when :meth:`render` draws the 3D scene: each new drawn state then comes
+        with a :class:`~sandbox.physics.picture.Picture`."""
+
+    def wants(self, now: float) -> Collection[str] | None:
+        """Readouts needed at this tick: names, :data:`EVERY`, or None (no panel
+        refresh now)."""
+
+    def render(self, frame: Frame) -> None:
+        """Draw the tick (called at up to :data:`FPS`)."""
+
+    def notify(self, notice: Notice) -> None:
+        """Show a message to the user."""
+
+
+class ReplaySource(Protocol):
+    """What a session reads from a source that is not a live
+    :class:`~sandbox.web.loop.controller.Controller`: a replay's, which moves along its
+    recording (:class:`~sandbox.web.player.ReplayController`). It draws its simulation's
+    own state, records nothing and has no challenge."""
+
+    @property
+    def sim(self) -> Simulation:
+        """The simulation whose state is drawn."""
+
+    @property
+    def clock(self) -> Callable[[], float]:
+        """Wall clock [s]."""
+
+    @property
+    def playing(self) -> bool:
+        """True while the replay runs."""
+
+    @property
+    def diverged(self) -> str | None:
+        """The divergence message, or None."""
+
+    @property
+    def generation(self) -> int:
+        """Bumped when the plots restart."""
+
+    @property
+    def cleanups(self) -> list[Callable[[], None]]:
+        """Run when its session ends."""
+
+    def frame(self, now: float | None = None) -> list[Notice]:
+        """Apply the requests and move along the recording; returns the messages."""
+
+    def values(self) -> Mapping[str, float]:
+        """The readouts of the state shown, all at once."""

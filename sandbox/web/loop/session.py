@@ -1,0 +1,297 @@
+"""One browser's session: the frames of its :class:`~sandbox.web.loop.controller.Controller`
+(requests, stepping, recording) handed to its :class:`~sandbox.web.loop.frame.View`.
+
+:class:`Session` builds one :class:`~sandbox.web.loop.frame.Frame` a tick and asks the
+view (the viser panels, or anything with the same methods) to draw it; the process's
+:class:`~sandbox.web.loop.scheduler.Scheduler` runs the ticks.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable, Collection, Mapping
+
+from sandbox.errors import SandboxError
+from sandbox.physics.picture import FORCES, Picture, picture
+from sandbox.physics.snapshot import Snapshot
+from sandbox.scenes.base import as_scene
+from sandbox.web.loop.controller import Controller
+from sandbox.web.loop.frame import FPS, Frame, Notice, ReplaySource, View
+from sandbox.web.loop.refusals import french_message
+from sandbox.web.loop.scheduler import Scheduler
+from sandbox.web.secret import Secret
+
+log = logging.getLogger(__name__)
+
+ALIVE_CHECK = 0.5
+"""Seconds between checks that the session's browser is still connected."""
+
+NOTICE_QUIET = 5.0
+"""Seconds a message must stay away before it is shown again: a value refused on every
+frame, or a failure that repeats, is shown once."""
+
+
+class Session:
+    """A browser's own simulation, whose frames the process's :class:`Scheduler` runs.
+
+    Args:
+        controller: The session's controller (owns the simulation).
+        view: Display called at up to ``fps`` frames per second.
+        fps: Frame rate [Hz].
+        alive: Returns False once the session's browser has gone (checked every
+            :data:`ALIVE_CHECK` seconds; the session then stops by itself).
+        scheduler: The loop running the frames (default: the process's own).
+        drive: Step the controller's simulation and own its recording; False for a
+            view of a simulation that another session drives (a class following the
+            teacher, the teacher's own panels).
+    """
+
+    def __init__(
+        self,
+        controller: Controller,
+        view: View,
+        *,
+        fps: float = FPS,
+        alive: Callable[[], bool] | None = None,
+        scheduler: Scheduler | None = None,
+        drive: bool = True,
+    ) -> None:
+        # a replay passes its own (a ReplaySource): what is read of it is typed as such
+        self.controller: Controller | ReplaySource = controller
+        self.drive = drive
+        self.view = view
+        self.period = 1.0 / fps
+        self.alive = alive
+        self.scheduler = scheduler or Scheduler.shared()
+        self._stop = threading.Event()
+        self._ended = threading.Event()
+        self._started = False
+        self._closed = threading.Lock()
+        self._recording_closed = False
+        self._next_check = 0.0
+        self._pictured: tuple[int, float, int] | None = None  # key of the last picture
+        self._seen: dict[tuple[str, str, str], float] = {}  # error notices: last seen
+        self._faults: dict[tuple[str, str, str], float] = {}  # frame failures: last seen
+
+    def start(self) -> None:
+        """Hand the session to the scheduler: its frames start at once."""
+        self._started = True
+        self.scheduler.add(self)
+
+    def request_stop(self) -> None:
+        """Ask the loop to drop this session at its next turn (returns at once)."""
+        self._stop.set()
+        self.scheduler.wake()
+
+    def stop(self, timeout: float = 2.0) -> None:
+        """Drop the session, wait for a frame in progress, then close any recording."""
+        self.request_stop()
+        if self._started and not self.scheduler.in_loop():
+            if not self.scheduler.threaded:
+                self.scheduler.run_due()  # the caller runs the frames: drop it now
+            self._ended.wait(timeout)
+        self._close_recording()
+
+    def _close_recording(self) -> None:
+        """Close the recording once, whoever stops the session first."""
+        with self._closed:
+            if self._recording_closed:
+                return
+            self._recording_closed = True
+        ctl = self.controller
+        if isinstance(ctl, Controller) and self.drive:
+            with ctl.sim.lock:
+                ctl.stop_recording()
+
+    @property
+    def stopping(self) -> bool:
+        """True once the session was asked to stop (the scheduler drops it next turn)."""
+        return self._stop.is_set()
+
+    @property
+    def running(self) -> bool:
+        """True from :meth:`start` until the session is dropped."""
+        return self._started and not self._ended.is_set()
+
+    @property
+    def finished(self) -> bool:
+        """True once the session was started and has ended (stopped, or its browser left)."""
+        return self._started and self._ended.is_set()
+
+    def run_once(self, now: float | None = None) -> None:
+        """One frame: requests, stepping, one :class:`Frame`, drawing and recording; any
+        error is shown, never raised."""
+        ctl = self.controller
+        now = ctl.clock() if now is None else now
+        try:
+            frame = self.build_frame(now)
+        except Exception as exc:  # keep serving: the user sees the problem, once
+            self._fault(exc, now, "frame")
+            return
+        for notice in frame.notices:
+            self.notify(notice, now)
+        try:
+            self.view.render(frame)
+        except Exception as exc:
+            self._fault(exc, now, "render")
+
+    def notify(self, notice: Notice, now: float) -> None:
+        """Show ``notice`` unless the same error was seen less than :data:`NOTICE_QUIET`
+        seconds ago (a value refused on every frame is shown once)."""
+        if notice.level in ("error", "diverged"):
+            key = (notice.level, notice.title, notice.text)
+            last = self._seen.get(key)
+            self._seen[key] = now
+            if len(self._seen) > 64:  # forget the quiet ones
+                self._seen = {k: t for k, t in self._seen.items() if now - t < NOTICE_QUIET}
+            if last is not None and now - last < NOTICE_QUIET:
+                return
+        try:
+            self.view.notify(notice)
+        except Exception as exc:  # the browser may be gone
+            if not self._stop.is_set():
+                log.warning("cannot show a message: %s: %s", type(exc).__name__, exc)
+
+    def _fault(self, exc: Exception, now: float, where: str) -> None:
+        """A failed frame: logged (with its traceback) and shown once while it repeats."""
+        if self._stop.is_set():
+            return
+        if isinstance(exc, SandboxError):
+            notice = Notice("error", "Valeur refusée", french_message(exc))
+        else:
+            key = (where, type(exc).__name__, str(exc)[:200])
+            last = self._faults.get(key)
+            self._faults[key] = now
+            if len(self._faults) > 64:
+                self._faults = {k: t for k, t in self._faults.items() if now - t < NOTICE_QUIET}
+            if last is None or now - last >= NOTICE_QUIET:
+                log.error("session %s failed", where, exc_info=exc)
+            notice = Notice(
+                "error",
+                "Erreur interne",
+                f"L'image n'a pas pu être calculée ({type(exc).__name__}) ; la simulation "
+                "continue. Si cela se répète, signalez-le à l'enseignant.",
+            )
+        self.notify(notice, now)
+
+    def build_frame(self, now: float) -> Frame:
+        """Step (when driving), then compute once what the view and the recorder need at
+        this tick from one state: the picture when the drawn state changed and the view
+        draws, the readouts it asks for (sharing the picture's forces), and record."""
+        ctl = self.controller
+        live = ctl if isinstance(ctl, Controller) else None  # a replay's is not
+        notices: list[Notice] = []
+        if self.drive:
+            notices = live.frame(now, record=False) if live is not None else ctl.frame(now)
+        wanted = self.view.wants(now)
+        every = wanted is not None and "*" in wanted
+        names = set() if wanted is None or every else set(wanted)
+        recording = self.drive and live is not None and live.readouts_due()
+        values: Mapping[str, float] | None = None  # the physics state's, for the recorder
+        shown: Mapping[str, float] | None = None  # the drawn state's, for the view
+        read = (every or bool(names)) and not ctl.diverged
+        if recording and not ctl.diverged:
+            values = readouts(ctl, ())
+        sim = ctl.sim
+        drawn_at = drawn_time(ctl)
+        generation = int(ctl.generation)
+        drawing: Picture | None = None
+        snap: Snapshot | None = None
+        secret: Secret | None = live.secret if live is not None else None  # a replay has none
+        key = (id(sim.model), drawn_at, generation)
+        if self.view.draws and not ctl.diverged and key != self._pictured:
+            scene = as_scene(sim.scene)
+            arrows = scene.arrows if scene is not None else ()
+            trail = scene.trail if scene is not None else None
+            with sim.lock:
+                snap = drawn_snapshot(ctl, FORCES if arrows or (read and values is None) else ())
+                twin = secret.twin(sim) if secret is not None else None
+                drawing = picture(snap, arrows, trail=trail, shown=twin)
+            self._pictured = key
+        if read:
+            if values is not None:  # while recording, tables step with the physics
+                shown = values
+            elif snap is not None and live is not None:
+                with sim.lock:
+                    shown = live.shown_readouts(() if every else names, snapshot=snap)
+            else:
+                shown = shown_readouts(ctl, () if every else names, None)
+        if live is not None and recording:
+            live.record(values)
+        elif live is not None and self.drive:
+            live.record()
+        if secret is not None and shown is not None:
+            shown = secret.hide(shown)
+        return Frame(
+            now=now,
+            time=drawn_at,
+            generation=generation,
+            model_id=id(sim.model),
+            playing=bool(ctl.playing),
+            diverged=ctl.diverged,
+            notices=tuple(notices),
+            readouts=shown if wanted is not None else None,
+            picture=drawing,
+        )
+
+    def _turn(self, now: float) -> bool:
+        """The scheduler's call: one frame unless the session must end; False to drop it."""
+        if self._stop.is_set():
+            return False
+        if self.alive is not None and now >= self._next_check:
+            self._next_check = now + ALIVE_CHECK
+            if not self._still_alive():
+                log.info("session stops: its browser is gone")
+                self._stop.set()
+                return False
+        self.run_once()
+        return not self._stop.is_set()
+
+    def _end(self) -> None:
+        """Called by the scheduler once the session is dropped."""
+        self._ended.set()
+        if self.drive:
+            for cleanup in self.controller.cleanups:  # e.g. a study running for the page
+                try:
+                    cleanup()
+                except Exception:
+                    log.exception("a session's cleanup failed")
+        if self.alive is not None and self._stop.is_set():
+            self._close_recording()
+
+    def _still_alive(self) -> bool:
+        try:
+            return bool(self.alive()) if self.alive is not None else True
+        except Exception:  # a failing probe must not keep a dead session running
+            log.exception("session liveness check failed")
+            return False
+
+
+def drawn_time(ctl: Controller | ReplaySource) -> float:
+    """Simulated time drawn [s]: a live controller's (:attr:`Controller.drawn_time`,
+    between physics steps), else its simulation's own time (a replay)."""
+    return ctl.drawn_time if isinstance(ctl, Controller) else float(ctl.sim.data.time)
+
+
+def drawn_snapshot(ctl: Controller | ReplaySource, names: Collection[str] = ()) -> Snapshot:
+    """The state a view draws: a live controller's display state (:meth:`Controller.drawn`,
+    between physics steps), else its simulation's own state (a replay)."""
+    return ctl.drawn(names) if isinstance(ctl, Controller) else ctl.sim.snapshot(names)
+
+
+def shown_readouts(
+    ctl: Controller | ReplaySource, names: Collection[str], physics: Mapping[str, float] | None
+) -> Mapping[str, float]:
+    """The readouts a view shows: those of the drawn state when the controller draws
+    between physics steps (:meth:`Controller.shown_readouts`); while recording, the
+    recorder's row of the physics state (``physics``: one computation a tick serves
+    both, so tables step with the physics while a recording runs)."""
+    if physics is not None:
+        return physics
+    return ctl.shown_readouts(names) if isinstance(ctl, Controller) else readouts(ctl, names)
+
+
+def readouts(ctl: Controller | ReplaySource, names: Collection[str]) -> Mapping[str, float]:
+    """The controller's readouts (a replay's come from its recording, all at once)."""
+    return ctl.readouts(names) if isinstance(ctl, Controller) else ctl.values()

@@ -1,0 +1,118 @@
+"""The seams of sandbox.web.loop made public by its split: the timestep refusal shared by
+pacing and the checks, and the scheduler's view of a session."""
+
+from __future__ import annotations
+
+import pytest
+
+from sandbox.physics.simulation import Simulation
+from sandbox.recording import load
+from sandbox.web.loop import Controller, Refused, Scheduler, Session, check_timestep
+from sandbox.web.loop.frame import ReplaySource
+from sandbox.web.loop.refusals import max_timestep, timestep_range
+from sandbox.web.loop.requests import (
+    Advance,
+    Button,
+    Challenge,
+    Integrator,
+    Pause,
+    Play,
+    Record,
+    Request,
+    Reset,
+    SetValue,
+    Speed,
+    Steps,
+    StopRecord,
+    Timestep,
+    Toggle,
+    Unknown,
+    command,
+)
+from sandbox.web.loop.scheduler import Turns
+from sandbox.web.loop.session import drawn_snapshot, drawn_time, readouts, shown_readouts
+from sandbox.web.player import ReplayController
+
+
+def test_the_timestep_refusal_gives_the_range_in_french():
+    sim = Simulation("rotor")
+    words = timestep_range(sim, 0.5)
+    assert words.startswith("Pas de temps dt = 0,5 s refusé : choisissez un pas entre 1×10⁻⁶ s")
+    assert words.endswith(" s.") and "0,5" not in words.split("entre")[1]
+    assert max_timestep(sim) > 0
+    with pytest.raises(Refused) as err:
+        check_timestep(sim, 0.5)
+    assert str(err.value) == words
+    assert timestep_range(sim, "abc").startswith("Pas de temps dt = abc s refusé")
+
+
+class Blank:
+    draws = False
+
+    def wants(self, now: float) -> None:
+        return None
+
+    def render(self, frame: object) -> None:
+        pass
+
+    def notify(self, notice: object) -> None:
+        pass
+
+
+def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
+    scheduler = Scheduler(threaded=False)
+    session = Session(Controller(Simulation("rotor")), Blank(), scheduler=scheduler)
+    turns: Turns = session
+    assert not turns.stopping
+    session.request_stop()
+    assert turns.stopping
+
+
+@pytest.mark.parametrize(
+    ("request_", "typed"),
+    [
+        (Request("play"), Play()),
+        (Request("pause"), Pause()),
+        (Request("toggle"), Toggle()),
+        (Request("reset"), Reset()),
+        (Request("step"), Steps(None)),
+        (Request("step", 3), Steps(3)),
+        (Request("advance", 0.02, name="s"), Advance(0.02, "s")),
+        (Request("speed", "2"), Speed("2")),
+        (Request("set_value", 40, name="mass1_g"), SetValue("mass1_g", 40)),
+        (Request("integrator", "RK4"), Integrator("RK4")),
+        (Request("timestep", 1e-4), Timestep(1e-4)),
+        (Request("challenge", None), Challenge(None)),
+        (Request("record"), Record()),
+        (Request("stop_record"), StopRecord()),
+        (Request("button", "Lancer"), Button("Lancer")),
+        (Request("launch_missiles"), Unknown("launch_missiles")),
+        (Request("seek", 1.0), Unknown("seek")),  # a replay's, not the live loop's
+        (Request(["not", "a", "kind"]), Unknown(["not", "a", "kind"])),  # type: ignore[arg-type]
+    ],
+)
+def test_a_request_reads_as_its_typed_request(request_, typed):
+    assert command(request_) == typed
+
+
+def test_a_live_controller_and_a_replay_are_read_each_their_own_way(tmp_path):
+    ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
+    ctl.submit(Request("pause"))
+    ctl.submit(Request("advance", 0.0011, name="s"))  # drawn between two physics steps
+    ctl.submit(Request("record"))
+    for _ in range(30):
+        ctl.frame()
+    ctl.submit(Request("stop_record"))
+    path = next(n.text for n in ctl.frame() if n.level == "file")
+    assert drawn_time(ctl) == ctl.drawn_time
+    assert drawn_snapshot(ctl).data.time == pytest.approx(ctl.drawn_time)
+    names = ["omega", "T"]
+    assert readouts(ctl, names) == ctl.readouts(names)
+    assert shown_readouts(ctl, names, None) == ctl.shown_readouts(names)
+    assert shown_readouts(ctl, names, {"omega": 1.0}) == {"omega": 1.0}
+
+    replay: ReplaySource = ReplayController(load(path))
+    assert drawn_time(replay) == float(replay.sim.data.time)
+    assert drawn_snapshot(replay).data.time == replay.sim.data.time
+    assert readouts(replay, names) == replay.values()
+    assert shown_readouts(replay, names, None) == replay.values()
