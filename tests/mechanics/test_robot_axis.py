@@ -343,3 +343,27 @@ def test_arm_ringing_is_the_oscillating_eigenvalue_between_its_two_limits():
     assert arm_ringing(AXIS, servo_gain=kv)[1] == pytest.approx(wd, rel=1e-2)
     a, _ = state_matrices(AXIS, servo_gain=kv, position_gain=10.0)
     assert np.all(np.linalg.eigvals(a).real < 0)  # the loop is stable
+
+
+def test_as_real_gives_a_float_for_a_scalar_and_the_array_otherwise():
+    from sandbox.mechanics.robot_axis import as_real
+
+    scalar = as_real(np.float64(2.5) * np.ones(()))
+    assert type(scalar) is float and scalar == 2.5
+    array = as_real(np.array([1.0, 2.0]))
+    assert isinstance(array, np.ndarray) and list(array) == [1.0, 2.0]
+
+
+@pytest.mark.parametrize("rho", [0.0, -0.1, 1.0001, math.nan])
+def test_check_rho_refuses_an_efficiency_outside_0_1(rho):
+    from sandbox.mechanics.robot_axis import check_rho
+
+    with pytest.raises(ValueError, match="rho"):
+        check_rho(rho)
+
+
+@pytest.mark.parametrize("rho", [1e-9, 0.5, 1.0])
+def test_check_rho_accepts_an_efficiency_in_0_1(rho):
+    from sandbox.mechanics.robot_axis import check_rho
+
+    check_rho(rho)

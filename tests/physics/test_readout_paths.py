@@ -181,7 +181,7 @@ def test_model_constant_indices_follow_a_rebuilt_model():
 
 
 def test_the_compressor_orders_of_a_cached_revolution_are_the_fitted_ones():
-    from sandbox.scenes import compressor
+    from sandbox.scenes.compressor import cycle as compressor
 
     sim = Simulation("compressor")
     sim.advance(0.05)

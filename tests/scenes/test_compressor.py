@@ -180,6 +180,23 @@ def test_both_ways_of_measuring_the_orders_agree_in_steady_state():
     assert loop[1:3] == pytest.approx(ahead[1:3], abs=1e-3 * ahead[1])
 
 
+def test_pilon_harmonics_are_the_order_readouts_of_the_snapshot():
+    """The orders of the pilon (row 0) and the tamis (row 1), shared by the three order
+    readouts: the same numbers as the readouts, cached on the snapshot."""
+    from sandbox.scenes.compressor import pilon_harmonics
+
+    sim = Simulation("compressor", values={"counterweight_mass": 0.1})
+    sim.advance(0.05)
+    snap = sim.snapshot(["sup_R_x"])
+    orders = pilon_harmonics(snap)
+    assert orders.shape == (2, 5)
+    assert pilon_harmonics(snap) is orders
+    got = sim.readouts(["pilon_h1", "pilon_h2", "tamis_h1"])
+    assert [orders[0, 1], orders[0, 2], orders[1, 1]] == pytest.approx(
+        [got["pilon_h1"], got["pilon_h2"], got["tamis_h1"]], rel=1e-12
+    )
+
+
 def test_orders_fit_recovers_known_amplitudes():
     th = np.linspace(0, 2 * math.pi, 40, endpoint=False)
     amp = fit_orders(th, 3 + 2 * np.cos(th + 0.3) + 0.5 * np.sin(2 * th))

@@ -269,6 +269,22 @@ def test_the_revolution_ahead_leaves_the_trajectory_alone_and_speed_zero_reads_z
     assert abs(r["pilon"]) < 1e-9
 
 
+def test_orders_are_the_order_readouts_of_the_snapshot():
+    """(h1, h2, largest rocking moment) of the revolution simulated ahead: the numbers the
+    three readouts show, and zeros at rest."""
+    from sandbox.scenes.engine import orders
+
+    sim = _sim(cylinders=2.0)
+    sim.advance(0.05)
+    got = sim.readouts(["shaking_force_h1", "shaking_force_h2", "shaking_moment_max"])
+    out = orders(sim.snapshot(["sup_R_x"]))
+    assert list(out) == pytest.approx(
+        [got["shaking_force_h1"], got["shaking_force_h2"], got["shaking_moment_max"]],
+        rel=1e-12,
+    )
+    assert list(orders(_sim(speed_rpm=0.0).snapshot(["sup_R_x"]))) == [0.0, 0.0, 0.0]
+
+
 def test_motor_torque_over_a_revolution_is_the_sum_of_the_compressors():
     """The cycle's motor torque against Σ (dT/dt)/ω of the cylinders (compressor's C_mot)."""
     sim = _sim(cylinders=4)

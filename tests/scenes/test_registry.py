@@ -191,7 +191,7 @@ def test_a_revolution_simulated_while_the_motion_settles_is_simulated_again():
     """The engine's four cylinders cut to two: the new model spins up to its set point;
     the revolution simulated then leaks that transient (a first order of 0.2 N where the
     twin has none), so it is simulated once more a second later, and that one is kept."""
-    from sandbox.scenes import engine
+    from sandbox.scenes.engine import cycle as engine
     from sandbox.scenes.revolutions import SETTLE
 
     sim = Simulation("engine")

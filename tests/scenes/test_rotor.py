@@ -149,3 +149,19 @@ def test_moving_a_mass_keeps_the_motion():
     angle, t = float(sim.data.qpos[0]), float(sim.data.time)
     sim.set_value("mass1_g", 40)
     assert float(sim.data.qpos[0]) == angle and float(sim.data.time) == t
+
+
+def test_mass_points_place_the_defect_and_the_corrections_in_their_planes():
+    from sandbox.scenes.rotor import CORRECTION_RADIUS, DEFECT_RADIUS, PLANE_X, mass_points
+
+    values = {p.name: p.default for p in SCENE.params}
+    values |= {"defect_mass_g": 20.0, "mass1_g": 5.0, "angle1_deg": 90.0, "mass2_g": 0.0,
+               "angle2_deg": 180.0}  # fmt: skip
+    points = {name: (mass, pos) for name, mass, pos in mass_points(values)}
+    assert list(points) == ["defect", "correction1", "correction2"]
+    assert points["defect"][0] == pytest.approx(0.02)
+    assert points["defect"][1] == pytest.approx([0.0, DEFECT_RADIUS, 0.0])
+    assert points["correction1"][0] == pytest.approx(0.005)
+    assert points["correction1"][1] == pytest.approx([-PLANE_X, 0.0, CORRECTION_RADIUS])
+    assert points["correction2"][0] == 0.0
+    assert points["correction2"][1] == pytest.approx([PLANE_X, -CORRECTION_RADIUS, 0.0])

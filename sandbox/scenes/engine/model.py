@@ -1,0 +1,193 @@
+"""Model of the inline engine: the cylinders and balance shafts kept in the MJCF with their
+positions, lengths, masses and inertias, the velocity servo, the constraints' stiffness,
+the state with every loop closed and the default timestep (the compressor's choices)."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from sandbox.errors import BadParameter
+from sandbox.mechanics.engine import THROWS_DEG, lanchester_unbalance
+from sandbox.scenes.base import Values, per_revolution_timestep
+from sandbox.scenes.compressor import model as compressor
+from sandbox.scenes.compressor.course import kinematics
+from sandbox.scenes.compressor.params import RPM
+from sandbox.scenes.engine.course import counterweight_mass, cylinder_count, engine_of, masses
+from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS
+
+SHAFT_ECCENTRICITY = 0.01
+"""Distance [m] of each Lanchester shaft's unbalance from its axis."""
+
+
+def _check(v: Values) -> None:
+    cylinder_count(v)
+    if v["L"] <= v["R"] * 1.0001:
+        raise BadParameter(
+            f"the rod (L = {v['L']:g} m) must be longer than the crank (R = {v['R']:g} m); "
+            "raise L or lower R"
+        )
+    if v["d2"] > v["L"]:
+        raise BadParameter(
+            f"the rod's centre of mass (d2 = {v['d2']:g} m) must lie between A and B "
+            f"(L = {v['L']:g} m); lower d2 or raise L"
+        )
+    if v["C2"] <= v["m2"] * v["d2"] ** 2 * 1.0001:
+        raise BadParameter(
+            f"C2 = {v['C2']:g} kg·m² is below m2·d2² = {v['m2'] * v['d2'] ** 2:g} kg·m², an "
+            "impossible rod; raise C2 or lower m2 or d2"
+        )
+
+
+def positions(n: int, spacing: float) -> np.ndarray:
+    """z_i [m] of the cylinders about C."""
+    return (np.arange(n) - (n - 1) / 2) * spacing
+
+
+def _inertial(body: mujoco.MjsBody, mass: float, pos: list[float], diag: list[float]) -> None:
+    body.explicitinertial = True
+    body.mass = mass
+    body.ipos = pos
+    body.fullinertia = [*diag, 0.0, 0.0, 0.0]
+
+
+def _delete_body(spec: mujoco.MjSpec, name: str) -> None:
+    body = spec.body(name)
+    if body is not None:
+        spec.delete(body)
+
+
+def edit(spec: mujoco.MjSpec, v: Values) -> None:
+    """Keep the cylinders asked for (and the shafts when ``lanchester`` is on), then set
+    their positions, lengths, masses and inertias."""
+    _check(v)
+    n = cylinder_count(v)
+    for i in range(n + 1, MAX_CYLINDERS + 1):
+        for name in (f"piston_{i}", f"throw_{i}", f"cw_{i}"):
+            _delete_body(spec, name)
+        spec.delete(spec.geom(f"bore_{i}"))
+    shafts = v["lanchester"] >= 0.5
+    if not shafts:
+        for i in (1, 2):
+            _delete_body(spec, f"shaft_{i}")
+    # Equalities tied to deleted sites or joints go with them; drop any left over.
+    kept = {f"closure_{i}" for i in range(1, n + 1)} | ({"gear_1", "gear_2"} if shafts else set())
+    for eq in [e for e in spec.equalities if e.name not in kept]:
+        spec.delete(eq)
+    R, L, d2, m2, m3 = v["R"], v["L"], v["d2"], v["m2"], v["m3"]
+    m_cw = counterweight_mass(v)
+    zs = positions(n, v["spacing"])
+    half = max(abs(zs[0]), 0.0) + 0.05
+    spec.geom("block").size = [0.045, 0.012, half]
+    spec.geom("shaft").fromto = [0, 0, -half, 0, 0, half]
+    for i, (z, phi) in enumerate(zip(zs, THROWS_DEG[n], strict=True), start=1):
+        sign = 1.0 if phi == 0.0 else -1.0  # the pin's side along x of the crank's frame
+        throw = spec.body(f"throw_{i}")
+        throw.pos = [0, 0, z]
+        _inertial(throw, max(v["m1"], 1e-9), [sign * v["d1"], 0, 0], [1e-12] * 3)
+        spec.site(f"A_crank_{i}").pos = [sign * R, 0, 0]
+        spec.geom(f"pin_{i}").pos = [sign * R, 0, 0]
+        web = spec.geom(f"web_{i}")
+        web.pos = [sign * R / 2, 0, -0.008]
+        web.size = [R / 2 + 0.006, 0.008, 0.003]
+        cw = spec.body(f"cw_{i}")
+        cw.pos = [-sign * R, 0, z]
+        _inertial(cw, max(m_cw, 1e-9), [0, 0, 0], [m_cw * 1e-6 + 1e-12] * 3)
+        spec.geom(f"cw_{i}").rgba = [0.3, 0.3, 0.8, 1.0 if m_cw > 0 else 0.15]
+        piston = spec.body(f"piston_{i}")
+        piston.pos = [0, 0, z]
+        _inertial(piston, m3, [0, 0, 0], [m3 * 1e-4] * 3)
+        rod = spec.body(f"rod_{i}")
+        i_g = v["C2"] - m2 * d2 * d2
+        _inertial(rod, m2, [0, -L + d2, 0], [i_g, m2 * 1e-5 + 1e-12, i_g])
+        spec.site(f"A_rod_{i}").pos = [0, -L, 0]
+        spec.geom(f"rod_{i}").fromto = [0, 0, 0, 0, -L, 0]
+        bore = spec.geom(f"bore_{i}")
+        bore.pos = [0, L + R + 0.01, z]
+        bore.size = [0.022, R + 0.02, 0]
+    if shafts:
+        me = lanchester_unbalance(engine_of(v))
+        for i in (1, 2):
+            body = spec.body(f"shaft_{i}")
+            body.pos = [0.05 * (1 if i == 1 else -1), -R - 0.03, 0]
+            mass = max(me / SHAFT_ECCENTRICITY, 1e-9)
+            _inertial(body, mass, [0, SHAFT_ECCENTRICITY, 0], [mass * 1e-6 + 1e-12] * 3)
+    spec.joint("crank").armature = v["motor_inertia"]
+
+
+def _crank_inertia(v: Values) -> float:
+    """Inertia the servo sees on the crank axis [kg·m²] (rotor, throws, counterweights,
+    rods' big ends and the shafts through their 2:1 gears), for its gain."""
+    n = cylinder_count(v)
+    m, m_rot = masses(v)
+    per = v["m1"] * v["d1"] ** 2 + (counterweight_mass(v) + m_rot + m) * v["R"] ** 2
+    per += v["C2"] * (v["R"] / v["L"]) ** 2  # the rod's swing, φ' up to ω R / L
+    shafts = 0.0
+    if v["lanchester"] >= 0.5:
+        shafts = 2 * 4 * lanchester_unbalance(engine_of(v)) * SHAFT_ECCENTRICITY
+    return v["motor_inertia"] + 1e-4 + n * per + shafts
+
+
+def drive(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """Motor set point; servo gain and constraint stiffness follow the timestep (the
+    compressor's choices: servo time constant 0.7 dt, closures and gears 5 dt)."""
+    dt = float(model.opt.timestep)
+    kv = compressor.SERVO_STIFFNESS * _crank_inertia(v) / dt
+    model.actuator_gainprm[0, 0] = kv
+    model.actuator_biasprm[0, :3] = [0.0, 0.0, -kv]
+    model.eq_solref[:] = [compressor.CLOSURE_TIMECONST * dt, 1.0]
+    model.eq_solimp[:, :3] = [0.9999, 0.9999, 0.001]
+    data.ctrl[0] = v["speed_rpm"] * RPM
+
+
+def set_state(model: mujoco.MjModel, data: mujoco.MjData, theta: float, omega: float,
+              v: Values) -> None:  # fmt: skip
+    """Every loop closed at engine angle θ (cylinder 1 from its top dead centre) and speed
+    ω, shafts in phase."""
+    n = cylinder_count(v)
+    theta_c = theta + math.pi / 2  # the compressor's angle, from x0
+    qpos, qvel = data.qpos, data.qvel
+
+    def put(joint: str, q: float, dq: float) -> None:
+        j = model.joint(joint)
+        qpos[model.jnt_qposadr[j.id]] = q
+        qvel[model.jnt_dofadr[j.id]] = dq
+
+    put("crank", theta_c, omega)
+    for i, phi in enumerate(np.radians(THROWS_DEG[n]), start=1):
+        k = kinematics(theta_c - phi, omega, v["R"], v["L"])
+        put(f"piston_{i}", k.lam, k.dlam)
+        put(f"rod_{i}", k.phi, k.dphi)
+    if v["lanchester"] >= 0.5:
+        put("shaft_1", 2 * theta_c, 2 * omega)
+        put("shaft_2", -2 * theta_c, -2 * omega)
+
+
+def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
+    """At speed, cylinder 1 at its top dead centre."""
+    set_state(model, data, 0.0, v["speed_rpm"] * RPM, v)
+
+
+STEP_ANGLE = 0.22
+"""Crank angle per RK4 step [rad]: 7e-4 s at 3000 rpm (ω dt = 0.22), whose four
+cylinders then run 30 times faster than real time; measured there: pilon within 5.3e-4
+of its peak, |P_int| within 6.3e-5 of the shaft's power, loops closed to 1.1e-6 m. At
+17,000 rpm the rounding (:func:`~sandbox.scenes.base.per_revolution_timestep`) gives
+1e-4 s (ω dt = 0.18, the compressor's): pilon 3.9e-4, loops 7.8e-7 m."""
+
+
+def default_timestep(v: Values, data: mujoco.MjData | None = None) -> float:
+    """RK4 timestep [s] turning the crank by at most :data:`STEP_ANGLE` per step at
+    ``speed_rpm`` (the compressor's rule, :func:`sandbox.scenes.compressor.default_timestep`,
+    with a larger angle): 7e-4 s at 3000 rpm, 1e-4 s at 17,000 rpm; shorter for a rod
+    much shorter than the default one, and kept short while a crank faster than its set
+    point slows down."""
+    cos_max = math.sqrt(max(1.0 - (v["R"] / v["L"]) ** 2, 1e-4))
+    cos_default = math.sqrt(1.0 - (DEFAULTS["R"] / DEFAULTS["L"]) ** 2)
+    angle = STEP_ANGLE * min(1.0, cos_max / cos_default)
+    omega = v["speed_rpm"] * RPM
+    if data is not None:
+        omega = max(omega, abs(float(data.qvel[0])) / compressor.FASTER)
+    return per_revolution_timestep(angle, omega, largest=compressor.LARGEST_TIMESTEP)

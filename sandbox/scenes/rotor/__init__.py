@@ -1,0 +1,154 @@
+"""Unbalanced rotor on a fixed axis (course section 7.2): static and dynamic balancing.
+
+Rotor 1 turns about (O, x0) at constant speed, guided by two bearings A and B. A defect
+mass gives a static unbalance (G off the axis) and a skewed disk a couple unbalance
+(products of inertia E, F of the x column). Two correction masses, one per plane at a
+fixed radius, let the student cancel both: static balance needs Y = 0, dynamic balance
+needs Y = 0 and E = F = 0.
+
+Modules: :mod:`.params` (the parameter table and the geometry), :mod:`.course`
+(the closed forms of 7.2), :mod:`.model` (model edits and drive), :mod:`.readouts`
+(readouts and arrows).
+"""
+
+from __future__ import annotations
+
+from sandbox.scenes.base import Accuracy, Effects, Scene
+from sandbox.scenes.measures import relative_drift, worst_relative_error
+from sandbox.scenes.presets import StudyPreset, XYPreset
+from sandbox.scenes.rotor.course import (
+    balancing_solution,
+    bearing_split,
+    disk_axis,
+    mass_points,
+    mass_properties,
+    omega,
+    reference,
+    unbalance,
+)
+from sandbox.scenes.rotor.model import drive, edit, initial_state
+from sandbox.scenes.rotor.params import (
+    AXIS,
+    BEARING_X,
+    CORRECTION_RADIUS,
+    DEFECT_RADIUS,
+    DEFECT_X,
+    DISK_RADIUS,
+    DISK_THICKNESS,
+    FLANGE_RADIUS,
+    FLANGE_THICKNESS,
+    MASS_SPHERE_RADIUS,
+    PARAMS,
+    PLANE_X,
+    SHAFT_LENGTH,
+    SHAFT_RADIUS,
+    STEEL,
+)
+from sandbox.scenes.rotor.readouts import ARROWS, READOUTS
+from sandbox.scenes.roundoff import ROUND_OFF
+
+SCENE = Scene(
+    name="rotor",
+    overlay={"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
+    title="Rotor déséquilibré à équilibrer",  # one line in a projected panel
+    summary=(
+        "A rotor on two bearings turns at constant speed. A defect mass and a skewed disk "
+        "make the frame feel rotating forces; two correction masses cancel them."
+    ),
+    mjcf="rotor.xml",
+    params=PARAMS,
+    effects=Effects(gravity=False, contacts=False, actuation=True),
+    readouts=READOUTS,
+    edit=edit,
+    drive=drive,
+    initial_state=initial_state,
+    reference=reference,
+    # A uniform rotation is integrated exactly by every integrator (sandbox bench: errors
+    # ~1e-14 at every timestep), so the default is the cheapest run on the Pareto front;
+    # implicitfast also keeps the speed servo stable through slider jumps.
+    integrator="implicitfast",
+    timestep=1e-2,
+    plots=("bearing_A", "bearing_B"),
+    xy_presets=(
+        XYPreset(
+            "Efforts des paliers selon ω, au démarrage",
+            "omega",
+            ("bearing_A", "bearing_B"),
+            values={"ramp_s": 2.0, "speed_rpm": 6000.0},
+            hint="Le rotor part du repos et monte à 6000 tr/min : les efforts des paliers "
+            "suivent la parabole du cours en ω² (tirets).",
+        ),
+        XYPreset(
+            "Efforts des paliers au cours du temps",
+            "time",
+            ("bearing_A", "bearing_B"),
+            hint="À vitesse constante, les efforts tournent avec le rotor mais gardent leur "
+            "intensité : celle du cours (tirets).",
+        ),
+    ),
+    study_presets=(
+        StudyPreset(
+            "Effort du palier A selon la vitesse (0 à 6000 tr/min)",
+            ("speed_rpm", 0.0, 6000.0, 13),
+            "bearing_A",
+            duration=0.1,
+            hint="Chaque point est une simulation à vitesse constante : l'effort croît "
+            "comme ω² (cours 7.2).",
+        ),
+    ),
+    arrows=ARROWS,
+    body_frame="rotor",
+    sections="2–3, 5, 6, 7.2",
+    extra={
+        "balancing_solution": balancing_solution,
+        "solid_names": {"rotor": "1 (rotor)"},
+        "markers": {"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
+    },
+    # Round-off: at 1500 rpm {D} and the frame's action keep 6e-12 N and 2e-12 N·m on
+    # axes where the course has 0 (1e-13 of the 54 N peak), 1e-10 N at 6000 rpm.
+    zero={**ROUND_OFF, "kg·m": 1e-13, "kg·m²": 1e-14},
+    # Key quantity: the bearing force at A against 7.2's closed form; invariant: T, constant
+    # at constant speed (the servo holds ω, so a drift of T means the motion is wrong).
+    accuracy=Accuracy(
+        key="bearing_A",
+        readouts=("bearing_A", "T"),
+        duration=0.5,
+        error=worst_relative_error("bearing_A", reference),
+        invariant="T (constant speed)",
+        drift=relative_drift("T"),
+        values={"speed_rpm": 3000.0},
+        timesteps=(1e-4, 3e-4, 1e-3, 3e-3, 1e-2),
+    ),
+)
+
+__all__ = [
+    "ARROWS",
+    "AXIS",
+    "BEARING_X",
+    "CORRECTION_RADIUS",
+    "DEFECT_RADIUS",
+    "DEFECT_X",
+    "DISK_RADIUS",
+    "DISK_THICKNESS",
+    "FLANGE_RADIUS",
+    "FLANGE_THICKNESS",
+    "MASS_SPHERE_RADIUS",
+    "PARAMS",
+    "PLANE_X",
+    "READOUTS",
+    "SCENE",
+    "SHAFT_LENGTH",
+    "SHAFT_RADIUS",
+    "STEEL",
+    "balancing_solution",
+    "bearing_split",
+    "disk_axis",
+    "drive",
+    "edit",
+    "initial_state",
+    "mass_points",
+    "mass_properties",
+    "omega",
+    "reference",
+    "unbalance",
+]

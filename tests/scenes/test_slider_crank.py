@@ -1,0 +1,53 @@
+"""The pieces the slider-crank scenes share: the fitted orders, the accuracy entry and the
+round-off of the machines turning at constant speed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sandbox.scenes import SCENES
+from sandbox.scenes.roundoff import ROUND_OFF
+from sandbox.scenes.slider_crank import ACCURACY, fit_orders, peak_error
+
+
+def test_fit_orders_reads_the_amplitudes_of_a_known_series():
+    theta = np.linspace(0, 2 * math.pi, 64, endpoint=False)
+    values = 0.5 + 3.0 * np.cos(theta + 0.2) - 1.5 * np.sin(2 * theta) + 0.25 * np.cos(7 * theta)
+    amp = fit_orders(theta, values)
+    assert amp == pytest.approx([0.5, 3.0, 1.5, 0.0, 0.0], abs=1e-12)
+
+
+def test_peak_error_is_the_largest_gap_over_the_course_peak():
+    series = {"pilon": [1.0, -2.1, 0.5], "pilon_ref": [1.0, -2.0, 0.4]}
+    assert peak_error(series, {}) == pytest.approx(0.1 / 2.0)
+
+
+def test_the_compressor_and_the_engine_share_one_accuracy_entry():
+    assert SCENES["compressor"].accuracy is ACCURACY
+    assert SCENES["engine"].accuracy is ACCURACY
+    assert ACCURACY.error is peak_error
+    assert ACCURACY.values == {"speed_rpm": 17000.0}
+
+
+@pytest.mark.parametrize(
+    ("name", "own"),
+    [
+        ("rotor", {"kg·m": 1e-13, "kg·m²": 1e-14}),
+        ("compressor", {"m": 1e-13}),
+        ("engine", {"m": 1e-15}),
+    ],
+)
+def test_the_machines_at_constant_speed_share_the_round_off_table(name, own):
+    zero = dict(SCENES[name].zero)
+    assert zero == {**ROUND_OFF, **own}
+    assert ROUND_OFF == {
+        "N": 1e-9,
+        "N·m": 1e-10,
+        "W": 1e-9,
+        "J": 1e-12,
+        "kg·m/s": 1e-12,
+        "kg·m²/s": 1e-12,
+    }
