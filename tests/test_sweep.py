@@ -200,9 +200,9 @@ def test_a_dask_cluster_gives_the_local_rows_bit_for_bit():
 
 def test_an_unreachable_scheduler_is_one_line(capsys, monkeypatch):
     pytest.importorskip("distributed")
-    from sandbox import sweep
+    from sandbox.sweep import runs
 
-    monkeypatch.setattr(sweep, "CLUSTER_TIMEOUT", 1.0)
+    monkeypatch.setattr(runs, "CLUSTER_TIMEOUT", 1.0)
     argv = ["sweep", "rotor", "--vary", "speed_rpm=0:100:2", "--measure", "bearing_A"]
     assert main([*argv, "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
