@@ -214,7 +214,7 @@ def test_the_sweep_benchmark_prints_both_times_and_their_ratio(capsys, monkeypat
 
     small = sweep.bench_study("rotor", runs=4, duration=0.1)
     monkeypatch.setattr(sweep, "bench_study", lambda target: small)
-    monkeypatch.setattr("sandbox.cores.default_workers", lambda: 2)
+    monkeypatch.setattr("sandbox.cli.bench.default_workers", lambda: 2)
     assert main(["bench", "--sweep"]) == 0
     out = capsys.readouterr().out
     assert "rotor: 4 runs of 0.1 s, omega:max over speed_rpm from 0 to 6000" in out
