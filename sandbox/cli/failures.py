@@ -21,7 +21,6 @@ from sandbox.errors import one_line
 DEBUG_ENV = "SANDBOX_DEBUG"
 """Environment variable: ``1`` re-raises unexpected exceptions (a traceback for developers)."""
 
-
 MAX_HELD_WARNINGS = 10
 """MuJoCo warnings kept for the end of a command (the rest are dropped)."""
 

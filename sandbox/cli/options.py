@@ -13,12 +13,17 @@ from sandbox.errors import BadOption, BadParameter, shown
 MAX_WORKERS = 64
 """Most server processes ``--workers`` may start."""
 
-
 MAX_NAME_CHARS = 200
 """Longest ``--set`` name or value accepted."""
 
 
 def pairs(items: Sequence[str]) -> dict[str, str]:
+    """The ``--set NAME=VALUE`` items as {name: value} (both stripped, the value unparsed).
+
+    Raises:
+        BadParameter: an item without ``=`` or a name, or longer than
+            :data:`MAX_NAME_CHARS`, or holding a NUL character.
+    """
     out: dict[str, str] = {}
     for item in items:
         name, sep, value = item.partition("=")
@@ -46,10 +51,20 @@ def check_folder(path: Path, option: str) -> None:
 
 
 def no_nul(path: Path, option: str) -> None:
+    """Refuse a path holding a NUL character (no system call takes it), naming ``option``.
+
+    Raises:
+        BadOption: the path contains a NUL character.
+    """
     if "\x00" in str(path):
         raise BadOption(f"{option} {shown(str(path))} contains a NUL character; give another path")
 
 
 def check_port_range(port: int) -> None:
+    """Refuse a TCP port outside 0 to 65535.
+
+    Raises:
+        BadOption: the port is out of range.
+    """
     if not 0 <= port <= 65535:
         raise BadOption(f"--port must be between 0 and 65535, got {port!r}")

@@ -41,7 +41,7 @@ def _first_hinge(sim: Simulation) -> int | None:
 
 
 def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
-    """One run of ``study`` at ``point``: its row (see :data:`COLUMNS_AFTER`)."""
+    """One run of ``study`` at ``point``: its row (see :data:`sandbox.sweep.COLUMNS_AFTER`)."""
     sim = Simulation(
         study.target,
         values={**dict(study.fixed), **point},
