@@ -44,6 +44,10 @@ class Diverged(SandboxError):
         )
 
 
+INTERRUPTED = 130
+"""Exit code of a command stopped by Ctrl-C (128 + SIGINT), as shells report it."""
+
+
 def choices(names: Iterable[str]) -> str:
     """Format valid names for an error message: 'a, b, c'."""
     return ", ".join(sorted(names))

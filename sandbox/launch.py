@@ -10,13 +10,13 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 
-INTERRUPTED = 130
-"""Exit code of a command stopped by Ctrl-C (128 + SIGINT), as shells report it."""
+from sandbox.errors import INTERRUPTED
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; a Ctrl-C while it loads ends it with :data:`INTERRUPTED`."""
     try:
+        # inside the guard, not at module level: a Ctrl-C while MuJoCo and numpy load ends here
         from sandbox.cli import main as cli_main
     except KeyboardInterrupt:
         print("sandbox: interrupted", file=sys.stderr)

@@ -200,9 +200,9 @@ def test_a_dask_cluster_gives_the_local_rows_bit_for_bit():
 
 def test_an_unreachable_scheduler_is_one_line(capsys, monkeypatch):
     pytest.importorskip("distributed")
-    from sandbox import sweep
+    from sandbox.sweep import runs
 
-    monkeypatch.setattr(sweep, "CLUSTER_TIMEOUT", 1.0)
+    monkeypatch.setattr(runs, "CLUSTER_TIMEOUT", 1.0)
     argv = ["sweep", "rotor", "--vary", "speed_rpm=0:100:2", "--measure", "bearing_A"]
     assert main([*argv, "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err
@@ -214,7 +214,7 @@ def test_the_sweep_benchmark_prints_both_times_and_their_ratio(capsys, monkeypat
 
     small = sweep.bench_study("rotor", runs=4, duration=0.1)
     monkeypatch.setattr(sweep, "bench_study", lambda target: small)
-    monkeypatch.setattr("sandbox.cores.default_workers", lambda: 2)
+    monkeypatch.setattr("sandbox.cli.bench.default_workers", lambda: 2)
     assert main(["bench", "--sweep"]) == 0
     out = capsys.readouterr().out
     assert "rotor: 4 runs of 0.1 s, omega:max over speed_rpm from 0 to 6000" in out

@@ -245,7 +245,7 @@ def test_unexpected_exception_is_one_line_exit_1(monkeypatch, capsys):
     def broken() -> int:
         raise RuntimeError("kaboom\nsecond line")
 
-    monkeypatch.setattr("sandbox.cli.cmd_list", broken)
+    monkeypatch.setattr("sandbox.cli.command.cmd_list", broken)
     monkeypatch.delenv(DEBUG_ENV, raising=False)
     assert main(["list"]) == 1
     err = capsys.readouterr().err
@@ -259,7 +259,7 @@ def test_memory_error_is_one_line_and_debug_reraises(monkeypatch, capsys):
     def broken() -> int:
         raise MemoryError()
 
-    monkeypatch.setattr("sandbox.cli.cmd_list", broken)
+    monkeypatch.setattr("sandbox.cli.command.cmd_list", broken)
     monkeypatch.delenv(DEBUG_ENV, raising=False)
     assert main(["list"]) == 1
     assert capsys.readouterr().err.startswith("sandbox: error: internal error: MemoryError: ")
@@ -272,7 +272,7 @@ def test_keyboard_interrupt_in_a_command_is_130(monkeypatch, capsys):
     def interrupted() -> int:
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("sandbox.cli.cmd_list", interrupted)
+    monkeypatch.setattr("sandbox.cli.command.cmd_list", interrupted)
     assert main(["list"]) == 130
     assert capsys.readouterr().err == ""
 
