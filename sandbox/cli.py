@@ -832,7 +832,8 @@ def _video(rec: Recording, args: argparse.Namespace) -> None:
     """``replay --video``: checked before any frame, a progress bar on a terminal."""
     from tqdm import tqdm
 
-    from sandbox.web.video import VideoOptions, check, parse_size, render_video
+    from sandbox.web.video import VideoOptions, check, render_video
+    from sandbox.web.video_options import parse_size
 
     options = VideoOptions(
         args.video,

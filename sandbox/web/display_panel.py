@@ -20,7 +20,8 @@ from sandbox.physics.display import main_joint
 from sandbox.physics.picture import Picture
 from sandbox.scenes.base import as_scene
 from sandbox.web.arrows import USER_SCALES, ArrowLayer
-from sandbox.web.renderer import MARKER, SceneRenderer, mechanism_size
+from sandbox.web.geoms import MARKER, mechanism_size
+from sandbox.web.renderer import SceneRenderer
 from sandbox.web.session import SPEEDS, Controller, Request
 from sandbox.web.text import number
 

@@ -21,9 +21,9 @@ from sandbox.errors import SandboxError
 from sandbox.recording import Recording, set_state
 from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
-from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
 from sandbox.web.panels import bounds, command, speed_slider
+from sandbox.web.server import App, open_server, run_forever
 from sandbox.web.session import (
     Notice,
     Refused,

@@ -13,7 +13,7 @@ import pytest
 from conftest import LESSON_FILE, wait_for
 
 from sandbox.physics.simulation import Simulation
-from sandbox.web.app import App
+from sandbox.web.server import App
 from sandbox.web.session import Controller, Scheduler, Session
 
 PENDULUM = """
