@@ -19,7 +19,8 @@ from sandbox.replay import verify
 def _video(rec: Recording, args: argparse.Namespace) -> None:
     """``replay --video``: checked before any frame, a progress bar on a terminal."""
     # viser (a second, 20 MB) only for --video: 'sandbox --help' stays quick and small
-    from sandbox.web.video import VideoOptions, check, parse_size, render_video
+    from sandbox.web.video import VideoOptions, check, render_video
+    from sandbox.web.video_options import parse_size
 
     options = VideoOptions(
         args.video,

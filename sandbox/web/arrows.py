@@ -1,10 +1,7 @@
 """Force arrows of the scene (e.g. bearing forces) drawn in the 3D view every frame.
 
-Arrows are sized to the mechanism, not to the whole model (a rolling cylinder's 12 m
-plane): shafts and heads are a fixed fraction of :func:`mechanism_size`, and lengths are
-scaled so that the longest arrow of each unit stays within :data:`MAX_REACH` of that
-size (the factor changes only when an arrow would leave the view or shrink to a dot, so
-lengths can be compared from one instant to the next). The user multiplies it with
+Arrows are sized to the mechanism, not to the whole model (:mod:`sandbox.web.arrow_scale`
+says how long each is drawn). The user multiplies their lengths with
 :attr:`ArrowLayer.user_scale` ("Échelle des flèches").
 
 Labels name the arrow's point of application, not its tip: the forces at a bearing turn
@@ -26,9 +23,18 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
-from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Arrow
 from sandbox.web import wire
+from sandbox.web.arrow_scale import (
+    MIN_LENGTH,
+    SHAFT,
+    USER_SCALES,
+    arrow_points,
+    auto_factor,
+    caption,
+)
+from sandbox.web.camera import overlay_box, read_camera
+from sandbox.web.geoms import mechanism_size
 from sandbox.web.label_layout import (
     LABEL_EM,
     PX_PER_SCALE,
@@ -39,58 +45,9 @@ from sandbox.web.label_layout import (
     label_size,
     place,
 )
-from sandbox.web.renderer import mechanism_size
-from sandbox.web.text import number, with_unit
 
 if TYPE_CHECKING:
     import viser
-
-MIN_LENGTH = 1e-4
-"""Arrows shorter than this [m] are hidden (a cone alone would mislead)."""
-
-SHAFT = 0.01
-"""Shaft radius as a fraction of the mechanism's size (heads 2.5 and 6 shafts)."""
-
-MAX_REACH = 0.6
-"""Longest arrow of a unit, as a fraction of the mechanism's size, before user scaling."""
-
-MIN_REACH = 0.05
-"""Below this fraction the longest arrow of a unit is grown back (a dot says nothing)."""
-
-USER_SCALES = (0.25, 4.0)
-"""Range of the user's scale factor on the arrows' lengths."""
-
-
-def arrow_points(arrow: Arrow, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray, float]:
-    """Start and end [m] of an arrow in world coordinates (at the scene's own scale), and
-    the magnitude of its vector."""
-    origin, vector = arrow.fn(snapshot)
-    origin = np.asarray(origin, dtype=float)
-    vector = np.asarray(vector, dtype=float)
-    return origin, origin + arrow.scale * vector, float(np.linalg.norm(vector))
-
-
-def caption(arrow: Arrow, magnitude: float, unit: str, zero: Mapping[str, float]) -> str:
-    """An arrow's label: its words, magnitude and unit ("Palier A : 0,91 N"); its words
-    alone for an arrow that shows a direction only. ``zero``: round-off by unit."""
-    if not getattr(arrow, "magnitude", True):
-        return arrow.label
-    value = number(magnitude, 3, zero=zero.get(unit, 0.0))
-    return f"{arrow.label} : {with_unit(value, display_unit(unit))}"
-
-
-def auto_factor(current: float, longest: float, size: float) -> float:
-    """The length factor of a unit's arrows: ``current`` unless its longest arrow
-    (``longest`` metres at the scene's scale) would reach past :data:`MAX_REACH` or stay
-    under :data:`MIN_REACH` of ``size``; then the factor that brings it to 3/4 of the
-    reach (long enough to stick out of a body it starts inside, such as a rolling
-    cylinder's contact forces)."""
-    if not (math.isfinite(longest) and longest > 0):
-        return current
-    drawn = longest * current
-    if MIN_REACH * size <= drawn <= MAX_REACH * size:
-        return current
-    return 0.75 * MAX_REACH * size / longest
 
 
 MOVE = 2e-4
@@ -113,10 +70,6 @@ LEADER_MIN_PX = 8.0
 SNAP_PX = 0.5
 """A label's place moves only when its image would move by more than this [px]."""
 
-OVERLAY_LINES = 4
-"""Lines of the key readouts written over the bottom left of the view (projector mode):
-the labels keep out of that corner."""
-
 
 class Marks(Protocol):
     """Other labels of the 3D view (the masses named on a rotor), which the arrows'
@@ -124,33 +77,6 @@ class Marks(Protocol):
 
     def label_boxes(self, camera: Camera, em: float) -> list[Rect]: ...
     def set_label_scale(self, scale: float) -> None: ...
-
-
-def read_camera(handle: Any) -> Camera | None:
-    """The camera a browser draws with (a viser ``CameraHandle``), None until the browser
-    has told its canvas' size; a :class:`Camera` is returned as is."""
-    if handle is None or isinstance(handle, Camera):
-        return handle
-    try:
-        width, height = int(handle.image_width), int(handle.image_height)
-        if width <= 0 or height <= 0:
-            return None
-        position = tuple(float(x) for x in handle.position)
-        look_at = tuple(float(x) for x in handle.look_at)
-        up = tuple(float(x) for x in handle.up_direction)
-        fov = float(handle.fov)
-    except (AssertionError, AttributeError, TypeError, ValueError):
-        return None
-    values = (*position, *look_at, *up, fov)
-    if not all(math.isfinite(v) for v in values) or not 0 < fov < math.pi:
-        return None
-    return Camera(position, look_at, up, fov, float(width), float(height))  # type: ignore[arg-type]
-
-
-def overlay_box(camera: Camera, font_px: float) -> Rect:
-    """Where the key readouts are written over the view [px]: the bottom left corner."""
-    height = 24 + OVERLAY_LINES * 1.3 * 1.3 * font_px
-    return 0.0, camera.height - height, 0.62 * camera.width, camera.height
 
 
 class ArrowLayer:

@@ -21,7 +21,7 @@ import viser
 
 from sandbox.challenges import BALANCED, Attempt, Challenge
 from sandbox.scenes.base import Param, as_scene
-from sandbox.web.board import duration
+from sandbox.web.board_table import duration
 from sandbox.web.fields import param_unit
 from sandbox.web.loop import Controller, Request
 from sandbox.web.secret import Secret

@@ -20,8 +20,9 @@ from sandbox.physics.display import main_joint
 from sandbox.physics.picture import Picture
 from sandbox.scenes.base import as_scene
 from sandbox.web.arrows import USER_SCALES, ArrowLayer
+from sandbox.web.geoms import MARKER, mechanism_size
 from sandbox.web.loop import SPEEDS, Controller, Request
-from sandbox.web.renderer import MARKER, SceneRenderer, mechanism_size
+from sandbox.web.renderer import SceneRenderer
 from sandbox.web.text import number
 
 if TYPE_CHECKING:

@@ -23,10 +23,10 @@ from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web import client_text
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.camera import camera_pose, scene_view
 from sandbox.web.projector import key_readouts, overlay_lines
 from sandbox.web.renderer import SceneRenderer
 from sandbox.web.text import number, with_unit
-from sandbox.web.view import camera_pose, scene_view
 
 EXPORT_FPS = 30.0
 """Frames per second of a static export (recordings are thinned to this rate)."""

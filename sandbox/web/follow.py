@@ -31,18 +31,20 @@ from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import shown_scale
 from sandbox.scenes.base import as_scene
 from sandbox.web import network
-from sandbox.web.app import App, SimOptions
 from sandbox.web.arrows import ArrowLayer
-from sandbox.web.board_panel import BOARD_FOLDER, TEACHER_PREFIX, Classroom, name_field
+from sandbox.web.board_panel import BOARD_FOLDER, TEACHER_PREFIX, name_field
 from sandbox.web.board_panel import teacher_path as teacher_path  # re-exported
+from sandbox.web.camera import point_camera
+from sandbox.web.class_board import Classroom
 from sandbox.web.loop import Controller, Frame, Notice, Request, Session
 from sandbox.web.projector import FONT_SIZES, style_html
 from sandbox.web.renderer import SceneRenderer
+from sandbox.web.server import App, SimOptions
 from sandbox.web.study_chart import StudyChart
 from sandbox.web.study_queue import StudyJob, progress_words
 from sandbox.web.tables import fmt
 from sandbox.web.text import plain, table_row, with_unit
-from sandbox.web.view import WebView, arrow_layer, point_camera
+from sandbox.web.view import WebView, arrow_layer
 
 log = logging.getLogger(__name__)
 

@@ -21,7 +21,6 @@ from sandbox.errors import SandboxError
 from sandbox.recording import Recording, set_state
 from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
-from sandbox.web.app import App, open_server, run_forever
 from sandbox.web.fields import param_label, set_value
 from sandbox.web.loop import (
     Notice,
@@ -37,6 +36,7 @@ from sandbox.web.loop import (
     step_count,
 )
 from sandbox.web.panels import bounds, command, speed_slider
+from sandbox.web.server import App, open_server, run_forever
 from sandbox.web.text import number, plain, table_row
 from sandbox.web.view import WebView
 

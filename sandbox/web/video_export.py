@@ -20,10 +20,14 @@ from pathlib import Path
 
 import viser
 
+import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
 from sandbox.errors import SandboxError
+from sandbox.recording import load
 from sandbox.web.background import BackgroundPool
 from sandbox.web.loop import Controller
 from sandbox.web.text import plain
+from sandbox.web.video import render_video
+from sandbox.web.video_options import VideoOptions
 
 FOLDER = "Vidéo"
 BUTTON = "Exporter une vidéo"
@@ -35,10 +39,6 @@ SIZE = (1280, 720)
 def render_last(recording: str, out: str, progress: str, last: float = LAST) -> int:
     """In the worker: the last ``last`` seconds of ``recording`` (in progress) as the
     video ``out``; the frames done so far in ``progress`` (``done/total``)."""
-    import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
-    from sandbox.recording import load
-    from sandbox.web.video import VideoOptions, render_video
-
     rec = load(Path(recording), salvage=True)
     options = VideoOptions(Path(out), size=SIZE, start=max(0.0, rec.duration - last))
     note = Path(progress)

@@ -10,17 +10,16 @@ from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
 
-import numpy as np
-from numpy.typing import ArrayLike
-
 from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web import wire
 from sandbox.web.accuracy_panel import AccuracyPanel
 from sandbox.web.arrows import ArrowLayer
+from sandbox.web.camera import point_camera
 from sandbox.web.challenge_panel import ChallengePanel
 from sandbox.web.cycle_panel import CyclePanel
 from sandbox.web.display_panel import DisplayPanel
+from sandbox.web.geoms import mechanism_size
 from sandbox.web.isolate_panel import IsolatePanel
 from sandbox.web.join_panel import JoinPanel
 from sandbox.web.lesson_panel import LessonPanel
@@ -35,7 +34,7 @@ from sandbox.web.readout_panel import (
     TORSORS_FOLDER,
     ReadoutPanel,
 )
-from sandbox.web.renderer import SceneRenderer, mechanism_size
+from sandbox.web.renderer import SceneRenderer
 from sandbox.web.secret import Secret
 from sandbox.web.study_panel import FOLDER as STUDY_FOLDER
 from sandbox.web.study_panel import StudyPanel
@@ -80,8 +79,6 @@ CONTROLS_WIDTH = 430
 """Width [px] of the control panel, docked right of the 3D view (labels of 16 px text on
 two lines at most)."""
 
-Vec3 = tuple[float, float, float]
-
 
 class Controls(Protocol):
     """The top panel of a view: the live :class:`ControlPanel` or a replay's timeline."""
@@ -99,43 +96,6 @@ class Driver(Protocol):
 
 
 D = TypeVar("D", bound=Driver)
-
-
-def camera_pose(
-    center: ArrayLike, extent: float, direction: ArrayLike = (0.45, -1.0, 0.55)
-) -> tuple[np.ndarray, np.ndarray]:
-    """A view along ``direction`` (default: three-quarter from the front, above).
-
-    Returns:
-        Camera position and look-at point, world coordinates [m].
-    """
-    look_at = np.asarray(center, dtype=float)
-    axis = np.asarray(direction, dtype=float)
-    axis /= np.linalg.norm(axis)
-    return look_at + 0.9 * max(extent, 1e-3) * axis, look_at
-
-
-def scene_view(sim: Simulation) -> tuple[Vec3, Vec3]:
-    """(direction towards the camera, up vector): the scene's own, else z up."""
-    spec = as_scene(sim.scene)
-    if spec is not None and spec.camera:
-        return spec.camera
-    return (0.45, -1.0, 0.55), (0.0, 0.0, 1.0)
-
-
-def point_camera(client: viser.ClientHandle, sim: Simulation, *, narrow: bool = False) -> None:
-    """Aim a browser's camera at the scene, from the scene's preferred side (``narrow``:
-    from further back, for a 3D view between two docked columns)."""
-    model = sim.model
-    direction, up = scene_view(sim)
-    center, extent = np.asarray(model.stat.center, dtype=float), float(model.stat.extent)
-    spec = as_scene(sim.scene)
-    if spec is not None and spec.look_at is not None:
-        center, extent = np.asarray(spec.look_at[0], dtype=float), spec.look_at[1]
-    position, look_at = camera_pose(center, extent * (1.5 if narrow else 1.0), direction)
-    client.camera.up_direction = up
-    client.camera.position = position
-    client.camera.look_at = look_at
 
 
 def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:

@@ -8,24 +8,21 @@ platform), prints the address, restarts a worker that dies, and stops them all o
 or SIGTERM; a stopping worker closes its sessions, so recordings in progress are
 finished, never lost.
 
-A worker never outlives the parent, however the parent ends (``kill -9`` too, which runs
-none of its code): each worker holds the reading end of a pipe whose only writer is the
-parent, and a thread of the worker waits on it (:func:`watch_parent`). The operating
-system closes a dead process's files and handles, so the read ends at once, on Linux,
-macOS and Windows alike; the worker then stops as on Ctrl-C (sessions and recordings
-closed) and exits within :data:`ORPHAN_GRACE` seconds anyway.
+A worker never outlives the parent, however the parent ends (``kill -9`` too): each
+worker holds the reading end of a pipe whose only writer is the parent
+(:func:`sandbox.web.worker.watch_parent`); a worker's body is
+:func:`sandbox.web.worker.worker_main`.
 
 The class board ("La classe" on the teacher's page) sees the students of every worker:
 each worker puts its students' rows on the ``events`` queue once a second
-(:class:`WorkerHub`), the parent merges them (:class:`sandbox.web.board.Roster`) and
-sends the merged board, on a pipe of its own per worker, to the workers that serve a
-teacher's page; a thread sends it (:class:`BoardRelay`), so the parent's loop never waits
-on a worker.
+(:class:`~sandbox.web.worker.WorkerHub`), the parent merges them
+(:class:`sandbox.web.roster.Roster`) and sends the merged board, on a pipe of its own per
+worker, to the workers that serve a teacher's page; a thread sends it
+(:class:`BoardRelay`), so the parent's loop never waits on a worker.
 """
 
 from __future__ import annotations
 
-import _thread
 import contextlib
 import logging
 import math
@@ -34,32 +31,24 @@ import os
 import queue
 import signal
 import socket
-import sys
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass, field, replace
+from collections.abc import Iterator
+from dataclasses import replace
 from multiprocessing.process import BaseProcess
 from multiprocessing.queues import Queue
 from types import FrameType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from sandbox.cores import DEFAULT_WORKERS_CAP as DEFAULT_WORKERS_CAP  # re-exported
 from sandbox.cores import default_workers as default_workers  # re-exported
-from sandbox.errors import BadOption, SandboxError
-from sandbox.web.board import MAX_ROWS, REFRESH, SETTLE, Board, Roster, Run, from_wire
+from sandbox.errors import BadOption
+from sandbox.web.board import MAX_ROWS, REFRESH, SETTLE, Run, from_wire
 from sandbox.web.front import Front
-
-if TYPE_CHECKING:
-    from sandbox.web.app import App
+from sandbox.web.roster import Roster
+from sandbox.web.worker import Event, WorkerSpec, worker_main
 
 log = logging.getLogger(__name__)
-
-Event = tuple[str, int, object]
-"""What a worker tells the parent: ("ready", index, port), ("error", index, reason) or
-("board", index, (rows, wants)): its students' rows (wire dicts) and whether a teacher's
-page there waits for the merged board; ("run", index, run): a challenge a teacher there
-started or stopped (:meth:`sandbox.web.board.Run.wire`)."""
 
 START_TIMEOUT = 60.0
 """Seconds a worker may take to import, build its first simulation and listen."""
@@ -81,117 +70,6 @@ POLL = 0.1
 """Seconds the parent's loop waits for connections before it looks at its workers (their
 restarts, the class board's rows: a student arriving reaches the teacher's board a tenth
 of a second sooner than with a quarter)."""
-
-ORPHAN_GRACE = 2.0
-"""Seconds a worker whose parent died gets to close its sessions before it exits anyway."""
-
-
-@dataclass(frozen=True)
-class WorkerSpec:
-    """Everything a worker needs to start its app (picklable).
-
-    Attributes:
-        target: Scene name or MJCF path.
-        host: Interface to listen on.
-        port: TCP port shared by every worker.
-        options: Keyword arguments for :func:`sandbox.web.app.start`.
-    """
-
-    target: str
-    host: str
-    port: int
-    options: Mapping[str, Any] = field(default_factory=dict)
-
-
-def _interrupt_main() -> None:
-    """Stop this worker as Ctrl-C would: KeyboardInterrupt in its main thread, which
-    :func:`sandbox.web.app.run_forever` answers by closing the sessions."""
-    _thread.interrupt_main(signal.SIGINT)
-
-
-def watch_parent(
-    lifeline: Any,
-    *,
-    grace: float = ORPHAN_GRACE,
-    stop: Callable[[], None] = _interrupt_main,
-    exit: Callable[[int], None] = os._exit,
-) -> threading.Thread:
-    """Stop this process when the parent's end of ``lifeline`` closes.
-
-    The parent never writes on the pipe and keeps its end open while it lives; when it
-    ends, however it ends, the system closes that end and ``recv`` fails here. Works on
-    every platform (a pipe, not ``prctl`` or signals).
-
-    Args:
-        lifeline: Reading end of a :func:`multiprocessing.Pipe` whose writer is the parent.
-        grace: Seconds between ``stop`` and ``exit`` (the process normally ends in between,
-            and this daemon thread with it).
-        stop: Asks the process to stop cleanly (default: KeyboardInterrupt in the main
-            thread, the Ctrl-C path).
-        exit: Ends the process with the given status if it is still there after ``grace``.
-
-    Returns:
-        The watching thread (a daemon, started).
-    """
-
-    def watch() -> None:
-        try:
-            lifeline.recv()
-        except (EOFError, OSError):
-            pass  # the parent is gone (a message would mean "stop" just as well)
-        log.warning("the server's main process stopped or is gone: stopping this worker")
-        stop()
-        time.sleep(grace)
-        exit(1)
-
-    thread = threading.Thread(target=watch, name="sandbox-lifeline", daemon=True)
-    thread.start()
-    return thread
-
-
-class WorkerHub:
-    """A worker's side of the class board: its rows go to the parent on ``events``; the
-    merged board comes back on ``pipe`` and goes to ``deliver`` (from a thread).
-
-    Args:
-        events: The queue to the parent.
-        index: This worker's index.
-        pipe: Reading end of the parent's board pipe to this worker.
-        deliver: Called with each merged board.
-    """
-
-    def __init__(
-        self, events: Queue[Event], index: int, pipe: Any, deliver: Callable[[Board], None]
-    ) -> None:
-        self.events = events
-        self.index = index
-        self.pipe = pipe
-        self.deliver = deliver
-        self._thread = threading.Thread(target=self._receive, name="sandbox-board-in", daemon=True)
-        self._thread.start()
-
-    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
-        """This worker's students to the parent (never blocks: the queue's own thread
-        sends)."""
-        self.events.put(("board", self.index, (rows, wants)))
-
-    def announce(self, run: Run) -> None:
-        """A teacher here started or stopped a challenge: to the parent, which tells every
-        worker."""
-        self.events.put(("run", self.index, run.wire()))
-
-    def _receive(self) -> None:
-        while True:
-            try:
-                data = self.pipe.recv()
-            except (EOFError, OSError):
-                return  # the parent is gone: the worker is stopping
-            except Exception:  # not a board: skip it
-                log.warning("an unreadable class board was dropped", exc_info=True)
-                continue
-            board = Board.from_wire(data)
-            if board is not None:
-                self.deliver(board)
 
 
 class BoardRelay:
@@ -249,70 +127,13 @@ class BoardRelay:
             pipe.close()
 
 
-def _worker_main(
-    spec: WorkerSpec,
-    index: int,
-    events: Queue[Event],
-    pipe: Any,
-    closed: Any,
-    lifeline: Any,
-    board: Any = None,
-) -> None:
-    """Body of a worker process: serve the connections the front hands over on ``pipe``
-    until SIGTERM or SIGINT or the end of the parent (``lifeline``), then close sessions;
-    the class board's rows go to the parent and its merged board comes on ``board``."""
-    logging.basicConfig(level=logging.WARNING, format=f"sandbox[w{index}] %(message)s")
-    app: App | None = None
-    try:
-        watch_parent(lifeline)
-        from sandbox.web import network
-        from sandbox.web.app import start
-        from sandbox.web.handoff import Adopter
-
-        # viser's banners: the parent prints the address
-        sys.stdout = open(os.devnull, "w", encoding="utf-8")
-        adopter = Adopter(pipe, closed, index)
-        network.install(handoff=adopter)
-        try:
-            app = start(
-                spec.target,
-                host=spec.host,
-                port=spec.port,
-                open_message=False,
-                check_port=False,
-                **dict(spec.options),
-            )
-        except SandboxError as exc:
-            events.put(("error", index, str(exc)))
-            return
-        except Exception as exc:  # reported by the parent as one line
-            events.put(("error", index, f"{type(exc).__name__}: {exc}"))
-            return
-        classroom = getattr(app, "classroom", None)
-        if classroom is not None and board is not None:
-            hub = WorkerHub(events, index, board, classroom.receive)
-            classroom.relay(hub, source=f"w{index}")
-        adopter.start()
-        events.put(("ready", index, app.port))
-    except KeyboardInterrupt:  # Ctrl-C, or the end of the parent, while starting
-        if app is not None:
-            app.stop()
-        return
-    from sandbox.web.app import run_forever
-
-    try:
-        run_forever(app)
-    finally:  # sessions are closed: a second SIGTERM must not interrupt the exit
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-
-
 @contextlib.contextmanager
 def _terminal_interrupts_ignored() -> Iterator[None]:
     """Start a worker with SIGINT ignored, as a process started in the background is: a
     Ctrl-C reaches every process of the terminal's group, and one landing while a worker
     still imports its modules printed a KeyboardInterrupt traceback through them. The
     parent stops its workers itself (SIGTERM, the lifeline); a worker's own handler is
-    set once it serves (:func:`~sandbox.web.app.run_forever`). No effect outside the main
+    set once it serves (:func:`~sandbox.web.server.run_forever`). No effect outside the main
     thread or where SIGINT dispositions are not inherited (Windows: the console's Ctrl-C
     is then the worker's own)."""
     if threading.current_thread() is not threading.main_thread():
@@ -359,7 +180,7 @@ class WorkerPool:
         watched, lifeline = self._ctx.Pipe(duplex=False)
         board_in, board_out = self._ctx.Pipe(duplex=False)
         proc = self._ctx.Process(
-            target=_worker_main,
+            target=worker_main,
             args=(self.spec, index, self._events, receiver, self.closed, watched, board_in),
             name=f"sandbox-worker-{index}",
             daemon=False,

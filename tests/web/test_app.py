@@ -13,8 +13,8 @@ import pytest
 from conftest import LESSON_FILE, wait_for
 
 from sandbox.physics.simulation import Simulation
-from sandbox.web.app import App
 from sandbox.web.loop import Controller, Scheduler, Session
+from sandbox.web.server import App
 
 PENDULUM = """
 <mujoco><option timestep="0.01"/><worldbody>

@@ -18,29 +18,19 @@ import pytest
 from conftest import choose, free_port, wait_for
 
 from sandbox.web.board import (
-    CSV_COLUMNS,
     KEEP_GONE,
-    SORTS,
     Board,
-    Roster,
     Row,
-    board_html,
     clean_name,
-    csv_text,
     from_wire,
     progress_of,
-    sort_rows,
-    summary,
     to_wire,
 )
-from sandbox.web.board_panel import (
-    BOARD_FOLDER,
-    CSV_BUTTON,
-    NAME_LABEL,
-    Classroom,
-    key_readout,
-    student_row,
-)
+from sandbox.web.board_panel import BOARD_FOLDER, CSV_BUTTON, NAME_LABEL
+from sandbox.web.board_table import CSV_COLUMNS, SORTS, board_html, csv_text, sort_rows, summary
+from sandbox.web.class_board import Classroom
+from sandbox.web.roster import Roster
+from sandbox.web.student_rows import key_readout, student_row
 
 # -- names ---------------------------------------------------------------------------------
 
@@ -252,9 +242,10 @@ def gui_server() -> Iterator[object]:
 
 def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     from sandbox.physics.simulation import Simulation
-    from sandbox.web.board_panel import _Readouts, _Student
     from sandbox.web.lesson_panel import LessonPanel
     from sandbox.web.loop import Controller
+    from sandbox.web.student_rows import Readouts as _Readouts
+    from sandbox.web.student_rows import Student as _Student
 
     controller = Controller(Simulation("rotor"))
     panel = LessonPanel(gui_server.gui, controller, lesson="equilibrage")
@@ -590,7 +581,7 @@ def test_during_a_challenge_the_table_shows_who_solved_it_and_sorts_fastest_firs
 
 def test_a_challenge_announced_in_one_process_reaches_its_board_at_once():
     from sandbox.web.board import Run
-    from sandbox.web.board_panel import LocalHub
+    from sandbox.web.class_board import LocalHub
 
     got: list[Board] = []
     hub = LocalHub(0.0, got.append, clock=lambda: 5.0)

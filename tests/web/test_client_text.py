@@ -51,7 +51,8 @@ def test_the_page_reads_french_in_an_english_browser(browser):
     chart ticks (``Intl.NumberFormat(navigator.language)``): with a decimal comma."""
     from conftest import free_port
 
-    from sandbox.web.app import PAGE_TITLE, start
+    from sandbox.web.app import start
+    from sandbox.web.startup import PAGE_TITLE
 
     app = start("rotor", port=free_port(), open_message=False)
     context = browser.new_context(viewport={"width": 1280, "height": 720}, locale="en-US")

@@ -12,7 +12,7 @@ import viser
 
 from sandbox.cli import build_parser
 from sandbox.errors import BadOption
-from sandbox.web import network
+from sandbox.web import addresses, network
 from sandbox.web.app import banner
 from sandbox.web.join_panel import join_html
 
@@ -94,7 +94,7 @@ def test_the_servers_own_pages_and_programs_are_accepted(headers):
 
 
 def test_the_served_addresses_follow_the_interface_and_the_proxy(monkeypatch):
-    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
+    monkeypatch.setattr(addresses, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
     everywhere = network.Served.of("0.0.0.0").on(("::ffff:172.16.0.9", 8080, 0, 0))
     assert {"localhost", "127.0.0.1", "::1", "192.168.1.20", "10.0.0.5"} <= everywhere.names
     assert "172.16.0.9" in everywhere.names  # the address this connection reached
@@ -176,7 +176,7 @@ def test_a_server_on_every_interface_serves_this_machines_lan_address():
     from sandbox.web.app import start
     from tests.conftest import free_port
 
-    lan = network.lan_addresses()
+    lan = addresses.lan_addresses()
     if not lan:
         pytest.skip("this machine has no network address besides loopback")
     app = start("rotor", host="0.0.0.0", port=free_port(), open_message=False)
@@ -207,7 +207,7 @@ def test_a_server_behind_a_proxy_serves_the_public_url():
 
 
 def test_lan_addresses_are_reachable_ipv4_addresses():
-    for text in network.lan_addresses():
+    for text in addresses.lan_addresses():
         ip = ipaddress.IPv4Address(text)
         assert not ip.is_loopback and not ip.is_link_local
 
@@ -215,10 +215,10 @@ def test_lan_addresses_are_reachable_ipv4_addresses():
 def test_lan_addresses_outside_linux_come_from_the_routing_table(monkeypatch):
     """macOS and Windows have no SIOCGIFADDR: the UDP-connect trick names the address
     the machine sends from, the one the Linux path finds here first."""
-    linux = network.lan_addresses()
-    monkeypatch.setattr(network.sys, "platform", "darwin")
-    assert network._interface_addresses() == []
-    elsewhere = network.lan_addresses()
+    linux = addresses.lan_addresses()
+    monkeypatch.setattr(addresses.sys, "platform", "darwin")
+    assert addresses._interface_addresses() == []
+    elsewhere = addresses.lan_addresses()
     if not linux:
         pytest.skip("this machine has no LAN address")
     assert elsewhere and set(elsewhere) <= set(linux)
@@ -226,18 +226,18 @@ def test_lan_addresses_outside_linux_come_from_the_routing_table(monkeypatch):
 
 
 def test_student_urls_and_banner(monkeypatch):
-    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
-    assert network.student_urls("0.0.0.0", 8080) == [
+    monkeypatch.setattr(addresses, "lan_addresses", lambda: ["192.168.1.20", "10.0.0.5"])
+    assert addresses.student_urls("0.0.0.0", 8080) == [
         "http://192.168.1.20:8080",
         "http://10.0.0.5:8080",
     ]
-    assert network.student_urls("192.168.1.20", 9000) == ["http://192.168.1.20:9000"]
+    assert addresses.student_urls("192.168.1.20", 9000) == ["http://192.168.1.20:9000"]
     text = banner("rotor", "0.0.0.0", 8080, workers=2)
     assert "http://127.0.0.1:8080 by 2 worker processes" in text
     assert "students open http://192.168.1.20:8080" in text
     assert "127.0.0.1" not in text.splitlines()[1]
     assert "students" not in banner("rotor", "127.0.0.1", 8080)
-    monkeypatch.setattr(network, "lan_addresses", lambda: [])
+    monkeypatch.setattr(addresses, "lan_addresses", lambda: [])
     assert "no network address" in banner("rotor", "0.0.0.0", 8080)
 
 
@@ -329,9 +329,9 @@ def _children(pid: int) -> list[int]:
 
 
 def test_a_proxys_address_replaces_the_machines_own(monkeypatch):
-    from sandbox.web.app import join_urls
+    from sandbox.web.startup import join_urls
 
-    monkeypatch.setattr(network, "lan_addresses", lambda: ["192.168.1.20"])
+    monkeypatch.setattr(addresses, "lan_addresses", lambda: ["192.168.1.20"])
     assert join_urls("0.0.0.0", 8080, "http://sandbox.lycee.fr") == ["http://sandbox.lycee.fr"]
     assert join_urls("0.0.0.0", 8080) == ["http://192.168.1.20:8080"]
     assert join_urls("127.0.0.1", 8080) == []

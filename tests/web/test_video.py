@@ -230,7 +230,7 @@ def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
     cannot be made is one line naming what to do."""
     import mujoco
 
-    from sandbox.web import video as v
+    from sandbox.web import offscreen as v
 
     monkeypatch.setattr(v.platform, "system", lambda: system)
     tried: list[str] = []

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from sandbox.web import workers
+from sandbox.web import worker, workers
 
 linux_only = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="finds the workers in /proc"
@@ -153,7 +153,7 @@ def test_a_worker_is_told_when_its_lifeline_breaks():
         calls.append(f"exit {code}")
         done.set()
 
-    thread = workers.watch_parent(reader, grace=0.1, stop=stop, exit=exit_)
+    thread = worker.watch_parent(reader, grace=0.1, stop=stop, exit=exit_)
     assert thread.daemon
     time.sleep(0.2)
     assert calls == []  # the parent lives: nothing happens
@@ -368,7 +368,7 @@ def test_a_worker_s_hub_sends_its_rows_and_delivers_the_merged_board():
     reader, writer = ctx.Pipe(duplex=False)
     events: queue.Queue[workers.Event] = queue.Queue()
     delivered: list[Board] = []
-    hub = workers.WorkerHub(events, 3, reader, delivered.append)  # type: ignore[arg-type]
+    hub = worker.WorkerHub(events, 3, reader, delivered.append)  # type: ignore[arg-type]
     hub.publish([{"key": "w3:1", "joined": 1.0}], True)
     assert events.get(timeout=1) == ("board", 3, ([{"key": "w3:1", "joined": 1.0}], True))
     writer.send("not a board")

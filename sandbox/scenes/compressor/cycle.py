@@ -9,8 +9,8 @@ import mujoco
 import numpy as np
 
 from sandbox.physics import torsors as generic
-from sandbox.physics.torsors import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.compressor.course import HARMONIC_SAMPLES, frame_force, motor_torque
 from sandbox.scenes.compressor.model import set_loop_state
 from sandbox.scenes.revolutions import PerModel

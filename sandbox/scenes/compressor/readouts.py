@@ -9,8 +9,8 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
-from sandbox.physics.torsors import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.base import Arrow, SceneReadout
 from sandbox.scenes.compressor.course import frame_force, motor_torque
 from sandbox.scenes.compressor.cycle import pilon_harmonics

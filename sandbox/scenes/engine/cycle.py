@@ -10,8 +10,8 @@ import numpy as np
 
 from sandbox.mechanics.engine import shaking_force, shaking_moment
 from sandbox.physics import torsors as generic
-from sandbox.physics.torsors import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.engine.course import engine_of, motor_torque_ref
 from sandbox.scenes.revolutions import PerModel
 from sandbox.scenes.slider_crank import fit_orders

@@ -9,8 +9,8 @@ import math
 import numpy as np
 
 from sandbox.mechanics.engine import Engine, shaking_force, shaking_moment
-from sandbox.physics.torsors import joint_drive
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.base import Arrow, SceneReadout
 from sandbox.scenes.engine.course import cylinder_count, engine_of
 from sandbox.scenes.engine.cycle import orders
