@@ -17,7 +17,10 @@ one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
 6. web:       ``sandbox/web/`` (viser)
 7. cli:       ``sandbox/cli.py``
 
-Plus: mechanics imports neither MuJoCo nor viser; physics never imports viser.
+Plus: mechanics imports neither MuJoCo nor viser; physics never imports viser; no import
+circle anywhere (even inside a layer: the checker finds cycles, not only direction); an
+import inside a function is kept only for an optional dependency or a lazy start-up path,
+and says why in a comment on its line or the line above.
 """
 
 from __future__ import annotations
@@ -179,6 +182,94 @@ def forbidden_imports(root: Path) -> list[str]:
     return out
 
 
+def import_graph(root: Path) -> dict[str, set[str]]:
+    """Module -> the package modules it imports (at any depth, ``TYPE_CHECKING`` included)."""
+    modules = {module_name(p, root): p for p in sources(root)}
+    graph: dict[str, set[str]] = {m: set() for m in modules}
+    for here, path in modules.items():
+        for imp in imports(path, root):
+            target = imp.target
+            while target and target not in modules:  # ``a.b.name`` -> module ``a.b``
+                target = target.rpartition(".")[0]
+            if target and target != here and not here.startswith(target + "."):
+                graph[here].add(target)
+    return graph
+
+
+def import_circles(root: Path) -> list[list[str]]:
+    """Every strongly connected group of two or more modules (Tarjan), sorted."""
+    graph = import_graph(root)
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            if len(group) > 1:
+                found.append(sorted(group))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(found)
+
+
+def local_imports(root: Path) -> list[str]:
+    """One message per import inside a function with no comment saying why."""
+    out = []
+    for path in sources(root):
+        lines = path.read_text().splitlines()
+        tree = ast.parse("\n".join(lines), filename=str(path))
+        for func in ast.walk(tree):
+            if not isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(func):
+                if isinstance(node, (ast.Import, ast.ImportFrom)):
+                    here = lines[node.lineno - 1]
+                    above = node.lineno - 2  # a comment may head a block of imports
+                    while above >= 0 and lines[above].strip().startswith(("import ", "from ")):
+                        above -= 1
+                    said = above >= 0 and lines[above].strip().startswith("#")
+                    if "#" not in here and not said:
+                        out.append(
+                            f"{path.relative_to(root.parent)}:{node.lineno}: "
+                            f"{here.strip()!r} inside {func.name}(); import at module level, "
+                            "or say why it must wait (optional dependency, start-up cost) in "
+                            "a comment on that line or the line above"
+                        )
+    return list(dict.fromkeys(out))  # nested functions walk the same import twice
+
+
+def test_no_import_circle():
+    circles = import_circles(PACKAGE)
+    assert not circles, "import circles (break them by moving the shared piece down): " + (
+        "; ".join(" <-> ".join(c) for c in circles)
+    )
+
+
+def test_function_local_imports_say_why():
+    bad = local_imports(PACKAGE)
+    assert not bad, "\n".join(bad)
+
+
 def test_every_module_has_a_layer():
     missing = [str(p) for p in sources(PACKAGE) if layer_of(module_name(p, PACKAGE)) is None]
     assert not missing, f"give these modules a layer in tests/test_layers.py LAYERS: {missing}"
@@ -215,11 +306,29 @@ def toy(tmp_path: Path) -> Path:
         "web/__init__.py": "",
         "web/view.py": "import viser\nfrom sandbox.cli import main\n",
         "cli.py": "import importlib\nimportlib.import_module('sandbox.web.view')\n",
+        "web/app.py": "from sandbox.web import follow\n",
+        "web/follow.py": (
+            "def serve():\n    # the pool is optional\n    import psutil\n"
+            "    import os\n\n    from sandbox.web.app import main\n"
+        ),
     }
     for name, text in files.items():
         (root / name).parent.mkdir(parents=True, exist_ok=True)
         (root / name).write_text(text)
     return root
+
+
+def test_the_checker_finds_circles_and_silent_local_imports(toy: Path):
+    assert import_circles(toy) == [
+        ["sandbox.cli", "sandbox.web.view"],
+        ["sandbox.physics.model", "sandbox.physics.readouts", "sandbox.scenes"],  # hidden ones
+        ["sandbox.web.app", "sandbox.web.follow"],
+    ]
+    assert [b.split(": ")[0] for b in local_imports(toy)] == [
+        "sandbox/mechanics/torsor.py:2",
+        "sandbox/physics/model.py:5",
+        "sandbox/web/follow.py:6",  # lines 3-4 are under their comment; line 6 is not
+    ]
 
 
 def test_the_checker_finds_hidden_upward_imports(toy: Path):

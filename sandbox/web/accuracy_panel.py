@@ -17,7 +17,7 @@ import viser
 from sandbox import accuracy
 from sandbox.accuracy import Setting
 from sandbox.bench import Run, SceneResult, load_results
-from sandbox.bench.plot import decimal, drift_words, duration, integrator_words
+from sandbox.bench.plot import decimal, draw, drift_words, duration, integrator_words
 from sandbox.cores import default_workers
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import display_unit
@@ -50,10 +50,9 @@ def chart_base(res: SceneResult) -> tuple[np.ndarray, tuple[float, ...]]:
         cached = _BASES.get(key)
         if cached is not None:
             return cached
-        from sandbox.bench.plot import draw
-
         fig = draw(res, None, compact=True)  # a Figure on its own Agg canvas: no pyplot
         fig.set_dpi(CHART_DPI)
+        # matplotlib on the first chart only: its import takes 0.5-1 s of every start-up
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         canvas = fig.canvas

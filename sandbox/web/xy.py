@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sandbox.bench.plot import LOCK, comma_formatter, new_figure
 from sandbox.physics.units import TURN_ANGLES, shown_scale
 from sandbox.runner import csv_cell
 from sandbox.scenes.presets import TIME
@@ -309,8 +310,6 @@ class XYData:
     def png(self, title: str, colors: Sequence[str]) -> bytes:
         """The chart as a PNG for a slide: French axes with units, decimal commas, the
         course's values dashed."""
-        from sandbox.bench.plot import LOCK, comma_formatter, new_figure
-
         x, values = self.shown()
         with LOCK:
             fig = new_figure(7.0, 4.5)
