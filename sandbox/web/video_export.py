@@ -26,7 +26,6 @@ from sandbox.recording import load
 from sandbox.web.background import BackgroundPool
 from sandbox.web.loop import Controller
 from sandbox.web.text import plain
-from sandbox.web.video import render_video
 from sandbox.web.video_options import VideoOptions
 
 FOLDER = "Vidéo"
@@ -39,6 +38,10 @@ SIZE = (1280, 720)
 def render_last(recording: str, out: str, progress: str, last: float = LAST) -> int:
     """In the worker: the last ``last`` seconds of ``recording`` (in progress) as the
     video ``out``; the frames done so far in ``progress`` (``done/total``)."""
+    # Pillow and the video's drawing (15 MB a process) load only in the worker drawing it,
+    # never in the server serving the pages
+    from sandbox.web.video import render_video
+
     rec = load(Path(recording), salvage=True)
     options = VideoOptions(Path(out), size=SIZE, start=max(0.0, rec.duration - last))
     note = Path(progress)
