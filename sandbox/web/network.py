@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
 import websockets.asyncio.server as ws_server
+from websockets.exceptions import ConnectionClosed
 
 from sandbox.errors import BadOption
 from sandbox.web.addresses import Served, netloc, origin_refusal
@@ -170,6 +171,10 @@ class OneLine(logging.Filter):
         if not record.exc_info or record.exc_info[1] is None:
             return True
         exc = record.exc_info[1]
+        if _vanished(exc):  # a tab closed or a reload while its websocket opened: no fault
+            record.levelno, record.levelname = logging.DEBUG, "DEBUG"
+            record.exc_info = record.exc_text = None
+            return logging.getLogger(record.name).isEnabledFor(logging.DEBUG)
         key = (record.name, type(exc).__name__)
         now = self.clock()
         if now - self.last.get(key, -math.inf) < self.QUIET:
@@ -183,6 +188,12 @@ class OneLine(logging.Filter):
         record.exc_info = record.exc_text = record.stack_info = None
         record.levelno, record.levelname = logging.WARNING, "WARNING"
         return True
+
+
+def _vanished(exc: BaseException) -> bool:
+    """Whether ``exc`` says the browser went away without a word (no close frame either
+    way: the connection just ended), rather than sent something wrong."""
+    return isinstance(exc, ConnectionClosed) and exc.rcvd is None and exc.sent is None
 
 
 VIEWER_LOGGERS = ("websockets.server", "websockets", "asyncio")

@@ -148,11 +148,13 @@ def _started(app, student: Recorder, name: str):
     """``name`` started for the one student of ``app``, every folder their page may still
     show opened: (their session, what their browser received since the start)."""
     assert wait_for(lambda: len(app.sessions) == 1, 30)
-    (session,) = app.sessions.values()
-    # the page is built once its scene table came (a page still building when the run was
-    # announced sent its labels after ``before``, as if the secret page had shown them)
-    assert wait_for(lambda: student.saw(b"forme close du cours"), 30)
-    time.sleep(1.0)
+    ((cid, session),) = app.sessions.items()  # a session is listed once its page is built
+    # A page still arriving when the run is announced would send its public labels after
+    # ``before``, as if the secret page had shown them. Viser sends one client's messages
+    # in order, so once a marker added now has arrived, the whole page has.
+    marker = app.server.get_clients()[cid].gui.add_markdown("page-built-marker")
+    assert wait_for(lambda: student.saw(b"page-built-marker"), 60)
+    marker.remove()
     before = len(student.inner)
     app.classroom.announce(Run(f"run-{name}", name, time.time()))
     assert wait_for(lambda: session.controller.secret is not None, 10)

@@ -387,6 +387,38 @@ def test_a_browser_traceback_becomes_one_warning_line_said_once_per_quiet_window
     assert one.filter(plain) and plain.levelno == logging.INFO
 
 
+def test_a_browser_gone_while_its_websocket_opened_is_no_warning(caplog):
+    """A tab closed or reloaded during the opening handshake ends it without a close frame:
+    websockets logs "opening handshake failed" as an error; it is no bad input, so the
+    teacher's terminal hears nothing of it (debug level), whereas a close frame carrying a
+    protocol error still makes a warning."""
+    import logging
+    import sys
+
+    from websockets.exceptions import ConnectionClosedError
+    from websockets.frames import Close, CloseCode
+
+    from sandbox.web.network import OneLine
+
+    one = OneLine(clock=lambda: 0.0)
+
+    def record(exc: BaseException) -> logging.LogRecord:
+        try:
+            raise exc
+        except BaseException:
+            return logging.LogRecord(
+                "websockets.server", logging.ERROR, "f", 1, "opening handshake failed",
+                None, sys.exc_info(),
+            )  # fmt: skip
+
+    gone = record(ConnectionClosedError(None, None))
+    assert not one.filter(gone) and gone.exc_info is None
+    caplog.set_level(logging.DEBUG, logger="websockets.server")
+    assert one.filter(gone) and gone.levelno == logging.DEBUG  # kept when asked for
+    bad = record(ConnectionClosedError(Close(CloseCode.PROTOCOL_ERROR, "bad"), None))
+    assert one.filter(bad) and bad.levelno == logging.WARNING
+
+
 def _raw(port: int, request: bytes) -> tuple[int, bytes]:
     """(HTTP status, body) of ``request`` sent as is on a socket to ``127.0.0.1:port``."""
     import socket
