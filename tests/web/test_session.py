@@ -7,7 +7,7 @@ import pytest
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
 from sandbox.web.loop import Controller, Notice, Request, Scheduler, Session
-from sandbox.web.loop.pacing import MAX_FRAME_STEPS, MAX_LAG, STEP_BUDGET
+from sandbox.web.loop.pacing import MAX_FRAME_STEPS, MAX_LAG, SLOW_HOLD, STEP_BUDGET
 from sandbox.web.loop.session import NOTICE_QUIET
 
 
@@ -228,10 +228,32 @@ def test_a_tiny_allowed_timestep_runs_slower_than_real_time_within_the_budget(ct
     assert spent < 30 * STEP_BUDGET * 3 + 0.1  # about the budget, never a whole core
     assert ctl.slowed()
     ctl.submit(Request("timestep", 0.01))
-    for _ in range(120):
+    for _ in range(round((SLOW_HOLD + 1) * 60)):
         ctl.clock.now += 1 / 60
         ctl.frame()
     assert not ctl.slowed()  # back to real time: the status stops saying it
+
+
+def test_the_slower_than_real_time_note_does_not_come_and_go(ctl):
+    """A machine that only just keeps up: the budget holds a few frames back, then none
+    for 2 s, again and again. The status's note stays on all along (each time it went,
+    the buttons under it jumped by a line), and goes once real time is kept for good."""
+
+    def frames(timestep: float, count: int) -> list[bool]:
+        ctl.submit(Request("timestep", timestep))
+        said = []
+        for _ in range(count):
+            ctl.clock.now += 1 / 60
+            ctl.frame()
+            said.append(ctl.slowed())
+        return said
+
+    frames(MIN_TIMESTEP, 4)
+    assert ctl.slowed()
+    for _ in range(3):
+        assert all(frames(0.01, 120))  # 2 s kept up: still said
+        frames(MIN_TIMESTEP, 4)
+    assert not all(frames(0.01, round((SLOW_HOLD + 1) * 60))) and not ctl.slowed()
 
 
 def test_a_file_with_a_zero_timestep_pauses_once(tmp_path, ctl):

@@ -30,6 +30,11 @@ MAX_LAG = 0.25
 """Wall-clock lag [s] beyond which pacing re-syncs instead of catching up. A loaded
 server draws fewer frames (4 a second at worst) but keeps simulated time real."""
 
+SLOW_HOLD = 3.0
+"""Seconds the status keeps saying "plus lent que le temps réel" after the step budget last
+held the motion back: on a machine that only just keeps up, the note would otherwise come
+and go every second, and the buttons under the status line jump with it."""
+
 STEP_BUDGET = 0.005
 """CPU seconds of stepping one frame may spend (5 ms: 30 % of a core at 60 frames/s).
 A timestep too small for real time on this machine then makes the motion run slower
@@ -166,7 +171,7 @@ class Pacing:
         if n < steps <= cap:  # the budget, not a stall, held it back
             self._limited += 1
             if self._limited >= 3:  # not one late frame: the timestep is too small
-                self.slow_until = now + 1.0
+                self.slow_until = now + SLOW_HOLD
         else:
             self._limited = 0
         t = float(self.sim.data.time)
