@@ -1,5 +1,5 @@
 """How many server processes this machine runs by default: one module below both
-``sandbox serve`` (:mod:`sandbox.web.workers`) and the classroom benchmark that must
+``sandbox serve`` (:mod:`sandbox.web.serving.workers`) and the classroom benchmark that must
 expect the same count (:mod:`sandbox.bench.classroom`)."""
 
 from __future__ import annotations

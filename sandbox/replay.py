@@ -1,8 +1,8 @@
 """Using a recording: rebuild its simulation, re-simulate it (``--verify``).
 
 The static export (``--export``), which draws with the web layer's renderer, is
-:func:`sandbox.web.export.export_static`; the browser player is
-:mod:`sandbox.web.player`.
+:func:`sandbox.web.replay.export.export_static`; the browser player is
+:mod:`sandbox.web.replay.player`.
 
 A recording is an untrusted file: :func:`sandbox.recording.load` checked its schema;
 here its model is checked against the recorded states before anything is replayed.

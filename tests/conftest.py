@@ -107,7 +107,7 @@ def chromium_path() -> str:
 
 @pytest.fixture
 def served_rotor() -> Iterator[object]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), open_message=False)
     try:

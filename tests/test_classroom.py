@@ -44,7 +44,7 @@ def wire(*messages: vm.Message) -> bytes:
 
 
 def status(t: float) -> vm.GuiUpdateMessage:
-    from sandbox.web.panels import _seconds  # the status line as the panel writes it
+    from sandbox.web.panels.controls import _seconds  # the status line as the panel writes it
 
     return vm.GuiUpdateMessage("status", {"_markdown": f"t = {_seconds(t)} s · vitesse ×1 · **x**"})
 
@@ -492,7 +492,7 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> 
 
 
 def test_status_time_reads_the_french_status_line():
-    from sandbox.web.panels import _seconds
+    from sandbox.web.panels.controls import _seconds
 
     for t in (0.0, 5.8, 12.345, 1234.567):
         line = f"t = {_seconds(t)} s · vitesse ×1 · **lecture**".encode()
@@ -536,7 +536,7 @@ def test_the_bench_counts_the_workers_serve_starts(monkeypatch) -> None:
     """The benchmark's expected worker count is the server's default, cap included."""
     import os
 
-    from sandbox.web import workers
+    from sandbox.web.serving import workers
 
     assert rn.SERVE_WORKERS_CAP == workers.DEFAULT_WORKERS_CAP
     monkeypatch.delattr(os, "sched_getaffinity", raising=False)

@@ -192,7 +192,7 @@ def test_bare_sandbox_accepts_host_and_port(monkeypatch):
     def fake_serve(target, **options):
         calls.update(target=target, **options)
 
-    monkeypatch.setattr("sandbox.web.app.serve", fake_serve)
+    monkeypatch.setattr("sandbox.web.serving.app.serve", fake_serve)
     assert main(["--port", "8133"]) == 0
     assert calls["target"] == "rotor" and calls["port"] == 8133
     assert main(["serve", "equilibrage", "--port", "8134"]) == 0
@@ -356,7 +356,8 @@ def opened_lessons(monkeypatch):
 def _serving(monkeypatch) -> dict[str, object]:
     calls: dict[str, object] = {}
     monkeypatch.setattr(
-        "sandbox.web.app.serve", lambda target, **options: calls.update(target=target, **options)
+        "sandbox.web.serving.app.serve",
+        lambda target, **options: calls.update(target=target, **options),
     )
     return calls
 
@@ -389,7 +390,7 @@ def test_a_bad_lesson_file_is_refused_in_one_line(
     path = tmp_path / "ma-lecon.md"
     if text is not None:
         path.write_text(text, encoding="utf-8")
-    monkeypatch.setattr("sandbox.web.app.serve", lambda target, **kw: pytest.fail("served"))
+    monkeypatch.setattr("sandbox.web.serving.app.serve", lambda target, **kw: pytest.fail("served"))
     assert main(["serve", str(path)]) == 2
     err = _err(capsys)
     assert needle in err and len(err.splitlines()) == 1, err

@@ -21,7 +21,7 @@ out = Path(sys.argv[1])
 import sandbox.bench.plot
 from sandbox import bench
 from sandbox.recording import Recorder, load, write_csv
-from sandbox.web.export import export_static
+from sandbox.web.replay.export import export_static
 
 sandbox.bench.plot.plot_scene = lambda res, path: path  # no PNG: the text files are tested
 run = bench.Run("rotor", "euler", 1e-3, 1.0, error=0.01, drift=0.0, default=True)

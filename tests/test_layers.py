@@ -14,7 +14,9 @@ one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
                setting on the scene's reference test), ``classroom.py`` and
                ``classroom_suite.py`` (the classroom load benchmark), ``lessons.py``,
                ``replay.py``, ``sweep.py`` (parameter studies)
-6. web:       ``sandbox/web/`` (viser)
+6. web:       ``sandbox/web/`` (viser), itself in sub-layers, lowest first: client,
+               view3d, loop (never viser), panels, video, page, views, serving, replay;
+               web imports no scene module (scenes declare what the page draws)
 7. cli:       ``sandbox/cli.py``
 
 Plus: mechanics imports neither MuJoCo nor viser; physics never imports viser; no import
@@ -256,6 +258,86 @@ def local_imports(root: Path) -> list[str]:
                             "a comment on that line or the line above"
                         )
     return list(dict.fromkeys(out))  # nested functions walk the same import twice
+
+
+WEB_LAYERS = (
+    "client", "view3d", "loop", "panels", "video", "page", "views", "serving", "replay",
+)  # fmt: skip
+"""The sub-packages of ``sandbox/web``, lowest first (``sandbox/web/__init__.py`` says why)."""
+
+SCENE_SHARED = ("base", "presets", "registry", "diagrams", "measures", "revolutions")
+"""Modules of ``sandbox/scenes`` that web may import: the records, not a scene."""
+
+
+def web_layer_of(module: str) -> int | None:
+    """Index in :data:`WEB_LAYERS` of a module of ``sandbox.web`` (None: not in one)."""
+    parts = module.split(".")
+    if parts[:2] != ["sandbox", "web"] or len(parts) < 3:
+        return None
+    return WEB_LAYERS.index(parts[2]) if parts[2] in WEB_LAYERS else None
+
+
+def web_upward_imports(root: Path) -> list[str]:
+    """One message per web module not in a sub-layer, per import of a higher sub-layer,
+    and per import of a scene module."""
+    out = []
+    for path in sources(root):
+        here = module_name(path, root)
+        if not here.startswith("sandbox.web.") and here != "sandbox.web":
+            continue
+        mine = web_layer_of(here)
+        if mine is None and here != "sandbox.web":
+            out.append(f"{path.relative_to(root.parent)}: {here} is in no sub-layer of web")
+            continue
+        for imp in dict.fromkeys(imports(path, root)):
+            where = f"{path.relative_to(root.parent)}:{imp.line}: {here}"
+            parts = imp.target.split(".")
+            if parts[:2] == ["sandbox", "scenes"] and len(parts) > 2:
+                if parts[2] not in SCENE_SHARED:
+                    out.append(
+                        f"{where} imports the scene module {imp.target}; the scene declares "
+                        "what the page needs (a field of its Scene record)"
+                    )
+                continue
+            theirs = web_layer_of(imp.target)
+            if mine is not None and theirs is not None and theirs > mine:
+                out.append(
+                    f"{where} ({WEB_LAYERS[mine]}) imports {imp.target} "
+                    f"({WEB_LAYERS[theirs]}); inside web: {' -> '.join(WEB_LAYERS)}"
+                )
+    return out
+
+
+def test_web_sub_layers_import_only_downward_and_no_scene_module():
+    bad = web_upward_imports(PACKAGE)
+    assert not bad, "\n".join(bad)
+
+
+def test_the_web_checker_finds_upward_imports_and_scene_modules(tmp_path: Path):
+    root = tmp_path / "sandbox"
+    files = {
+        "__init__.py": "",
+        "scenes/__init__.py": "",
+        "scenes/base.py": "",
+        "scenes/rotor.py": "",
+        "web/__init__.py": "",
+        "web/stray.py": "",
+        "web/loop/__init__.py": "",
+        "web/loop/session.py": "from sandbox.web.panels import plots\n",
+        "web/panels/__init__.py": "",
+        "web/panels/plots.py": (
+            "from sandbox.scenes.base import Scene\nfrom sandbox.scenes import rotor\n"
+            "from sandbox.web.loop import session\n"
+        ),
+    }
+    for name, text in files.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_text(text)
+    assert [b.split(": ")[0] for b in web_upward_imports(root)] == [
+        "sandbox/web/loop/session.py:1",  # loop imports panels
+        "sandbox/web/panels/plots.py:2",  # a scene module
+        "sandbox/web/stray.py",  # in no sub-layer
+    ]
 
 
 def test_no_import_circle():

@@ -301,8 +301,8 @@ def test_the_course_lessons_have_no_raw_html_beyond_formulas():
 
 def test_the_panel_walks_a_lesson_with_presets_questions_and_success(monkeypatch, tmp_path):
     from sandbox.lessons import Catalogue
-    from sandbox.web import lesson_panel
-    from sandbox.web.lesson_panel import LessonPanel
+    from sandbox.web.panels import lesson as lesson_panel
+    from sandbox.web.panels.lesson import LessonPanel
 
     text = GOOD.replace("show:", "question: Pourquoi ? | answer: Parce que $\\omega$.\nshow:")
     lesson = parse(tmp_path / "good.md", text)
@@ -452,8 +452,8 @@ def _pairs_of(text: str) -> list[tuple[str, float]]:
 
 def test_a_goal_directive_replaces_the_sentence_and_is_shown_as_text(monkeypatch, tmp_path):
     from sandbox.lessons import Catalogue
-    from sandbox.web import lesson_panel
-    from sandbox.web.lesson_panel import LessonPanel
+    from sandbox.web.panels import lesson as lesson_panel
+    from sandbox.web.panels.lesson import LessonPanel
 
     text = GOOD.replace("check:", "goal: Diviser <img src=x> par $\\omega$\ncheck:")
     lesson = parse(tmp_path / "good.md", text)

@@ -17,9 +17,9 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_simulation, planned_steps, resimulate
-from sandbox.web.export import export_static
 from sandbox.web.loop import Request
-from sandbox.web.player import ReplayController
+from sandbox.web.replay.export import export_static
+from sandbox.web.replay.player import ReplayController
 
 
 @pytest.fixture
@@ -139,7 +139,7 @@ def test_static_export_speaks_french_beside_the_mechanism_and_shows_it_is_loadin
 ):
     """Issue 22: the export's overlay read "closure_error = 4.466e-07 m" (code names, a
     decimal point) over the mechanism, on a page blank for 6-15 s."""
-    from sandbox.web.export import LOADING_ID, overlay_text
+    from sandbox.web.replay.export import LOADING_ID, overlay_text
 
     rec = load(recording)
     values = {"time": 1.25, "omega": 1500 * math.pi / 30, "bearing_A": 54.4175}

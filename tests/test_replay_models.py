@@ -17,7 +17,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_replay, verify
 from sandbox.web.loop import Request
-from sandbox.web.player import ReplayController
+from sandbox.web.replay.player import ReplayController
 
 FLOOD = 20_000
 

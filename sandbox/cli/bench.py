@@ -48,7 +48,7 @@ def _bench_video(target: str, seconds: float = 30.0) -> int:
     """``sandbox bench --video``: record ``seconds`` of the scene as the page does (a
     frame every 10 ms), then time the video of it at 1280x720 and 30 fps."""
     # viser (a second, 20 MB) only for this benchmark: 'sandbox --help' stays quick and small
-    from sandbox.web.video import VideoOptions, render_video
+    from sandbox.web.video.render import VideoOptions, render_video
 
     sim = Simulation(target)
     with tempfile.TemporaryDirectory() as folder:

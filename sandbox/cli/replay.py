@@ -19,8 +19,8 @@ from sandbox.replay import verify
 def _video(rec: Recording, args: argparse.Namespace) -> None:
     """``replay --video``: checked before any frame, a progress bar on a terminal."""
     # viser (a second, 20 MB) only for --video: 'sandbox --help' stays quick and small
-    from sandbox.web.video import VideoOptions, check, render_video
-    from sandbox.web.video_options import parse_size
+    from sandbox.web.video.options import parse_size
+    from sandbox.web.video.render import VideoOptions, check, render_video
 
     options = VideoOptions(
         args.video,
@@ -71,7 +71,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if args.export is not None:
         check_folder(args.export, "--export")
         # viser (a second, 20 MB) only for --export: 'sandbox --help' stays quick and small
-        from sandbox.web.pack import export_pack
+        from sandbox.web.replay.pack import export_pack
 
         index = export_pack(recs, args.export)
         print(
@@ -96,7 +96,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if offline:
         return 0
     # viser (a second, 20 MB) only for a replay served: 'sandbox --help' stays quick and small
-    from sandbox.web.player import serve_replay
+    from sandbox.web.replay.player import serve_replay
 
     check_port_range(args.port)
     serve_replay(rec, host=args.host, port=args.port)

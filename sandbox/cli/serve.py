@@ -33,7 +33,7 @@ def cmd_serve(
     ``lesson:NAME`` for the lesson), the path of a lesson file (``*.md``, parsed and
     validated here: its errors are one line) or the path of an MJCF file."""
     # viser (a second, 20 MB) only for the web app: 'sandbox --help' stays quick and small
-    from sandbox.web.app import serve
+    from sandbox.web.serving.app import serve
 
     check_port_range(port)
     target = target or DEFAULT_SCENE

@@ -17,6 +17,7 @@ Numpy only: vectors are 2-component arrays (y, z) in the rotor frame.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,3 +91,26 @@ def two_planes(
         norm, angle = polar(u)
         out.append(PointMass(norm / radius, x, radius, angle))
     return out[0], out[1]
+
+
+@dataclass(frozen=True)
+class Unbalance:
+    """The rotor's unbalance vectors in the rotor frame, components (y₁, z₁).
+
+    Attributes:
+        static: m·OG⊥ of "rotor", "m1", "m2" [kg·m], each shape (2,).
+        couple: (F, E) of the same parts [kg·m²], each shape (2,).
+    """
+
+    static: Mapping[str, np.ndarray]
+    couple: Mapping[str, np.ndarray]
+
+    @property
+    def static_total(self) -> np.ndarray:
+        """m·OG⊥ of the whole rotor [kg·m]."""
+        return np.sum(list(self.static.values()), axis=0)
+
+    @property
+    def couple_total(self) -> np.ndarray:
+        """(F, E) of the whole rotor [kg·m²]."""
+        return np.sum(list(self.couple.values()), axis=0)

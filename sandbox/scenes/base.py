@@ -18,6 +18,7 @@ import numpy as np
 
 from sandbox.errors import BadParameter, UnknownParameter, choices
 from sandbox.physics.units import display_unit
+from sandbox.scenes.diagrams import UnbalanceDiagram
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 if TYPE_CHECKING:
@@ -398,6 +399,7 @@ class Scene:
         xy_presets: Plots of one readout against another that show the course's laws
             (folder "Tracé X–Y"; the first is shown at the start).
         study_presets: Parameter studies that show them (folder "Étude paramétrique").
+        unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
     """
 
     name: str
@@ -435,6 +437,7 @@ class Scene:
     effects_for: Callable[[Values], Effects] | None = None
     xy_presets: tuple[XYPreset, ...] = ()
     study_presets: tuple[StudyPreset, ...] = ()
+    unbalance_diagram: UnbalanceDiagram | None = None
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

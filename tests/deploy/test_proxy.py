@@ -290,7 +290,7 @@ def test_two_browsers_get_their_own_sessions_on_two_machines(tmp_path, browser):
         # changes its bearing force and leaves the second one's alone.
         before1, before2 = _readout(page1, "bearing_A"), _readout(page2, "bearing_A")
         from sandbox.scenes import SCENES
-        from sandbox.web.fields import param_label
+        from sandbox.web.client.fields import param_label
 
         mass1 = param_label(SCENES["rotor"].param("mass1_g"))  # as the page names it
         row = page1.locator("div.mantine-Flex-root", has=page1.get_by_text(mass1, exact=True)).last

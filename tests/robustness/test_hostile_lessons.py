@@ -36,8 +36,8 @@ from sandbox.lessons import (
     render_text,
     validate,
 )
-from sandbox.web import lesson_panel
-from sandbox.web.lesson_panel import LessonPanel, status_text
+from sandbox.web.panels import lesson as lesson_panel
+from sandbox.web.panels.lesson import LessonPanel, status_text
 
 
 def lesson_text(check: str = "bearing_A < 2 * initial(bearing_A)", *, body: str = "Texte.") -> str:

@@ -254,14 +254,14 @@ def _one_line(err: str) -> str:
 @pytest.fixture
 def no_server(monkeypatch):
     """A replay that got past its checks would open a server: make that fail loudly."""
-    import sandbox.web.export
-    import sandbox.web.player
+    import sandbox.web.replay.export
+    import sandbox.web.replay.player
 
     def refuse(*args: object, **kwargs: object) -> None:
         raise AssertionError("a hostile recording reached the server")
 
-    monkeypatch.setattr(sandbox.web.player, "open_server", refuse)
-    monkeypatch.setattr(sandbox.web.export.viser, "ViserServer", refuse)
+    monkeypatch.setattr(sandbox.web.replay.player, "open_server", refuse)
+    monkeypatch.setattr(sandbox.web.replay.export.viser, "ViserServer", refuse)
 
 
 MODES = [[], ["--verify"], ["--csv", "OUT"], ["--export", "DIR"], ["--salvage", "--verify"]]

@@ -4,7 +4,7 @@ the server's memory at idle; a real upload button still takes files up to the ca
 
 The flood runs against ``sandbox serve`` in a child process, whose resident memory is
 read from ``/proc``; the upload buttons (the app has none) are made on a bare viser
-server in this process, with :mod:`sandbox.web.uploads` installed as the app installs it.
+server in this process, with :mod:`sandbox.web.client.uploads` installed as the app installs it.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from typing import Any
 import msgspec
 import pytest
 
-from sandbox.web import uploads
+from sandbox.web.client import uploads
 
 MIB = 2**20
 FLOOD_PART = 8 * MIB  # the issue's parts
@@ -442,7 +442,7 @@ def test_no_malloc_trim_outside_glibc(monkeypatch):
     memory hand-back is then skipped, never an error at import."""
     import ctypes
 
-    from sandbox.web import uploads
+    from sandbox.web.client import uploads
 
     for error in (TypeError, AttributeError, OSError):
 

@@ -29,12 +29,12 @@ import pytest
 import sandbox.scenes  # noqa: F401  (the registry: Simulation("rotor"))
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.web import tables
-from sandbox.web.fields import integrator_label, param_label
+from sandbox.web.client.fields import integrator_label, param_label
 from sandbox.web.loop import Controller, Scheduler, Session
-from sandbox.web.panels import TIMESTEP_LABEL
-from sandbox.web.player import ReplayPanel
-from sandbox.web.view import WebView
+from sandbox.web.panels import tables
+from sandbox.web.panels.controls import TIMESTEP_LABEL
+from sandbox.web.replay.player import ReplayPanel
+from sandbox.web.views.browser import WebView
 
 # -- a fake viser client -------------------------------------------------------------------
 
@@ -509,7 +509,7 @@ def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_a_replay_refuses_bad_timeline_requests_in_french(short_recording, kind, value, needle):
     from sandbox.recording import load
     from sandbox.web.loop import Request
-    from sandbox.web.player import ReplayController
+    from sandbox.web.replay.player import ReplayController
 
     clock = Clock()
     ctl = ReplayController(load(short_recording), clock=clock)
@@ -535,7 +535,7 @@ def _free_port() -> int:
 
 @pytest.fixture(scope="module")
 def server() -> Iterator[Any]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=_free_port(), open_message=False)
     try:

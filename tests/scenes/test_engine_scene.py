@@ -328,7 +328,7 @@ def test_the_web_page_draws_the_revolution_against_the_course():
     with its course curve, over one revolution."""
     import contextlib
 
-    from sandbox.web.cycle_panel import CyclePanel
+    from sandbox.web.panels.cycle import CyclePanel
 
     class Chart:
         def __init__(self, **kwargs):

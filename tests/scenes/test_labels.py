@@ -214,7 +214,7 @@ def test_round_off_hides_only_round_off(name):
 def test_round_off_of_the_rotor_is_shown_as_zero():
     """At 1500 rpm {D} keeps ~6e-12 N along z0 where the course has 0: below the scene's
     round-off, which the page passes to ``text.number(..., zero=...)``."""
-    from sandbox.web.text import number
+    from sandbox.web.client.text import number
 
     scene = SCENES["rotor"]
     sim = Simulation("rotor")

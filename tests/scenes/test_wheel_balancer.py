@@ -22,7 +22,7 @@ from sandbox.scenes.wheel_balancer import (
 from sandbox.scenes.wheel_balancer.geometry import mass_points, springs, tube_inertia, z_to
 from sandbox.scenes.wheel_balancer.params import AXIS, DAMPER, HALF_SPAN, SPRING
 from sandbox.scenes.wheel_balancer.readouts import phase
-from sandbox.web.display_panel import markers
+from sandbox.web.panels.display import markers
 
 RPM = 2 * math.pi / 60
 FORCES = ("bearing_inner", "bearing_outer")

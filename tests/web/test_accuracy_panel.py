@@ -11,8 +11,8 @@ import pytest
 from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
-from sandbox.web.accuracy_panel import AccuracyPanel, chart_image, load_results
-from sandbox.web.text import GAP, number
+from sandbox.web.client.text import GAP, number
+from sandbox.web.panels.accuracy import AccuracyPanel, chart_image, load_results
 
 
 class Handle:
@@ -97,7 +97,7 @@ def test_the_robot_axis_default_shows_the_error_the_benchmark_measured():
 def test_star_and_diamond_coincide_when_the_setting_is_the_default():
     """Both marks come from the same run: the same pixel. Another timestep moves only
     the diamond, to the point the benchmark measured for it."""
-    from sandbox.web.accuracy_panel import _place, chart_base
+    from sandbox.web.panels.accuracy import _place, chart_base
 
     res = load_results("rotor")
     sim = Simulation("rotor")
@@ -193,7 +193,7 @@ def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
 
 
 def test_the_chart_base_is_drawn_once_per_scene_not_per_session():
-    from sandbox.web.accuracy_panel import _BASES, chart_base
+    from sandbox.web.panels.accuracy import _BASES, chart_base
 
     first = chart_base(load_results("rotor"))
     count = len(_BASES)
@@ -210,8 +210,8 @@ def test_charts_drawn_by_several_threads_at_once_are_all_correct():
     import numpy as np
 
     from sandbox.bench.plot import LOCK, draw
-    from sandbox.web import charts
-    from sandbox.web.accuracy_panel import _BASES
+    from sandbox.web.client import charts
+    from sandbox.web.panels.accuracy import _BASES
 
     res = load_results("rotor")
     live = Run("rotor", "rk4", 1e-3, 0.0, error=1e-3, cpu_per_sim_s=5e-3)
@@ -319,7 +319,7 @@ def test_the_web_chart_is_readable_at_panel_size():
     import numpy as np
 
     from sandbox.bench.plot import LOCK, draw
-    from sandbox.web.accuracy_panel import CHART_DPI, chart_base
+    from sandbox.web.panels.accuracy import CHART_DPI, chart_base
 
     shown_width = 390.0
     for scene in ("rotor", "robot_axis", "wheel_balancer", "inertia", "compressor"):
@@ -357,7 +357,8 @@ def test_the_page_does_not_import_matplotlib_until_a_chart_is_drawn():
     import sys
 
     code = (
-        "import sys, sandbox.cli, sandbox.web.app, sandbox.web.workers, sandbox.accuracy; "
+        "import sys, sandbox.cli, sandbox.web.serving.app, sandbox.web.serving.workers, "
+        "sandbox.accuracy; "
         "print(sorted(m for m in ('matplotlib', 'PIL') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -369,7 +370,7 @@ def test_the_star_is_a_five_pointed_star():
     centre inside, the gaps between its points outside."""
     import numpy as np
 
-    from sandbox.web.accuracy_panel import _star, inside
+    from sandbox.web.panels.accuracy import _star, inside
 
     radius = 100.0
     y, x = np.mgrid[-120:120:0.5, -120:120:0.5]

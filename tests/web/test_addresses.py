@@ -1,10 +1,10 @@
-"""The address helpers made public by the split of :mod:`sandbox.web.network`."""
+"""The address helpers made public by the split of :mod:`sandbox.web.serving.network`."""
 
 from __future__ import annotations
 
 import pytest
 
-from sandbox.web.addresses import netloc
+from sandbox.web.serving.addresses import netloc
 
 
 def test_netloc_gives_a_urls_host_as_compared_and_its_port():

@@ -14,7 +14,7 @@ from conftest import LESSON_FILE, wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.loop import Controller, Scheduler, Session
-from sandbox.web.server import App
+from sandbox.web.serving.server import App
 
 PENDULUM = """
 <mujoco><option timestep="0.01"/><worldbody>
@@ -224,7 +224,7 @@ def test_a_browser_that_leaves_brings_no_closed_connection_warning(recwarn):
 
     from conftest import free_port
 
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     with warnings.catch_warnings():  # ends as a test that started a shared server ends
         app = start("rotor", port=free_port(), open_message=False)
@@ -258,7 +258,7 @@ def test_a_lesson_file_opens_in_every_new_browser(tmp_path, monkeypatch):
     from conftest import free_port
 
     from sandbox.lessons import registry as lessons
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     monkeypatch.setattr(lessons, "_opened", {}, raising=False)  # opened in this test only
     lessons.catalogue.cache_clear()

@@ -1,10 +1,10 @@
-"""The low-priority pool shared by studies and videos (sandbox.web.background)."""
+"""The low-priority pool shared by studies and videos (sandbox.web.loop.background)."""
 
 from __future__ import annotations
 
 import os
 
-from sandbox.web.background import NICE, BackgroundPool
+from sandbox.web.loop.background import NICE, BackgroundPool
 
 
 def _priority() -> int:

@@ -17,7 +17,8 @@ from types import SimpleNamespace
 import pytest
 from conftest import choose, free_port, wait_for
 
-from sandbox.web.board import (
+from sandbox.web.panels.board import BOARD_FOLDER, CSV_BUTTON, NAME_LABEL
+from sandbox.web.panels.board_rows import (
     KEEP_GONE,
     Board,
     Row,
@@ -26,11 +27,17 @@ from sandbox.web.board import (
     progress_of,
     to_wire,
 )
-from sandbox.web.board_panel import BOARD_FOLDER, CSV_BUTTON, NAME_LABEL
-from sandbox.web.board_table import CSV_COLUMNS, SORTS, board_html, csv_text, sort_rows, summary
-from sandbox.web.class_board import Classroom
-from sandbox.web.roster import Roster
-from sandbox.web.student_rows import key_readout, student_row
+from sandbox.web.panels.board_table import (
+    CSV_COLUMNS,
+    SORTS,
+    board_html,
+    csv_text,
+    sort_rows,
+    summary,
+)
+from sandbox.web.panels.student_rows import key_readout, student_row
+from sandbox.web.serving.class_board import Classroom
+from sandbox.web.serving.roster import Roster
 
 # -- names ---------------------------------------------------------------------------------
 
@@ -242,10 +249,10 @@ def gui_server() -> Iterator[object]:
 
 def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     from sandbox.physics.simulation import Simulation
-    from sandbox.web.lesson_panel import LessonPanel
     from sandbox.web.loop import Controller
-    from sandbox.web.student_rows import Readouts as _Readouts
-    from sandbox.web.student_rows import Student as _Student
+    from sandbox.web.panels.lesson import LessonPanel
+    from sandbox.web.panels.student_rows import Readouts as _Readouts
+    from sandbox.web.panels.student_rows import Student as _Student
 
     controller = Controller(Simulation("rotor"))
     panel = LessonPanel(gui_server.gui, controller, lesson="equilibrage")
@@ -369,7 +376,7 @@ def _shows(page, text: str) -> bool:
 
 @pytest.fixture
 def served_class() -> Iterator[object]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), open_message=False, token="tok-1")
     try:
@@ -389,7 +396,7 @@ def test_only_the_secret_path_opens_the_teacher_s_page(served_class):
 
 
 def test_the_default_mode_prints_a_teacher_link(capsys):
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), token="tok-2")
     try:
@@ -495,8 +502,8 @@ def test_the_board_lists_the_students_of_both_workers(open_page, tmp_path):
 @pytest.mark.browser
 @pytest.mark.slow  # two Chromium pages: about 30 s
 def test_follow_mode_lists_followers_with_their_name_and_fits_the_buttons(open_page):
-    from sandbox.web.app import start
-    from sandbox.web.follow import OWN, SEND_STEP, SEND_VALUES
+    from sandbox.web.serving.app import start
+    from sandbox.web.serving.follow import OWN, SEND_STEP, SEND_VALUES
 
     app = start("rotor", port=free_port(), open_message=False, follow=True, token="t-3")
     try:
@@ -538,7 +545,7 @@ def test_follow_mode_lists_followers_with_their_name_and_fits_the_buttons(open_p
 
 
 def test_a_board_is_shown_sorted_as_the_teacher_chose(gui_server):
-    from sandbox.web.board_panel import BoardPanel
+    from sandbox.web.panels.board import BoardPanel
 
     client = SimpleNamespace(gui=gui_server.gui, send_file_download=lambda *a, **k: None)
     panel = BoardPanel(client)  # type: ignore[arg-type]
@@ -555,7 +562,7 @@ def test_a_board_is_shown_sorted_as_the_teacher_chose(gui_server):
 
 # -- challenges on the board -------------------------------------------------------------
 def test_a_run_travels_with_the_board_and_a_crafted_one_is_dropped():
-    from sandbox.web.board import Run
+    from sandbox.web.panels.board_rows import Run
 
     run = Run("abc", "rotor_balance", 12.5, 0.0)
     board = Board(1.0, (_row("a", 2.0, challenge="rotor_balance", tries=2, solved_s=30.0),), 0, run)
@@ -580,8 +587,8 @@ def test_during_a_challenge_the_table_shows_who_solved_it_and_sorts_fastest_firs
 
 
 def test_a_challenge_announced_in_one_process_reaches_its_board_at_once():
-    from sandbox.web.board import Run
-    from sandbox.web.class_board import LocalHub
+    from sandbox.web.panels.board_rows import Run
+    from sandbox.web.serving.class_board import LocalHub
 
     got: list[Board] = []
     hub = LocalHub(0.0, got.append, clock=lambda: 5.0)

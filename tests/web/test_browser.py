@@ -21,7 +21,7 @@ def _readout(page, name: str) -> float:
 def _label(name: str) -> str:
     """A rotor parameter's label on the page ("Masse de correction m₁ [g]")."""
     from sandbox.scenes import SCENES
-    from sandbox.web.fields import param_label
+    from sandbox.web.client.fields import param_label
 
     return param_label(SCENES["rotor"].param(name))
 
@@ -70,7 +70,7 @@ def test_moving_mass1_changes_the_bearing_force(open_page, served_rotor):
 
 
 def test_bad_timestep_is_refused_and_the_server_keeps_running(open_page, served_rotor):
-    from sandbox.web.panels import NUMERICS_FOLDER, TIMESTEP_LABEL
+    from sandbox.web.panels.controls import NUMERICS_FOLDER, TIMESTEP_LABEL
 
     page = _open(open_page, served_rotor)
     page.get_by_text(NUMERICS_FOLDER, exact=True).first.click()  # folded by default
@@ -105,7 +105,7 @@ def test_replay_server_shows_the_timeline_to_several_browsers(open_page, tmp_pat
 
     from sandbox.cli import main
     from sandbox.recording import load
-    from sandbox.web.player import start_replay
+    from sandbox.web.replay.player import start_replay
 
     path = tmp_path / "r.sbx"
     assert main(["run", "rotor", "--duration", "1", "--record", str(path)]) == 0
@@ -129,7 +129,7 @@ def test_a_student_walks_the_balancing_lesson_to_success(open_page):
     from conftest import free_port
 
     from sandbox.scenes.rotor import balancing_solution
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), lesson="equilibrage", open_message=False)
     try:

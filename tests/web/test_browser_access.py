@@ -10,10 +10,10 @@ import re
 import pytest
 from conftest import free_port, wait_for
 
-from sandbox.web.client_access import PLAY_PAUSE, REPLAY_TOGGLE, STYLE_ID, html
-from sandbox.web.panels import COMMAND_KINDS
-from sandbox.web.projector import FONT_LABEL, FONT_SIZES, font_option
-from sandbox.web.view import ALL_FOLDERS
+from sandbox.web.page.access import PLAY_PAUSE, REPLAY_TOGGLE, STYLE_ID, html
+from sandbox.web.panels.controls import COMMAND_KINDS
+from sandbox.web.panels.projector import FONT_LABEL, FONT_SIZES, font_option
+from sandbox.web.views.browser import ALL_FOLDERS
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-30 s each
 
@@ -60,7 +60,7 @@ def context(projector_context):
 @pytest.fixture(params=["rotor", "compressor"])
 def served(request):
     """The rotor, and the compressor whose "Réglages avancés" folder starts closed."""
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start(request.param, port=free_port(), open_message=False)
     try:
@@ -487,8 +487,8 @@ def test_no_button_or_box_is_cut_at_any_text_size(context, served_rotor):
 
 
 def test_space_finds_the_time_bar_buttons():
-    """Space clicks the buttons of sandbox.web.panels and of the replay by their words."""
-    from sandbox.web.player import ReplayPanel
+    """Space clicks the buttons of sandbox.web.panels.controls and of the replay by their words."""
+    from sandbox.web.replay.player import ReplayPanel
 
     assert {"Pause", "Lecture"} <= set(PLAY_PAUSE)
     assert {k for k, v in COMMAND_KINDS.items() if v in ("pause", "play")} <= set(PLAY_PAUSE)

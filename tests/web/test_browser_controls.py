@@ -13,8 +13,8 @@ from conftest import free_port, wait_for
 
 from sandbox.lessons import catalogue
 from sandbox.scenes import SCENES
-from sandbox.web.fields import param_label
-from sandbox.web.panels import NUMERICS_FOLDER, TIMESTEP_LABEL
+from sandbox.web.client.fields import param_label
+from sandbox.web.panels.controls import NUMERICS_FOLDER, TIMESTEP_LABEL
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-30 s each
 
@@ -28,7 +28,7 @@ def projector_page(projector_context):
 
 @pytest.fixture
 def balancing():
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), lesson="equilibrage", open_message=False)
     try:
@@ -176,7 +176,7 @@ def _code_names() -> set[str]:
 
 @pytest.mark.parametrize("scene", sorted(SCENES))
 def test_control_folders_speak_french_without_code_names_or_emoji(projector_page, scene):
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start(scene, port=free_port(), open_message=False)
     try:

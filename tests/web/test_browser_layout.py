@@ -1,4 +1,4 @@
-"""The page on phones and tablets (sandbox.web.client_layout), in headless Chromium with
+"""The page on phones and tablets (sandbox.web.page.layout), in headless Chromium with
 touch emulation: the 3D view, the readout strip and the control sheet side by side or
 stacked without overlap, the mechanism whole in the view, a swipe over the sliders that
 scrolls and changes nothing, touch targets of 44 px, and the desktop layout untouched."""
@@ -14,8 +14,8 @@ import pytest
 from conftest import choose, free_port, wait_for
 from PIL import Image
 
-from sandbox.web.client_layout import STRIP_ID, TOUCH_PX
-from sandbox.web.projector import OVERLAY_ID, OVERLAY_LABEL
+from sandbox.web.page.layout import STRIP_ID, TOUCH_PX
+from sandbox.web.panels.projector import OVERLAY_ID, OVERLAY_LABEL
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-20 s each
 
@@ -100,7 +100,7 @@ SCROLLED = """() => { const v = document.querySelector(
 @pytest.fixture(scope="module")
 def served() -> Iterator[Callable[..., object]]:
     """Apps started on demand, one per scene and lesson, stopped after the module."""
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     apps: dict[tuple[str, str | None], object] = {}
 

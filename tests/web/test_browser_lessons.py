@@ -8,7 +8,7 @@ import pytest
 from conftest import free_port, wait_for
 
 from sandbox.web.loop import Request
-from sandbox.web.polar_panel import FOLDER, PolarPanel
+from sandbox.web.panels.polar import FOLDER, PolarPanel
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 5-15 s each
 
@@ -21,7 +21,7 @@ def _session(app):
 
 
 def test_the_balancing_goal_is_a_sentence_with_a_bar_that_fills(open_page):
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), lesson="equilibrage", open_message=False)
     try:
@@ -85,7 +85,7 @@ def test_the_engine_lesson_check_passes_in_the_page_with_the_drawn_state(open_pa
     """Step 2 of "moteur" asks the first order to fall below 1 % of the single cylinder's:
     the page checks the drawn state (between two physics steps), whose loop used to open
     by 0.2 mm and read the twin's first order 10-15 N instead of 0 (check never passed)."""
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("engine", port=free_port(), lesson="moteur", open_message=False)
     try:

@@ -15,7 +15,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]  # a Chromium page: ~15 s
 
 @pytest.fixture
 def fast_rotor():
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), open_message=False, values={"speed_rpm": 6000.0})
     try:

@@ -37,7 +37,7 @@ plotting area holds, in all and in its right third (the latest samples)."""
 
 @pytest.fixture
 def served_cylinder() -> Iterator[object]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     # a plane long enough for 9 s of descent (the default one ends the run at 3 s, and
     # the page then starts it again)

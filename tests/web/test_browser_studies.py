@@ -10,7 +10,7 @@ from collections.abc import Iterator
 import pytest
 from conftest import choose, free_port, wait_for
 
-from sandbox.web.study_queue import StudyQueue
+from sandbox.web.loop.study_queue import StudyQueue
 from tests.web.test_study_queue import _children
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -33,7 +33,7 @@ dots), its ranges, and whether it is shown."""
 
 
 def _served(scene: str) -> Iterator[object]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start(scene, port=free_port(), open_message=False)
     try:

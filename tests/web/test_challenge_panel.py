@@ -18,10 +18,10 @@ from conftest import free_port, wait_for
 from sandbox.bench.classroom import gui_message, unpack
 from sandbox.challenges import CHALLENGES, Challenge
 from sandbox.physics.picture import geom_local_poses
-from sandbox.web.board import Run
-from sandbox.web.challenge_panel import FOLDER, solution_lines
+from sandbox.web.client.text import UNIT_SPACE, number
 from sandbox.web.loop import Request
-from sandbox.web.text import UNIT_SPACE, number
+from sandbox.web.panels.board_rows import Run
+from sandbox.web.panels.challenge import FOLDER, solution_lines
 
 SECRET = {"defect_mass_g": 53.0, "skew_deg": -3.3}
 """A rotor's secret, fixed for the test (drawn numbers are tested in test_challenges)."""
@@ -93,7 +93,7 @@ WHEEL_SECRET = {
 
 
 def _serve(monkeypatch, scene: str, secret: dict[str, float]) -> Iterator[object]:
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(secret))
     app = start(scene, port=free_port(), open_message=False, token="t-ch")
@@ -271,7 +271,7 @@ def test_every_secret_parameter_is_a_slider():
     dropdown or a typed box would need their own stand-ins)."""
     import sandbox.scenes  # noqa: F401
     from sandbox.scenes import get_scene
-    from sandbox.web.fields import choices, typed
+    from sandbox.web.client.fields import choices, typed
 
     for c in CHALLENGES.values():
         params = {p.name: p for p in get_scene(c.scene).params}
@@ -286,7 +286,7 @@ def test_the_teacher_starts_and_stops_a_challenge_for_students_of_both_workers(o
 
     from test_board import _board_text, _start_workers, _stop
 
-    from sandbox.web.board_panel import START_BUTTON, STOP_BUTTON
+    from sandbox.web.panels.board import START_BUTTON, STOP_BUTTON
 
     proc, port, teacher_url = _start_workers(tmp_path)
     students: list[Recorder] = []
@@ -321,7 +321,7 @@ def test_the_teacher_starts_and_stops_a_challenge_for_students_of_both_workers(o
 def test_in_follow_mode_a_student_on_their_own_simulation_keeps_one_secret(monkeypatch):
     """Followers watch the teacher's machine: the challenge reaches a student once they
     choose "Ma simulation", and the same secret (tries included) when they come back."""
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     monkeypatch.setattr(Challenge, "draw", lambda self, defaults, rng, tries=1000: dict(SECRET))
     app = start("rotor", port=free_port(), open_message=False, follow=True, token="t-f")
@@ -362,7 +362,7 @@ def test_the_challenge_s_controls_are_named_in_french_and_readable(open_page, ro
     défi" included), the answer box says its unit."""
     from test_browser_access import _contrasts, _controls, _scrolled_through, _unnamed
 
-    from sandbox.web.board_panel import START_BUTTON
+    from sandbox.web.panels.board import START_BUTTON
 
     app = rotor_class
     teacher = open_page(app.teacher_url)

@@ -1,4 +1,4 @@
-"""viser's own sentences and chart numbers in French (sandbox/web/client_text.py)."""
+"""viser's own sentences and chart numbers in French (sandbox/web/page/locale.py)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from pathlib import Path
 
 from conftest import wait_for
 
-from sandbox.web import client_text
-from sandbox.web.client_text import CLOSE_AFTER_S, FRENCH, french_page, page_script
+from sandbox.web.page import locale as client_text
+from sandbox.web.page.locale import CLOSE_AFTER_S, FRENCH, french_page, page_script
 
 
 def test_the_script_goes_first_in_the_head_and_cannot_be_closed_by_a_sentence():
@@ -51,8 +51,8 @@ def test_the_page_reads_french_in_an_english_browser(browser):
     chart ticks (``Intl.NumberFormat(navigator.language)``): with a decimal comma."""
     from conftest import free_port
 
-    from sandbox.web.app import start
-    from sandbox.web.startup import PAGE_TITLE
+    from sandbox.web.serving.app import start
+    from sandbox.web.serving.startup import PAGE_TITLE
 
     app = start("rotor", port=free_port(), open_message=False)
     context = browser.new_context(viewport={"width": 1280, "height": 720}, locale="en-US")
@@ -97,8 +97,8 @@ def test_number_boxes_read_with_a_decimal_comma(browser):
     from conftest import free_port
 
     from sandbox.scenes import SCENES
-    from sandbox.web.app import start
-    from sandbox.web.fields import param_label
+    from sandbox.web.client.fields import param_label
+    from sandbox.web.serving.app import start
 
     label = param_label(SCENES["wheel_balancer"].param("skew_deg"))  # 0.25° by default
     app = start("wheel_balancer", port=free_port(), open_message=False)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 
 from sandbox.physics.simulation import Simulation
-from sandbox.web.cycle_panel import CyclePanel
+from sandbox.web.panels.cycle import CyclePanel
 
 
 class Chart:

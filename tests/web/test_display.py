@@ -282,8 +282,8 @@ class Camera:
 
 
 def _panel(server, scene: str, **values):
-    from sandbox.web.display_panel import DisplayPanel
-    from sandbox.web.renderer import SceneRenderer
+    from sandbox.web.panels.display import DisplayPanel
+    from sandbox.web.view3d.renderer import SceneRenderer
 
     ctl = Controller(Simulation(scene, values=values), clock=Clock())
     point = (np.array([0.1, 0.0, 0.05]), "P")
@@ -301,7 +301,7 @@ def _panel(server, scene: str, **values):
 
 
 def test_ralenti_and_pas_queue_requests(server):
-    from sandbox.web.display_panel import UNIT_TIME
+    from sandbox.web.panels.display import UNIT_TIME
 
     ctl, panel = _panel(server, "rotor")
     assert panel.slow.options[-1] == "×0,01"

@@ -1,6 +1,6 @@
 """Every number the page writes, in every panel of every scene, read as a student would.
 
-The real page (every panel of :class:`~sandbox.web.view.WebView`) on a fake browser; each
+The real page (every panel of :class:`~sandbox.web.views.browser.WebView`) on a fake browser; each
 folder of "Panneau affiché" is shown in turn while the simulation runs, and every text
 the page writes (tables, overlay, lesson, status) is read for: a number at or beyond
 10¹⁵ or at most 10⁻¹⁵ in size that is not an exact 0 (a round-off or an overflow shown as
@@ -18,8 +18,8 @@ from pathlib import Path
 import pytest
 
 from sandbox.scenes import SCENES
-from sandbox.web.text import GAP
-from sandbox.web.view import ALL_FOLDERS
+from sandbox.web.client.text import GAP
+from sandbox.web.views.browser import ALL_FOLDERS
 from tests.robustness.test_hostile_web import Page
 
 NUMBER = re.compile(r"(?<![\w.,])[−-]?\d[\d\u202f]*(?:,\d+)?(?:×10(?P<exp>[⁻]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+))?")

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from sandbox.scenes.base import Param
-from sandbox.web.fields import (
+from sandbox.web.client.fields import (
     GRACE,
     Mirror,
     engineering,
@@ -18,7 +18,7 @@ from sandbox.web.fields import (
     param_label,
     parse_number,
 )
-from sandbox.web.projector import overlay_html, overlay_lines, style_html
+from sandbox.web.panels.projector import overlay_html, overlay_lines, style_html
 
 
 class Handle:

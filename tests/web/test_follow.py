@@ -10,8 +10,8 @@ import pytest
 from conftest import wait_for
 
 from sandbox.scenes import SCENES
-from sandbox.web.fields import param_label
-from sandbox.web.follow import FOLLOW, OWN, SEND_VALUES, FollowApp, teacher_path
+from sandbox.web.client.fields import param_label
+from sandbox.web.serving.follow import FOLLOW, OWN, SEND_VALUES, FollowApp, teacher_path
 
 MASS1 = param_label(next(p for p in SCENES["rotor"].params if p.name == "mass1_g"))
 
@@ -20,7 +20,7 @@ MASS1 = param_label(next(p for p in SCENES["rotor"].params if p.name == "mass1_g
 def served_follow():
     from conftest import free_port
 
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), open_message=False, follow=True, token="secret-1")
     try:
@@ -97,8 +97,8 @@ def test_a_lesson_step_sent_by_the_teacher_moves_the_students_sliders(open_page)
     slider reads 3000, not the 1500 of step 1."""
     from conftest import free_port
 
-    from sandbox.web.app import start
-    from sandbox.web.follow import SEND_STEP
+    from sandbox.web.serving.app import start
+    from sandbox.web.serving.follow import SEND_STEP
 
     app = start(
         "rotor", port=free_port(), open_message=False, follow=True, token="t", lesson="equilibrage"
@@ -134,7 +134,7 @@ def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_f
     its page, a student on their own copy in « Étude paramétrique », with the dots."""
     from conftest import choose
 
-    from sandbox.web.follow import SEND_STUDY, STUDY_FOLDER
+    from sandbox.web.serving.follow import SEND_STUDY, STUDY_FOLDER
 
     app: FollowApp = served_follow
     teacher = open_page(app.teacher_url)

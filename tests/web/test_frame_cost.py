@@ -25,11 +25,11 @@ from sandbox.physics import torsors
 from sandbox.physics.picture import body_groups
 from sandbox.scenes import SCENES
 from sandbox.scenes.revolutions import PerModel
-from sandbox.web import app as web_app
-from sandbox.web import wire
+from sandbox.web.client import wire
 from sandbox.web.loop import Request, Session
 from sandbox.web.loop import frame as session_module
-from sandbox.web.view import IN_FLIGHT, MAX_HELD
+from sandbox.web.serving import app as web_app
+from sandbox.web.views.browser import IN_FLIGHT, MAX_HELD
 
 FRAMES = 120
 """Frames counted (two seconds at 60 frames/s: 20 panel refreshes)."""

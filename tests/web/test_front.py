@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from sandbox.web.front import HEADERS_WAIT, Front, is_websocket
+from sandbox.web.serving.front import HEADERS_WAIT, Front, is_websocket
 
 UPGRADE = (
     b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"

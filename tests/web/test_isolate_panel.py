@@ -11,8 +11,8 @@ import pytest
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web.isolate_panel import isolate_markdown
-from sandbox.web.text import GAP
+from sandbox.web.client.text import GAP
+from sandbox.web.panels.isolate import isolate_markdown
 
 
 def test_every_number_sits_in_its_own_column():

@@ -18,9 +18,10 @@ from conftest import free_port, wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web import label_layout
-from sandbox.web.arrows import TEXT_RATE, ArrowLayer, read_camera
-from sandbox.web.label_layout import (
+from sandbox.web.loop import Request
+from sandbox.web.view3d import label_layout
+from sandbox.web.view3d.arrows import TEXT_RATE, ArrowLayer, read_camera
+from sandbox.web.view3d.label_layout import (
     DIRECTIONS,
     REACH,
     Block,
@@ -32,7 +33,6 @@ from sandbox.web.label_layout import (
     preferred_sides,
     text_width,
 )
-from sandbox.web.loop import Request
 
 SCENES = (
     "rotor",
@@ -276,7 +276,7 @@ run): their labels are checked on the opening view, held."""
 @pytest.mark.slow  # a server and a Chromium page per scene: ~8 s each
 @pytest.mark.parametrize("scene", SCENES)
 def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start(scene, port=free_port(), open_message=False)
     context = browser.new_context(viewport={"width": 1280, "height": 720})

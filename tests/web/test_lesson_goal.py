@@ -8,7 +8,7 @@ import math
 import pytest
 
 from sandbox.lessons import compile_check
-from sandbox.web.lesson_goal import Part, Words, describe, fraction, goal_html, lines, parts
+from sandbox.web.panels.lesson_goal import Part, Words, describe, fraction, goal_html, lines, parts
 
 WORDS = Words(
     {"bearing_A": "Palier A", "bearing_B": "Palier B", "slip_velocity": "Glissement"},

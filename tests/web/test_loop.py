@@ -31,7 +31,7 @@ from sandbox.web.loop.requests import (
 )
 from sandbox.web.loop.scheduler import Turns
 from sandbox.web.loop.session import drawn_snapshot, drawn_time, readouts, shown_readouts
-from sandbox.web.player import ReplayController
+from sandbox.web.replay.player import ReplayController
 
 
 def test_the_timestep_refusal_gives_the_range_in_french():

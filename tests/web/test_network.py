@@ -12,9 +12,9 @@ import viser
 
 from sandbox.cli import build_parser
 from sandbox.errors import BadOption
-from sandbox.web import addresses, network
-from sandbox.web.app import banner
-from sandbox.web.join_panel import join_html
+from sandbox.web.panels.join import join_html
+from sandbox.web.serving import addresses, network
+from sandbox.web.serving.app import banner
 
 UPGRADE = {"Upgrade": "websocket", "Host": "192.168.1.20:8080"}
 SERVED = network.Served(
@@ -173,7 +173,7 @@ def test_the_real_server_refuses_a_dns_rebinding_page(served_rotor):
 
 
 def test_a_server_on_every_interface_serves_this_machines_lan_address():
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
     from tests.conftest import free_port
 
     lan = addresses.lan_addresses()
@@ -192,7 +192,7 @@ def test_a_server_on_every_interface_serves_this_machines_lan_address():
 
 
 def test_a_server_behind_a_proxy_serves_the_public_url():
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
     from tests.conftest import free_port
 
     app = start("rotor", port=free_port(), open_message=False, public_url="https://sb.test")
@@ -265,7 +265,7 @@ def test_host_and_port_count_before_and_after_the_command(argv, host, port, work
 
 def test_serve_passes_its_options_on(monkeypatch):
     from sandbox import cli
-    from sandbox.web import app
+    from sandbox.web.serving import app
 
     seen = {}
     monkeypatch.setattr(app, "serve", lambda target, **kw: seen.update(kw, target=target))
@@ -329,7 +329,7 @@ def _children(pid: int) -> list[int]:
 
 
 def test_a_proxys_address_replaces_the_machines_own(monkeypatch):
-    from sandbox.web.startup import join_urls
+    from sandbox.web.serving.startup import join_urls
 
     monkeypatch.setattr(addresses, "lan_addresses", lambda: ["192.168.1.20"])
     assert join_urls("0.0.0.0", 8080, "http://sandbox.lycee.fr") == ["http://sandbox.lycee.fr"]
@@ -341,7 +341,7 @@ def test_a_proxys_address_replaces_the_machines_own(monkeypatch):
 
 def test_a_bad_public_url_is_refused_in_one_line(monkeypatch, capsys):
     from sandbox import cli
-    from sandbox.web import app
+    from sandbox.web.serving import app
 
     monkeypatch.setattr(app, "serve", lambda target, **kw: pytest.fail("served"))
     assert cli.main(["serve", "rotor", "--public-url", "javascript:alert(1)"]) == 2
@@ -351,7 +351,7 @@ def test_a_bad_public_url_is_refused_in_one_line(monkeypatch, capsys):
 def test_a_browser_traceback_becomes_one_warning_line_said_once_per_quiet_window():
     import logging
 
-    from sandbox.web.network import OneLine
+    from sandbox.web.serving.network import OneLine
 
     now = [0.0]
     one = OneLine(clock=lambda: now[0])

@@ -14,7 +14,7 @@ from sandbox.cli import main
 from sandbox.lessons import catalogue
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
-from sandbox.web.pack import export_pack
+from sandbox.web.replay.pack import export_pack
 
 pytest.importorskip("imageio_ffmpeg")
 
@@ -139,7 +139,7 @@ def test_several_recordings_go_only_to_an_export(tmp_path, capsys):
 
 def test_a_failure_mid_export_leaves_no_site(tmp_path, monkeypatch):
     """The second recording's video fails: the folder the export made is gone."""
-    from sandbox.web import pack as packing
+    from sandbox.web.replay import pack as packing
 
     path = _lesson_recording(tmp_path / "r.sbx", speed_up=False)
     made = {"n": 0}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 def test_a_viser_without_the_internals_is_left_as_it_is_with_one_warning(caplog):
-    from sandbox.web.patches import internals_present
+    from sandbox.web.client.patches import internals_present
 
     def missing() -> bool:
         raise ImportError("no such module")
@@ -19,7 +19,7 @@ def test_a_viser_without_the_internals_is_left_as_it_is_with_one_warning(caplog)
 
 
 def test_a_change_to_viser_is_made_once_and_only_when_its_internals_are_there(caplog):
-    from sandbox.web.patches import install_once
+    from sandbox.web.client.patches import install_once
 
     applied: list[str] = []
     name = "tests.web.test_patches.change"
@@ -31,6 +31,6 @@ def test_a_change_to_viser_is_made_once_and_only_when_its_internals_are_there(ca
 
 
 def test_the_projects_changes_to_viser_are_in_place_once_the_pages_can_be_built():
-    from sandbox.web import uploads, wakeups, wire  # noqa: F401  (wire installs both)
+    from sandbox.web.client import uploads, wakeups, wire  # noqa: F401  (wire installs both)
 
     assert uploads.install() and wakeups.install()

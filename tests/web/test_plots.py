@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from sandbox.web.plots import Plot, group_by_unit, nice_ceil, nice_range
+from sandbox.web.panels.plots import Plot, group_by_unit, nice_ceil, nice_range
 
 
 class Handle:
@@ -105,7 +105,7 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
 
     from sandbox.physics.simulation import Simulation
     from sandbox.scenes.base import as_scene
-    from sandbox.web.plots import component_plot
+    from sandbox.web.panels.plots import component_plot
 
     sim = Simulation("rotor")
     scene = as_scene(sim.scene)
@@ -137,7 +137,7 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
 def test_scenes_without_component_plot():
     from sandbox.physics.simulation import Simulation
     from sandbox.scenes.base import as_scene
-    from sandbox.web.plots import component_plot
+    from sandbox.web.panels.plots import component_plot
 
     assert component_plot(None) is None
     assert component_plot(as_scene(Simulation("rolling_cylinder").scene)) is None

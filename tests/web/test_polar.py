@@ -14,7 +14,8 @@ import pytest
 from sandbox.mechanics.unbalance import rotating_loads, two_planes
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES, rotor
-from sandbox.web.polar_panel import FOLDER, PolarPanel, panel_html, rotor_unbalance
+from sandbox.scenes.rotor.diagram import rotor_unbalance
+from sandbox.web.panels.polar import FOLDER, PolarPanel, panel_html
 
 DEFAULTS = SCENES["rotor"].defaults()  # 20 g defect at 80 mm, disk skewed by 2°, no masses
 EMOJI = re.compile("[\u2600-\u27bf\U0001f000-\U0001faff\ufe0f]")
@@ -84,13 +85,13 @@ def test_a_balanced_rotor_has_zero_vectors_and_no_bearing_force():
     sim.advance(0.1)
     forces = sim.readouts()
     assert forces["bearing_A"] < 1e-6 and forces["bearing_B"] < 1e-6  # from 54 N and 15 N
-    html = panel_html(values)
+    html = panel_html(rotor_unbalance(values))
     (total,) = re.findall(r"Résultante</td>(.*?)</tr>", html)
     assert re.findall(r">([^<]*)</td>", total) == ["0", "0"]
 
 
 def test_the_panel_is_french_svg_without_emoji_or_code_names():
-    html = panel_html({**DEFAULTS, "mass1_g": 32.0, "angle1_deg": 180.0})
+    html = panel_html(rotor_unbalance({**DEFAULTS, "mass1_g": 32.0, "angle1_deg": 180.0}))
     assert html.count("<svg") >= 1 and "Balourd statique" in html and "Balourd de couple" in html
     assert "0,0016 à 0°" in html  # the defect: 20 g × 80 mm, decimal comma, degrees
     assert "0,0016 à 180°" in html  # m1: 32 g × 50 mm opposite

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 from sandbox.physics.simulation import Simulation
 from sandbox.web.loop import Controller, Notice, Request
-from sandbox.web.view import WebView
+from sandbox.web.views.browser import WebView
 
 
 class Clock:

@@ -6,9 +6,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from sandbox.web.geoms import capsule_mesh, geom_pose, geom_shapes, mat_to_wxyz
-from sandbox.web.label_layout import Camera, label_size
-from sandbox.web.renderer import READABLE_PX, SceneRenderer
+from sandbox.web.view3d.geoms import capsule_mesh, geom_pose, geom_shapes, mat_to_wxyz
+from sandbox.web.view3d.label_layout import Camera, label_size
+from sandbox.web.view3d.renderer import READABLE_PX, SceneRenderer
 
 ALL_TYPES = """
 <mujoco>
@@ -148,7 +148,7 @@ def test_renderer_poses_moving_nodes_and_keeps_unchanged_ones(model_data):
 
 def test_the_mechanism_size_leaves_the_floor_out():
     from sandbox.physics.simulation import Simulation
-    from sandbox.web.geoms import mechanism_size
+    from sandbox.web.view3d.geoms import mechanism_size
 
     sim = Simulation("rolling_cylinder")
     assert float(sim.model.stat.extent) > 10.0  # the 12 m plane
@@ -157,7 +157,7 @@ def test_the_mechanism_size_leaves_the_floor_out():
 
 def test_small_moving_spheres_are_drawn_large_enough_to_see():
     from sandbox.physics.simulation import Simulation
-    from sandbox.web.geoms import MARKER, mechanism_size
+    from sandbox.web.view3d.geoms import MARKER, mechanism_size
 
     sim = Simulation("rotor", values={"mass1_g": 30.0})
     size = mechanism_size(sim.model)
@@ -219,9 +219,9 @@ class HandleScene:
 def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     from sandbox.physics.simulation import Simulation
     from sandbox.scenes.base import as_scene
-    from sandbox.web.arrow_scale import MAX_REACH, MIN_REACH, SHAFT
-    from sandbox.web.arrows import ArrowLayer
-    from sandbox.web.geoms import mechanism_size
+    from sandbox.web.view3d.arrow_scale import MAX_REACH, MIN_REACH, SHAFT
+    from sandbox.web.view3d.arrows import ArrowLayer
+    from sandbox.web.view3d.geoms import mechanism_size
 
     sim = Simulation(scene, values=values)
     sim.advance(0.05)
@@ -258,7 +258,7 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
 def test_the_user_scale_multiplies_the_lengths():
     from sandbox.physics.simulation import Simulation
     from sandbox.scenes.base import as_scene
-    from sandbox.web.arrows import ArrowLayer
+    from sandbox.web.view3d.arrows import ArrowLayer
 
     sim = Simulation("rotor")
     spec = as_scene(sim.scene)
@@ -279,7 +279,7 @@ def test_a_round_off_force_draws_no_arrow():
     the automatic scale blew it up into a violet arrow as long as the force's."""
     from sandbox.physics.simulation import Simulation
     from sandbox.scenes.base import as_scene
-    from sandbox.web.arrows import ArrowLayer
+    from sandbox.web.view3d.arrows import ArrowLayer
 
     sim = Simulation("engine", values={"cylinders": 4.0})
     sim.advance(0.05)

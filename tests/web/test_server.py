@@ -1,4 +1,4 @@
-"""The server helpers made public by the split of :mod:`sandbox.web.app`."""
+"""The server helpers made public by the split of :mod:`sandbox.web.serving.app`."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import socket
 import pytest
 
 from sandbox.errors import BadOption
-from sandbox.web.server import bracket, check_port
+from sandbox.web.serving.server import bracket, check_port
 
 
 def test_bracket_wraps_an_ipv6_address_only():

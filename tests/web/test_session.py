@@ -457,7 +457,7 @@ def test_a_session_whose_end_fails_leaves_the_scheduler_serving_the_others(caplo
 def test_a_replay_session_ends_cleanly(tmp_path):
     """A replay's controller has the clean-ups a live one has (none of its own)."""
     from sandbox.recording import load
-    from sandbox.web.player import ReplayController
+    from sandbox.web.replay.player import ReplayController
 
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
     ctl.submit(Request("record"))

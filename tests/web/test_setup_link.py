@@ -18,9 +18,10 @@ from sandbox.bench import classroom
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 from sandbox.scenes.base import as_scene
-from sandbox.web import client_link, setup_link
-from sandbox.web.client_link import BUTTON, LINK_LABEL, SHARE_FOLDER
-from sandbox.web.setup_link import RESERVED, Ignored, Setup, build, parse, read, slug
+from sandbox.web.page import link as client_link
+from sandbox.web.page.link import BUTTON, LINK_LABEL, SHARE_FOLDER
+from sandbox.web.panels import setup_link
+from sandbox.web.panels.setup_link import RESERVED, Ignored, Setup, build, parse, read, slug
 
 FOLDERS = ("Affichage", "Méthode numérique", "Torseurs", "Grandeurs de la scène")
 
@@ -275,7 +276,7 @@ def _open_folder(page, label: str) -> None:
 @pytest.mark.browser
 @pytest.mark.slow  # a Chromium page: 5-15 s
 def test_a_page_opened_from_a_link_applies_it_and_writes_it_back(browser):
-    from sandbox.web.app import start
+    from sandbox.web.serving.app import start
 
     app = start("rotor", port=free_port(), open_message=False)
     context = browser.new_context(viewport={"width": 1280, "height": 720})
@@ -373,7 +374,7 @@ def test_every_worker_applies_the_link(browser, tmp_path):
 def test_a_disabled_control_ignores_the_messages_only_a_crafted_page_sends():
     from types import SimpleNamespace
 
-    from sandbox.web.fields import on_user
+    from sandbox.web.client.fields import on_user
 
     callbacks, applied = [], []
     handle = SimpleNamespace(disabled=False, on_update=callbacks.append)

@@ -17,7 +17,7 @@ import time
 import pytest
 
 from sandbox.bench import classroom
-from sandbox.web import app as web_app
+from sandbox.web.serving import app as web_app
 
 SECONDS = 12.0
 BROWSERS = 12

@@ -15,9 +15,9 @@ from conftest import wait_for
 
 from sandbox.sweep import COLUMNS_AFTER, Measure, Study, Vary
 from sandbox.web.loop import Refused
-from sandbox.web.secret import Secret
-from sandbox.web.study_panel import FOLDER, RUN, StudyPanel
-from sandbox.web.xy_panel import FOLDER as XY_FOLDER
+from sandbox.web.loop.secret import Secret
+from sandbox.web.panels.study import FOLDER, RUN, StudyPanel
+from sandbox.web.panels.xy import FOLDER as XY_FOLDER
 from tests.robustness.test_hostile_web import Page
 
 

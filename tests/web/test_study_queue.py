@@ -14,7 +14,7 @@ import pytest
 from conftest import wait_for
 
 from sandbox.sweep import Measure, Study, Vary
-from sandbox.web.study_queue import NICE, StudyJob, StudyQueue, lower_priority, progress_words
+from sandbox.web.loop.study_queue import NICE, StudyJob, StudyQueue, lower_priority, progress_words
 
 
 def _rotor(count: int, duration: float = 0.05) -> StudyJob:

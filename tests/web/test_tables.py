@@ -10,7 +10,7 @@ import pytest
 
 from sandbox.mechanics import rotation_matrix
 from sandbox.physics.simulation import Simulation
-from sandbox.web import tables
+from sandbox.web.panels import tables
 
 SUPERSCRIPTS = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
 

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from sandbox.web.text import html_text, number, plain
+from sandbox.web.client.text import html_text, number, plain
 
 
 def test_plain_shows_html_and_markdown_as_text():
@@ -41,7 +41,7 @@ def test_numbers_have_a_decimal_comma_and_no_round_off_noise(value, digits, zero
 
 
 def test_a_number_and_its_unit_as_french_typography_writes_them():
-    from sandbox.web.text import with_unit
+    from sandbox.web.client.text import with_unit
 
     assert with_unit("54,4", "N") == "54,4\u00a0N"  # no line break before the unit
     assert with_unit("29", "°") == "29°"  # the degree sign of an angle follows the number
@@ -52,7 +52,7 @@ def test_the_gap_before_a_cell_never_breaks_a_line():
     """A narrow column wrapped « −0,001115 » below an empty line after the en space that
     was the gap: the gap is a space of Unicode's no-break class (GL: U+00A0, U+2007,
     U+202F), and still a space (numbers never run together)."""
-    from sandbox.web.text import GAP, table_row
+    from sandbox.web.client.text import GAP, table_row
 
     assert GAP in ("\u00a0", "\u2007", "\u202f")
     assert table_row("Effet de pilon", "−0,001115") == f"| Effet de pilon | {GAP}−0,001115 |"

@@ -12,8 +12,8 @@ import pytest
 from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
-from sandbox.web import video
-from sandbox.web.video import VideoOptions, render_video
+from sandbox.web.video import render as video
+from sandbox.web.video.render import VideoOptions, render_video
 
 imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
 
@@ -209,7 +209,7 @@ def test_the_page_exports_the_recording_in_progress(tmp_path):
 
 
 def test_the_rewind_keeps_the_last_seconds_of_one_model():
-    from sandbox.web.rewind import Rewind
+    from sandbox.web.loop.rewind import Rewind
 
     sim = Simulation("rotor")
     ring = Rewind(seconds=1.0, rate=10.0)
@@ -230,7 +230,7 @@ def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
     cannot be made is one line naming what to do."""
     import mujoco
 
-    from sandbox.web import offscreen as v
+    from sandbox.web.video import offscreen as v
 
     monkeypatch.setattr(v.platform, "system", lambda: system)
     tried: list[str] = []

@@ -1,5 +1,5 @@
 """viser's "a message is waiting" event is only ever touched by its own event loop
-(sandbox.web.wakeups): a session thread queueing a message leaves the loop's waiters alone,
+(sandbox.web.client.wakeups): a session thread queueing a message leaves the loop's waiters alone,
 and every message still reaches its browser."""
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ from conftest import wait_for
 from viser.infra._async_message_buffer import AsyncMessageBuffer
 from viser.infra._messages import Message
 
-from sandbox.web import wire  # noqa: F401  (installs the loop-bound events, as the app does)
-from sandbox.web.wakeups import LoopEvent
+from sandbox.web.client import wire  # noqa: F401  (installs the loop-bound events, as the app does)
+from sandbox.web.client.wakeups import LoopEvent
 
 
 class _Loop:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from sandbox.web import worker, workers
+from sandbox.web.serving import worker, workers
 
 linux_only = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="finds the workers in /proc"
@@ -262,7 +262,7 @@ def test_where_sigterm_kills_at_once_workers_are_stopped_through_their_lifeline(
     """Windows' os.kill(pid, SIGTERM) is TerminateProcess: recordings would stay open.
     There the parent closes the lifelines and each worker stops the Ctrl-C way, closing
     its sessions, and exits 0 on its own, before the pool's deadline would kill it."""
-    from sandbox.web import workers
+    from sandbox.web.serving import workers
 
     monkeypatch.setattr(workers, "GRACEFUL_SIGTERM", False)
     pool = workers.WorkerPool(workers.WorkerSpec("rotor", "127.0.0.1", 0), 2)
@@ -296,7 +296,7 @@ class _Relay:
 
 
 def _report(key: str, joined: float, name: str = "") -> dict[str, object]:
-    from sandbox.web.board import Row, to_wire
+    from sandbox.web.panels.board_rows import Row, to_wire
 
     return to_wire(Row(key=key, joined=joined, name=name))
 
@@ -305,7 +305,7 @@ def test_the_parent_merges_every_worker_s_students_for_the_teacher_s_worker():
     """Worker 1 serves the teacher, worker 0 two students: the board piped to worker 1
     lists all of them, at once when someone arrives or is named, otherwise once a second;
     worker 0, without a teacher, gets nothing; a bad report is dropped."""
-    from sandbox.web.board import Board
+    from sandbox.web.panels.board_rows import Board
 
     pool = workers.WorkerPool(workers.WorkerSpec("rotor", "127.0.0.1", 0), 2)
     pool.relay.close()
@@ -362,7 +362,7 @@ def test_a_worker_s_hub_sends_its_rows_and_delivers_the_merged_board():
     import multiprocessing
     import queue
 
-    from sandbox.web.board import Board, Row
+    from sandbox.web.panels.board_rows import Board, Row
 
     ctx = multiprocessing.get_context("spawn")
     reader, writer = ctx.Pipe(duplex=False)

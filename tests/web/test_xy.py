@@ -16,8 +16,8 @@ from sandbox.scenes import SCENES
 from sandbox.scenes.presets import TIME
 from sandbox.sweep import STATISTICS
 from sandbox.web.loop import Controller
-from sandbox.web.probe import RATE, Probe
-from sandbox.web.xy import TIME_AXIS, Axis, XYData, finite_ends, slope_unit
+from sandbox.web.loop.probe import RATE, Probe
+from sandbox.web.panels.xy_data import TIME_AXIS, Axis, XYData, finite_ends, slope_unit
 
 
 def _axis(sim: Simulation, name: str) -> Axis:

@@ -20,7 +20,7 @@ Definitions:
   ``batched_positions`` / ``batched_wxyzs`` of batched nodes). Frames/s of
   a client = its update frames received in the measurement window / the window [s].
 - **Simulated-time rate**: what the browser shows. The control panel's status line
-  ``t = 12,35 s · vitesse ×1 …`` (``sandbox.web.panels.ControlPanel``, refreshed at
+  ``t = 12,35 s · vitesse ×1 …`` (``sandbox.web.panels.controls.ControlPanel``, refreshed at
   10 Hz) is read from the wire; the rate of a client = (last t - first t) / (wall time
   between the two messages) inside the window [sim s per wall s].
 - **Slider delay**: during the window each client toggles a parameter slider every

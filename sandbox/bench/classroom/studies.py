@@ -5,7 +5,7 @@ frames a second); ``--videos K``, K browsers click « Exporter une vidéo » aga
 (issue 26: no frame lost for the other browsers), while the others are measured.
 
 The studies go to the server's queue, one low-priority process
-(:mod:`sandbox.web.study_queue`): what this measures is whether that process and the
+(:mod:`sandbox.web.loop.study_queue`): what this measures is whether that process and the
 studies' panels take frames from the live sessions.
 """
 

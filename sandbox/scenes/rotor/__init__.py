@@ -26,6 +26,7 @@ from sandbox.scenes.rotor.course import (
     reference,
     unbalance,
 )
+from sandbox.scenes.rotor.diagram import DIAGRAM
 from sandbox.scenes.rotor.model import drive, edit, initial_state
 from sandbox.scenes.rotor.params import (
     AXIS,
@@ -119,6 +120,7 @@ SCENE = Scene(
         values={"speed_rpm": 3000.0},
         timesteps=(1e-4, 3e-4, 1e-3, 3e-3, 1e-2),
     ),
+    unbalance_diagram=DIAGRAM,
 )
 
 __all__ = [

@@ -16,7 +16,7 @@ from pathlib import Path
 from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, create_unique
-from sandbox.web import text
+from sandbox.web.client import text
 from sandbox.web.loop.frame import Notice
 from sandbox.web.loop.pacing import MAX_ADVANCE_STEPS, Pacing
 from sandbox.web.loop.refusals import (
@@ -52,8 +52,8 @@ from sandbox.web.loop.requests import (
     merged,
     pending,
 )
-from sandbox.web.rewind import Rewind
-from sandbox.web.secret import Secret
+from sandbox.web.loop.rewind import Rewind
+from sandbox.web.loop.secret import Secret
 
 log = logging.getLogger(__name__)
 

@@ -88,7 +88,7 @@ class View(Protocol):
 class ReplaySource(Protocol):
     """What a session reads from a source that is not a live
     :class:`~sandbox.web.loop.controller.Controller`: a replay's, which moves along its
-    recording (:class:`~sandbox.web.player.ReplayController`). It draws its simulation's
+    recording (:class:`~sandbox.web.replay.player.ReplayController`). It draws its simulation's
     own state, records nothing and has no challenge."""
 
     @property

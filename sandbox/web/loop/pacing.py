@@ -20,9 +20,9 @@ from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.loop.frame import FPS, Notice
+from sandbox.web.loop.probe import Probe
 from sandbox.web.loop.refusals import Refused, divergence_message, timestep_range
 from sandbox.web.loop.requests import Request
-from sandbox.web.probe import Probe
 
 log = logging.getLogger(__name__)
 

@@ -24,7 +24,7 @@ from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Param, as_scene
-from sandbox.web import text
+from sandbox.web.client import text
 
 log = logging.getLogger(__name__)
 

@@ -22,7 +22,7 @@ class Request:
         kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step`` (timesteps),
             ``advance`` (a "Pas" in time or angle), ``reset``, ``speed``,
             ``integrator`` or ``timestep``; ``challenge`` (a
-            :class:`~sandbox.web.secret.Secret`, or None to end it: built by the server,
+            :class:`~sandbox.web.loop.secret.Secret`, or None to end it: built by the server,
             no control sends it).
         name: Parameter name for ``set_value``; ``s`` or ``deg`` for ``advance`` (the
             unit of ``value``: seconds, or degrees of the main rotating joint).
@@ -150,7 +150,7 @@ class Challenge:
     """Start or end a challenge (built by the server: no control sends it).
 
     Attributes:
-        secret: A :class:`~sandbox.web.secret.Secret` to start, None to end it (anything
+        secret: A :class:`~sandbox.web.loop.secret.Secret` to start, None to end it (anything
             else is refused).
     """
 

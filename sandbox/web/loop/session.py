@@ -20,7 +20,7 @@ from sandbox.web.loop.controller import Controller
 from sandbox.web.loop.frame import FPS, Frame, Notice, ReplaySource, View
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
-from sandbox.web.secret import Secret
+from sandbox.web.loop.secret import Secret
 
 log = logging.getLogger(__name__)
 

@@ -1,0 +1,367 @@
+"""GUI folders of a session: simulation controls, parameters, hypotheses.
+
+Callbacks only queue :class:`~sandbox.web.loop.Request` objects; the loop thread
+applies them. Refresh methods are called by the view from the loop thread. Values
+set programmatically (event.client is None) are never sent back as requests.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Collection, Mapping
+from typing import Any
+
+import mujoco
+import numpy as np
+import viser
+
+from sandbox.physics.limits import MIN_TIMESTEP
+from sandbox.physics.model import INTEGRATORS
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import Param, as_scene
+from sandbox.web.client.fields import (
+    Mirror,
+    advanced,
+    choices,
+    engineering,
+    integrator_label,
+    integrator_name,
+    on_user,
+    param_hint,
+    parse_number,
+    typed,
+)
+from sandbox.web.client.fields import (
+    param_label as param_label,
+)
+from sandbox.web.client.fields import (
+    set_value as set_value,
+)
+from sandbox.web.client.text import number, plain
+from sandbox.web.loop import SPEEDS, Controller, Request, max_timestep
+from sandbox.web.panels import tables
+
+COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
+COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
+COMMAND_KINDS = {"Pause": "pause", "Lecture": "play", "Pas": "step", "Réinitialiser": "reset"}
+"""Buttons of the time bar and the request each one queues."""
+
+RECORD_IDLE = ("Enregistrer",)
+RECORD_BUSY = ("Arrêter l'enregistrement",)
+RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
+
+SPEED_LABEL = "Vitesse ×"
+INTEGRATOR_LABEL = "Intégrateur"
+TIMESTEP_LABEL = "Pas de temps dt [s]"
+PARAMS_FOLDER = "Paramètres"
+ADVANCED_FOLDER = "Réglages avancés"
+NUMERICS_FOLDER = "Méthode numérique"
+CHALLENGE_LOCKED = "Réglage fixé par le défi en cours."
+
+_on_user = on_user  # kept for modules importing it from here
+
+
+def command(kinds: dict[str, str], label: object) -> Request:
+    """The request of a button labelled ``label`` (a browser may send any label: an
+    unknown one becomes a request that the loop refuses once, in French)."""
+    kind = kinds.get(label) if isinstance(label, str) else None
+    return Request(kind) if kind is not None else Request("button", label)
+
+
+def bounds(low: float, high: float) -> tuple[tuple[float, str], ...]:
+    """A slider's end marks, written with a decimal comma (viser writes ``0.005``)."""
+    return ((low, number(low)), (high, number(high)))
+
+
+def param_step(p: Param) -> float:
+    """Slider step: the scene's own, else 1/200 of the range."""
+    return p.step if p.step > 0 else (p.max - p.min) / 200.0
+
+
+def hypotheses(sim: Simulation) -> tuple[str, ...]:
+    """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
+    scene = as_scene(sim.scene)
+    if scene is not None:
+        return tuple(scene.effects_at(sim.values).hypotheses())
+    flags = int(sim.model.opt.disableflags)
+    dsbl = mujoco.mjtDisableBit
+    g = float(np.linalg.norm(sim.model.opt.gravity))
+    lines = ["Fichier MJCF : options du fichier conservées"]
+    lines.append(
+        "Poids négligé"
+        if flags & dsbl.mjDSBL_GRAVITY or g == 0
+        else f"Pesanteur prise en compte (g = {number(g, 3)} m/s²)"
+    )
+    lines.append(
+        "Pas de contact entre solides"
+        if flags & dsbl.mjDSBL_CONTACT
+        else "Contacts simulés si les géométries se touchent"
+    )
+    lines.append("Référentiel terrestre supposé galiléen")
+    return tuple(lines)
+
+
+def _seconds(t: float) -> str:
+    """Simulated time with two decimals and a decimal comma ("12,35", "1 234,56")."""
+    return number(t, max(3, len(f"{abs(t):.0f}") + 2))
+
+
+def speed_slider(gui: viser.GuiApi, hint: str) -> viser.GuiSliderHandle[float]:
+    """The speed slider (×0,01 to ×4, 1: real time) of a live session or a replay."""
+    return gui.add_slider(
+        SPEED_LABEL,
+        min=SPEEDS[0],
+        max=SPEEDS[1],
+        step=min(0.1, SPEEDS[0]),
+        initial_value=1.0,
+        marks=bounds(*SPEEDS),
+        hint=hint,
+    )
+
+
+class ControlPanel:
+    """Folders "Simulation" and "Paramètres", plus the divergence alert.
+
+    Every control is a :class:`~sandbox.web.client.fields.Mirror` of the value in force:
+    whatever changed it (the user, a lesson preset or step, a refusal, a reset, the
+    teacher's settings), each refresh puts the controls back on the simulation's values.
+
+    Args:
+        gui: A viser ``GuiApi`` (``client.gui``).
+        controller: The session's controller (requests go to its queue).
+    """
+
+    def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
+        self.controller = controller
+        self._refusals = 0
+        sim = controller.sim
+        scene = as_scene(sim.scene)
+        submit = controller.submit
+        with gui.add_folder("Alerte", visible=False) as self.alert:
+            self.alert_text = gui.add_markdown("")
+            reset2 = gui.add_button("Réinitialiser", color="red")
+        reset2.on_click(lambda _: submit(Request("reset")))
+        with gui.add_folder("Simulation") as self.folder:
+            self.title = gui.add_markdown(f"**{plain(scene.title if scene else sim.label)}**")
+            self.status = gui.add_markdown("")
+            self.commands = gui.add_button_group(
+                "Temps",
+                COMMANDS_PLAYING,
+                hint="Pause ou lecture, un pas de temps dt, retour à l'état initial",
+            )
+            self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
+            self.speed = speed_slider(gui, "Temps simulé divisé par le temps réel (1 : temps réel)")
+            on_user(self.speed, lambda v: submit(Request("speed", v)))
+            self.record = gui.add_button_group(
+                "Enregistrer",
+                RECORD_IDLE,
+                hint="Enregistre la séance pour la relire avec « sandbox replay » (fichier .sbx)",
+            )
+            self.record.on_click(lambda event: submit(command(RECORD_KINDS, event.target.value)))
+            with gui.add_folder(NUMERICS_FOLDER, expand_by_default=False):
+                labels = tuple(integrator_label(n) for n in INTEGRATORS)
+                self.integrator = gui.add_dropdown(
+                    INTEGRATOR_LABEL,
+                    labels,
+                    initial_value=integrator_label(_known(sim.integrator)),
+                    hint="Schéma qui calcule le mouvement d'un pas de temps au suivant",
+                )
+                on_user(
+                    self.integrator, lambda v: submit(Request("integrator", integrator_name(v)))
+                )
+                self.timestep = gui.add_number(
+                    TIMESTEP_LABEL,
+                    initial_value=sim.timestep,
+                    step=1e-5,
+                    hint=f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
+                    f"{number(max_timestep(sim))} s)",
+                )
+                on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+        busy = self._busy
+        self.mirrors: dict[str, Mirror] = {
+            "<speed>": Mirror(self.speed, lambda: controller.speed, busy=busy),
+            "<integrator>": Mirror(
+                self.integrator, lambda: integrator_label(_known(sim.integrator)), busy=busy
+            ),
+            "<dt>": Mirror(self.timestep, lambda: sim.timestep, busy=busy),
+        }
+        self.sliders: dict[str, viser.GuiInputHandle[Any]] = {}
+        params = scene.params if scene is not None else ()
+        self._params = {p.name: p for p in params}
+        if params:
+            with gui.add_folder(PARAMS_FOLDER) as self.params_folder:
+                for p in params:
+                    if not advanced(p):
+                        self._control(gui, p)
+                rare = [p for p in params if advanced(p)]
+                if rare:
+                    with gui.add_folder(ADVANCED_FOLDER, expand_by_default=False):
+                        for p in rare:
+                            self._control(gui, p)
+        self._playing: bool | None = None
+        self._recording = False
+        self._concealed: dict[str, Mirror | None] = {}  # a challenge's controls, put aside
+
+    def _busy(self) -> bool:
+        """True while the user's requests wait for the loop (controls may be ahead)."""
+        return not self.controller.requests.empty()
+
+    def _control(self, gui: viser.GuiApi, p: Param) -> None:
+        """A dropdown for a choice, a box for a typed number, else a slider."""
+        if choices(p):
+            self._choice(gui, p)
+        elif typed(p):
+            self._box(gui, p)
+        else:
+            self._slider(gui, p)
+
+    def _choice(self, gui: viser.GuiApi, p: Param) -> None:
+        """A parameter picking one of a few options: the dropdown shows their names and
+        sends the option's number."""
+        sim, submit = self.controller.sim, self.controller.submit
+        names = choices(p)
+        read = _reader(sim, p.name)
+
+        def shown() -> str:
+            index = int(round(read()))
+            return names[index] if 0 <= index < len(names) else names[0]
+
+        dropdown = gui.add_dropdown(
+            param_label(p), names, initial_value=shown(), hint=param_hint(p)
+        )
+        name = p.name
+        on_user(
+            dropdown,
+            lambda v: submit(
+                Request("set_value", float(names.index(v)) if v in names else v, name=name)
+            ),
+        )
+        self.sliders[p.name] = dropdown
+        self.mirrors[p.name] = Mirror(dropdown, shown, busy=self._busy)
+
+    def _slider(self, gui: viser.GuiApi, p: Param) -> None:
+        sim, submit = self.controller.sim, self.controller.submit
+        slider = gui.add_slider(
+            param_label(p),
+            min=p.min,
+            max=p.max,
+            step=param_step(p),
+            initial_value=sim.values[p.name],
+            marks=bounds(p.min, p.max),
+            hint=param_hint(p),
+        )
+        on_user(slider, _setter(submit, p.name))
+        self.sliders[p.name] = slider
+        self.mirrors[p.name] = Mirror(slider, _reader(sim, p.name), busy=self._busy)
+
+    def _box(self, gui: viser.GuiApi, p: Param) -> None:
+        """A rarely changed parameter: a text box in engineering notation (``2×10⁻⁴``),
+        which takes any value of its range (a slider's steps cannot reach 0,0002)."""
+        sim, submit = self.controller.sim, self.controller.submit
+        box = gui.add_text(
+            param_label(p),
+            engineering(sim.values[p.name]),
+            hint=param_hint(p) + " Écrivez par exemple 0,0002 ou 2e-4.",
+        )
+        name = p.name
+        on_user(box, lambda v: submit(Request("set_value", parse_number(v), name=name)))
+        self.sliders[p.name] = box
+        read = _reader(sim, name)
+        self.mirrors[p.name] = Mirror(box, lambda: engineering(float(read())), busy=self._busy)
+
+    def refresh(self) -> None:
+        """Status line, play/pause label, and every control on the value in force."""
+        ctl = self.controller
+        state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
+        status = (
+            f"t = {_seconds(ctl.sim.data.time)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
+        )
+        if ctl.playing and not ctl.diverged and ctl.slowed():
+            status += " · plus lent que le temps réel (pas de temps trop petit pour ce poste)"
+        recorder = ctl.recorder
+        recording = recorder is not None
+        if recorder is not None:
+            status += f" · enregistrement en cours ({recorder.frames} images)"
+        if self.status.content != status:
+            self.status.content = status
+        refused = ctl.refusals != self._refusals
+        self._refusals = ctl.refusals
+        if recording != self._recording:
+            self.record.options = RECORD_BUSY if recording else RECORD_IDLE
+            self._recording = recording
+        if ctl.playing != self._playing:
+            self.commands.options = COMMANDS_PLAYING if ctl.playing else COMMANDS_PAUSED
+            self._playing = ctl.playing
+        if bool(ctl.diverged) != self.alert.visible:
+            self.alert.visible = bool(ctl.diverged)
+            self.alert_text.content = ctl.diverged or ""
+        for mirror in self.mirrors.values():
+            mirror.refresh(force=refused)  # a refused value: the controls show the real ones
+
+    def sync(self) -> None:
+        """Put every control back to the simulation's actual values at once."""
+        for mirror in self.mirrors.values():
+            mirror.refresh(force=True)
+
+    def conceal(self, hidden: Mapping[str, float], locked: Collection[str]) -> None:
+        """A challenge: the controls of ``hidden`` parameters removed from the page and
+        set to their stand-in value (a hidden control's value still reaches the browser:
+        never the secret one), those of ``locked`` ones shown but disabled."""
+        for name in {*hidden, *locked}:
+            handle = self.sliders.get(name)
+            if handle is None or name in self._concealed:
+                continue
+            self._concealed[name] = self.mirrors.pop(name, None)
+            handle.disabled = True
+            if name in hidden:
+                handle.visible = False
+                set_value(handle, float(hidden[name]))
+            else:
+                handle.hint = CHALLENGE_LOCKED
+
+    def reveal(self) -> None:
+        """The challenge is over: every control back, showing the values in force (the
+        secret ones included: they are the solution)."""
+        concealed, self._concealed = self._concealed, {}
+        for name, mirror in concealed.items():
+            handle = self.sliders[name]
+            handle.disabled = False
+            handle.visible = True
+            p = self._params.get(name)
+            if p is not None:
+                handle.hint = param_hint(p)
+            if mirror is not None:
+                self.mirrors[name] = mirror
+                mirror.refresh(force=True)
+
+
+def _known(name: str) -> str:
+    return name if name in INTEGRATORS else "euler"
+
+
+def _reader(sim: Simulation, name: str) -> Callable[[], float]:
+    return lambda: sim.values[name]
+
+
+def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], None]:
+    return lambda value: submit(Request("set_value", value, name=name))
+
+
+class HypothesesPanel:
+    """Folder "Hypothèses de modélisation": effects simulated and numerical method."""
+
+    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+        self.sim = sim
+        with gui.add_folder("Hypothèses de modélisation") as self.folder:
+            self.text = gui.add_markdown(self._content())
+
+    def _content(self) -> str:
+        s = self.sim
+        return tables.hypotheses_markdown(
+            hypotheses(s), integrator=s.integrator, timestep=s.timestep
+        )
+
+    def refresh(self) -> None:
+        """Follow integrator and timestep changes."""
+        content = self._content()
+        if content != self.text.content:
+            self.text.content = content

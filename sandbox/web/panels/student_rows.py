@@ -1,0 +1,148 @@
+"""A student's row on the class board, read from what their page last showed.
+
+Reading a student costs a few attribute reads: the lesson panel keeps the readouts of its
+last refresh and its goal bars (:class:`~sandbox.web.panels.lesson.LessonPanel`), so the
+board evaluates nothing and a session's frames are untouched.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+
+import viser
+
+from sandbox.challenges import Attempt
+from sandbox.lessons import Progress
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes.base import as_scene
+from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
+from sandbox.web.panels.challenge import ChallengePanel
+from sandbox.web.panels.lesson_goal import parts
+from sandbox.web.panels.projector import key_readouts, overlay_lines
+
+BALANCING: dict[str, tuple[str, str]] = {
+    "rotor": ("bearing_A", "bearing_B"),
+    "wheel_balancer": ("bearing_inner", "bearing_outer"),
+}
+"""Scenes whose key readout on the board is the larger bearing force (what balancing
+brings down), outside a lesson step that checks its own readouts."""
+
+_GOAL_KEYS = {word: key for key, word in GOALS.items()}
+
+
+@dataclass(frozen=True)
+class Readouts:
+    """How one scene's key readouts are written (computed once per student)."""
+
+    names: tuple[str, ...]
+    labels: Mapping[str, str]
+    units: Mapping[str, str]
+    zeros: Mapping[str, float]
+
+    @classmethod
+    def of(cls, sim: Simulation) -> Readouts:
+        infos = {i.name: i for i in sim.readout_infos()}
+        short = key_readouts(sim)
+        spec = as_scene(sim.scene)
+        names = tuple(short)
+        labels = {n: (short.get(n) or i.label or n) for n, i in infos.items()}
+        units = {n: i.unit for n, i in infos.items()}
+        zeros = {n: spec.zero_for(i.unit) for n, i in infos.items()} if spec else {}
+        return cls(names, labels, units, zeros)
+
+    def written(self, name: str, values: Mapping[str, float]) -> str:
+        """The value as the page's overlay writes it ("54,4 N", "1 500 tr/min")."""
+        label = self.labels.get(name, name)
+        (line,) = overlay_lines([name], values, {name: label}, self.units, self.zeros)
+        return line.removeprefix(f"{label} = ")
+
+
+@dataclass
+class Student:
+    """One student's page as the board reads it (kept across a follow-mode switch)."""
+
+    client: viser.ClientHandle
+    joined: float
+    scene: str
+    readouts: Readouts
+    view: object = None
+    mode: str = "own"
+    field: viser.GuiTextHandle | None = None
+    name: str = ""
+    sim: Simulation | None = None
+    challenge: ChallengePanel | None = None
+    attempt: Attempt | None = None  # kept across a follow-mode student's switches
+
+
+def _read_lesson(view: object, row: Row) -> tuple[Row, str, Mapping[str, float]]:
+    """``row`` with the lesson as the student's page shows it, the readout its step
+    checks ("" when none) and the page's readouts (each attribute read once: the
+    session's loop may change them meanwhile)."""
+    panel = getattr(view, "lesson", None)
+    if panel is None:
+        return row, "", {}
+    values: Mapping[str, float] = panel.values
+    progress: Progress | None = panel.progress
+    if progress is None:
+        return row, "", values
+    state, lines = panel.goal_state, panel.goal_lines
+    goal = _GOAL_KEYS.get(state, "")
+    done = [line.done for line in lines]
+    checked = ""
+    check = progress.step.check
+    found = parts(check) if check is not None else None
+    if found and len(found) == len(done):  # the part furthest from its goal
+        ranked = [(d if d is not None else 2.0, k) for k, d in enumerate(done)]
+        checked = found[min(ranked)[1]].readout
+    row = replace(
+        row,
+        lesson=progress.lesson.name,
+        lesson_title=progress.lesson.title,
+        step=progress.index + 1,
+        steps=len(progress.lesson.steps),
+        goal=goal,
+        progress=progress_of(done, goal) if goal else math.nan,
+    )
+    return row, checked, values
+
+
+def key_readout(
+    scene: str, names: tuple[str, ...], checked: str, values: Mapping[str, float]
+) -> str:
+    """The readout a student's row shows: the one their lesson step checks (the part
+    furthest from its goal), else a balancing scene's larger bearing force, else the
+    scene's first key readout ("" when none)."""
+    if checked:
+        return checked
+    pair = BALANCING.get(scene)
+    if pair is not None and all(n in values for n in pair):
+        a, b = (values[n] for n in pair)
+        return pair[1] if b > a else pair[0]
+    return names[0] if names else ""
+
+
+def student_row(key: str, student: Student) -> Row:
+    """One student's row from what their page last showed."""
+    if student.field is not None:
+        student.name = clean_name(student.field.value)
+    base = Row(key=key, joined=student.joined, name=student.name, scene=student.scene)
+    if student.mode == "follow":
+        return replace(base, mode="follow")
+    row, checked, values = _read_lesson(student.view, base)
+    readouts = student.readouts
+    given, tries, solved_s = student.challenge.state() if student.challenge else ("", 0, math.nan)
+    name = key_readout(student.scene, readouts.names, checked, values)
+    value = float(values.get(name, math.nan)) if name else math.nan
+    return replace(
+        row,
+        readout=name,
+        label=readouts.labels.get(name, name) if name else "",
+        value=value,
+        unit=readouts.units.get(name, "") if name else "",
+        shown=readouts.written(name, values) if name and math.isfinite(value) else "",
+        challenge=given,
+        tries=tries,
+        solved_s=solved_s,
+    )

@@ -1,0 +1,287 @@
+"""``sandbox replay``: a recording played in the browser with a timeline.
+
+Each browser gets its own :class:`ReplayController` (its own position on the timeline)
+over the shared, read-only :class:`~sandbox.recording.Recording`. The 3D view, arrows,
+tables and plots are the live app's (:class:`~sandbox.web.views.browser.WebView`); only the top
+panel differs: a time scrubber, play/pause, frame stepping and a speed factor.
+"""
+
+from __future__ import annotations
+
+import queue
+import sys
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import viser
+
+from sandbox.errors import SandboxError
+from sandbox.recording import Recording, set_state
+from sandbox.replay import ModelChoice, open_replay, set_values
+from sandbox.scenes.base import as_scene
+from sandbox.web.client.fields import param_label, set_value
+from sandbox.web.client.text import number, plain, table_row
+from sandbox.web.loop import (
+    Notice,
+    Refused,
+    Request,
+    Session,
+    as_number,
+    check_speed,
+    french_message,
+    merged,
+    pending,
+    shown_value,
+    step_count,
+)
+from sandbox.web.panels.controls import bounds, command, speed_slider
+from sandbox.web.serving.server import App, open_server, run_forever
+from sandbox.web.views.browser import WebView
+
+
+class ReplayController:
+    """Position, speed and play state of one browser's replay.
+
+    It has the attributes the live view reads (``sim``, ``playing``, ``speed``,
+    ``diverged``, ``generation``) so the same panels draw it.
+
+    Args:
+        rec: The recording.
+        clock: Wall clock [s].
+    """
+
+    def __init__(self, rec: Recording, *, clock: Callable[[], float] = time.perf_counter) -> None:
+        self.rec = rec
+        self.clock = clock
+        self.model: ModelChoice  # which model replays it: the scene's or the recording's
+        self.sim, self.model = open_replay(rec)
+        self.requests: queue.Queue[Request] = queue.Queue()
+        self.playing = True
+        self.speed = 1.0
+        self.diverged: str | None = None
+        self.generation = 0
+        self.index = 0
+        self.timeline = rec.timeline
+        self.position = 0.0
+        self._last = clock()
+        self.cleanups: list[Callable[[], None]] = []  # run when its session ends
+        self._show(0)
+
+    # -- requests ------------------------------------------------------------------------
+    def submit(self, request: Request) -> None:
+        """Queue a request (``play``, ``pause``, ``toggle``, ``step``, ``seek``, ``speed``)."""
+        self.requests.put(request)
+
+    def frame(self, now: float | None = None) -> list[Notice]:
+        """Apply requests, move along the timeline, load the frame's state."""
+        now = self.clock() if now is None else now
+        notices: list[Notice] = []
+        for request in merged(list(pending(self.requests))):
+            try:
+                self._apply(request)
+            except SandboxError as exc:  # a bad value never stops the replay
+                notice = Notice("error", "Valeur refusée", french_message(exc))
+                if notice not in notices:
+                    notices.append(notice)
+            except Exception as exc:
+                notice = Notice(
+                    "error",
+                    "Erreur interne",
+                    f"La commande « {shown_value(request.kind)} » a échoué ({type(exc).__name__}).",
+                )
+                if notice not in notices:
+                    notices.append(notice)
+        if self.playing:
+            self.position += (now - self._last) * self.speed
+            if self.position >= self.timeline[-1]:
+                self.position = float(self.timeline[-1])
+                self.playing = False
+            self._show(self._index_at(self.position))
+        self._last = now
+        return notices
+
+    def _apply(self, request: Request) -> None:
+        kind, value = request.kind, request.value
+        if kind in ("play", "pause", "toggle"):
+            self.playing = {"play": True, "pause": False}.get(kind, not self.playing)
+            if self.playing and self.index >= len(self.rec.times) - 1:
+                self._seek_index(0)
+        elif kind == "step":
+            back = isinstance(value, int | float) and not isinstance(value, bool) and value < 0
+            count = step_count(-value if back else value)
+            self.playing = False
+            self._seek_index(self.index - count if back else self.index + count)
+        elif kind == "seek":
+            self._seek_index(self._index_at(as_number(value, "Temps")))
+        elif kind == "speed":
+            self.speed = check_speed(value)
+        else:
+            raise Refused(
+                f"Une relecture ne peut pas « {shown_value(kind)} » : utilisez la ligne de temps."
+            )
+
+    # -- timeline ------------------------------------------------------------------------
+    def _index_at(self, t: float) -> int:
+        i = int(np.searchsorted(self.timeline, t + 1e-12, side="right")) - 1
+        return min(max(i, 0), len(self.timeline) - 1)
+
+    def _seek_index(self, index: int) -> None:
+        index = min(max(index, 0), len(self.rec.times) - 1)
+        if index < self.index:
+            self.generation += 1  # plots restart
+        self.position = float(self.timeline[index])
+        self._show(index)
+
+    def _show(self, index: int) -> None:
+        """Load frame ``index``: parameters in force then (a binary search in the
+        recording's timeline of values; at most one rebuild), and its full state."""
+        sim = self.sim
+        with sim.lock:
+            changes = [
+                (name, value)
+                for name, value in self.rec.values_at(index).items()
+                if sim.values.get(name) != value
+            ]
+            if changes:
+                set_values(sim, changes)
+            set_state(sim.model, sim.data, self.rec.states[index])
+        self.index = index
+
+    def values(self) -> dict[str, float]:
+        """Readouts shown at the current frame: the recorded ones, else computed."""
+        shown = self.rec.readouts_of_frame(self.index)
+        return shown if shown else self.sim.readouts()
+
+
+TIMELINE_LABEL = "Temps [s]"
+
+
+def seconds(t: float) -> str:
+    """A time on the timeline, to the hundredth of a second: ``5,80``."""
+    return f"{float(t):.2f}".replace(".", ",").replace("-", "−")
+
+
+class ReplayPanel:
+    """Folder "Relecture": status, time scrubber, play/pause, frame steps, speed."""
+
+    COMMANDS = ("Lecture/Pause", "Image précédente", "Image suivante", "Début")
+
+    def __init__(self, gui: viser.GuiApi, controller: ReplayController) -> None:
+        self.controller = controller
+        rec = controller.rec
+        submit = controller.submit
+        t1 = float(controller.timeline[-1])
+        step = t1 / max(len(rec.times) - 1, 1) or 0.01
+        with gui.add_folder("Relecture"):
+            # The header comes from a file students exchange: shown as text, never HTML.
+            lesson = rec.header.get("lesson")
+            self.title = gui.add_markdown(
+                f"**{plain(rec.header.get('target'))}** · enregistré le "
+                f"{plain(rec.header.get('created'))}"
+                + (f" · leçon {plain(lesson)}" if lesson else "")
+            )
+            self.status = gui.add_markdown("")
+            self.commands = gui.add_button_group(
+                "Commandes",
+                self.COMMANDS,
+                hint="Lecture ou pause, une image en arrière ou en avant, retour au début",
+            )
+            self.commands.on_click(lambda event: self._command(event.target.value))
+            self.time = gui.add_slider(
+                TIMELINE_LABEL,
+                min=0.0,
+                max=max(t1, step),
+                step=step,
+                initial_value=0.0,
+                marks=bounds(0.0, max(t1, step)),
+                hint="Position dans l'enregistrement : faites glisser pour y aller",
+            )
+            self.speed = speed_slider(gui, "Temps relu divisé par le temps réel (1 : temps réel)")
+        self.params: viser.GuiMarkdownHandle | None = None
+        scene = as_scene(controller.sim.scene)
+        self.scene_params = scene.params if scene is not None else ()
+        if self.scene_params:
+            with gui.add_folder("Paramètres enregistrés"):
+                self.params = gui.add_markdown("")
+
+        @self.time.on_update
+        def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
+            if event.client is not None:
+                submit(Request("seek", event.target.value))
+
+        @self.speed.on_update
+        def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
+            if event.client is not None:
+                submit(Request("speed", event.target.value))
+
+    COMMAND_KINDS = {
+        "Lecture/Pause": "toggle",
+        "Image précédente": "back",
+        "Image suivante": "step",
+        "Début": "start",
+    }
+
+    def _command(self, label: object) -> None:
+        request = command(self.COMMAND_KINDS, label)
+        if request.kind == "back":
+            request = Request("step", -1)
+        elif request.kind == "start":
+            request = Request("seek", 0.0)
+        self.controller.submit(request)
+
+    def refresh(self) -> None:
+        """Follow the timeline (the scrubber moves while playing)."""
+        ctl = self.controller
+        t = float(ctl.rec.times[ctl.index])
+        pos = float(ctl.timeline[ctl.index])
+        state = "lecture" if ctl.playing else "pause"
+        status = (
+            f"t = {seconds(t)} s · {seconds(pos)} s lues sur {seconds(ctl.timeline[-1])} s · "
+            f"image {ctl.index + 1} sur {len(ctl.rec.times)} · vitesse ×{number(ctl.speed, 3)}"
+            f" · **{state}**"
+        )
+        if self.status.content != status:
+            self.status.content = status
+        if not abs(self.time.value - pos) <= 1e-9:  # also a NaN a browser sent
+            set_value(self.time, pos)
+        if not self.speed.value == ctl.speed:
+            set_value(self.speed, ctl.speed)  # a refused speed: the value in force
+        if self.params is not None:
+            sim = ctl.sim
+            rows = [
+                table_row(plain(param_label(p)), number(sim.values[p.name]))
+                for p in self.scene_params
+            ]
+            content = "\n".join([table_row("Paramètre", "Valeur"), "|:--|--:|", *rows])
+            if self.params.content != content:
+                self.params.content = content
+
+    def sync(self) -> None:
+        """Nothing to put back: the replay refuses nothing the user can type."""
+
+
+def start_replay(
+    rec: Recording, *, host: str = "127.0.0.1", port: int = 8080, open_message: bool = True
+) -> App:
+    """Serve ``rec`` in background threads and return at once."""
+    _, model = open_replay(rec)  # fails early with a clear message
+    if model.warning and open_message:
+        print(f"sandbox: warning: {model.warning}", file=sys.stderr, flush=True)
+    server = open_server(host, port, "Relecture — Dynamique des solides")
+
+    def session(client: viser.ClientHandle) -> Session:
+        ctl = ReplayController(rec)
+        view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)
+        return Session(ctl, view)  # type: ignore[arg-type]
+
+    app = App(server, host, session)
+    if open_message:
+        print(f"sandbox: replay of {rec.path} at {app.url} (Ctrl-C to stop)", flush=True)
+    return app
+
+
+def serve_replay(rec: Recording, **options: Any) -> None:
+    """Serve ``rec`` until Ctrl-C (keyword arguments as for :func:`start_replay`)."""
+    run_forever(start_replay(rec, **options))

@@ -1,0 +1,468 @@
+"""The viser side of a session: 3D scene, arrows, panels and messages for one browser."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Collection, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
+
+from sandbox.lessons import catalogue
+from sandbox.scenes.base import as_scene
+from sandbox.web.client import wire
+from sandbox.web.loop import EVERY, Controller, Frame, Notice, Request
+from sandbox.web.loop.secret import Secret
+from sandbox.web.panels.accuracy import AccuracyPanel
+from sandbox.web.panels.challenge import ChallengePanel
+from sandbox.web.panels.controls import ControlPanel, HypothesesPanel
+from sandbox.web.panels.cycle import CyclePanel
+from sandbox.web.panels.display import DisplayPanel
+from sandbox.web.panels.isolate import IsolatePanel
+from sandbox.web.panels.join import JoinPanel
+from sandbox.web.panels.lesson import LessonPanel
+from sandbox.web.panels.polar import PolarPanel
+from sandbox.web.panels.projector import Projector
+from sandbox.web.panels.readouts import (
+    ENERGY_FOLDER,
+    PLOTS_FOLDER,
+    SCENE_FOLDER,
+    TORSORS_FOLDER,
+    ReadoutPanel,
+)
+from sandbox.web.panels.study import FOLDER as STUDY_FOLDER
+from sandbox.web.panels.study import StudyPanel
+from sandbox.web.panels.xy import FOLDER as XY_FOLDER
+from sandbox.web.panels.xy import XYPanel
+from sandbox.web.video.export import VideoExport
+from sandbox.web.view3d.arrows import ArrowLayer
+from sandbox.web.view3d.camera import point_camera
+from sandbox.web.view3d.geoms import mechanism_size
+from sandbox.web.view3d.renderer import SceneRenderer
+from sandbox.web.view3d.trail import Trail
+
+if TYPE_CHECKING:
+    import viser
+
+    from sandbox.physics.picture import Picture
+    from sandbox.physics.simulation import Simulation
+
+PANEL_RATE = 10.0
+"""Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
+
+ALL_FOLDERS = "Tous les panneaux"
+CYCLE_FOLDER = "Sur un tour"
+ISOLATE_FOLDER = "Isoler un solide"
+ACCURACY_FOLDER = "Précision et coût"
+HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+SECRET_SAFE = (SCENE_FOLDER, PLOTS_FOLDER, TORSORS_FOLDER, ENERGY_FOLDER, HYPOTHESES_FOLDER)
+"""Folders a page keeps while a challenge runs: they show only the frame's readouts
+(withheld ones removed). The others read the simulation itself (isolating a solid, the
+polar diagram, accuracy against the course's closed form): closed until it ends."""
+MAX_HELD = 0.5
+"""Seconds a session may go without drawing while its sender holds frames; then it
+draws anyway (a browser never waits for its 3D view longer, whatever held it)."""
+
+IN_FLIGHT = 3
+"""Frames a browser's sender may hold before its session stops drawing new ones. viser
+takes a window every 1/60 s, in no step with the frames, and its thread waits for the
+interpreter lock on a busy server: with one frame allowed, a session waited on a sender
+that waited on it, and an engine class got 9 frames/s instead of 18."""
+
+LESSON_TAB = "Leçon"
+LESSON_WIDTH = 380
+"""Width [px] of the lesson's column, docked left of the 3D view: the step's text stays
+beside the simulation controls on a 1280×720 projector, with no scrolling."""
+CONTROLS_WIDTH = 430
+"""Width [px] of the control panel, docked right of the 3D view (labels of 16 px text on
+two lines at most)."""
+
+
+class Controls(Protocol):
+    """The top panel of a view: the live :class:`ControlPanel` or a replay's timeline."""
+
+    def refresh(self) -> None: ...
+    def sync(self) -> None: ...
+
+
+class Driver(Protocol):
+    """What a view reads from the controller it shows (a live session's
+    :class:`Controller`, or a replay's)."""
+
+    @property
+    def sim(self) -> Simulation: ...
+
+
+D = TypeVar("D", bound=Driver)
+
+
+def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:
+    """The scene's force arrows in a viser scene (None when the scene has none)."""
+    spec = as_scene(sim.scene)
+    if spec is None or not spec.arrows:
+        return None
+    units = {i.name: i.unit for i in sim.readout_infos()}
+    return ArrowLayer(
+        scene,
+        spec.arrows,
+        extent=float(sim.model.stat.extent),
+        size=mechanism_size(sim.model, sim.data),
+        units=[units.get(a.name, "") for a in spec.arrows],
+        zero=spec.zero,
+        prefix=prefix,
+    )
+
+
+class WebView(Generic[D]):
+    """Draws a controller's simulation into one viser client (implements ``View``).
+
+    Args:
+        client: The viser ``ClientHandle`` of the browser.
+        controller: The session's :class:`Controller`, or a replay's.
+        controls: Builds the top panel from ``(gui, controller)``; default (only for a
+            :class:`Controller`) the live :class:`ControlPanel` and the lesson panel (a
+            replay passes its timeline).
+        values: Unused (readouts come with each frame, from the controller); kept for
+            callers.
+        lesson: Lesson to open at once (live sessions only).
+        join_urls: Addresses students type to join (folder "Rejoindre" when given).
+        draw: Draw the 3D scene; False when another view draws it for everyone (the
+            teacher's panels in follow mode), whose arrows are then ``shared_arrows``.
+        shared_arrows: The arrows drawn by that other view.
+    """
+
+    def __init__(
+        self,
+        client: viser.ClientHandle,
+        controller: D,
+        *,
+        controls: Callable[[viser.GuiApi, D], Controls] | None = None,
+        values: Callable[[], Mapping[str, float]] | None = None,
+        lesson: str | None = None,
+        join_urls: Sequence[str] = (),
+        draw: bool = True,
+        shared_arrows: ArrowLayer | None = None,
+    ) -> None:
+        self.client = client
+        self.controller = controller
+        sim = controller.sim
+        model = sim.model
+        client.gui.configure_theme(control_width="large", show_share_button=False)
+        client.gui.main_panel.dock_right()
+        client.gui.main_panel.set_width(CONTROLS_WIDTH)
+        point_camera(client, sim)
+        self.renderer: SceneRenderer | None = None
+        self.arrows: ArrowLayer | None = shared_arrows
+        self.trail: Trail | None = None
+        if draw:
+            self.renderer = SceneRenderer(client.scene)
+            self.arrows = arrow_layer(client.scene, sim)
+            scene = as_scene(sim.scene)
+            if scene is not None and scene.trail is not None:
+                self.trail = Trail(client.scene, extent=float(model.stat.extent))
+        self.controls: Controls
+        self.lesson: LessonPanel | None = None
+        self.challenge: ChallengePanel | None = None
+        self._allowed: tuple[str, ...] | None = None  # folders left by a challenge
+        if controls is not None:
+            self.controls = controls(client.gui, controller)
+        elif isinstance(controller, Controller):
+            self.challenge = ChallengePanel(client.gui, controller, self)
+            self.controls = ControlPanel(client.gui, controller)
+        else:
+            raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
+        self.video = (
+            VideoExport(client.gui, controller)
+            if controls is None and isinstance(controller, Controller)
+            else None
+        )
+        self.join = JoinPanel(client.gui, join_urls) if join_urls else None
+        left = 16
+        if controls is None and isinstance(controller, Controller):
+            self.lesson, docked = _lesson_column(client.gui, controller, lesson, self.arrows)
+            left += LESSON_WIDTH if docked else 0
+        if left > 16:
+            point_camera(client, sim, narrow=True)
+        self.display: DisplayPanel | None = None
+        if isinstance(controller, Controller):  # "Affichage": slow motion, Pas, camera
+            self.display = DisplayPanel(
+                client.gui,
+                controller,
+                scene=client.scene if draw else None,
+                renderer=self.renderer,
+                camera=client.camera if draw else None,
+                arrows=self.arrows,
+                point=lambda: self.readouts.chosen_point(),
+            )
+        self.picker = client.gui.add_dropdown(
+            "Panneau affiché",
+            (ALL_FOLDERS,),
+            hint="Un seul panneau de mesures à la fois : il reste lisible au projecteur et "
+            "seules ses grandeurs sont calculées",
+        )
+        self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
+        self.polar = PolarPanel.create(client.gui, controller)
+        self.cycle = CyclePanel(client.gui, sim)
+        self.xy = XYPanel(client.gui, controller) if isinstance(controller, Controller) else None
+        self.study = (
+            StudyPanel(client.gui, controller) if isinstance(controller, Controller) else None
+        )
+        self.isolate = IsolatePanel(client.gui, sim)
+        choose = None
+        if isinstance(controller, Controller):  # a precision asked: its setting applied
+            submit = controller.submit
+
+            def choose(integrator: str, timestep: float) -> None:
+                submit(Request("integrator", integrator))
+                submit(Request("timestep", timestep))
+
+        self.accuracy = AccuracyPanel(client.gui, sim, choose=choose)
+        self.hypotheses = HypothesesPanel(client.gui, sim)
+        # Panels of other modules go here, and their folder in _add_picker's list so that
+        # "Panneau affiché" shows one at a time.
+        self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
+        if self.arrows is not None:  # labels placed in this browser's view, at its text size
+            self.arrows.watch(
+                client.camera,
+                font=lambda: self.projector.font,
+                marks=self.renderer,
+                clock=lambda: self._last_panel,  # the session's clock, at the panel refresh
+            )
+        self._picture: Picture | None = None  # the last one drawn
+        self._held_since: float | None = None  # first frame not drawn for the sender
+        self._marks: deque[int] = deque(maxlen=IN_FLIGHT)  # viser's last message id
+        # before each of the last frames drawn
+        self._last_panel = -math.inf
+        self._resync_controls = False
+        self._add_picker(client.gui)
+
+    # -- which folder is shown -----------------------------------------------------------
+    def _add_picker(self, gui: viser.GuiApi) -> None:
+        """One readout folder shown at a time (only it is computed and sent)."""
+        groups: dict[str, viser.GuiFolderHandle] = dict(self.readouts.folders)
+        for folder in (
+            self.polar.folder if self.polar is not None else None,
+            self.cycle.folder,
+            self.xy.folder if self.xy is not None else None,
+            self.study.folder if self.study is not None else None,
+            self.isolate.folder,
+            self.accuracy.folder,
+            self.hypotheses.folder,
+            self.join.folder if self.join is not None else None,
+            self.projector.folder,
+        ):
+            if folder is not None and folder.label:
+                groups[folder.label] = folder
+        self.groups = groups
+        default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
+        self.shown = default
+        self.picker.options = (*groups, ALL_FOLDERS)
+        # viser declares value both as a property and as a props field: mypy reads the
+        # field as read-only, the property assigns it.
+        self.picker.value = default  # type: ignore[misc]
+
+        self._pending_folder: str | None = default
+
+        @self.picker.on_update
+        def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
+            if event.client is not None:
+                self._pending_folder = str(event.target.value)
+
+    def _apply_folder(self) -> None:
+        choice, self._pending_folder = self._pending_folder, None
+        if choice is None:
+            return
+        allowed = self._allowed if self._allowed is not None else tuple(self.groups)
+        self.shown = choice if choice in allowed or choice == ALL_FOLDERS else self.shown
+        if self.shown not in (*allowed, ALL_FOLDERS):
+            self.shown = SCENE_FOLDER if SCENE_FOLDER in allowed else ALL_FOLDERS
+        for label, folder in self.groups.items():
+            folder.visible = self.shown in (label, ALL_FOLDERS) and label in allowed
+        self._last_panel = -math.inf  # fill the folder just shown at once
+
+    def _showing(self, folder: str) -> bool:
+        if self._allowed is not None and folder not in self._allowed:
+            return False  # closed by a challenge: neither refreshed nor sent
+        return self.shown in (folder, ALL_FOLDERS)
+
+    # -- a challenge ---------------------------------------------------------------------
+    def restrict(self, secret: Secret) -> None:
+        """A challenge starts (from the class board's thread): the secret controls go,
+        the readouts that would give it away and the folders that read the simulation
+        are closed until :meth:`unrestrict`."""
+        keep = (*SECRET_SAFE, self.projector.folder.label or "")
+        self._allowed = tuple(label for label in self.groups if label in keep)
+        self.readouts.withheld = secret.withheld
+        if isinstance(self.controls, ControlPanel):
+            self.controls.conceal(secret.public, secret.locked)
+        self.picker.options = (*self._allowed, ALL_FOLDERS)
+        self._pending_folder = self.shown
+
+    def unrestrict(self) -> None:
+        """The challenge is over: every folder and control back."""
+        self._allowed = None
+        self.readouts.withheld = frozenset()
+        if isinstance(self.controls, ControlPanel):
+            self.controls.reveal()
+        self.picker.options = (*self.groups, ALL_FOLDERS)
+        self._pending_folder = self.shown
+
+    # -- View protocol -------------------------------------------------------------------
+    @property
+    def draws(self) -> bool:
+        """True when this view draws the 3D scene now: not for the teacher's panels in
+        follow mode (the broadcast draws), nor while its browser's sender still holds
+        :data:`IN_FLIGHT` frames (a slow link: that session draws fewer frames, and spends
+        nothing on frames viser would merge)."""
+        if self.renderer is None:
+            return False
+        marks = wire.sent_marks(self.client)
+        if marks is None or len(self._marks) < IN_FLIGHT or marks[1] >= self._marks[0]:
+            self._held_since = None
+            return True
+        now = time.monotonic()
+        if self._held_since is None:
+            self._held_since = now
+        return now - self._held_since > MAX_HELD  # never silent for long, whatever holds
+
+    def _note_sent(self) -> None:
+        """Before a new frame's messages: the last message queued so far, which must have
+        gone out before :data:`IN_FLIGHT` more frames are drawn."""
+        marks = wire.sent_marks(self.client)
+        if marks is not None:
+            self._marks.append(marks[0])
+
+    def wants(self, now: float) -> Collection[str] | None:
+        """Readouts this tick needs: those of the shown folder, the plots and an open
+        lesson, at :data:`PANEL_RATE`; None between refreshes."""
+        if self._pending_folder is not None:
+            self._apply_folder()
+        if self.xy is not None:
+            self.xy.watch(self._showing(XY_FOLDER))
+        if now - self._last_panel < 1.0 / PANEL_RATE:
+            return None
+        if self.lesson is not None and self.lesson.progress is not None:
+            return EVERY  # the lesson's checks may use any readout
+        if self.shown == ALL_FOLDERS:
+            return EVERY
+        names = {"time", *self.readouts.plot_names()}
+        names.update(self.projector.names)
+        names.update(self.readouts.names(self.shown))
+        return names
+
+    def render(self, frame: Frame) -> None:
+        """The frame's picture when it brings one (the drawn state changed): poses and
+        arrows that moved; the shown folder, plots and lesson when it brings readouts
+        (:data:`PANEL_RATE`)."""
+        with self.client.atomic():
+            if self._resync_controls:
+                self._resync_controls = False
+                self.controls.sync()
+            if frame.diverged:
+                if self.arrows is not None:
+                    self.arrows.hide()
+            elif frame.picture is not None and self.renderer is not None:
+                self._note_sent()
+                drawing = self._picture = frame.picture
+                self.renderer.draw(drawing)
+                if self.arrows is not None:
+                    self.arrows.draw(drawing.arrows, drawing.magnitudes)
+                if self.display is not None:
+                    self.display.draw(drawing)
+            elif self.arrows is not None and self.arrows.dirty and self._picture is not None:
+                # a scale or a lesson's choice changed while nothing moves
+                self.arrows.draw(self._picture.arrows, self._picture.magnitudes)
+            if frame.readouts is not None or (
+                frame.diverged and frame.now - self._last_panel >= 1.0 / PANEL_RATE
+            ):
+                self._last_panel = frame.now
+                self._refresh_panels(frame)
+
+    def _refresh_panels(self, frame: Frame) -> None:
+        controller, now = self.controller, frame.now
+        sim = controller.sim
+        self.controls.refresh()
+        if self.video is not None:
+            self.video.refresh()
+        if self._showing(HYPOTHESES_FOLDER):
+            self.hypotheses.refresh()
+        self.projector.refresh(None if frame.diverged else frame.readouts)
+        if self.display is not None:
+            self.display.refresh()
+        if self.polar is not None and self._showing(self.polar.folder.label or ""):
+            self.polar.refresh()
+        if frame.diverged or frame.readouts is None:
+            return
+        values = frame.readouts
+        self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
+        if self.shown != PLOTS_FOLDER:
+            self.readouts.refresh(sim, values, None if self.shown == ALL_FOLDERS else self.shown)
+        if self.lesson is not None:
+            self.lesson.refresh(values)
+        if self._showing(CYCLE_FOLDER):
+            self.cycle.refresh(sim, now)
+        if self.xy is not None and self._showing(XY_FOLDER):
+            self.xy.refresh(now)
+        if self.study is not None and self._showing(STUDY_FOLDER):
+            self.study.refresh()
+        drawing = self._picture
+        if self.trail is not None and drawing is not None and drawing.trail is not None:
+            self.trail.add(drawing.time, drawing.trail)
+        if self._showing(ISOLATE_FOLDER):
+            self.isolate.refresh(sim)
+        cost = getattr(controller, "cost", None)
+        if cost is not None and self._showing(ACCURACY_FOLDER):
+            self.accuracy.refresh(sim, cost, now)
+        if self.arrows is not None:
+            self.arrows.relabel()
+
+    def notify(self, notice: Notice) -> None:
+        """A toast for every notice; refused values put the controls back; a finished
+        recording is also sent to the browser as a download."""
+        if notice.level == "file":
+            path = Path(notice.text)
+            self.client.send_file_download(path.name, path.read_bytes())
+            # The page names the file only (where the server keeps it is no business of
+            # a student's); the teacher's terminal says where it is.
+            logging.getLogger(__name__).warning("recording saved: %s", path)
+            notice = Notice("info", notice.title, f"Fichier {path.name} (aussi téléchargé).")
+        color: Literal["red", "orange", "blue"] = (
+            "red" if notice.level == "error" else "orange" if notice.level == "diverged" else "blue"
+        )
+        self.client.add_notification(
+            notice.title,
+            notice.text,
+            with_close_button=True,
+            auto_close_seconds=None if notice.level == "diverged" else 8.0,
+            color=color,
+        )
+        if notice.level == "error":
+            self._resync_controls = True
+        self._last_panel = -math.inf  # show the new state at once
+
+
+def _lesson_column(
+    gui: viser.GuiApi, controller: Controller, lesson: str | None, arrows: ArrowLayer | None
+) -> tuple[LessonPanel, bool]:
+    """The lesson panel, in its own column docked left of the 3D view when the scene has
+    lessons (minimised unless a lesson opens at once); else in the control panel.
+
+    Returns:
+        The panel, and True when it is docked (the 3D view then starts past it).
+    """
+    scene = controller.sim.scene
+    name = scene.name if scene is not None else None
+    found = catalogue()[0] if name is not None else {}
+    if name is None or not any(les.for_scene(name) for les in found.values()):
+        return LessonPanel(gui, controller, lesson=lesson, arrows=arrows), False
+    column = gui.add_panel()
+    with column.add_tab(LESSON_TAB):
+        panel = LessonPanel(gui, controller, lesson=lesson, arrows=arrows)
+    column.dock_left()
+    column.set_width(LESSON_WIDTH)
+    if lesson is None:
+        column.minimize()
+        return panel, False
+    return panel, True
