@@ -265,7 +265,7 @@ WEB_LAYERS = (
 )  # fmt: skip
 """The sub-packages of ``sandbox/web``, lowest first (``sandbox/web/__init__.py`` says why)."""
 
-SCENE_SHARED = ("base", "presets", "registry", "diagrams", "measures", "revolutions")
+SCENE_SHARED = ("base", "presets", "registry", "page", "measures", "revolutions")
 """Modules of ``sandbox/scenes`` that web may import: the records, not a scene."""
 
 

@@ -69,7 +69,8 @@ def validate(lesson: Lesson) -> None:
 
 
 def solution_values(step: Step, scene_name: str, values: Mapping[str, float]) -> dict[str, float]:
-    """The parameter values of a step's ``solution`` (``@helper`` calls the scene's extra).
+    """The parameter values of a step's ``solution`` (``@name``: the scene's solution of
+    that name, called with ``values``).
 
     Raises:
         BadLesson: an unknown helper or a malformed pair.
@@ -78,7 +79,7 @@ def solution_values(step: Step, scene_name: str, values: Mapping[str, float]) ->
     if not text:
         return {}
     if text.startswith("@"):
-        helper = get_scene(scene_name).extra.get(text[1:])
+        helper = get_scene(scene_name).solutions.get(text[1:])
         if not callable(helper):
             raise BadLesson(f"step {step.title!r}: the scene has no helper {text[:80]!r}")
         return {k: float(v) for k, v in helper(values).items()}

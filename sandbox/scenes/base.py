@@ -18,7 +18,7 @@ import numpy as np
 
 from sandbox.errors import BadParameter, UnknownParameter, choices
 from sandbox.physics.units import display_unit
-from sandbox.scenes.diagrams import UnbalanceDiagram
+from sandbox.scenes.page import Names, UnbalanceDiagram
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 if TYPE_CHECKING:
@@ -372,7 +372,9 @@ class Scene:
         arrows: Arrows drawn in the 3D view.
         body_frame: Body whose frame gives the basis B1 of the readout panel.
         sections: Course sections the scene illustrates.
-        extra: Scene-specific helpers (e.g. the rotor's balancing solution).
+        names: French names of the solids and markers (:class:`~sandbox.scenes.page.Names`).
+        solutions: Exercise solutions a lesson step names as ``@name``: parameter values
+            -> the values that solve it (e.g. the rotor's balancing masses).
         accuracy: What ``sandbox bench`` compares with the course, and the invariant.
         camera: (direction from the model towards the camera, up vector) of the 3D view.
         look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
@@ -422,7 +424,8 @@ class Scene:
     arrows: tuple[Arrow, ...] = ()
     body_frame: str | None = None
     sections: str = ""
-    extra: Mapping[str, object] = field(default_factory=dict)
+    names: Names = field(default_factory=Names)
+    solutions: Mapping[str, Callable[[Values], Mapping[str, float]]] = field(default_factory=dict)
     accuracy: Accuracy | None = None
     camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
     look_at: tuple[tuple[float, float, float], float] | None = None

@@ -31,6 +31,7 @@ from sandbox.scenes.base import (
     Series,
     Values,
 )
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
@@ -217,15 +218,15 @@ SCENE = Scene(
     ),
     arrows=ARROWS,
     # Longest MJCF names first: the isolate panel replaces them in its texts.
-    extra={
-        "solid_names": {
+    names=Names(
+        solids={
             "case_pitch": "support de tangage",
             "case_yaw": "support de lacet",
             "case": "boîtier",
             "outer": "cadre extérieur",
             "inner": "cadre intérieur",
         }
-    },
+    ),
     # Round-off only: the axis drift (atan2: 0 for a still axis, 1e-9 rad and up when it
     # drifts) and the pivots' moments stay visible.
     zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12, "rad": 1e-12},

@@ -50,6 +50,7 @@ from sandbox.scenes.compressor.model import (
 )
 from sandbox.scenes.compressor.params import DEFAULTS, PARAMS, RPM
 from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, READOUTS
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY, FITTED_ORDERS, fit_orders
@@ -121,9 +122,7 @@ SCENE = Scene(
     sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",
     camera=((0.35, -0.45, 1.0), (0.0, 1.0, 0.0)),  # facing the mechanism's plane, y0 up
     cycle=revolution,
-    extra={
-        "solid_names": {"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}
-    },
+    names=Names(solids={"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}),
     # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
     zero={**ROUND_OFF, "m": 1e-13},
     accuracy=ACCURACY,

@@ -74,6 +74,7 @@ from sandbox.scenes.engine.model import (
 )
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS, PARAMS
 from sandbox.scenes.engine.readouts import ARROWS, FORCE_SCALE, MOMENT_SCALE, READOUTS
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY
@@ -154,7 +155,7 @@ SCENE = Scene(
     # framed with room for the arrows: the force on the block reaches ~0.22 m from C
     look_at=((0.0, 0.03, 0.0), 0.42),
     cycle=revolution,
-    extra={"solid_names": SOLID_NAMES, "engine": engine_of},
+    names=Names(solids=SOLID_NAMES),
     zero={**ROUND_OFF, "m": 1e-15},
     accuracy=ACCURACY,
 )

@@ -22,6 +22,7 @@ from sandbox.scenes.inertia.model import drive, edit, initial_state
 from sandbox.scenes.inertia.params import PARAMS, RPM
 from sandbox.scenes.inertia.readouts import ARROWS, AXIS_READOUTS, READOUTS
 from sandbox.scenes.measures import relative_drift
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 
@@ -116,7 +117,7 @@ SCENE = Scene(
     arrows=ARROWS,
     body_frame="solid",
     sections="5.2–5.7, A.3",
-    extra={"flip_period": flip_period, "solid_names": {"solid": "S"}},
+    names=Names(solids={"solid": "S"}),
     # Round-off: torque-free, {D} and the powers are 0 in the course; RK4 leaves 1e-17 N·m
     # and 1e-16 W, and G at rest keeps m·V(G) at 1e-17 kg·m/s.
     zero={

@@ -39,6 +39,7 @@ import numpy as np
 
 from sandbox.mechanics.robot_axis import step_response
 from sandbox.scenes.base import Accuracy, Effects, Scene, Series, Values
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.robot_axis.course import (
     axis_of,
@@ -159,7 +160,7 @@ SCENE = Scene(
     body_frame="carriage",
     sections="6.3, 6.4",
     camera=((1.0, -0.2, 0.35), (0.0, 0.0, 1.0)),
-    extra={"solid_names": {"carriage": "ch (chariot)", "arm": "2 (bras z)"}},
+    names=Names(solids={"carriage": "ch (chariot)", "arm": "2 (bras z)"}),
     # Round-off: at constant speed the carriage forces keep ~1e-9 N of the arm's last ringing
     # (peaks of 100 N during a start), the powers and the theorem's residual ~1e-13 W; the
     # arm's deflection decays to picometres in a pause: under half a nanometre it reads 0.

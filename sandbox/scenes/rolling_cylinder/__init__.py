@@ -54,6 +54,7 @@ import numpy as np
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
 from sandbox.scenes.measures import energy_drift
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rolling_cylinder.course import (
     G,
@@ -151,7 +152,7 @@ SCENE = Scene(
     look_at=((0.5, 0.0, -0.15), 1.3),
     leaves_view=True,
     run_ended=past_the_plane,
-    extra={"solid_names": {"cylinder": "cylindre", "eccentric": "masse excentrée"}},
+    names=Names(solids={"cylinder": "cylindre", "eccentric": "masse excentrée"}),
     # Round-off: an absent eccentric mass is a 1e-9 kg point, which leaves 1e-9 N·m in
     # V(A) ∧ m V(G) where the course has 0 (δ in A is a few N·m).
     zero={"N": 1e-9, "N·m": 1e-8, "W": 1e-9, "J": 1e-12, "kg·m/s": 1e-12, "kg·m²/s": 1e-12},

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
 from sandbox.scenes.measures import relative_drift, worst_relative_error
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rotor.course import (
     balancing_solution,
@@ -100,11 +101,11 @@ SCENE = Scene(
     arrows=ARROWS,
     body_frame="rotor",
     sections="2–3, 5, 6, 7.2",
-    extra={
-        "balancing_solution": balancing_solution,
-        "solid_names": {"rotor": "1 (rotor)"},
-        "markers": {"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
-    },
+    names=Names(
+        solids={"rotor": "1 (rotor)"},
+        markers={"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
+    ),
+    solutions={"balancing_solution": balancing_solution},
     # Round-off: at 1500 rpm {D} and the frame's action keep 6e-12 N and 2e-12 N·m on
     # axes where the course has 0 (1e-13 of the 54 N peak), 1e-10 N at 6000 rpm.
     zero={**ROUND_OFF, "kg·m": 1e-13, "kg·m²": 1e-14},

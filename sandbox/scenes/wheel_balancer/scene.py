@@ -12,6 +12,7 @@ from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Accuracy, Effects, Scene, Values, per_revolution_timestep
 from sandbox.scenes.measures import relative_drift, worst_relative_error
+from sandbox.scenes.page import Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.wheel_balancer.course import machine_solution, reference, supports_model
 from sandbox.scenes.wheel_balancer.model import drive, edit, initial_state
@@ -138,17 +139,16 @@ SCENE = Scene(
     arrows=ARROWS,
     body_frame="wheel",
     sections="7.1, 7.2",
-    extra={
-        "machine_solution": machine_solution,
-        "influence_solution": influence_solution,
-        "solid_names": {"wheel": "1 (roue)"},
-        "markers": {
+    names=Names(
+        solids={"wheel": "1 (roue)"},
+        markers={
             "defect": "Point lourd",
             "clip_inner": "m₁",
             "clip_outer": "m₂",
             "trial": "Essai",
         },
-    },
+    ),
+    solutions={"machine_solution": machine_solution, "influence_solution": influence_solution},
     zero={"N": 1e-9, "N·m": 1e-10, "W": 1e-12, "g": 1e-7, "m/s²": 1e-9},
     # Key quantity: the lab bench's vibration at B against the linear synchronous response
     # (rigid bearings are exact at every step); invariant: T at constant speed.

@@ -148,9 +148,7 @@ class DisplayPanel:
         sim = controller.sim
         model = sim.model
         spec = as_scene(sim.scene)
-        extra = spec.extra if spec is not None else {}
-        words = extra.get("markers") if isinstance(extra, Mapping) else None
-        self.words: Mapping[str, str] = words if isinstance(words, Mapping) else {}
+        self.words: Mapping[str, str] = spec.names.markers if spec is not None else {}
         self.size = mechanism_size(model, sim.data)
         # A registered scene says whether its motion leaves the view; any file's free
         # body can. The camera follows it on request (each browser's camera moved every

@@ -27,9 +27,7 @@ class IsolatePanel:
 
     def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
         scene = as_scene(sim.scene)
-        given = scene.extra.get("solid_names") if scene else None
-        names = {str(k): str(v) for k, v in given.items()} if isinstance(given, Mapping) else {}
-        self.names = names
+        self.names = names = dict(scene.names.solids) if scene else {}
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
         self.choices: dict[str, str] = {}
         for body in isolate.solids(sim.model):

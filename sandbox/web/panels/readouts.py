@@ -107,8 +107,7 @@ class ReadoutPanel:
             )
             bases = [BASIS_0]
             if self.body > 0 and scene is not None:
-                solids = scene.extra.get("solid_names")
-                solid = solids.get(scene.body_frame) if isinstance(solids, Mapping) else None
+                solid = scene.names.solids.get(scene.body_frame or "")
                 bases.append(f"B1, liée au solide {solid}" if solid else "B1, liée au solide")
             self.basis = gui.add_dropdown(
                 "Base",
