@@ -8,7 +8,8 @@ Importing it loads :mod:`sandbox.scenes.registry`, which passes the registry dow
 from __future__ import annotations
 
 from sandbox.physics.model import Source, resolve
-from sandbox.scenes.base import Arrow, Effects, Param, Scene, SceneReadout
+from sandbox.scenes.base import Effects, Param, Scene, SceneReadout
+from sandbox.scenes.page import Arrow
 from sandbox.scenes.registry import DEFAULT_SCENE, SCENES, get_scene
 
 __all__ = [

@@ -18,7 +18,7 @@ import numpy as np
 
 from sandbox.errors import BadParameter, UnknownParameter, choices
 from sandbox.physics.units import display_unit
-from sandbox.scenes.page import Names, UnbalanceDiagram
+from sandbox.scenes.page import Arrow, Components, Names, UnbalanceDiagram
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 if TYPE_CHECKING:
@@ -236,49 +236,6 @@ class SceneReadout:
         return display_unit(self.unit)
 
 
-@dataclass(frozen=True)
-class Arrow:
-    """An arrow drawn in the 3D view: origin and vector (world frame) from a snapshot.
-
-    Attributes:
-        name: Contract name (lessons' ``arrows:`` lines); a scene readout of the same
-            name, when there is one, is the arrow's magnitude.
-        label: French words of the 3D label, e.g. "Palier A" (no unit, no value).
-        color: RGB colour of the arrow (0-255).
-        fn: (origin [m], vector [``unit``]) in world coordinates, from a snapshot.
-        scale: Metres of arrow per unit of the vector (e.g. 4e-3 m/N).
-        unit: Unit of the vector (contract form, "" when dimensionless); the label
-            shows :attr:`display_unit` after the magnitude.
-        point: Name of the point the arrow starts from (e.g. "A"), offered as a
-            reduction point of the torsors; "" when it is not a named point.
-        hint: French sentence saying what the arrow shows (legend, tooltip).
-        magnitude: False for a direction (a unit vector such as a rotor's axis): the
-            label is then the words alone.
-    """
-
-    name: str
-    label: str
-    color: tuple[int, int, int]
-    fn: Callable[[Snapshot], tuple[np.ndarray, np.ndarray]]
-    scale: float = 1.0
-    unit: str = ""
-    point: str = ""
-    hint: str = ""
-    magnitude: bool = True
-
-    @property
-    def display_unit(self) -> str:
-        """The vector's unit as the web page shows it."""
-        return display_unit(self.unit)
-
-    def caption(self, value: str) -> str:
-        """The 3D label with the magnitude already written in French (``value``, e.g.
-        "0,91"): "Palier A : 0,91 N"; the words alone for a direction."""
-        if not self.magnitude:
-            return self.label
-        return f"{self.label} : {value} {self.display_unit}".rstrip()
-
-
 Series = Mapping[str, np.ndarray]
 """Readouts sampled during a benchmark run: name -> values over time."""
 
@@ -402,6 +359,9 @@ class Scene:
             (folder "Tracé X–Y"; the first is shown at the start).
         study_presets: Parameter studies that show them (folder "Étude paramétrique").
         unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
+        components: Arrows plotted by component against time (None: scalar plots only).
+        balancing: The two bearing readouts whose larger one the class board shows, what
+            balancing brings down (None: the overlay's key readouts).
     """
 
     name: str
@@ -441,6 +401,8 @@ class Scene:
     xy_presets: tuple[XYPreset, ...] = ()
     study_presets: tuple[StudyPreset, ...] = ()
     unbalance_diagram: UnbalanceDiagram | None = None
+    components: Components | None = None
+    balancing: tuple[str, str] | None = None
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

@@ -21,17 +21,8 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
-from sandbox.scenes.base import (
-    Accuracy,
-    Arrow,
-    Effects,
-    Param,
-    Scene,
-    SceneReadout,
-    Series,
-    Values,
-)
-from sandbox.scenes.page import Names
+from sandbox.scenes.base import Accuracy, Effects, Param, Scene, SceneReadout, Series, Values
+from sandbox.scenes.page import Arrow, Components, Names
 from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
@@ -247,4 +238,7 @@ SCENE = Scene(
         # the implicit integrator, stable and cheap, bleeds σG (numerical damping) past it.
         drift_tol=2e-7,
     ),
+    # Course 5: σG keeps its direction in R0 (its components stay put while the gimbals
+    # turn).
+    components=Components(("sigma_G",), "B0", (0, 1, 2), "B0, fixe"),
 )

@@ -24,7 +24,6 @@ from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import (
     Accuracy,
-    Arrow,
     Effects,
     Param,
     Scene,
@@ -34,6 +33,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import energy_drift
+from sandbox.scenes.page import Arrow, Components
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 G = 9.81
@@ -265,4 +265,7 @@ SCENE = Scene(
         timesteps=(5e-5, 2e-4, 5e-4, 1.5e-3, 5e-3),  # the default among them
         drift_tol=1e-3,  # T + V: first-order integrators gain energy on a spinning top
     ),
+    # The heavy top's σO turns about z0 at the precession rate (x0 and y0 components are
+    # sinusoids, the z0 one is conserved).
+    components=Components(("sigma_O",), "B0", (0, 1, 2), "B0, fixe"),
 )

@@ -11,9 +11,10 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import joint_drive
-from sandbox.scenes.base import Arrow, SceneReadout
+from sandbox.scenes.base import SceneReadout
 from sandbox.scenes.compressor.course import frame_force, motor_torque
 from sandbox.scenes.compressor.cycle import pilon_harmonics
+from sandbox.scenes.page import Arrow
 
 
 def _force(s: Snapshot) -> np.ndarray:

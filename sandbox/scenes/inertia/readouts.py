@@ -11,10 +11,11 @@ import numpy as np
 
 from sandbox.mechanics.inertia import coefficients
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import Arrow, SceneReadout
+from sandbox.scenes.base import SceneReadout
 from sandbox.scenes.inertia.course import basis, course_inertia, huygens_terms, matrix_at
 from sandbox.scenes.inertia.model import simulated
 from sandbox.scenes.inertia.params import choice_index
+from sandbox.scenes.page import Arrow
 
 
 def _matrix(s: Snapshot) -> np.ndarray:

@@ -12,7 +12,8 @@ import numpy as np
 
 from sandbox.mechanics.robot_axis import equivalent_inertia, free_axis_frequency, motor_torque
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import Arrow, SceneReadout
+from sandbox.scenes.base import SceneReadout
+from sandbox.scenes.page import Arrow
 from sandbox.scenes.robot_axis.course import axis_of, flexible
 from sandbox.scenes.robot_axis.model import MEMORY
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Components, Names
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rotor.course import (
     balancing_solution,
@@ -122,6 +122,11 @@ SCENE = Scene(
         timesteps=(1e-4, 3e-4, 1e-3, 3e-3, 1e-2),
     ),
     unbalance_diagram=DIAGRAM,
+    # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
+    # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
+    # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
+    components=Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
+    balancing=("bearing_A", "bearing_B"),
 )
 
 __all__ = [

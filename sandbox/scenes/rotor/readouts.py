@@ -11,7 +11,8 @@ import numpy as np
 
 from sandbox.mechanics import coefficients, huygens
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import Arrow, SceneReadout
+from sandbox.scenes.base import SceneReadout
+from sandbox.scenes.page import Arrow
 from sandbox.scenes.rotor.course import bearing_split, reference
 from sandbox.scenes.rotor.params import AXIS, BEARING_X
 

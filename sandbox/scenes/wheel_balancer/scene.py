@@ -149,6 +149,7 @@ SCENE = Scene(
         },
     ),
     solutions={"machine_solution": machine_solution, "influence_solution": influence_solution},
+    balancing=("bearing_inner", "bearing_outer"),
     zero={"N": 1e-9, "N·m": 1e-10, "W": 1e-12, "g": 1e-7, "m/s²": 1e-9},
     # Key quantity: the lab bench's vibration at B against the linear synchronous response
     # (rigid bearings are exact at every step); invariant: T at constant speed.

@@ -6,7 +6,6 @@ import copy
 import math
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import viser
@@ -15,7 +14,8 @@ from viser import uplot
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit, shown_scale
-from sandbox.scenes.base import Arrow, Scene
+from sandbox.scenes.base import Scene
+from sandbox.scenes.page import Arrow, Components
 
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
 """Line colours when a readout has no arrow colour of its own."""
@@ -258,38 +258,6 @@ def group_by_unit(
     return plots
 
 
-@dataclass(frozen=True)
-class Components:
-    """Components of some of a scene's arrows plotted against time: a force or a momentum
-    whose magnitude stays constant can still turn, and its components show how.
-
-    Attributes:
-        arrows: Names of the scene's arrows (vectors in world coordinates).
-        basis: "B0" (fixed, the world axes) or "B1" (the scene's ``body_frame``).
-        axes: Which components (0, 1, 2 for x, y, z of the basis).
-        words: How the basis is named in the title, e.g. "B1, tournant avec le rotor".
-    """
-
-    arrows: tuple[str, ...]
-    basis: str
-    axes: tuple[int, ...]
-    words: str
-
-
-COMPONENTS: dict[str, Components] = {
-    # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
-    # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
-    # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
-    "rotor": Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
-    # Course 5: the gyroscope's σG keeps its direction in R0 (its components stay put
-    # while the gimbals turn); the heavy top's σO turns about z0 at the precession rate
-    # (x0 and y0 components are sinusoids, the z0 one is conserved).
-    "gyroscope": Components(("sigma_G",), "B0", (0, 1, 2), "B0, fixe"),
-    "heavy_gyroscope": Components(("sigma_O",), "B0", (0, 1, 2), "B0, fixe"),
-}
-"""Which arrows each scene plots by component (a scene record field would be better: see
-the report of issue 14; scenes not listed plot their scalar readouts only)."""
-
 AXIS_WORDS = {"B0": ("x₀", "y₀", "z₀"), "B1": ("x₁", "y₁", "z₁")}
 DASHES: tuple[tuple[float, ...], ...] = ((), (8.0, 4.0), (2.0, 3.0))
 """Solid, dashed, dotted: the components of one arrow share its colour."""
@@ -354,7 +322,7 @@ class ComponentPlot(Plot):
 def component_plot(scene: Scene | None) -> ComponentPlot | None:
     """The scene's :class:`ComponentPlot` (None when it has none, or lacks its arrows or
     the body frame its basis needs)."""
-    spec = COMPONENTS.get(scene.name) if scene is not None else None
+    spec = scene.components if scene is not None else None
     if scene is None or spec is None or (spec.basis == "B1" and not scene.body_frame):
         return None
     by_name = {a.name: a for a in scene.arrows}

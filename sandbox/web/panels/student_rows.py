@@ -16,18 +16,12 @@ import viser
 from sandbox.challenges import Attempt
 from sandbox.lessons import Progress
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import SCENES
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
 from sandbox.web.panels.challenge import ChallengePanel
 from sandbox.web.panels.lesson_goal import parts
 from sandbox.web.panels.projector import key_readouts, overlay_lines
-
-BALANCING: dict[str, tuple[str, str]] = {
-    "rotor": ("bearing_A", "bearing_B"),
-    "wheel_balancer": ("bearing_inner", "bearing_outer"),
-}
-"""Scenes whose key readout on the board is the larger bearing force (what balancing
-brings down), outside a lesson step that checks its own readouts."""
 
 _GOAL_KEYS = {word: key for key, word in GOALS.items()}
 
@@ -116,7 +110,8 @@ def key_readout(
     scene's first key readout ("" when none)."""
     if checked:
         return checked
-    pair = BALANCING.get(scene)
+    spec = SCENES.get(scene)
+    pair = spec.balancing if spec is not None else None
     if pair is not None and all(n in values for n in pair):
         a, b = (values[n] for n in pair)
         return pair[1] if b > a else pair[0]

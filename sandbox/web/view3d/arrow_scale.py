@@ -18,7 +18,7 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
-from sandbox.scenes.base import Arrow
+from sandbox.scenes.page import Arrow
 from sandbox.web.client.text import number, with_unit
 
 MIN_LENGTH = 1e-4
