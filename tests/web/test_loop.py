@@ -3,6 +3,8 @@ pacing and the checks, and the scheduler's view of a session."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from sandbox.physics.simulation import Simulation
@@ -116,3 +118,19 @@ def test_a_live_controller_and_a_replay_are_read_each_their_own_way(tmp_path):
     assert drawn_snapshot(replay).data.time == replay.sim.data.time
     assert readouts(replay, names) == replay.values()
     assert shown_readouts(replay, names, None) == replay.values()
+
+
+def test_what_a_panel_may_do_goes_through_the_session_state():
+    ctl = Controller(Simulation("rotor"))
+    assert not ctl.pending()
+    ctl.submit(Request("pause"))
+    assert ctl.pending()  # queued for the loop, not applied by the panel
+    closed: list[int] = []
+    ctl.on_close(lambda: closed.append(1))
+    assert len(ctl.cleanups) == 1
+    ctl.follow_lesson("rotor-equilibrage")
+    assert ctl.lesson == "rotor-equilibrage"
+    web = Path(__file__).resolve().parents[2] / "sandbox" / "web"
+    for path in [*sorted((web / "panels").glob("*.py")), web / "video" / "export.py"]:
+        text = path.read_text()
+        assert "Controller" not in text, f"{path.name} names the Controller: use SessionState"

@@ -97,6 +97,19 @@ class Controller(Pacing):
         self.cleanups: list[Callable[[], None]] = []  # run when its session ends
         self.rewind = Rewind()  # the last seconds, for « Exporter une vidéo »
 
+    # -- what its panels may do (:class:`~sandbox.web.loop.state.SessionState`) --------
+    def pending(self) -> bool:
+        """Requests wait for the loop (a control may be ahead of the simulation)."""
+        return not self.requests.empty()
+
+    def on_close(self, cleanup: Callable[[], None]) -> None:
+        """Run ``cleanup`` when the session ends."""
+        self.cleanups.append(cleanup)
+
+    def follow_lesson(self, name: str | None) -> None:
+        """The lesson the page follows from now on, recorded with the session."""
+        self.lesson = name
+
     # -- called from the loop thread -----------------------------------------------------
     def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
         """Step to catch up with the wall clock, then apply the queued requests.

@@ -23,8 +23,9 @@ from sandbox.challenges import BALANCED, Attempt, Challenge
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.client.fields import param_unit
 from sandbox.web.client.text import html_text, number, with_unit
-from sandbox.web.loop import Controller, Request
+from sandbox.web.loop import Request
 from sandbox.web.loop.secret import Secret
+from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.board_table import duration
 from sandbox.web.panels.tables import RELATIVE_ZERO
 
@@ -80,7 +81,7 @@ class ChallengePanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        controller: Controller,
+        controller: SessionState,
         page: Page,
         *,
         clock: Callable[[], float] = time.time,

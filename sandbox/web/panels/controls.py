@@ -37,7 +37,8 @@ from sandbox.web.client.fields import (
     set_value as set_value,
 )
 from sandbox.web.client.text import number, plain
-from sandbox.web.loop import SPEEDS, Controller, Request, max_timestep
+from sandbox.web.loop import SPEEDS, Request, max_timestep
+from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
@@ -130,7 +131,7 @@ class ControlPanel:
         controller: The session's controller (requests go to its queue).
     """
 
-    def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: SessionState) -> None:
         self.controller = controller
         self._refusals = 0
         sim = controller.sim
@@ -203,7 +204,7 @@ class ControlPanel:
 
     def _busy(self) -> bool:
         """True while the user's requests wait for the loop (controls may be ahead)."""
-        return not self.controller.requests.empty()
+        return self.controller.pending()
 
     def _control(self, gui: viser.GuiApi, p: Param) -> None:
         """A dropdown for a choice, a box for a typed number, else a slider."""

@@ -20,7 +20,8 @@ from sandbox.physics.display import main_joint
 from sandbox.physics.picture import Picture
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import number
-from sandbox.web.loop import SPEEDS, Controller, Request
+from sandbox.web.loop import SPEEDS, Request
+from sandbox.web.loop.state import SessionState
 from sandbox.web.view3d.arrows import USER_SCALES, ArrowLayer
 from sandbox.web.view3d.geoms import MARKER, mechanism_size
 from sandbox.web.view3d.renderer import SceneRenderer
@@ -131,7 +132,7 @@ class DisplayPanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        controller: Controller,
+        controller: SessionState,
         *,
         scene: viser.SceneApi | None = None,
         renderer: SceneRenderer | None = None,

@@ -29,7 +29,8 @@ import viser
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.physics.units import shown_scale
 from sandbox.web.client.text import plain, table_row
-from sandbox.web.loop import Controller, Request
+from sandbox.web.loop import Request
+from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.lesson_goal import Line, Words, goal_html, lines
 from sandbox.web.panels.plots import Plot, group_by_unit
 from sandbox.web.view3d.arrows import ArrowLayer
@@ -64,7 +65,7 @@ class LessonPanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        controller: Controller,
+        controller: SessionState,
         *,
         lesson: str | None = None,
         arrows: ArrowLayer | None = None,
@@ -208,7 +209,7 @@ class LessonPanel:
         for handle in self._step_handles:
             handle.remove()
         self._step_handles = []
-        self.controller.lesson = lesson.name if lesson else None
+        self.controller.follow_lesson(lesson.name if lesson else None)
         title = lesson.title if lesson is not None else FREE
         if self.picker.value != title and title in self._by_title:
             # the control tells the truth; viser's value setter reads as read-only to mypy

@@ -23,7 +23,8 @@ from sandbox.scenes.presets import StudyPreset
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
 from sandbox.web.client.fields import param_label
 from sandbox.web.client.text import html_text, number
-from sandbox.web.loop import Controller, Refused, as_number, check_value, french_message
+from sandbox.web.loop import Refused, as_number, check_value, french_message
+from sandbox.web.loop.state import SessionState
 from sandbox.web.loop.study_queue import StudyJob, StudyQueue, progress_words
 from sandbox.web.panels.study_chart import STAT_LABELS, StudyChart
 from sandbox.web.panels.xy_data import Axis
@@ -54,7 +55,7 @@ class StudyPanel:
     """
 
     def __init__(
-        self, gui: viser.GuiApi, controller: Controller, queue: StudyQueue | None = None
+        self, gui: viser.GuiApi, controller: SessionState, queue: StudyQueue | None = None
     ) -> None:
         self.gui = gui
         self.controller = controller
@@ -138,7 +139,7 @@ class StudyPanel:
         if first is not None:
             self.fill(first)
         self._connect()
-        controller.cleanups.append(self.close)
+        controller.on_close(self.close)
 
     def close(self) -> None:
         """The browser left: its study stops (runs not started are dropped)."""

@@ -22,7 +22,8 @@ from viser import uplot
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
 from sandbox.web.client.text import html_text
-from sandbox.web.loop import Controller, Request
+from sandbox.web.loop import Request
+from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.plots import PALETTE, dashed, dots, replace_chart
 from sandbox.web.panels.xy_data import TIME_AXIS, Axis, XYData
 
@@ -52,7 +53,7 @@ class XYPanel:
         controller: The live session (its probe samples the chosen readouts).
     """
 
-    def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: SessionState) -> None:
         self.gui = gui
         self.controller = controller
         sim = controller.sim

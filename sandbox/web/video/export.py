@@ -24,8 +24,8 @@ import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
 from sandbox.errors import SandboxError
 from sandbox.recording import load
 from sandbox.web.client.text import plain
-from sandbox.web.loop import Controller
 from sandbox.web.loop.background import BackgroundPool
+from sandbox.web.loop.state import SessionState
 from sandbox.web.video.options import VideoOptions
 
 FOLDER = "Vidéo"
@@ -95,7 +95,7 @@ class VideoExport:
         controller: The live session (its recording in progress is what is exported).
     """
 
-    def __init__(self, gui: viser.GuiApi, controller: Controller) -> None:
+    def __init__(self, gui: viser.GuiApi, controller: SessionState) -> None:
         self.controller = controller
         self.client: viser.ClientHandle | None = None
         self.future: Future[int] | None = None
@@ -113,7 +113,7 @@ class VideoExport:
                 "en cours), en MP4 pour vos diapositives."
             )
         self.button.on_click(lambda e: setattr(self, "_clicked", e.client))
-        controller.cleanups.append(self.close)
+        controller.on_close(self.close)
 
     def refresh(self) -> None:
         """From the session loop: start a video asked for; follow the one being made;
