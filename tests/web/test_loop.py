@@ -128,8 +128,6 @@ def test_what_a_panel_may_do_goes_through_the_session_state():
     closed: list[int] = []
     ctl.on_close(lambda: closed.append(1))
     assert len(ctl.cleanups) == 1
-    ctl.follow_lesson("rotor-equilibrage")
-    assert ctl.lesson == "rotor-equilibrage"
     web = Path(__file__).resolve().parents[2] / "sandbox" / "web"
     for path in [*sorted((web / "panels").glob("*.py")), web / "video" / "export.py"]:
         text = path.read_text()

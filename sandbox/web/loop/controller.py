@@ -106,10 +106,6 @@ class Controller(Pacing):
         """Run ``cleanup`` when the session ends."""
         self.cleanups.append(cleanup)
 
-    def follow_lesson(self, name: str | None) -> None:
-        """The lesson the page follows from now on, recorded with the session."""
-        self.lesson = name
-
     # -- called from the loop thread -----------------------------------------------------
     def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
         """Step to catch up with the wall clock, then apply the queued requests.

@@ -4,8 +4,10 @@ few ways it acts, all of them queued or bounded (:class:`SessionState`).
 Panels are typed against this protocol, never against the
 :class:`~sandbox.web.loop.controller.Controller`: they read the simulation, the speed, the
 recording and the challenge in force, and they act by :meth:`~SessionState.submit`
-(a request the loop thread applies before its next frame), :meth:`~SessionState.on_close`
-and :meth:`~SessionState.follow_lesson`. The controller satisfies it as it is.
+(a request the loop thread applies before its next frame) and
+:meth:`~SessionState.on_close`; the one thing a panel sets is the lesson the page follows
+(:attr:`~SessionState.lesson`, recorded with the session). The controller satisfies it
+as it is.
 """
 
 from __future__ import annotations
@@ -52,9 +54,8 @@ class SessionState(Protocol):
     def secret(self) -> Secret | None:
         """What the page keeps while a challenge runs."""
 
-    @property
-    def lesson(self) -> str | None:
-        """The lesson followed (recorded with the session)."""
+    lesson: str | None
+    """The lesson the page follows (set by the lesson panel, recorded with the session)."""
 
     @property
     def probe(self) -> Probe:
@@ -75,6 +76,3 @@ class SessionState(Protocol):
 
     def on_close(self, cleanup: Callable[[], None]) -> None:
         """Run ``cleanup`` when the session ends."""
-
-    def follow_lesson(self, name: str | None) -> None:
-        """The lesson the page follows from now on (None: none)."""

@@ -209,7 +209,7 @@ class LessonPanel:
         for handle in self._step_handles:
             handle.remove()
         self._step_handles = []
-        self.controller.follow_lesson(lesson.name if lesson else None)
+        self.controller.lesson = lesson.name if lesson else None
         title = lesson.title if lesson is not None else FREE
         if self.picker.value != title and title in self._by_title:
             # the control tells the truth; viser's value setter reads as read-only to mypy
