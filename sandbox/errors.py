@@ -6,9 +6,18 @@ from collections.abc import Iterable
 
 
 class SandboxError(Exception):
-    """Base class of every error the sandbox reports to a user (CLI exit code 2)."""
+    """Base class of every error the sandbox reports to a user (CLI exit code 2).
+
+    The message speaks English to the command line; ``french`` is the same refusal in the
+    web page's words, written where the check is made (None: the page says a general
+    refusal and the server logs the English).
+    """
 
     exit_code = 2
+
+    def __init__(self, *args: object, french: str | None = None) -> None:
+        super().__init__(*args)
+        self.french = french
 
 
 class UnknownScene(SandboxError):

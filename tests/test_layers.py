@@ -40,7 +40,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "sandbox"
 
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("base", ("sandbox", "sandbox.errors", "sandbox.data")),
+    ("base", ("sandbox", "sandbox.errors", "sandbox.data", "sandbox.french")),
     ("mechanics", ("sandbox.mechanics",)),
     ("physics", ("sandbox.physics",)),
     ("scenes", ("sandbox.scenes",)),

@@ -19,6 +19,7 @@ import mujoco
 
 from sandbox.data import data_dir
 from sandbox.errors import BadModel, BadOption, UnknownScene, choices, one_line, shown
+from sandbox.french import shown_value
 from sandbox.physics.limits import (
     check_spec,
     prescan,
@@ -53,10 +54,15 @@ def integrator_name(model: mujoco.MjModel) -> str:
     return "discrete"
 
 
-def check_integrator(name: str) -> int:
-    """MuJoCo code of an integrator name (BadOption naming the valid ones)."""
-    if name not in INTEGRATORS:
-        raise BadOption(f"unknown integrator {name!r}; choose one of: {choices(INTEGRATORS)}")
+def check_integrator(name: object) -> int:
+    """MuJoCo code of an integrator name (BadOption naming the valid ones, in English and
+    in the page's words)."""
+    if not isinstance(name, str) or name not in INTEGRATORS:
+        raise BadOption(
+            f"unknown integrator {shown(name)}; choose one of: {choices(INTEGRATORS)}",
+            french=f"Intégrateur « {shown_value(name)} » inconnu : choisissez parmi "
+            f"{', '.join(INTEGRATORS)}.",
+        )
     return INTEGRATORS[name]
 
 
@@ -95,7 +101,7 @@ class SceneSpec(Protocol):
     @property
     def mechanism(self) -> Callable[[Any, dict[str, float]], None] | None: ...  # (snap, out)
     def defaults(self) -> dict[str, float]: ...
-    def param(self, name: str) -> Any: ...  # has check(value) -> float and live
+    def param(self, name: object) -> Any: ...  # has check(value) -> float and live
     def default_timestep(
         self, values: Mapping[str, float] | None = None, data: Any = None
     ) -> float: ...
@@ -233,7 +239,8 @@ def build(
         text = text if len(text) <= 300 else text[:297] + "..."
         raise BadModel(
             f"cannot load MJCF {shown(str(source.path))}: {text or type(exc).__name__}; "
-            "fix the file (see MuJoCo's XML reference)"
+            "fix the file (see MuJoCo's XML reference)",
+            french="Le modèle ne se construit pas avec ces valeurs : rien n'a changé.",
         ) from None
     except UnicodeDecodeError:
         raise BadModel(

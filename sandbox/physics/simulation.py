@@ -11,8 +11,9 @@ from typing import Any
 import mujoco
 
 from sandbox.errors import BadOption, Diverged, UnknownParameter, shown
+from sandbox.french import number, shown_value
 from sandbox.physics import readouts as generic
-from sandbox.physics.limits import check_timestep
+from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP, check_timestep
 from sandbox.physics.model import (
     Source,
     build,
@@ -63,9 +64,9 @@ class Simulation:
         self.scene = self.source.scene
         self.values: dict[str, float] = self.scene.defaults() if self.scene else {}
         for name, value in (values or {}).items():
-            self.values[name] = self._check(name, value)
+            self.values[name] = self.check_value(name, value)
         self._integrator = None if integrator is None else check_integrator(integrator)
-        self._timestep = None if timestep is None else self._check_dt(timestep)
+        self._timestep = None if timestep is None else self.check_timestep(timestep)
         self.lock = threading.RLock()
         self._settled_at: float | None = None  # see _follow_state
         self.observers: list[Callable[[str, dict[str, Any]], None]] = []
@@ -75,11 +76,18 @@ class Simulation:
         self.reset()
 
     # -- construction -------------------------------------------------------------------
-    def _check(self, name: str, value: object) -> float:
+    def check_value(self, name: object, value: object) -> float:
+        """``value`` checked for parameter ``name``, nothing changed: what
+        :meth:`set_value` would take (a link or a study checks its values before use).
+
+        Raises:
+            UnknownParameter, BadParameter: in English and, as ``french``, the page's words.
+        """
         if self.scene is None:
             raise UnknownParameter(
                 f"{shown(self.source.label)} is an MJCF file and has no parameter {shown(name)}; "
-                "parameters exist only for registered scenes (see 'sandbox list')"
+                "parameters exist only for registered scenes (see 'sandbox list')",
+                french=f"Paramètre « {shown_value(name)} » inconnu (un fichier MJCF n'en a aucun).",
             )
         return self.scene.param(name).check(value)
 
@@ -159,7 +167,7 @@ class Simulation:
         Raises:
             UnknownParameter, BadParameter: the change is refused, nothing is modified.
         """
-        number = self._check(name, value)
+        number = self.check_value(name, value)
         with self.lock:
             old, old_dt = self.values[name], self.timestep
             self.values[name] = number
@@ -231,8 +239,8 @@ class Simulation:
         mujoco.mj_forward(model, data)
         self._warnings = self._warning_count()
 
-    def set_integrator(self, name: str) -> None:
-        """Switch integrator live (no rebuild)."""
+    def set_integrator(self, name: object) -> None:
+        """Switch integrator live (no rebuild); BadOption naming the valid ones."""
         code = check_integrator(name)
         with self.lock:
             self._integrator = code
@@ -240,20 +248,41 @@ class Simulation:
             self._apply_drive()  # a drive may tune gains to the integrator
         self._emit("integrator", value=name)
 
-    def _check_dt(self, value: float) -> float:
-        dt = check_timestep(value)
+    @property
+    def max_timestep(self) -> float:
+        """Largest timestep [s] this simulation accepts (the scene's own bound, if any)."""
         limit = self.scene.max_timestep if self.scene is not None else math.inf
-        if dt > limit:
+        return min(MAX_TIMESTEP, limit)
+
+    def _timestep_words(self, value: object) -> str:
+        given = number(value, 3) if isinstance(value, float) else shown_value(value)
+        return (
+            f"Pas de temps dt = {given} s refusé : choisissez un pas entre "
+            f"{number(MIN_TIMESTEP, 3)} s et {number(self.max_timestep, 3)} s."
+        )
+
+    def check_timestep(self, value: object) -> float:
+        """``value`` checked as this simulation's timestep [s], nothing changed.
+
+        Raises:
+            BadOption: in English and, as ``french``, the page's words (the range).
+        """
+        try:
+            dt = check_timestep(value)  # type: ignore[arg-type]
+        except BadOption as exc:
+            raise BadOption(str(exc), french=self._timestep_words(value)) from None
+        if dt > self.max_timestep:
             raise BadOption(
-                f"timestep {value!r} s is too large for {self.scene.name!r} (max {limit:g} s: "  # type: ignore[union-attr]
-                f"beyond it the results drift from the course); try --timestep "
-                f"{self.scene.timestep:g}"  # type: ignore[union-attr]
+                f"timestep {value!r} s is too large for {self.scene.name!r} (max "  # type: ignore[union-attr]
+                f"{self.max_timestep:g} s: beyond it the results drift from the course); try "
+                f"--timestep {self.scene.timestep:g}",  # type: ignore[union-attr]
+                french=self._timestep_words(value),
             )
         return dt
 
     def set_timestep(self, value: float) -> None:
         """Switch timestep live (no rebuild)."""
-        dt = self._check_dt(value)
+        dt = self.check_timestep(value)
         with self.lock:
             self._timestep = dt
             self.model.opt.timestep = dt

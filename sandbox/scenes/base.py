@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from sandbox.errors import BadParameter, UnknownParameter, choices
+from sandbox import french
+from sandbox.errors import BadParameter, UnknownParameter, choices, shown
 from sandbox.physics.units import display_unit
 from sandbox.scenes.page import Arrow, Components, Names, UnbalanceDiagram
 from sandbox.scenes.presets import StudyPreset, XYPreset
@@ -101,18 +102,38 @@ class Param:
         engine's 1, 2 or 4 cylinders) is checked by its scene, which names the values."""
         return bool(self.choices)
 
+    @property
+    def words(self) -> str:
+        """The parameter as the page names it: its French label, else its name."""
+        return self.label or self.name
+
     def _allowed(self) -> str:
         if self.choices:
             first = ", ".join(str(i) for i in range(len(self.choices) - 1))
             return f"{first} or {len(self.choices) - 1} (see 'sandbox describe')"
         return f"a value between {self.min:g} and {self.max:g} {self.display_unit}".rstrip()
 
+    def _french(self, value: object) -> str:
+        """The refusal of ``value`` in the page's words (one sentence, decimal comma)."""
+        unit = self.display_unit
+        unit = unit if unit in ("", "°") else f" {unit}"
+        numeric = isinstance(value, (int, float)) and not isinstance(value, bool)
+        shown = french.shown_number(value)
+        given = f"{shown}{unit}" if numeric and math.isfinite(value) else f"« {shown} »"  # type: ignore[arg-type]
+        if self.choices:
+            options = " ; ".join(f"{i} ({c})" for i, c in enumerate(self.choices))
+            return f"{self.words} : {given} refusé, choisissez parmi {options}."
+        low, high = french.number(self.min, 6), french.number(self.max, 6)
+        return f"{self.words} : {given} refusé, choisissez entre {low} et {high}{unit}."
+
     def check(self, value: object) -> float:
         """Validate ``value`` (number or numeric string) and return it as a float.
 
         A string must be written in ASCII digits (Python's float() would also read
-        fullwidth or Arabic-Indic digits, underscores and "nan"); a whole-valued
-        parameter (:attr:`integer`) refuses fractions rather than rounding them.
+        fullwidth or Arabic-Indic digits, underscores and "nan") and be short (a browser
+        may send a megabyte); a whole-valued parameter (:attr:`integer`) refuses fractions
+        rather than rounding them. The one check of a value, for the command line and the
+        page alike: the refusal speaks English and, as ``french``, the page's words.
 
         Raises:
             BadParameter: if it is not a finite number, lies outside ``[min, max]``, or
@@ -122,26 +143,35 @@ class Param:
         text = value.strip() if isinstance(value, str) else None
         try:
             if isinstance(value, bool) or (
-                text is not None and (not text.isascii() or "_" in text)
+                text is not None and (not text.isascii() or "_" in text or len(text) > 64)
             ):
                 raise ValueError(value)
             number = float(value)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise BadParameter(
                 f"parameter {self.name!r} needs a number written with the digits 0-9, "
-                f"got {value!r}; give {self._allowed()}"
+                f"got {_said(value)}; give {self._allowed()}",
+                french=self._french(value),
             ) from None
         if not math.isfinite(number) or not (self.min <= number <= self.max):
             span = f"{self.min:g} to {self.max:g} {self.display_unit}".rstrip()
             raise BadParameter(
-                f"parameter {self.name!r} = {value!r} is out of range; "
-                f"allowed: {self._allowed() if self.choices else span}"
+                f"parameter {self.name!r} = {_said(value)} is out of range; "
+                f"allowed: {self._allowed() if self.choices else span}",
+                french=self._french(value),
             )
         if self.integer and number != int(number):
             raise BadParameter(
-                f"parameter {self.name!r} takes whole values, got {value!r}; give {self._allowed()}"
+                f"parameter {self.name!r} takes whole values, got {_said(value)}; "
+                f"give {self._allowed()}",
+                french=self._french(value),
             )
         return number
+
+
+def _said(value: object) -> str:
+    """``repr`` of a value in an English refusal, cut when a browser sent a long text."""
+    return shown(value) if isinstance(value, str) else repr(value)
 
 
 @dataclass(frozen=True)
@@ -414,7 +444,7 @@ class Scene:
         """Round-off [``unit``] below which the page shows 0 (0.0: every digit shown)."""
         return float(self.zero.get(unit, 0.0))
 
-    def param(self, name: str) -> Param:
+    def param(self, name: object) -> Param:
         """The parameter called ``name``.
 
         Raises:
@@ -424,8 +454,10 @@ class Scene:
             if p.name == name:
                 return p
         valid = choices(p.name for p in self.params) or "none (this model has no parameters)"
+        among = " ; ".join(p.words for p in self.params)
         raise UnknownParameter(
-            f"scene {self.name!r} has no parameter {name!r}; valid parameters: {valid}"
+            f"scene {self.name!r} has no parameter {shown(name)}; valid parameters: {valid}",
+            french=f"Paramètre « {french.shown_value(name)} » inconnu (parmi : {among}).",
         )
 
     def defaults(self) -> dict[str, float]:

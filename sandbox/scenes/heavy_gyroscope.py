@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import (
@@ -86,7 +87,9 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     if c > 2 * a:
         raise BadParameter(
             f"I_spin = {c:g} exceeds 2 × I_transverse = {2 * a:g}, impossible for a rigid "
-            "body; raise I_transverse or lower I_spin"
+            "body; raise I_transverse or lower I_spin",
+            french=f"Le moment axial C = {number(c)} kg·m² dépasse 2 × A = {number(2 * a)} kg·m², "
+            "impossible pour un solide : augmentez A ou diminuez C.",
         )
     body.inertia = [a, a, c]
     spec.geom("disk").pos = [0, 0, v["d"]]

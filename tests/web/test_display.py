@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from sandbox.errors import BadModel, BadOption, BadParameter, Diverged
+from sandbox.errors import BadModel, BadOption, BadParameter, Diverged, UnknownParameter
 from sandbox.physics.display import angle_between, main_joint
 from sandbox.physics.picture import picture
 from sandbox.physics.simulation import Simulation
@@ -18,12 +18,9 @@ from sandbox.web.loop import (
     SPEEDS,
     Controller,
     Request,
-    check_value,
     divergence_message,
     french_message,
-    param_words,
 )
-from sandbox.web.loop import refusals as session_module
 
 
 class Clock:
@@ -195,6 +192,8 @@ def test_slow_motion_down_to_one_hundredth():
 
 
 def test_refusals_name_parameters_in_french_words(monkeypatch):
+    """A value is checked once, by its parameter: the refusal speaks English to the
+    command line and French (its label, decimal comma, the page's unit) to the page."""
     scene = as_scene(Simulation("rotor").scene)
     assert scene is not None
     labelled = dataclasses.replace(
@@ -204,23 +203,31 @@ def test_refusals_name_parameters_in_french_words(monkeypatch):
             for p in scene.params
         ),
     )
-    monkeypatch.setattr(session_module, "as_scene", lambda _: labelled)
     sim = Simulation("rotor")
-    with pytest.raises(session_module.Refused) as err:
-        check_value(sim, "mass1_g", 250.5)
-    assert str(err.value) == (
-        "Masse de correction m₁ : 250,5 g refusé, choisissez entre 0 et 200 g."
+    monkeypatch.setattr(sim, "scene", labelled)
+    with pytest.raises(BadParameter) as err:
+        sim.check_value("mass1_g", 250.5)
+    assert (
+        err.value.french == "Masse de correction m₁ : 250,5 g refusé, choisissez entre 0 et 200 g."
     )
-    with pytest.raises(session_module.Refused) as err:
-        check_value(sim, "speed_rpm", -1)
-    speed = param_words(labelled.params[0])
-    assert str(err.value) == (
+    assert str(err.value) == "parameter 'mass1_g' = 250.5 is out of range; allowed: 0 to 200 g"
+    with pytest.raises(BadParameter) as err:
+        sim.check_value("speed_rpm", -1)
+    speed = labelled.params[0].words
+    assert err.value.french == (
         f"{speed} : −1 tr/min refusé, choisissez entre 0 et 6\u202f000 tr/min."
     )
-    with pytest.raises(session_module.Refused) as err:
-        check_value(sim, "angle1_deg", 200)
-    assert str(err.value).endswith(": 200° refusé, choisissez entre −180 et 180°.")
-    assert param_words(dataclasses.replace(labelled.params[0], label="")) == "speed_rpm"
+    with pytest.raises(BadParameter) as err:
+        sim.check_value("angle1_deg", 200)
+    assert str(err.value.french).endswith(": 200° refusé, choisissez entre −180 et 180°.")
+    with pytest.raises(BadParameter) as err:
+        sim.check_value("angle1_deg", "x" * 5000)  # a crafted message: both cut short
+    assert len(str(err.value)) < 300 and len(str(err.value.french)) < 300
+    with pytest.raises(UnknownParameter) as err:
+        sim.check_value("nope", 1)
+    assert str(err.value.french).startswith("Paramètre « nope » inconnu (parmi : ")
+    assert "Masse de correction m₁" in str(err.value.french)
+    assert dataclasses.replace(labelled.params[0], label="").words == "speed_rpm"
 
 
 def test_the_divergence_message_is_french():
@@ -230,18 +237,20 @@ def test_the_divergence_message_is_french():
     assert "(valeurs non numériques dans l'état)" in text and "NaN" not in text
 
 
-@pytest.mark.parametrize(
-    "exc, words",
-    [
-        (BadOption("timestep must be a positive number of seconds, got 0; try --timestep 1"), "dt"),
-        (BadParameter("parameter 'mass1_g' needs a number"), "hors de son domaine"),
-        (BadModel("cannot compile"), "ne se construit pas"),
-    ],
-)
-def test_lower_layer_refusals_are_said_in_french(exc, words):
-    text = french_message(exc)
-    assert words in text and text.endswith("rien n'a changé.")
-    assert "timestep" not in text and "mass1_g" not in text and "--" not in text
+def test_lower_layer_refusals_are_said_in_their_own_french_words():
+    """No translation table: a refusal raised with French words shows them; one without
+    (an unforeseen English detail) shows a general French sentence, never the English."""
+    sim = Simulation("compressor")
+    with pytest.raises(BadParameter) as err:
+        sim.set_value("L", 0.01)  # shorter than the crank: refused while building
+    text = french_message(err.value)
+    assert text.startswith("La bielle (L = 0,01 m) doit être plus longue que la manivelle")
+    with pytest.raises(BadOption) as err:
+        sim.set_integrator("euler2")
+    assert french_message(err.value).startswith("Intégrateur « euler2 » inconnu : choisissez")
+    text = french_message(BadModel("cannot compile"))
+    assert text == "Modification refusée : rien n'a changé." and "compile" not in text
+    assert french_message(Diverged(1.25, "BADQACC")).startswith("La simulation a divergé")
 
 
 # -- the "Affichage" folder ------------------------------------------------------------------

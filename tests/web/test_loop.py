@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
+from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import load
-from sandbox.web.loop import Controller, Refused, Scheduler, Session, check_timestep
+from sandbox.web.loop import Controller, Scheduler, Session, check_timestep
 from sandbox.web.loop.frame import ReplaySource
-from sandbox.web.loop.refusals import max_timestep, timestep_range
 from sandbox.web.loop.requests import (
     Advance,
     Button,
@@ -36,16 +36,26 @@ from sandbox.web.loop.session import drawn_snapshot, drawn_time, readouts, shown
 from sandbox.web.replay.player import ReplayController
 
 
-def test_the_timestep_refusal_gives_the_range_in_french():
+def test_the_timestep_refusal_gives_the_range_in_french_and_english():
+    """One check of a timestep, by the simulation: its refusal speaks English to the
+    command line and, as ``french``, gives the page the range; the page's parse of a
+    typed text refuses a word with the same range."""
     sim = Simulation("rotor")
-    words = timestep_range(sim, 0.5)
+    with pytest.raises(BadOption) as err:
+        sim.check_timestep(0.5)
+    words = err.value.french
+    assert words is not None
     assert words.startswith("Pas de temps dt = 0,5 s refusé : choisissez un pas entre 1×10⁻⁶ s")
     assert words.endswith(" s.") and "0,5" not in words.split("entre")[1]
-    assert max_timestep(sim) > 0
-    with pytest.raises(Refused) as err:
+    assert "timestep 0.5 s is too large" in str(err.value) and "--timestep" in str(err.value)
+    assert 0 < sim.max_timestep < 0.5
+    with pytest.raises(BadOption) as err:
         check_timestep(sim, 0.5)
-    assert str(err.value) == words
-    assert timestep_range(sim, "abc").startswith("Pas de temps dt = abc s refusé")
+    assert err.value.french == words
+    with pytest.raises(BadOption) as err:
+        check_timestep(sim, "abc")
+    assert str(err.value.french).startswith("Pas de temps dt = abc s refusé")
+    assert check_timestep(sim, "0.0005") == 0.0005
 
 
 class Blank:

@@ -159,7 +159,7 @@ def test_another_version_is_refused_whole(rotor_page):
 def test_a_choice_takes_an_option_index_only():
     page = setup_link.page_of(Simulation("rolling_cylinder"))
     assert read("race=1", page) == (Setup(settings=(("race", 1.0),)), [])
-    assert "choisissez une option de 0 à 1" in _why(read("race=0.5", page)[1], "race=0.5")
+    assert "choisissez parmi 0 (Non) ; 1 (Oui)" in _why(read("race=0.5", page)[1], "race=0.5")
 
 
 def test_a_file_without_parameters_says_so(pendulum_xml):

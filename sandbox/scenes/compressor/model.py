@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.scenes.base import Values, per_revolution_timestep
 from sandbox.scenes.compressor.course import kinematics
 from sandbox.scenes.compressor.params import DEFAULTS, RPM
@@ -19,22 +20,28 @@ def _check_geometry(v: Values) -> None:
     if v["L"] <= v["R"] * 1.0001:
         raise BadParameter(
             f"the rod (L = {v['L']:g} m) must be longer than the crank (R = {v['R']:g} m); "
-            "raise L or lower R"
+            "raise L or lower R",
+            french=f"La bielle (L = {number(v['L'])} m) doit être plus longue que la manivelle "
+            f"(R = {number(v['R'])} m) : augmentez L ou diminuez R.",
         )
     m1d1, m2d2 = v["m1"] * v["d1"] ** 2, v["m2"] * v["d2"] ** 2
     crank = np.array(
         [[v["A1"], 0, -v["E1"]], [0, v["B1"] - m1d1, 0], [-v["E1"], 0, v["C1"] - m1d1]]
     )
     rod = np.diag([v["A2"] - m2d2, v["B2"], v["C2"] - m2d2])
-    for name, inertia, fix in (
-        ("crank", crank, "raise A1, B1, C1 or lower m1·d1² and |E1|"),
-        ("rod", rod, "raise A2, C2 or lower m2·d2²"),
-    ):
+    for name, inertia, fix, words in (
+        ("crank", crank, "raise A1, B1, C1 or lower m1·d1² and |E1|",
+         "à la manivelle : augmentez A₁, B₁, C₁ ou diminuez m₁·d₁² et |E₁|"),
+        ("rod", rod, "raise A2, C2 or lower m2·d2²",
+         "à la bielle : augmentez A₂, C₂ ou diminuez m₂·d₂²"),
+    ):  # fmt: skip
         eig = np.linalg.eigvalsh(inertia)
         if eig[0] <= 0 or eig[2] > eig[0] + eig[1] + 1e-15:
             raise BadParameter(
                 f"these values give the {name} an impossible inertia at its centre of mass "
-                f"(principal moments {', '.join(f'{e:.3g}' for e in eig)} kg·m²); {fix}"
+                f"(principal moments {', '.join(f'{e:.3g}' for e in eig)} kg·m²); {fix}",
+                french="Ces valeurs donnent une matrice d'inertie impossible (moments "
+                f"principaux {' ; '.join(number(e, 3) for e in eig)} kg·m²) {words}.",
             )
 
 

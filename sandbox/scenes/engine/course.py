@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.mechanics.engine import (
     THROWS_DEG,
     Engine,
@@ -29,7 +30,8 @@ def cylinder_count(v: Values) -> int:
     if n not in (1.0, 2.0, 4.0):
         raise BadParameter(
             f"cylinders = {n:g} is not offered: lower it to 2 or raise it to 4 "
-            "(inline engines of 1, 2 or 4 cylinders)"
+            "(inline engines of 1, 2 or 4 cylinders)",
+            french=f"Nombre de cylindres n = {number(n)} refusé : choisissez 1, 2 ou 4.",
         )
     return int(n)
 

@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.mechanics.engine import THROWS_DEG, lanchester_unbalance
 from sandbox.scenes.base import Values, per_revolution_timestep
 from sandbox.scenes.compressor import model as compressor
@@ -27,17 +28,24 @@ def _check(v: Values) -> None:
     if v["L"] <= v["R"] * 1.0001:
         raise BadParameter(
             f"the rod (L = {v['L']:g} m) must be longer than the crank (R = {v['R']:g} m); "
-            "raise L or lower R"
+            "raise L or lower R",
+            french=f"La bielle (L = {number(v['L'])} m) doit être plus longue que la manivelle "
+            f"(R = {number(v['R'])} m) : augmentez L ou diminuez R.",
         )
     if v["d2"] > v["L"]:
         raise BadParameter(
             f"the rod's centre of mass (d2 = {v['d2']:g} m) must lie between A and B "
-            f"(L = {v['L']:g} m); lower d2 or raise L"
+            f"(L = {v['L']:g} m); lower d2 or raise L",
+            french=f"Le centre d'inertie de la bielle (d₂ = {number(v['d2'])} m) doit être entre "
+            f"A et B (L = {number(v['L'])} m) : diminuez d₂ ou augmentez L.",
         )
     if v["C2"] <= v["m2"] * v["d2"] ** 2 * 1.0001:
         raise BadParameter(
             f"C2 = {v['C2']:g} kg·m² is below m2·d2² = {v['m2'] * v['d2'] ** 2:g} kg·m², an "
-            "impossible rod; raise C2 or lower m2 or d2"
+            "impossible rod; raise C2 or lower m2 or d2",
+            french=f"C₂ = {number(v['C2'])} kg·m² est inférieur à m₂·d₂² = "
+            f"{number(v['m2'] * v['d2'] ** 2)} kg·m², une bielle impossible : augmentez C₂ ou "
+            "diminuez m₂ ou d₂.",
         )
 
 

@@ -12,6 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.mechanics.inertia import (
     MassProperties,
     block,
@@ -99,7 +100,10 @@ def parts(values: Values) -> tuple[Part, ...]:
         return tuple(Part("cylinder", (r, h), c0, ax) for _, r, h, c0, ax in CRANKSHAFT_PARTS)
     if solid == HOLLOW:  # 5.6.2: R = a, h = b, hole of radius r = hole_ratio × a
         return (Part("tube", (a, b, values["hole_ratio"] * a)),)
-    raise BadParameter(f"solid = {solid!r} is not a solid; lower solid to 0..{len(SOLIDS) - 1}")
+    raise BadParameter(
+        f"solid = {solid!r} is not a solid; lower solid to 0..{len(SOLIDS) - 1}",
+        french=f"Solide n° {number(solid)} inconnu : choisissez entre 0 et {len(SOLIDS) - 1}.",
+    )
 
 
 def course_inertia(values: Values) -> MassProperties:

@@ -10,6 +10,7 @@ import mujoco
 import numpy as np
 
 from sandbox.errors import BadParameter
+from sandbox.french import number
 from sandbox.scenes.base import Values
 from sandbox.scenes.rolling_cylinder.course import axis_inertia
 
@@ -19,7 +20,9 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     if v["inner_radius"] >= v["R"]:
         raise BadParameter(
             f"inner_radius = {v['inner_radius']:g} m must be smaller than R = {v['R']:g} m; "
-            "lower inner_radius"
+            "lower inner_radius",
+            french=f"Le rayon intérieur r = {number(v['inner_radius'])} m doit rester plus petit "
+            f"que le rayon R = {number(v['R'])} m : diminuez r.",
         )
     alpha = math.radians(v["slope_deg"])
     slope = spec.body("slope")

@@ -10,12 +10,24 @@ from __future__ import annotations
 import html
 import re
 
+from sandbox.french import number
+
+__all__ = [
+    "GAP",
+    "MAX_SHOWN",
+    "UNIT_SPACE",
+    "html_text",
+    "number",
+    "plain",
+    "table_row",
+    "with_unit",
+]
+
 MAX_SHOWN = 200
 """Longest untrusted value shown [characters]; the rest is cut with an ellipsis."""
 
 _MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+\-.!|~])")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
-_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
 def _clip(value: object, limit: int) -> str:
@@ -32,31 +44,6 @@ def plain(value: object, limit: int = MAX_SHOWN) -> str:
     """``value`` as literal text inside markdown: HTML escaped, markdown syntax backslashed,
     on one line, at most ``limit`` characters."""
     return html.escape(_MARKDOWN.sub(r"\\\1", _clip(value, limit)), quote=True)
-
-
-def number(value: float, digits: int = 4, *, zero: float = 0.0) -> str:
-    """``value`` as a French reader writes it: ``digits`` significant digits, a decimal
-    comma, a narrow no-break space between thousands, ``×10⁻⁵`` instead of ``e-05``, the
-    minus sign "−" (not a hyphen), "—" when not finite, and "0" when ``|value| <= zero``
-    (below the scene's round-off, e.g. 1.959e-19 N). CSV and JSON files keep Python's dot
-    and hyphen."""
-    if value != value or value in (float("inf"), float("-inf")):
-        return "—"
-    if abs(value) <= zero or value == 0:
-        return "0"
-    if value < 0:
-        return "\u2212" + number(-value, digits)
-    exponent = int(f"{abs(value):.{max(digits - 1, 0)}e}".split("e")[1])
-    if -4 <= exponent < digits + 2:
-        decimals = max(digits - 1 - exponent, 0)
-        text = f"{value:,.{decimals}f}"
-        if "." in text:
-            text = text.rstrip("0").rstrip(".")
-        return text.replace(",", "\u202f").replace(".", ",")
-    mantissa, power = f"{value:.{max(digits - 1, 0)}e}".split("e")
-    mantissa = mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa
-    superscript = str(int(power)).translate(_SUPERSCRIPT)
-    return f"{mantissa.replace('.', ',')}×10{superscript}"
 
 
 GAP = "\u2007"

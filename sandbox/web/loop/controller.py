@@ -22,10 +22,8 @@ from sandbox.web.loop.pacing import MAX_ADVANCE_STEPS, Pacing
 from sandbox.web.loop.refusals import (
     Refused,
     advance_seconds,
-    check_integrator,
     check_speed,
     check_timestep,
-    check_value,
     french_message,
     shown_value,
     step_count,
@@ -303,7 +301,7 @@ class Controller(Pacing):
             case SetValue(name, value):
                 if self.secret is not None and name in self.secret.locked:
                     raise Refused("Ce réglage est caché pendant le défi : il reste tel quel.")
-                sim.set_value(name, check_value(sim, name, value))
+                sim.set_value(name, value)
                 return None
             case Challenge(secret):  # built by the server only (no control sends it)
                 return self._challenge(secret)
@@ -321,7 +319,7 @@ class Controller(Pacing):
                     return None
                 return Notice("file", "Enregistrement terminé", str(closed))
             case Integrator(value):
-                sim.set_integrator(check_integrator(value))
+                sim.set_integrator(value)
                 return None
             case Timestep(value):
                 sim.set_timestep(check_timestep(sim, value))

@@ -14,14 +14,14 @@ import queue
 import time
 from collections.abc import Callable, Collection
 
-from sandbox.errors import Diverged
+from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.display import DisplayState
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.loop.frame import FPS, Notice
 from sandbox.web.loop.probe import Probe
-from sandbox.web.loop.refusals import Refused, divergence_message, timestep_range
+from sandbox.web.loop.refusals import Refused, divergence_message, french_message
 from sandbox.web.loop.requests import Request
 
 log = logging.getLogger(__name__)
@@ -154,7 +154,7 @@ class Pacing:
         if not (math.isfinite(dt) and dt > 0):  # e.g. a file with timestep="0"
             self.playing = False
             self.refusals += 1
-            return [Notice("error", "Pas de temps invalide", timestep_range(self.sim, dt))]
+            return [Notice("error", "Pas de temps invalide", _timestep_refusal(self.sim, dt))]
         target = self._sync_sim + (now - self._sync_wall) * self.speed
         behind = target - float(self.sim.data.time)
         if behind < -MAX_LAG * self.speed:
@@ -317,3 +317,13 @@ class Pacing:
         self.playing = False
         self.diverged = divergence_message(exc)
         return Notice("diverged", "Simulation divergée", self.diverged)
+
+
+def _timestep_refusal(sim: Simulation, dt: float) -> str:
+    """What the page says of a timestep that is not a positive number (the range the
+    simulation accepts, in its refusal's words)."""
+    try:
+        sim.check_timestep(dt)
+    except SandboxError as exc:
+        return french_message(exc)
+    raise AssertionError(f"timestep {dt!r} was accepted")  # only non-positive ones come

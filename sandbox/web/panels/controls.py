@@ -37,7 +37,7 @@ from sandbox.web.client.fields import (
     set_value as set_value,
 )
 from sandbox.web.client.text import number, plain
-from sandbox.web.loop import SPEEDS, Request, max_timestep
+from sandbox.web.loop import SPEEDS, Request
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
 
@@ -174,7 +174,7 @@ class ControlPanel:
                     initial_value=sim.timestep,
                     step=1e-5,
                     hint=f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
-                    f"{number(max_timestep(sim))} s)",
+                    f"{number(sim.max_timestep)} s)",
                 )
                 on_user(self.timestep, lambda v: submit(Request("timestep", v)))
         busy = self._busy

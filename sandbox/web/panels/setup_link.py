@@ -18,7 +18,7 @@ neither of which ever raises:
    control characters; a repeated name keeps its first value.
 2. :func:`validate` checks each part against what this page has: the scene's parameters
    (by their CLI names, a contract) and the same checks as the page's controls
-   (:func:`sandbox.web.loop.check_value`, ``check_speed``, ``check_integrator``,
+   (``Simulation.check_value``, ``check_integrator`` and :func:`sandbox.web.loop.check_speed`,
    ``check_timestep``), the folders that can be opened, the lessons of the scene and
    their number of steps.
 
@@ -50,16 +50,10 @@ from dataclasses import dataclass, field
 from urllib.parse import quote, unquote
 
 from sandbox.errors import SandboxError
+from sandbox.physics.model import check_integrator
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Param, as_scene
-from sandbox.web.client.fields import choices
-from sandbox.web.loop import (
-    check_integrator,
-    check_speed,
-    check_timestep,
-    check_value,
-    shown_value,
-)
+from sandbox.web.loop import Refused, check_speed, check_timestep, french_message, shown_value
 
 VERSION = 1
 """The fragment's format (``v=1``); a link of another version is refused whole."""
@@ -195,16 +189,11 @@ def page_of(
         if name == "speed":
             return check_speed(value)
         if name == "integrator":
-            return check_integrator(value)
+            check_integrator(value)
+            return str(value)
         if name == "timestep":
             return check_timestep(sim, value)
-        number = check_value(sim, name, value)
-        p = params[name]
-        if choices(p) and number != int(number):  # a dropdown sends an option's index
-            raise SandboxError(
-                f"{p.label or p.name} : choisissez une option de 0 à {len(choices(p)) - 1}."
-            )
-        return number
+        return sim.check_value(name, value)  # a dropdown's index: a whole value
 
     return Page(
         params=params,
@@ -302,16 +291,16 @@ def _setting(page: Page, name: str, value: str) -> float | str:
     if name == "integrator":
         return page.check(name, value)
     if len(value) > MAX_NUMBER or not _NUMBER.fullmatch(value):
-        raise SandboxError("un nombre écrit avec un point est attendu")
+        raise Refused("un nombre écrit avec un point est attendu")
     number = float(value)
     if not math.isfinite(number):
-        raise SandboxError("un nombre fini est attendu")
+        raise Refused("un nombre fini est attendu")
     return page.check(name, number)
 
 
 def _reason(exc: SandboxError) -> str:
     """A refusal's French message without its final period (it sits in a list)."""
-    return str(exc).strip().rstrip(".")
+    return french_message(exc).strip().rstrip(".")
 
 
 def _unknown(page: Page) -> str:

@@ -23,7 +23,7 @@ from sandbox.scenes.presets import StudyPreset
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
 from sandbox.web.client.fields import param_label
 from sandbox.web.client.text import html_text, number
-from sandbox.web.loop import Refused, as_number, check_value, french_message
+from sandbox.web.loop import Refused, as_number, french_message
 from sandbox.web.loop.state import SessionState
 from sandbox.web.loop.study_queue import StudyJob, StudyQueue, progress_words
 from sandbox.web.panels.study_chart import STAT_LABELS, StudyChart
@@ -244,7 +244,10 @@ class StudyPanel:
 
     def _vary(self, name: str, start: object, stop: object, count: object, most: int) -> Vary:
         sim = self.controller.sim
-        a, b = check_value(sim, name, start), check_value(sim, name, stop)
+        try:
+            a, b = sim.check_value(name, start), sim.check_value(name, stop)
+        except SandboxError as exc:  # the slider's own check and words
+            raise Refused(french_message(exc)) from None
         if a == b:
             raise Refused(f"{param_label(self.params[name])} : donnez deux bornes différentes.")
         most = MAX_POINTS if most == 2 else most
