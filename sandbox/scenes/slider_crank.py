@@ -8,6 +8,7 @@ and are benchmarked with :data:`ACCURACY` (the pilon against the course's at 17,
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -58,3 +59,16 @@ ACCURACY = Accuracy(
     constraint_tol=1e-6,
 )
 """Accuracy entry of the compressor and of the engine (the same slider-crank benchmark)."""
+
+
+def revolution_table(
+    rows: Sequence[Sequence[float]], columns: tuple[str, ...]
+) -> dict[str, np.ndarray]:
+    """One revolution's samples as the cycle chart reads them: ``rows`` of (θ, then one
+    value per name of ``columns``) sorted by θ in [0, 2π), with ``angle_deg`` (that angle
+    in degrees) and ``theta`` (θ as sampled) ahead of the named columns."""
+    a = np.array(rows, dtype=float).reshape(-1, 1 + len(columns))
+    a = a[np.argsort(np.mod(a[:, 0], 2 * np.pi))]
+    out = {"angle_deg": np.degrees(np.mod(a[:, 0], 2 * np.pi)), "theta": a[:, 0]}
+    out.update({name: a[:, 1 + i] for i, name in enumerate(columns)})
+    return out

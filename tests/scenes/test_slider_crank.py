@@ -10,7 +10,7 @@ import pytest
 
 from sandbox.scenes import SCENES
 from sandbox.scenes.roundoff import ROUND_OFF
-from sandbox.scenes.slider_crank import ACCURACY, fit_orders, peak_error
+from sandbox.scenes.slider_crank import ACCURACY, fit_orders, peak_error, revolution_table
 
 
 def test_fit_orders_reads_the_amplitudes_of_a_known_series():
@@ -51,3 +51,17 @@ def test_the_machines_at_constant_speed_share_the_round_off_table(name, own):
         "kg·m/s": 1e-12,
         "kg·m²/s": 1e-12,
     }
+
+
+def test_a_revolution_table_is_sorted_by_the_crank_angle_in_one_turn():
+    """Samples taken from θ = 5 rad on, past 2π: the chart's table starts at 0° and keeps
+    each row whole (its θ as sampled, its values beside it)."""
+    thetas = np.linspace(5.0, 5.0 + 2 * np.pi, 8, endpoint=False)
+    rows = [(t, 10 * t, -t) for t in thetas]
+    table = revolution_table(rows, ("a", "b"))
+    assert list(table) == ["angle_deg", "theta", "a", "b"]
+    assert np.all(np.diff(table["angle_deg"]) > 0)
+    assert 0.0 <= table["angle_deg"][0] < 360 / 8 and table["angle_deg"][-1] < 360.0
+    np.testing.assert_allclose(table["a"], 10 * table["theta"])
+    np.testing.assert_allclose(table["b"], -table["theta"])
+    np.testing.assert_allclose(np.radians(table["angle_deg"]), np.mod(table["theta"], 2 * np.pi))

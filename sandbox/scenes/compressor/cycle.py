@@ -14,7 +14,7 @@ from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.compressor.course import HARMONIC_SAMPLES, frame_force, motor_torque
 from sandbox.scenes.compressor.model import set_loop_state
 from sandbox.scenes.revolutions import PerModel
-from sandbox.scenes.slider_crank import fit_orders
+from sandbox.scenes.slider_crank import fit_orders, revolution_table
 
 LOOP_SAMPLES = 32
 """Crank angles of :func:`loop_forces` (orders 0..4 need 9; 32 keeps aliasing out)."""
@@ -47,19 +47,8 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
         rows.append((theta, force[1], force[0], float(joint_drive(model, data)[0]), ref[1], ref[0],
                      motor_torque(theta, w, v, alpha=alpha)))  # fmt: skip
         mujoco.mj_step(model, data, per)
-    a = np.array(rows).reshape(-1, 7)
-    order = np.argsort(np.mod(a[:, 0], 2 * math.pi))
-    a = a[order]
-    out = {
-        "angle_deg": np.degrees(np.mod(a[:, 0], 2 * math.pi)),
-        "theta": a[:, 0],
-        "pilon": a[:, 1],
-        "tamis": a[:, 2],
-        "motor_torque": a[:, 3],
-        "pilon_ref": a[:, 4],
-        "tamis_ref": a[:, 5],
-        "motor_torque_ref": a[:, 6],
-    }
+    out = revolution_table(rows, ("pilon", "tamis", "motor_torque", "pilon_ref", "tamis_ref",
+                                  "motor_torque_ref"))  # fmt: skip
     _REVOLUTIONS.put(model, v, omega, out, float(s.data.time))
     return out
 

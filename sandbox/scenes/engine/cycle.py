@@ -14,7 +14,7 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.engine.course import engine_of, motor_torque_ref
 from sandbox.scenes.revolutions import PerModel
-from sandbox.scenes.slider_crank import fit_orders
+from sandbox.scenes.slider_crank import fit_orders, revolution_table
 
 DENSE = 720
 """Angles at which a revolution's fitted moment is evaluated for its largest value."""
@@ -52,22 +52,9 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
                      float(joint_drive(model, data)[0]), ref_f[1], ref_f[0], ref_m[0], ref_m[1],
                      motor_torque_ref(theta_c, w, v)))  # fmt: skip
         mujoco.mj_step(model, data, per)
-    a = np.array(rows, dtype=float).reshape(-1, 11)
-    a = a[np.argsort(np.mod(a[:, 0], 2 * math.pi))]
-    out = {
-        "angle_deg": np.degrees(np.mod(a[:, 0], 2 * math.pi)),
-        "theta": a[:, 0],
-        "pilon": a[:, 1],
-        "tamis": a[:, 2],
-        "moment_x": a[:, 3],
-        "moment_y": a[:, 4],
-        "motor_torque": a[:, 5],
-        "pilon_ref": a[:, 6],
-        "tamis_ref": a[:, 7],
-        "moment_x_ref": a[:, 8],
-        "moment_y_ref": a[:, 9],
-        "motor_torque_ref": a[:, 10],
-    }
+    out = revolution_table(rows, ("pilon", "tamis", "moment_x", "moment_y", "motor_torque",
+                                  "pilon_ref", "tamis_ref", "moment_x_ref", "moment_y_ref",
+                                  "motor_torque_ref"))  # fmt: skip
     if len(_FITS) > 64:
         _FITS.clear()
     _REVOLUTIONS.put(model, v, omega, out, float(s.data.time))
