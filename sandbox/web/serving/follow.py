@@ -44,6 +44,7 @@ from sandbox.web.serving.server import App, SimOptions
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import point_camera
 from sandbox.web.view3d.renderer import SceneRenderer
+from sandbox.web.view3d.stage import draw_scene
 from sandbox.web.views.browser import WebView, arrow_layer
 
 log = logging.getLogger(__name__)
@@ -119,13 +120,7 @@ class BroadcastView:
         if frame.picture is None and frame.readouts is None and not frame.diverged:
             return
         with self.server.atomic():
-            if frame.diverged:
-                if self.arrows is not None:
-                    self.arrows.hide()
-            elif frame.picture is not None:
-                self.renderer.draw(frame.picture)
-                if self.arrows is not None:
-                    self.arrows.draw(frame.picture.arrows, frame.picture.magnitudes)
+            draw_scene(self.renderer, self.arrows, frame.picture, bool(frame.diverged))
             if frame.readouts is not None or frame.diverged:
                 self._summarise(frame)
                 if self.arrows is not None:

@@ -41,6 +41,7 @@ from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import point_camera
 from sandbox.web.view3d.geoms import mechanism_size
 from sandbox.web.view3d.renderer import SceneRenderer
+from sandbox.web.view3d.stage import draw_scene
 from sandbox.web.view3d.trail import Trail
 
 if TYPE_CHECKING:
@@ -360,20 +361,17 @@ class WebView(Generic[D]):
             if self._resync_controls:
                 self._resync_controls = False
                 self.controls.sync()
-            if frame.diverged:
-                if self.arrows is not None:
-                    self.arrows.hide()
-            elif frame.picture is not None and self.renderer is not None:
-                self._note_sent()
-                drawing = self._picture = frame.picture
-                self.renderer.draw(drawing)
-                if self.arrows is not None:
-                    self.arrows.draw(drawing.arrows, drawing.magnitudes)
-                if self.display is not None:
-                    self.display.draw(drawing)
-            elif self.arrows is not None and self.arrows.dirty and self._picture is not None:
+            drawing = None if frame.diverged or self.renderer is None else frame.picture
+            if drawing is not None:
+                self._note_sent()  # viser's last message before this frame's
+                self._picture = drawing
+            drawn = draw_scene(self.renderer, self.arrows, drawing, bool(frame.diverged))
+            if drawn and drawing is not None and self.display is not None:
+                self.display.draw(drawing)
+            still = None if drawn or frame.diverged else self._picture
+            if still is not None and self.arrows is not None and self.arrows.dirty:
                 # a scale or a lesson's choice changed while nothing moves
-                self.arrows.draw(self._picture.arrows, self._picture.magnitudes)
+                self.arrows.draw(still.arrows, still.magnitudes)
             if frame.readouts is not None or (
                 frame.diverged and frame.now - self._last_panel >= 1.0 / PANEL_RATE
             ):
