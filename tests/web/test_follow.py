@@ -142,7 +142,8 @@ def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_f
     follower = open_page(app.url)
     follower.get_by_text("Simulation du professeur", exact=True).first.wait_for(timeout=30_000)
     own = open_page(app.url)
-    own.get_by_role("button", name=OWN).click()
+    # three pages drawing on two slow cores: the first click may wait for the page
+    own.get_by_role("button", name=OWN).click(timeout=90_000)
     own.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
     assert wait_for(lambda: app.counts() == (1, 1, 1))
     teacher.get_by_role("button", name=SEND_STUDY).click()  # nothing to send yet
