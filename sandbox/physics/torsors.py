@@ -23,6 +23,12 @@ from sandbox.physics.mechanism import (
 )
 
 
+def _sum_at_o(linear: np.ndarray, own: np.ndarray, points: np.ndarray) -> Pair:
+    """Σ over bodies of torsors known at their centres G (rows): the resultant Σ ``linear``
+    and the moment at O, Σ (``own`` + OG ∧ ``linear``), with OG the rows of ``points``."""
+    return linear.sum(0), (own + _cross(points, linear)).sum(0)
+
+
 def kinetic_torsor(
     model: mujoco.MjModel,
     data: mujoco.MjData,
@@ -33,11 +39,9 @@ def kinetic_torsor(
     """{C} at O: (Σ m v_G, Σ I_G ω + OG ∧ m v_G)."""
     k = ensure_kinematics(model, data, kin)
     if bodies is None:
-        p = k.momentum_b
-        return p.sum(0), (k.i_omega_b + _cross(k.xipos_b, p)).sum(0)
+        return _sum_at_o(k.momentum_b, k.i_omega_b, k.xipos_b)
     b = select_bodies(k, bodies)
-    p = model.body_mass[b][:, None] * k.v_g[b]
-    return p.sum(0), (k.i_omega[b] + _cross(data.xipos[b], p)).sum(0)
+    return _sum_at_o(model.body_mass[b][:, None] * k.v_g[b], k.i_omega[b], data.xipos[b])
 
 
 def dynamic_torsor(
@@ -50,11 +54,9 @@ def dynamic_torsor(
     """{D} at O: (Σ m a_G, Σ I_G α + ω ∧ I_G ω + OG ∧ m a_G)."""
     k = ensure_kinematics(model, data, kin)
     if bodies is None:
-        ma = k.mass_b[:, None] * k.a_g_b
-        return ma.sum(0), (k.delta_g_b + _cross(k.xipos_b, ma)).sum(0)
+        return _sum_at_o(k.mass_b[:, None] * k.a_g_b, k.delta_g_b, k.xipos_b)
     b = select_bodies(k, bodies)
-    ma = model.body_mass[b][:, None] * k.a_g[b]
-    return ma.sum(0), (k.delta_g[b] + _cross(data.xipos[b], ma)).sum(0)
+    return _sum_at_o(model.body_mass[b][:, None] * k.a_g[b], k.delta_g[b], data.xipos[b])
 
 
 def gravity_torsor(
