@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from sandbox.bench import Run, SceneResult, run_one
 from sandbox.errors import SandboxError
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import Scene, as_scene
 
 KEPT = 64
@@ -44,7 +44,7 @@ class Setting:
         )
 
 
-def in_force(sim: Simulation) -> Setting:
+def in_force(sim: ReadOnlySimulation) -> Setting:
     """The setting ``sim`` runs: its integrator, and the timestep the user chose or else
     the scene's default for the parameters (a transient shrink is the default's own)."""
     scene = as_scene(sim.scene)
@@ -53,7 +53,7 @@ def in_force(sim: Simulation) -> Setting:
     return Setting(sim.integrator, scene.default_timestep(sim.values))
 
 
-def default(sim: Simulation) -> Setting | None:
+def default(sim: ReadOnlySimulation) -> Setting | None:
     """The scene's default setting for ``sim``'s parameters (None: not a scene)."""
     scene = as_scene(sim.scene)
     if scene is None:

@@ -142,3 +142,6 @@ def test_what_a_panel_may_do_goes_through_the_session_state():
     for path in [*sorted((web / "panels").glob("*.py")), web / "video" / "export.py"]:
         text = path.read_text()
         assert "Controller" not in text, f"{path.name} names the Controller: use SessionState"
+        assert "physics.simulation import" not in text, (
+            f"{path.name} types the simulation as mutable: use ReadOnlySimulation"
+        )

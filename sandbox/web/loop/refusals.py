@@ -16,7 +16,7 @@ import math
 from sandbox.errors import Diverged, SandboxError
 from sandbox.french import shown_number, shown_value
 from sandbox.physics.display import rotation_speed
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.web.client import text
 
 log = logging.getLogger(__name__)
@@ -59,7 +59,7 @@ def divergence_message(exc: Diverged) -> str:
     )
 
 
-def advance_seconds(sim: Simulation, value: object, unit: object) -> float:
+def advance_seconds(sim: ReadOnlySimulation, value: object, unit: object) -> float:
     """Seconds of motion of a "Pas" of ``value`` in ``unit`` (``s``, or ``deg`` of the
     mechanism's main rotating joint at its current speed).
 
@@ -116,7 +116,7 @@ def as_number(value: object, what: str) -> float:
     return number
 
 
-def check_timestep(sim: Simulation, value: object) -> float:
+def check_timestep(sim: ReadOnlySimulation, value: object) -> float:
     """A timestep [s] typed in the browser (a number, or a numeric text of a link), checked
     by the simulation: BadOption giving the range (``french``) otherwise."""
     try:

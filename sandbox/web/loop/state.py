@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Protocol
 
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.recording import Recorder
 from sandbox.web.loop.probe import Probe
 from sandbox.web.loop.requests import Request
@@ -27,8 +27,9 @@ class SessionState(Protocol):
     """One live session as its panels see it."""
 
     @property
-    def sim(self) -> Simulation:
-        """The session's simulation (parameter values, model, readouts)."""
+    def sim(self) -> ReadOnlySimulation:
+        """The session's simulation, read only (parameter values, model, readouts): a
+        panel changes it by :meth:`submit`."""
 
     @property
     def speed(self) -> float:

@@ -19,7 +19,7 @@ from sandbox.accuracy import Setting
 from sandbox.bench import Run, SceneResult, load_results
 from sandbox.bench.plot import decimal, draw, drift_words, duration, integrator_words
 from sandbox.cores import default_workers
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Scene, as_scene
 from sandbox.web.client import charts
@@ -215,7 +215,7 @@ class AccuracyPanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        sim: Simulation,
+        sim: ReadOnlySimulation,
         *,
         choose: Callable[[str, float], None] | None = None,
     ) -> None:
@@ -302,7 +302,7 @@ class AccuracyPanel:
         self._waiting[setting] = accuracy.submit(self.scene, setting)
         return None
 
-    def refresh(self, sim: Simulation, cost: float, now: float) -> None:
+    def refresh(self, sim: ReadOnlySimulation, cost: float, now: float) -> None:
         """Rewrite the table; redraw the chart when a mark moves."""
         mine = accuracy.in_force(sim)
         default = accuracy.default(sim)

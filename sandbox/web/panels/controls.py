@@ -16,7 +16,7 @@ import viser
 
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.client.fields import (
     Mirror,
@@ -78,7 +78,7 @@ def param_step(p: Param) -> float:
     return p.step if p.step > 0 else (p.max - p.min) / 200.0
 
 
-def hypotheses(sim: Simulation) -> tuple[str, ...]:
+def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
     scene = as_scene(sim.scene)
     if scene is not None:
@@ -339,7 +339,7 @@ def _known(name: str) -> str:
     return name if name in INTEGRATORS else "euler"
 
 
-def _reader(sim: Simulation, name: str) -> Callable[[], float]:
+def _reader(sim: ReadOnlySimulation, name: str) -> Callable[[], float]:
     return lambda: sim.values[name]
 
 
@@ -350,7 +350,7 @@ def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], Non
 class HypothesesPanel:
     """Folder "Hypothèses de modélisation": effects simulated and numerical method."""
 
-    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+    def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         self.sim = sim
         with gui.add_folder("Hypothèses de modélisation") as self.folder:
             self.text = gui.add_markdown(self._content())

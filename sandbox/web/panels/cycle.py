@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import as_scene
 
 if TYPE_CHECKING:
@@ -37,7 +37,7 @@ class CyclePanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+    def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         scene = as_scene(sim.scene)
         self.fn = scene.cycle if scene is not None else None
         self.charts: list[tuple[tuple[str, ...], viser.GuiUplotHandle]] = []
@@ -72,7 +72,7 @@ class CyclePanel:
                 )
                 self.charts.append((names, chart))
 
-    def refresh(self, sim: Simulation, now: float) -> None:
+    def refresh(self, sim: ReadOnlySimulation, now: float) -> None:
         """Redraw when the simulated cycle changed (new parameters or speed)."""
         if self.fn is None or now - self._at < PERIOD:
             return

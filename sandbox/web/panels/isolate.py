@@ -10,7 +10,7 @@ import numpy as np
 import viser
 
 from sandbox.physics import isolate
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import MAX_SHOWN, plain, table_row
 from sandbox.web.panels.controls import set_value
@@ -25,7 +25,7 @@ class IsolatePanel:
         sim: The session's simulation.
     """
 
-    def __init__(self, gui: viser.GuiApi, sim: Simulation) -> None:
+    def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         scene = as_scene(sim.scene)
         self.names = names = dict(scene.names.solids) if scene else {}
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
@@ -76,7 +76,7 @@ class IsolatePanel:
         set_value(self.picker, self._good)
         return self.choices[self._good]
 
-    def refresh(self, sim: Simulation) -> None:
+    def refresh(self, sim: ReadOnlySimulation) -> None:
         """Recompute at the current state (the caller holds the panel rate)."""
         if self.text is None:
             return

@@ -14,6 +14,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.units import (
     FLAGS,
     TURN_ANGLES,
@@ -29,7 +30,6 @@ from sandbox.web.client.text import html_text, number, with_unit
 if TYPE_CHECKING:
     import viser
 
-    from sandbox.physics.simulation import Simulation
 
 FALLBACK_READOUTS = ("T", "V")
 """Overlay of a scene without key readouts: kinetic and potential energy."""
@@ -81,7 +81,7 @@ def style_html(font_px: int, *, left: int = 16, right: int = 16) -> str:
     )
 
 
-def key_readouts(sim: Simulation) -> dict[str, str]:
+def key_readouts(sim: ReadOnlySimulation) -> dict[str, str]:
     """The overlay's readouts for ``sim`` (those it has) with their short words ("": the
     readout's label): the scene's ``overlay``, else its energies."""
     known = set(sim.readout_names())
@@ -135,7 +135,7 @@ class Projector:
     """
 
     def __init__(
-        self, gui: viser.GuiApi, sim: Simulation, *, left: int = 16, right: int = 16
+        self, gui: viser.GuiApi, sim: ReadOnlySimulation, *, left: int = 16, right: int = 16
     ) -> None:
         self.left, self.right = left, right
         self.font = FONT_SIZES[0]

@@ -9,8 +9,8 @@ import numpy as np
 import viser
 
 from sandbox.physics.picture import Picture
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.readouts import GENERIC_NAMES
-from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import set_value
@@ -49,7 +49,7 @@ class ReadoutPanel:
     """
 
     def __init__(
-        self, gui: viser.GuiApi, sim: Simulation, *, arrows: ArrowLayer | None = None
+        self, gui: viser.GuiApi, sim: ReadOnlySimulation, *, arrows: ArrowLayer | None = None
     ) -> None:
         self.arrows = arrows
         scene = as_scene(sim.scene)
@@ -138,7 +138,7 @@ class ReadoutPanel:
                     return np.asarray(origin, dtype=float), short_name(arrow.label)
         return np.zeros(3), "O"
 
-    def chosen_basis(self, sim: Simulation) -> tuple[np.ndarray, str, tuple[str, ...]]:
+    def chosen_basis(self, sim: ReadOnlySimulation) -> tuple[np.ndarray, str, tuple[str, ...]]:
         """Basis matrix (columns = unit vectors in world), its name and axis names."""
         if self.basis.value != BASIS_0 and 0 < self.body < sim.model.nbody:
             return (
@@ -149,7 +149,7 @@ class ReadoutPanel:
         return np.eye(3), "B0", ("x<sub>0</sub>", "y<sub>0</sub>", "z<sub>0</sub>")
 
     # -- refresh -------------------------------------------------------------------------
-    def reference(self, sim: Simulation) -> dict[str, float]:
+    def reference(self, sim: ReadOnlySimulation) -> dict[str, float]:
         """The course's closed-form values, recomputed only when parameters change."""
         key = tuple(sorted(sim.values.items()))
         if key != self._ref_key:
@@ -206,7 +206,7 @@ class ReadoutPanel:
         self.components.append(row)
 
     def refresh(
-        self, sim: Simulation, values: Mapping[str, float], folder: str | None = None
+        self, sim: ReadOnlySimulation, values: Mapping[str, float], folder: str | None = None
     ) -> None:
         """Rewrite the table of ``folder`` (every table when None) from ``values``."""
         if self.scene_text is not None and folder in (None, SCENE_FOLDER):

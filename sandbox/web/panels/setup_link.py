@@ -51,7 +51,7 @@ from urllib.parse import quote, unquote
 
 from sandbox.errors import SandboxError
 from sandbox.physics.model import check_integrator
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.loop import Refused, check_speed, check_timestep, french_message, shown_value
 
@@ -168,7 +168,7 @@ def slug(label: str) -> str:
 
 
 def page_of(
-    sim: Simulation,
+    sim: ReadOnlySimulation,
     *,
     folders: Sequence[str] = (),
     lessons: Mapping[str, int] | None = None,

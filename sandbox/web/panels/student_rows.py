@@ -15,7 +15,7 @@ import viser
 
 from sandbox.challenges import Attempt
 from sandbox.lessons import Progress
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes import SCENES
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
@@ -36,7 +36,7 @@ class Readouts:
     zeros: Mapping[str, float]
 
     @classmethod
-    def of(cls, sim: Simulation) -> Readouts:
+    def of(cls, sim: ReadOnlySimulation) -> Readouts:
         infos = {i.name: i for i in sim.readout_infos()}
         short = key_readouts(sim)
         spec = as_scene(sim.scene)
@@ -65,7 +65,7 @@ class Student:
     mode: str = "own"
     field: viser.GuiTextHandle | None = None
     name: str = ""
-    sim: Simulation | None = None
+    sim: ReadOnlySimulation | None = None
     challenge: ChallengePanel | None = None
     attempt: Attempt | None = None  # kept across a follow-mode student's switches
 

@@ -14,7 +14,7 @@ import numpy as np
 import viser
 from viser import uplot
 
-from sandbox.physics.simulation import Simulation
+from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import Param, as_scene
 from sandbox.sweep import plot, write_csv
 from sandbox.web.client.fields import param_label, param_unit
@@ -57,7 +57,9 @@ TIMES = frozenset({"period", "onset"})
 class StudyChart:
     """A study's chart in ``folder`` of ``gui``, for the scene of ``sim``."""
 
-    def __init__(self, gui: viser.GuiApi, folder: viser.GuiFolderHandle, sim: Simulation) -> None:
+    def __init__(
+        self, gui: viser.GuiApi, folder: viser.GuiFolderHandle, sim: ReadOnlySimulation
+    ) -> None:
         self.gui = gui
         self.folder = folder
         scene = as_scene(sim.scene)
