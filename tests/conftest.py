@@ -121,11 +121,24 @@ def browser() -> Iterator[object]:
     playwright_api = pytest.importorskip("playwright.sync_api")
     with playwright_api.sync_playwright() as pw:
         instance = pw.chromium.launch(executable_path=chromium_path(), args=CHROMIUM_ARGS)
+        new_context = instance.new_context
+
+        def patient_context(*args: object, **kwargs: object) -> object:
+            context = new_context(*args, **kwargs)
+            context.set_default_timeout(ACTION_TIMEOUT_MS)
+            return context
+
+        instance.new_context = patient_context
         try:
             yield instance
         finally:
             instance.close()
 
+
+ACTION_TIMEOUT_MS = 90_000
+"""How long a click or a fill may wait for its page (Playwright's default is 30 s): on a
+slow 2-core CI machine, three pages drawing in software once took longer than that to
+take a click, the product being right. A failure still fails, only later."""
 
 PROJECTOR = {"width": 1280, "height": 720}
 """A projected page's viewport."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import struct
 import threading
 import time
@@ -16,6 +17,7 @@ import pytest
 from conftest import free_port, wait_for
 
 from sandbox.bench.classroom import gui_message, unpack
+from sandbox.bench.classroom.wire import messages
 from sandbox.challenges import CHALLENGES, Challenge
 from sandbox.physics.picture import geom_local_poses
 from sandbox.web.client.text import UNIT_SPACE, number
@@ -66,6 +68,18 @@ class Recorder:
     def since(self, k: int) -> bytes:
         return b"".join(self.inner[k:]) + b"".join(self.raw[k:])
 
+    def words_since(self, k: int) -> str:
+        """Every text the messages since the ``k``-th carried (labels, markdown, HTML,
+        options), without their binary buffers: a French number such as « 0,53 » is
+        looked for there, not in a mesh's bytes, where those four bytes may stand."""
+        out: list[str] = []
+        for inner in self.inner[k:]:
+            try:
+                out.extend(_strings(messages(inner)))
+            except Exception:  # not viser's format: every byte is searched
+                out.append(inner.decode("utf-8", "replace"))
+        return "\n".join(out)
+
     def saw(self, text: bytes) -> bool:
         """Whether a message so far held ``text`` (only the new ones are searched)."""
         found, upto = self._seen.get(text, (False, 0))
@@ -76,6 +90,18 @@ class Recorder:
 
     def close(self) -> None:
         self.ws.close()
+
+
+def _strings(value: object) -> Iterator[str]:
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            yield from _strings(key)
+            yield from _strings(item)
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _strings(item)
 
 
 def encodings(value: float) -> list[bytes]:
@@ -113,7 +139,9 @@ def wheel_class(monkeypatch) -> Iterator[object]:
     yield from _serve(monkeypatch, "wheel_balancer", WHEEL_SECRET)
 
 
-def _never_sent(seen: bytes, ctl, secret: dict[str, float], texts: tuple[str, ...]) -> None:
+def _never_sent(
+    seen: bytes, words: str, ctl, secret: dict[str, float], texts: tuple[str, ...]
+) -> None:
     """Nothing in ``seen`` (a student's stream since the start) tells ``secret``: neither
     its values nor their radians, nor the solution's fractional numbers (what a withheld
     readout would give), nor ``texts``, nor a number of the real shapes that differs from
@@ -136,7 +164,8 @@ def _never_sent(seen: bytes, ctl, secret: dict[str, float], texts: tuple[str, ..
         if name.endswith(end) and abs(v) >= 1.0
     ]
     for text in (*texts, *written):
-        assert text.encode() not in seen, text
+        found = re.search(rf"(?<![0-9,]){re.escape(text)}(?![0-9])", words)  # not in 10,531
+        assert found is None, (text, words[max(0, found.start() - 120) :][:160])
     real, twin = geom_local_poses(ctl.sim.model), geom_local_poses(ctl.secret.twin(ctl.sim))
     told = {float(x) for x in real[np.abs(real - twin) > 1e-6]}
     assert told  # the secret does change the real shapes...
@@ -149,9 +178,13 @@ def _started(app, student: Recorder, name: str):
     show opened: (their session, what their browser received since the start)."""
     assert wait_for(lambda: len(app.sessions) == 1, 30)
     ((cid, session),) = app.sessions.items()  # a session is listed once its page is built
-    # A page still arriving when the run is announced would send its public labels after
-    # ``before``, as if the secret page had shown them. Viser sends one client's messages
-    # in order, so once a marker added now has arrived, the whole page has.
+    # A page still arriving, or a table still changing, when the run is announced would
+    # send its public labels after ``before``, as if the secret page had shown them. The
+    # student pauses (nothing changes any more; the challenge then runs from its start),
+    # and viser sends one client's messages in order: once a marker added after the
+    # pause has arrived, everything of the public page has.
+    session.controller.submit(Request("pause"))
+    assert wait_for(lambda: not session.controller.playing, 30)
     marker = app.server.get_clients()[cid].gui.add_markdown("page-built-marker")
     assert wait_for(lambda: student.saw(b"page-built-marker"), 60)
     marker.remove()
@@ -160,7 +193,7 @@ def _started(app, student: Recorder, name: str):
     assert wait_for(lambda: session.controller.secret is not None, 10)
     session.view._pending_folder = "Tous les panneaux"
     time.sleep(3.0)
-    return session, student.since(before)
+    return session, student.since(before), student.words_since(before)
 
 
 @pytest.mark.slow  # a server and a websocket student: ~10 s
@@ -168,13 +201,14 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
     app = rotor_class
     student = Recorder(app.url.replace("http", "ws"))
     try:
-        session, seen = _started(app, student, "rotor_balance")
+        session, seen, words = _started(app, student, "rotor_balance")
         ctl, view = session.controller, session.view
         assert all(ctl.sim.values[k] == v for k, v in SECRET.items())  # simulated...
-        assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page
+        assert b"Rotor myst\xc3\xa8re" in seen  # the goal reached the page...
+        assert "Rotor mystère" in words  # ... and the texts searched below
         hidden = ("53 g", f"53{UNIT_SPACE}g", "-3,3", "3,3°", "Balourd statique",
                   "Produits d'inertie", "tournant")  # fmt: skip
-        _never_sent(seen, ctl, SECRET, hidden)
+        _never_sent(seen, words, ctl, SECRET, hidden)
         # the readouts: the page's values never hold the withheld ones
         shown = view.lesson.values
         assert "bearing_A" in shown and not set(shown) & set(ctl.secret.withheld)
@@ -196,10 +230,10 @@ def test_a_wheel_s_heavy_spot_and_wobble_never_reach_the_browser(wheel_class):
     app = wheel_class
     student = Recorder(app.url.replace("http", "ws"))
     try:
-        session, seen = _started(app, student, "wheel_balance")
+        session, seen, words = _started(app, student, "wheel_balance")
         ctl, view = session.controller, session.view
-        assert "Roue mystère".encode() in seen
-        _never_sent(seen, ctl, WHEEL_SECRET, ("47,5", "137°", "0,53", "219°"))
+        assert "Roue mystère".encode() in seen and "Roue mystère" in words
+        _never_sent(seen, words, ctl, WHEEL_SECRET, ("47,5", "137°", "0,53", "219°"))
         assert not [t for t, label, _ in view.renderer.labels.values() if label.visible]
         hidden = [n for n, h in view.controls.sliders.items() if not h.visible]
         assert sorted(hidden) == sorted(WHEEL_SECRET)

@@ -395,9 +395,10 @@ def test_a_browser_gone_while_its_websocket_opened_is_no_warning(caplog):
     import logging
     import sys
 
-    from sandbox.web.network import OneLine
     from websockets.exceptions import ConnectionClosedError
     from websockets.frames import Close, CloseCode
+
+    from sandbox.web.serving.network import OneLine
 
     one = OneLine(clock=lambda: 0.0)
 
