@@ -92,11 +92,6 @@ def advance_seconds(sim: ReadOnlySimulation, value: object, unit: object) -> flo
     return seconds
 
 
-def french_number(x: float) -> str:
-    """``x`` with 3 significant digits and a decimal comma (``0,001``, ``1×10⁻⁶``)."""
-    return text.number(x, 3)
-
-
 def as_number(value: object, what: str) -> float:
     """``value`` as a finite float (numbers and numeric strings; not bool or None).
 
@@ -131,8 +126,8 @@ def check_speed(value: object) -> float:
     """A speed factor within :data:`SPEEDS` (Refused otherwise)."""
     low, high = SPEEDS
     refusal = (
-        f"Vitesse ×{shown_number(value)} refusée : choisissez entre ×{french_number(low)} "
-        f"et ×{french_number(high)}."
+        f"Vitesse ×{shown_number(value)} refusée : choisissez entre ×{text.number(low, 3)} "
+        f"et ×{text.number(high, 3)}."
     )
     try:
         speed = as_number(value, "Vitesse")
