@@ -183,8 +183,20 @@ def _started(app, student: Recorder, name: str):
     # student pauses (nothing changes any more; the challenge then runs from its start),
     # and viser sends one client's messages in order: once a marker added after the
     # pause has arrived, everything of the public page has.
+    # The frame that applies the pause still draws its tables after ``playing`` turns
+    # False: the marker waits for two more frames drawn (the second one started after).
+    renders = [0]
+    render = session.view.render
+
+    def counted(frame):
+        render(frame)
+        renders[0] += 1
+
+    session.view.render = counted
     session.controller.submit(Request("pause"))
     assert wait_for(lambda: not session.controller.playing, 30)
+    paused_at = renders[0]
+    assert wait_for(lambda: renders[0] >= paused_at + 2, 30)
     marker = app.server.get_clients()[cid].gui.add_markdown("page-built-marker")
     assert wait_for(lambda: student.saw(b"page-built-marker"), 60)
     marker.remove()
@@ -233,7 +245,8 @@ def test_a_wheel_s_heavy_spot_and_wobble_never_reach_the_browser(wheel_class):
         session, seen, words = _started(app, student, "wheel_balance")
         ctl, view = session.controller, session.view
         assert "Roue mystère".encode() in seen and "Roue mystère" in words
-        _never_sent(seen, words, ctl, WHEEL_SECRET, ("47,5", "137°", "0,53", "219°"))
+        hidden = ("47,5", "137°", "0,53°", "219°")  # not « 0,53 »: « t = 0,53 s » tells nothing
+        _never_sent(seen, words, ctl, WHEEL_SECRET, hidden)
         assert not [t for t, label, _ in view.renderer.labels.values() if label.visible]
         hidden = [n for n, h in view.controls.sliders.items() if not h.visible]
         assert sorted(hidden) == sorted(WHEEL_SECRET)
