@@ -371,8 +371,8 @@ def test_colour_names_of_the_known_arrows():
 def test_the_colours_named_in_a_step_are_those_of_its_arrows(name):
     lesson = get_lesson(name)
     scenes = list(SCENES.values()) if lesson.scene == "any" else [SCENES[lesson.scene]]
-    arrows = {a.name: a.color for s in scenes for a in s.arrows}
-    labels = {a.label.lower(): colour_name(a.color) for s in scenes for a in s.arrows}
+    arrows = {a.name: a.color for s in scenes for a in s.page.arrows}
+    labels = {a.label.lower(): colour_name(a.color) for s in scenes for a in s.page.arrows}
     for step in lesson.steps:
         shown = {colour_name(arrows[a]) for a in (step.arrows or arrows)}
         named: set[str] = set()

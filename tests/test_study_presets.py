@@ -24,7 +24,7 @@ TOLERANCE = {
 }
 """Largest |simulated − course| / max |course| of each scene's preset."""
 
-PRESETS = [(name, p) for name, scene in SCENES.items() for p in scene.study_presets]
+PRESETS = [(name, p) for name, scene in SCENES.items() for p in scene.page.study_presets]
 
 
 def _study(name: str, preset, count: int = 5) -> Study:

@@ -150,7 +150,7 @@ def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
 
     def snapshot() -> None:
         snap = sim.snapshot(ARROW_READOUTS)
-        for arrow in scene.arrows:
+        for arrow in scene.page.arrows:
             arrow.fn(snap)
 
     sim.readouts()  # first row of a steady state (the compressor simulates a revolution)

@@ -35,7 +35,7 @@ def validate(lesson: Lesson) -> None:
             2,
             f"unknown scene {lesson.scene[:80]!r}; use one of: {choices(SCENES)}, any",
         )
-    arrows = {a.name for s in scenes for a in s.arrows}
+    arrows = {a.name for s in scenes for a in s.page.arrows}
     for step in lesson.steps:
         pairs = list(step.preset)
         if step.solution and not step.solution.startswith("@"):

@@ -25,7 +25,7 @@ FORCES = ("sup_R_x", "dyn_R_x")
 
 
 class ArrowSource(Protocol):
-    """What a picture needs of an arrow (a scene's :class:`~sandbox.scenes.base.Arrow`):
+    """What a picture needs of an arrow (a scene's :class:`~sandbox.scenes.page.Arrow`):
     its function of a snapshot and its scale [m per unit]."""
 
     @property

@@ -19,8 +19,7 @@ import numpy as np
 from sandbox import french
 from sandbox.errors import BadParameter, UnknownParameter, choices, shown
 from sandbox.physics.units import display_unit
-from sandbox.scenes.page import Arrow, Components, Names, UnbalanceDiagram
-from sandbox.scenes.presets import StudyPreset, XYPreset
+from sandbox.scenes.page import Page
 
 if TYPE_CHECKING:
     from sandbox.physics.snapshot import Snapshot
@@ -355,43 +354,24 @@ class Scene:
             after every parameter change and after every call of ``step`` (a smaller step
             at once, a larger one after 50 steps of settled motion), unless the user chose
             a timestep (``--timestep``, the web app's field), which always overrides it.
-        plots: Readout names plotted by default in the web app.
-        arrows: Arrows drawn in the 3D view.
-        body_frame: Body whose frame gives the basis B1 of the readout panel.
         sections: Course sections the scene illustrates.
-        names: French names of the solids and markers (:class:`~sandbox.scenes.page.Names`).
         solutions: Exercise solutions a lesson step names as ``@name``: parameter values
             -> the values that solve it (e.g. the rotor's balancing masses).
         accuracy: What ``sandbox bench`` compares with the course, and the invariant.
-        camera: (direction from the model towards the camera, up vector) of the 3D view.
-        look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
-        start_paused: The web app waits for "Lecture".
-        leaves_view: The motion carries the mechanism out of the view: the page offers to
-            follow the moving body with the camera (off at the start: following moves
-            each browser's camera every frame, 0.6 ms of server CPU per frame measured
-            with 30 browsers on the rolling cylinder, 48 -> 33 frames/s).
         run_ended: The run is over (the rolling cylinder past the plane's end): the web
             page starts it again a moment later, so that an open page keeps showing the
             motion (a pure function of the model, the state and the values).
-        trail: A point whose path the 3D view draws (e.g. the tip of a gyroscope's axis).
         max_timestep: Larger timesteps are refused: they stay stable but silently lose the
             accuracy the scene promises (e.g. a contact that softens).
         cycle: Curves over one cycle (e.g. a crank revolution): "angle_deg" and readouts
             simulated over the cycle, plus their "<name>_ref" course values.
-        overlay: The 3-4 key readouts written large over the 3D view (projector mode), by
-            name, with the short French words written there ("" keeps the readout's
-            label); empty: the scene's kinetic and potential energies.
         zero: Round-off of the scene by unit (contract unit -> absolute value in that
             unit): the page shows a number whose magnitude is at most this as 0 (e.g. a
             bearing force of 6e-12 N where the course says 0). Far below anything the
             scene computes on purpose (a closure error of 1e-8 m stays visible).
-        xy_presets: Plots of one readout against another that show the course's laws
-            (folder "Tracé X–Y"; the first is shown at the start).
-        study_presets: Parameter studies that show them (folder "Étude paramétrique").
-        unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
-        components: Arrows plotted by component against time (None: scalar plots only).
-        balancing: The two bearing readouts whose larger one the class board shows, what
-            balancing brings down (None: the overlay's key readouts).
+        page: What the page shows of the scene (:class:`~sandbox.scenes.page.Page`:
+            plots, arrows, camera, names, presets, diagrams); the simulation reads none
+            of it.
     """
 
     name: str
@@ -410,29 +390,15 @@ class Scene:
     integrator: str = "rk4"
     timestep: float = 1e-3
     timestep_for: Callable[[Values, mujoco.MjData | None], float] | None = None
-    plots: tuple[str, ...] = ()
-    arrows: tuple[Arrow, ...] = ()
-    body_frame: str | None = None
     sections: str = ""
-    names: Names = field(default_factory=Names)
     solutions: Mapping[str, Callable[[Values], Mapping[str, float]]] = field(default_factory=dict)
     accuracy: Accuracy | None = None
-    camera: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
-    look_at: tuple[tuple[float, float, float], float] | None = None
-    trail: Callable[[Snapshot], np.ndarray] | None = None
     max_timestep: float = math.inf
-    start_paused: bool = False
-    leaves_view: bool = False
     run_ended: Callable[[mujoco.MjModel, mujoco.MjData, Values], bool] | None = None
     cycle: Callable[[Snapshot], Mapping[str, np.ndarray]] | None = None
     zero: Mapping[str, float] = field(default_factory=dict)
-    overlay: Mapping[str, str] = field(default_factory=dict)
     effects_for: Callable[[Values], Effects] | None = None
-    xy_presets: tuple[XYPreset, ...] = ()
-    study_presets: tuple[StudyPreset, ...] = ()
-    unbalance_diagram: UnbalanceDiagram | None = None
-    components: Components | None = None
-    balancing: tuple[str, str] | None = None
+    page: Page = field(default_factory=Page)
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

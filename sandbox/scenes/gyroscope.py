@@ -22,7 +22,7 @@ import numpy as np
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
 from sandbox.scenes.base import Accuracy, Effects, Param, Scene, SceneReadout, Series, Values
-from sandbox.scenes.page import Arrow, Components, Names
+from sandbox.scenes.page import Arrow, Components, Names, Page
 from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
@@ -162,11 +162,6 @@ def _sigma_drift(series: Series, values: Values) -> float:
 
 SCENE = Scene(
     name="gyroscope",
-    overlay={
-        "gimbal_outer": "Cadre extérieur",
-        "gimbal_inner": "Cadre intérieur",
-        "axis_drift": "Dérive de l'axe",
-    },
     title="Gyromètre : le rotor garde sa direction",
     summary=(
         "A fast rotor in two gimbals keeps its axis fixed in R0 while the case turns: "
@@ -191,40 +186,10 @@ SCENE = Scene(
     # through gimbal lock at 30,000 rpm without a warning.
     integrator="rk4",
     timestep=1.5e-3,
-    plots=("gimbal_outer", "gimbal_inner", "axis_drift"),
-    xy_presets=(
-        XYPreset(
-            "Angles des cadres au cours du temps",
-            "time",
-            ("gimbal_outer", "gimbal_inner"),
-            hint="Les cadres tournent avec le boîtier pendant que l'axe du rotor garde sa "
-            "direction.",
-        ),
-        XYPreset(
-            "Dérive de l'axe selon l'angle du cadre extérieur",
-            "gimbal_outer",
-            ("axis_drift",),
-            hint="Ce que l'axe du rotor perd de sa direction pendant que le boîtier tourne.",
-        ),
-    ),
-    arrows=ARROWS,
-    # Longest MJCF names first: the isolate panel replaces them in its texts.
-    names=Names(
-        solids={
-            "case_pitch": "support de tangage",
-            "case_yaw": "support de lacet",
-            "case": "boîtier",
-            "outer": "cadre extérieur",
-            "inner": "cadre intérieur",
-        }
-    ),
     # Round-off only: the axis drift (atan2: 0 for a still axis, 1e-9 rad and up when it
     # drifts) and the pivots' moments stay visible.
     zero={"N": 1e-9, "N·m": 1e-12, "W": 1e-12, "kg·m/s": 1e-12, "rad": 1e-12},
-    body_frame="rotor",
     sections="1, 2.2.2, 3, 5",
-    camera=((0.8, -1.0, 0.6), (0.0, 0.0, 1.0)),
-    trail=lambda s: 0.07 * _axis(s),  # tip of the rotor's axle: stays put while spinning
     accuracy=Accuracy(
         key="axis_drift",
         readouts=("axis_drift", "sigma_G_x", "sigma_G_y", "sigma_G_z"),
@@ -238,7 +203,44 @@ SCENE = Scene(
         # the implicit integrator, stable and cheap, bleeds σG (numerical damping) past it.
         drift_tol=2e-7,
     ),
-    # Course 5: σG keeps its direction in R0 (its components stay put while the gimbals
-    # turn).
-    components=Components(("sigma_G",), "B0", (0, 1, 2), "B0, fixe"),
+    page=Page(
+        overlay={
+            "gimbal_outer": "Cadre extérieur",
+            "gimbal_inner": "Cadre intérieur",
+            "axis_drift": "Dérive de l'axe",
+        },
+        plots=("gimbal_outer", "gimbal_inner", "axis_drift"),
+        xy_presets=(
+            XYPreset(
+                "Angles des cadres au cours du temps",
+                "time",
+                ("gimbal_outer", "gimbal_inner"),
+                hint="Les cadres tournent avec le boîtier pendant que l'axe du rotor garde sa "
+                "direction.",
+            ),
+            XYPreset(
+                "Dérive de l'axe selon l'angle du cadre extérieur",
+                "gimbal_outer",
+                ("axis_drift",),
+                hint="Ce que l'axe du rotor perd de sa direction pendant que le boîtier tourne.",
+            ),
+        ),
+        arrows=ARROWS,
+        # Longest MJCF names first: the isolate panel replaces them in its texts.
+        names=Names(
+            solids={
+                "case_pitch": "support de tangage",
+                "case_yaw": "support de lacet",
+                "case": "boîtier",
+                "outer": "cadre extérieur",
+                "inner": "cadre intérieur",
+            }
+        ),
+        body_frame="rotor",
+        camera=((0.8, -1.0, 0.6), (0.0, 0.0, 1.0)),
+        trail=lambda s: 0.07 * _axis(s),  # tip of the rotor's axle: stays put while spinning
+        # Course 5: σG keeps its direction in R0 (its components stay put while the gimbals
+        # turn).
+        components=Components(("sigma_G",), "B0", (0, 1, 2), "B0, fixe"),
+    ),
 )

@@ -34,7 +34,7 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.page import Arrow, Components
+from sandbox.scenes.page import Arrow, Components, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 G = 9.81
@@ -193,11 +193,6 @@ def _precession_error(series: Series, values: Values) -> float:
 
 SCENE = Scene(
     name="heavy_gyroscope",
-    overlay={
-        "precession_rate": "Vitesse de précession",
-        "nutation": "Nutation",
-        "spin": "Rotation propre",
-    },
     title="Gyroscope pesant : précession",
     summary=(
         "A spinning rotor on a fixed point, its centre of mass off the point: weight makes "
@@ -222,42 +217,10 @@ SCENE = Scene(
     integrator="rk4",
     timestep=2e-4,
     timestep_for=default_timestep,
-    plots=("precession_rate", "nutation"),
-    study_presets=(
-        StudyPreset(
-            "Vitesse de précession selon la rotation propre",
-            ("spin_rpm", 2000.0, 10000.0, 9),
-            "precession_rate",
-            statistic="mean",
-            duration=1.0,
-            hint="Plus la toupie tourne vite, plus elle précesse lentement : la vitesse de "
-            "précession varie comme l'inverse de la rotation propre.",
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Nutation au cours du temps",
-            "time",
-            ("nutation",),
-            hint="L'axe hoche pendant qu'il précesse : la nutation.",
-        ),
-        XYPreset(
-            "Précession selon la nutation",
-            "nutation",
-            ("precession_rate",),
-            refs={"precession_rate": "precession_fast_top"},
-            hint="La vitesse de précession oscille avec la nutation ; en tirets, la "
-            "précession de la toupie rapide du cours.",
-        ),
-    ),
-    arrows=ARROWS,
     # Round-off: {D} and the frame's moment keep 1e-14 N·m about z0 where the course has 0;
     # the powers (2e-8 W: the nutation the launch leaves) stay visible.
     zero={"N": 1e-9, "N·m": 1e-12, "kg·m/s": 1e-12},
-    body_frame="rotor",
     sections="2.2.2, 3, 5",
-    camera=((0.6, -1.0, 0.5), (0.0, 0.0, 1.0)),
-    trail=lambda s: 1.4 * max(s.values["d"], 0.036) * _axis(s),  # tip of the axle: the cone
     accuracy=Accuracy(
         key="precession_rate",
         readouts=("precession_rate", "T", "V"),
@@ -268,7 +231,46 @@ SCENE = Scene(
         timesteps=(5e-5, 2e-4, 5e-4, 1.5e-3, 5e-3),  # the default among them
         drift_tol=1e-3,  # T + V: first-order integrators gain energy on a spinning top
     ),
-    # The heavy top's σO turns about z0 at the precession rate (x0 and y0 components are
-    # sinusoids, the z0 one is conserved).
-    components=Components(("sigma_O",), "B0", (0, 1, 2), "B0, fixe"),
+    page=Page(
+        overlay={
+            "precession_rate": "Vitesse de précession",
+            "nutation": "Nutation",
+            "spin": "Rotation propre",
+        },
+        plots=("precession_rate", "nutation"),
+        study_presets=(
+            StudyPreset(
+                "Vitesse de précession selon la rotation propre",
+                ("spin_rpm", 2000.0, 10000.0, 9),
+                "precession_rate",
+                statistic="mean",
+                duration=1.0,
+                hint="Plus la toupie tourne vite, plus elle précesse lentement : la vitesse de "
+                "précession varie comme l'inverse de la rotation propre.",
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Nutation au cours du temps",
+                "time",
+                ("nutation",),
+                hint="L'axe hoche pendant qu'il précesse : la nutation.",
+            ),
+            XYPreset(
+                "Précession selon la nutation",
+                "nutation",
+                ("precession_rate",),
+                refs={"precession_rate": "precession_fast_top"},
+                hint="La vitesse de précession oscille avec la nutation ; en tirets, la "
+                "précession de la toupie rapide du cours.",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="rotor",
+        camera=((0.6, -1.0, 0.5), (0.0, 0.0, 1.0)),
+        trail=lambda s: 1.4 * max(s.values["d"], 0.036) * _axis(s),  # tip of the axle: the cone
+        # The heavy top's σO turns about z0 at the precession rate (x0 and y0 components are
+        # sinusoids, the z0 one is conserved).
+        components=Components(("sigma_O",), "B0", (0, 1, 2), "B0, fixe"),
+    ),
 )

@@ -1,9 +1,9 @@
-"""What a scene declares for the page, so that the web layer names no scene: the arrows
-of the 3D view (:class:`Arrow`), the French names of its solids and markers
-(:class:`Names`), the arrows plotted by component (:class:`Components`), and the diagrams
-it draws (:class:`UnbalanceDiagram`: a rotor's static and couple unbalance for given
-parameter values, course 7.2, as two polar diagrams in the folder « Diagramme des
-balourds »).
+"""What a scene declares for the page, so that the web layer names no scene: one
+:class:`Page` record (``Scene.page``) holding the arrows of the 3D view (:class:`Arrow`),
+the French names of its solids and markers (:class:`Names`), the arrows plotted by
+component (:class:`Components`), the diagrams it draws (:class:`UnbalanceDiagram`: a
+rotor's static and couple unbalance for given parameter values, course 7.2, as two polar
+diagrams in the folder « Diagramme des balourds »), its camera, plots and presets.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import numpy as np
 from sandbox.mechanics.unbalance import Unbalance
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
+from sandbox.scenes.presets import StudyPreset, XYPreset
 
 
 @dataclass(frozen=True)
@@ -104,3 +105,53 @@ class Components:
     basis: str
     axes: tuple[int, ...]
     words: str
+
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Page:
+    """What the web page (and a lesson, a replay) shows of a scene; the simulation reads
+    none of it.
+
+    Attributes:
+        plots: Readout names plotted by default.
+        arrows: Arrows drawn in the 3D view.
+        body_frame: Body whose frame gives the basis B1 of the readout panel.
+        names: French names of the solids and markers.
+        camera: (direction from the model towards the camera, up vector) of the 3D view.
+        look_at: (point [m], distance [m]) framed by the camera instead of the whole model.
+        trail: A point whose path the 3D view draws (e.g. the tip of a gyroscope's axis).
+        start_paused: The page waits for « Lecture ».
+        leaves_view: The motion carries the mechanism out of the view: the page offers to
+            follow the moving body with the camera (off at the start: following moves
+            each browser's camera every frame, 0.6 ms of server CPU per frame measured
+            with 30 browsers on the rolling cylinder, 48 -> 33 frames/s).
+        overlay: The 3-4 key readouts written large over the 3D view (projector mode), by
+            name, with the short French words written there ("" keeps the readout's
+            label); empty: the scene's kinetic and potential energies.
+        xy_presets: Plots of one readout against another that show the course's laws
+            (folder « Tracé X–Y »; the first is shown at the start).
+        study_presets: Parameter studies that show them (folder « Étude paramétrique »).
+        unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
+        components: Arrows plotted by component against time (None: scalar plots only).
+        balancing: The two bearing readouts whose larger one the class board shows, what
+            balancing brings down (None: the overlay's key readouts).
+    """
+
+    plots: tuple[str, ...] = ()
+    arrows: tuple[Arrow, ...] = ()
+    body_frame: str | None = None
+    names: Names = field(default_factory=Names)
+    camera: tuple[Vec3, Vec3] | None = None
+    look_at: tuple[Vec3, float] | None = None
+    trail: Callable[[Snapshot], np.ndarray] | None = None
+    start_paused: bool = False
+    leaves_view: bool = False
+    overlay: Mapping[str, str] = field(default_factory=dict)
+    xy_presets: tuple[XYPreset, ...] = ()
+    study_presets: tuple[StudyPreset, ...] = ()
+    unbalance_diagram: UnbalanceDiagram | None = None
+    components: Components | None = None
+    balancing: tuple[str, str] | None = None

@@ -228,7 +228,7 @@ def test_long_run_keeps_G_still_and_sigma_fixed_in_R0():
     """120 s (36 flips): σ_G keeps its direction in R₀, G stays where it was, T and |σ_G|
     drift by 2e-6 (RK4 at 10 ms, 1.7e-8 per second)."""
     sim = Simulation("inertia")
-    arrow = {a.name: a for a in SCENE.arrows}["sigma_G"]
+    arrow = {a.name: a for a in SCENE.page.arrows}["sigma_G"]
     from sandbox.physics.snapshot import Snapshot
 
     def sigma() -> tuple[np.ndarray, np.ndarray]:

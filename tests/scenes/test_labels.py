@@ -44,7 +44,7 @@ def _items() -> Iterator[tuple[str, str, str, str]]:
             yield scene.name, p.name, p.label, p.hint
         for sr in scene.readouts:
             yield scene.name, sr.name, sr.label, sr.hint
-        for a in scene.arrows:
+        for a in scene.page.arrows:
             yield scene.name, f"arrow {a.name}", a.label, a.hint
 
 
@@ -98,7 +98,7 @@ def test_labels_are_unique_in_a_scene(name):
     labels = [p.label for p in scene.params] + [r.label for r in scene.readouts]
     labels += [r.label for r in GENERIC_READOUTS]
     assert len(set(labels)) == len(labels), sorted(x for x in labels if labels.count(x) > 1)
-    arrows = [a.label for a in scene.arrows]
+    arrows = [a.label for a in scene.page.arrows]
     assert len(set(arrows)) == len(arrows), arrows
 
 
@@ -110,7 +110,7 @@ def test_display_units_are_french():
     for scene in SCENES.values():
         units += [p.display_unit for p in scene.params]
         units += [r.display_unit for r in scene.readouts]
-        units += [a.display_unit for a in scene.arrows]
+        units += [a.display_unit for a in scene.page.arrows]
     assert set(units) <= DISPLAY_UNITS, set(units) - DISPLAY_UNITS
     assert "rpm" not in units and "deg" not in units
 
@@ -171,7 +171,7 @@ def test_compressor_inertias_are_folded_and_reachable():
 def test_arrows_carry_their_unit_and_point(name):
     """An arrow's 3D label reads "Palier A : 0,91 N"; a direction reads its words alone;
     its origin is a named point, offered as a reduction point of the torsors."""
-    for a in SCENES[name].arrows:
+    for a in SCENES[name].page.arrows:
         assert a.point and re.fullmatch(r"[A-Z]", a.point), a.name
         if a.magnitude:
             assert a.unit, a.name
@@ -181,9 +181,9 @@ def test_arrows_carry_their_unit_and_point(name):
 
 
 def test_arrow_caption_examples():
-    rotor = {a.name: a for a in SCENES["rotor"].arrows}
+    rotor = {a.name: a for a in SCENES["rotor"].page.arrows}
     assert rotor["bearing_A"].caption("0,91") == "Palier A : 0,91 N"
-    gyro = {a.name: a for a in SCENES["gyroscope"].arrows}
+    gyro = {a.name: a for a in SCENES["gyroscope"].page.arrows}
     assert gyro["sigma_G"].caption("0,503") == "Moment cinétique σ en G : 0,503 kg·m²/s"
     assert gyro["axis"].caption("1") == "Axe du rotor"
     bare = Arrow("f", "Effort", (0, 0, 0), lambda s: (None, None))  # type: ignore[arg-type,return-value]
@@ -232,8 +232,8 @@ def test_overlay_writes_three_or_four_key_readouts_in_french(name):
     readout of the scene, with French short words (or its label)."""
     scene = SCENES[name]
     known = set(Simulation(name).readout_names())
-    assert 2 <= len(scene.overlay) <= 4, scene.overlay
-    for readout, short in scene.overlay.items():
+    assert 2 <= len(scene.page.overlay) <= 4, scene.page.overlay
+    for readout, short in scene.page.overlay.items():
         assert readout in known, readout
         if short:
             _check_characters(short, readout)

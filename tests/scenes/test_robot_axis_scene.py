@@ -422,7 +422,7 @@ def test_arrows_are_the_carriage_forces():
     sim = _sim(torque_Nm=2.0, **TORQUE)
     sim.advance(0.03)
     snap = sim.snapshot()
-    arrows = {a.name: a.fn(snap) for a in SCENE.arrows}
+    arrows = {a.name: a.fn(snap) for a in SCENE.page.arrows}
     belt, arm = arrows["F_belt"][1][1], arrows["F_arm"][1][1]
     assert belt + arm == pytest.approx(136.0 * float(sim.data.qacc[0]), rel=1e-9)
     got = sim.readouts(["F_belt", "F_arm"])

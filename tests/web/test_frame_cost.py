@@ -162,7 +162,7 @@ def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, m
     session = served(scene)
     model = session.controller.sim.model
     groups = len(body_groups(model)[0])
-    arrows = len(SCENES[scene].arrows)
+    arrows = len(SCENES[scene].page.arrows)
     counts = _count(session, monkeypatch)
     assert counts.frames == FRAMES and not session.controller.diverged
     # every frame draws a new state, computed once (one picture, one forward pass)
@@ -180,7 +180,7 @@ def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, m
     # messages of a drawn frame: a position and an orientation per moving group at most,
     # one message for every arrow, and one per point the arrows start from (its labels
     # ride on it; their texts change a few times a second, at the panels' refresh)
-    points = len({a.point or a.name for a in SCENES[scene].arrows})
+    points = len({a.point or a.name for a in SCENES[scene].page.arrows})
     per_frame = max(counts.messages)
     assert per_frame <= 2 * groups + 1 + points, (scene, counts.messages)
     # on average a frame sends what moves: far fewer than one message per geom

@@ -21,7 +21,7 @@ def test_every_number_sits_in_its_own_column():
     sim.advance(0.05)
     scene = as_scene(sim.scene)
     assert scene is not None
-    given = scene.names.solids
+    given = scene.page.names.solids
     assert isinstance(given, dict)
     names: dict[str, str] = given
 

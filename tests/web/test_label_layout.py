@@ -144,7 +144,7 @@ def _layer(scene, name: str = "compressor") -> tuple[Simulation, ArrowLayer]:
     sim = Simulation(name)
     spec = as_scene(sim.scene)
     assert spec is not None
-    return sim, ArrowLayer(scene, spec.arrows, extent=1.0, zero=spec.zero)
+    return sim, ArrowLayer(scene, spec.page.arrows, extent=1.0, zero=spec.zero)
 
 
 def test_label_texts_change_at_most_four_times_a_second_while_frames_run():

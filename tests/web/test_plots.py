@@ -115,7 +115,7 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
     assert all("Palier" in label for label in plot.labels)
     assert "composantes dans B1" in plot.title() and "[N]" in plot.title()
     assert not any("_" in label for label in plot.labels)
-    body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
+    body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.page.body_frame)
     seen, turned = [], []
     for _ in range(5):
         sim.advance(0.013)  # not a whole number of turns

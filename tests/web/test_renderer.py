@@ -226,9 +226,9 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     sim = Simulation(scene, values=values)
     sim.advance(0.05)
     spec = as_scene(sim.scene)
-    assert spec is not None and spec.arrows
+    assert spec is not None and spec.page.arrows
     fake = HandleScene()
-    layer = ArrowLayer(fake, spec.arrows, extent=float(sim.model.stat.extent))
+    layer = ArrowLayer(fake, spec.page.arrows, extent=float(sim.model.stat.extent))
     for _ in range(5):
         layer.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
         sim.advance(0.01)
@@ -250,7 +250,7 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     assert all(v >= MIN_REACH * size * 0.99 for v in by_unit.values()), by_unit
     layer.relabel()
     for k, label in enumerate(layer.labels):
-        if getattr(spec.arrows[k], "magnitude", True) and layer.units[k]:
+        if getattr(spec.page.arrows[k], "magnitude", True) and layer.units[k]:
             assert label.text.endswith(layer.units[k].replace("rpm", "tr/min")), label.text
             assert "." not in label.text.split(":")[-1], label.text  # decimal comma
 
@@ -263,7 +263,7 @@ def test_the_user_scale_multiplies_the_lengths():
     sim = Simulation("rotor")
     spec = as_scene(sim.scene)
     assert spec is not None
-    layer = ArrowLayer(HandleScene(), spec.arrows, extent=1.0)
+    layer = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0)
     snap = sim.snapshot(("sup_R_x",))
     layer.update(snap)
     before = np.linalg.norm(layer.ends[0] - layer.origins[0])
@@ -285,13 +285,13 @@ def test_a_round_off_force_draws_no_arrow():
     sim.advance(0.05)
     spec = as_scene(sim.scene)
     assert spec is not None
-    names = [a.name for a in spec.arrows]
-    layer = ArrowLayer(HandleScene(), spec.arrows, extent=1.0, zero=spec.zero)
+    names = [a.name for a in spec.page.arrows]
+    layer = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0, zero=spec.zero)
     layer.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
     assert layer.shown[names.index("frame_force")]
     assert not layer.shown[names.index("shaking_moment")]
     layer.relabel()
-    bare = ArrowLayer(HandleScene(), spec.arrows, extent=1.0)  # no round-off given
+    bare = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0)  # no round-off given
     bare.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
     assert bare.shown[names.index("shaking_moment")]
 

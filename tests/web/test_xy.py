@@ -103,7 +103,7 @@ def test_the_rotors_start_draws_the_course_parabola():
     """Course 7.2 during the rotor's start from rest (the preset: τ = 2 s to 6000 rpm):
     bearing A against ω follows K·ω² (its dashed closed form) within 0.1 % above
     1000 rpm, and the cursor's slope equals 2·K·ω within 2 %."""
-    preset = next(p for p in SCENES["rotor"].xy_presets if p.values)
+    preset = next(p for p in SCENES["rotor"].page.xy_presets if p.values)
     sim = Simulation("rotor", values=dict(preset.values))
     ctl = Controller(sim)
     data = XYData(
@@ -187,14 +187,14 @@ def test_every_preset_names_what_its_scene_has(name):
     sim = Simulation(name)
     readouts = set(sim.readout_names())
     params = {p.name: p for p in scene.params}
-    assert scene.xy_presets, f"{name} proposes no X–Y plot"
-    for p in scene.xy_presets:
+    assert scene.page.xy_presets, f"{name} proposes no X–Y plot"
+    for p in scene.page.xy_presets:
         assert p.x in readouts and 1 <= len(p.ys) <= 3 and set(p.ys) <= readouts
         assert set(p.refs.values()) <= readouts
         assert set(p.values) <= set(params) and p.hint
         units = {u for n, u in ((i.name, i.unit) for i in sim.readout_infos()) if n in p.ys}
         assert len(units) == 1, f"{p.label}: one unit on the Y axis"
-    for s in scene.study_presets:
+    for s in scene.page.study_presets:
         for vary in (s.vary, s.family) if s.family else (s.vary,):
             q = params[vary[0]]
             assert q.min <= vary[1] < vary[2] <= q.max and vary[3] >= 2

@@ -50,19 +50,13 @@ from sandbox.scenes.compressor.model import (
 )
 from sandbox.scenes.compressor.params import DEFAULTS, PARAMS, RPM
 from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, READOUTS
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY, FITTED_ORDERS, fit_orders
 
 SCENE = Scene(
     name="compressor",
-    overlay={
-        "theta": "θ",
-        "pilon": "Effet de pilon",
-        "tamis": "Effet de tamis",
-        "motor_torque": "Couple moteur",
-    },
     title="Micro-compresseur : effets de pilon et de tamis",
     summary=(
         "A slider-crank held at constant speed by a motor. The moving parts shake the frame "
@@ -86,46 +80,56 @@ SCENE = Scene(
     integrator="rk4",
     timestep=5e-4,
     timestep_for=default_timestep,
-    # Time plots of slow quantities (the pilon itself is drawn against θ in "Sur un tour").
-    plots=("pilon_h1", "pilon_h2", "tamis_h1", "omega"),
-    xy_presets=(
-        XYPreset(
-            "Pilon et tamis sur un tour du vilebrequin",
-            "theta",
-            ("pilon", "tamis"),
-            hint="Les efforts transmis au bâti selon l'angle θ du vilebrequin ; en tirets, "
-            "les expressions du cours (7.3).",
-        ),
-        XYPreset(
-            "Couple moteur sur un tour du vilebrequin",
-            "theta",
-            ("motor_torque",),
-            hint="Le couple que le moteur fournit selon θ ; en tirets, celui que donne le "
-            "théorème de l'énergie cinétique.",
-        ),
-    ),
-    study_presets=(
-        StudyPreset(
-            "Pilon d'ordre 2 selon R/L",
-            ("L", 0.04, 0.2, 9),
-            "pilon",
-            statistic="order2",
-            duration=0.1,
-            settle=0.02,
-            hint="L'harmonique d'ordre 2 de l'effet de pilon est proportionnelle à R/L "
-            "(cours 7.3) : une bielle plus longue secoue moins le bâti.",
-            x=("Rapport R/L", lambda v: v["R"] / v["L"]),
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="crank",
     sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",
-    camera=((0.35, -0.45, 1.0), (0.0, 1.0, 0.0)),  # facing the mechanism's plane, y0 up
     cycle=revolution,
-    names=Names(solids={"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}),
     # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
     zero={**ROUND_OFF, "m": 1e-13},
     accuracy=ACCURACY,
+    page=Page(
+        overlay={
+            "theta": "θ",
+            "pilon": "Effet de pilon",
+            "tamis": "Effet de tamis",
+            "motor_torque": "Couple moteur",
+        },
+        # Time plots of slow quantities (the pilon itself is drawn against θ in "Sur un tour").
+        plots=("pilon_h1", "pilon_h2", "tamis_h1", "omega"),
+        xy_presets=(
+            XYPreset(
+                "Pilon et tamis sur un tour du vilebrequin",
+                "theta",
+                ("pilon", "tamis"),
+                hint="Les efforts transmis au bâti selon l'angle θ du vilebrequin ; en tirets, "
+                "les expressions du cours (7.3).",
+            ),
+            XYPreset(
+                "Couple moteur sur un tour du vilebrequin",
+                "theta",
+                ("motor_torque",),
+                hint="Le couple que le moteur fournit selon θ ; en tirets, celui que donne le "
+                "théorème de l'énergie cinétique.",
+            ),
+        ),
+        study_presets=(
+            StudyPreset(
+                "Pilon d'ordre 2 selon R/L",
+                ("L", 0.04, 0.2, 9),
+                "pilon",
+                statistic="order2",
+                duration=0.1,
+                settle=0.02,
+                hint="L'harmonique d'ordre 2 de l'effet de pilon est proportionnelle à R/L "
+                "(cours 7.3) : une bielle plus longue secoue moins le bâti.",
+                x=("Rapport R/L", lambda v: v["R"] / v["L"]),
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="crank",
+        camera=((0.35, -0.45, 1.0), (0.0, 1.0, 0.0)),  # facing the mechanism's plane, y0 up
+        names=Names(
+            solids={"crank": "1 (vilebrequin)", "rod": "2 (bielle)", "piston": "3 (piston)"}
+        ),
+    ),
 )
 
 __all__ = [

@@ -74,7 +74,7 @@ from sandbox.scenes.engine.model import (
 )
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS, PARAMS
 from sandbox.scenes.engine.readouts import ARROWS, FORCE_SCALE, MOMENT_SCALE, READOUTS
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY
@@ -93,12 +93,6 @@ SOLID_NAMES = {
 
 SCENE = Scene(
     name="engine",
-    overlay={
-        "omega": "ω",
-        "shaking_force_h1": "Pilon, ordre 1",
-        "shaking_force_h2": "Pilon, ordre 2",
-        "shaking_moment_max": "Basculement maximal",
-    },
     title="Moteur en ligne : équilibrage des machines alternatives",
     summary=(
         "One, two or four slider-cranks on one crankshaft, held at constant speed. The "
@@ -119,45 +113,53 @@ SCENE = Scene(
     integrator="rk4",
     timestep=7e-4,
     timestep_for=default_timestep,
-    # The orders, steady at a steady speed: the pilon itself turns at 50 to 280 Hz, which
-    # ten samples a second alias into noise (its curve over a turn is « Sur un tour »).
-    plots=("shaking_force_h1", "shaking_force_h2", "shaking_moment_max"),
-    study_presets=(
-        StudyPreset(
-            "Force de secouement d'ordre 2 selon la vitesse",
-            ("speed_rpm", 1000.0, 6000.0, 11),
-            "shaking_force_h2",
-            duration=0.05,
-            hint="Dans un moteur à quatre cylindres en ligne, les forces d'ordre 2 des "
-            "pistons s'ajoutent : elles croissent comme ω².",
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Pilon sur un tour du vilebrequin",
-            "theta",
-            ("pilon",),
-            hint="La somme des effets de pilon des cylindres selon l'angle θ ; en tirets, "
-            "celle du cours.",
-        ),
-        XYPreset(
-            "Moment de basculement sur un tour du vilebrequin",
-            "theta",
-            ("shaking_moment",),
-            hint="Le moment que les équipages mobiles exercent sur le bâti selon θ ; en "
-            "tirets, celui du cours.",
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="crank",
     sections="1, 7.3, figure 1",
-    camera=((1.0, 0.45, 0.8), (0.0, 1.0, 0.0)),
-    # framed with room for the arrows: the force on the block reaches ~0.22 m from C
-    look_at=((0.0, 0.03, 0.0), 0.42),
     cycle=revolution,
-    names=Names(solids=SOLID_NAMES),
     zero={**ROUND_OFF, "m": 1e-15},
     accuracy=ACCURACY,
+    page=Page(
+        overlay={
+            "omega": "ω",
+            "shaking_force_h1": "Pilon, ordre 1",
+            "shaking_force_h2": "Pilon, ordre 2",
+            "shaking_moment_max": "Basculement maximal",
+        },
+        # The orders, steady at a steady speed: the pilon itself turns at 50 to 280 Hz, which
+        # ten samples a second alias into noise (its curve over a turn is « Sur un tour »).
+        plots=("shaking_force_h1", "shaking_force_h2", "shaking_moment_max"),
+        study_presets=(
+            StudyPreset(
+                "Force de secouement d'ordre 2 selon la vitesse",
+                ("speed_rpm", 1000.0, 6000.0, 11),
+                "shaking_force_h2",
+                duration=0.05,
+                hint="Dans un moteur à quatre cylindres en ligne, les forces d'ordre 2 des "
+                "pistons s'ajoutent : elles croissent comme ω².",
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Pilon sur un tour du vilebrequin",
+                "theta",
+                ("pilon",),
+                hint="La somme des effets de pilon des cylindres selon l'angle θ ; en tirets, "
+                "celle du cours.",
+            ),
+            XYPreset(
+                "Moment de basculement sur un tour du vilebrequin",
+                "theta",
+                ("shaking_moment",),
+                hint="Le moment que les équipages mobiles exercent sur le bâti selon θ ; en "
+                "tirets, celui du cours.",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="crank",
+        camera=((1.0, 0.45, 0.8), (0.0, 1.0, 0.0)),
+        # framed with room for the arrows: the force on the block reaches ~0.22 m from C
+        look_at=((0.0, 0.03, 0.0), 0.42),
+        names=Names(solids=SOLID_NAMES),
+    ),
 )
 
 __all__ = [

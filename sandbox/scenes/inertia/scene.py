@@ -22,7 +22,7 @@ from sandbox.scenes.inertia.model import drive, edit, initial_state
 from sandbox.scenes.inertia.params import PARAMS, RPM
 from sandbox.scenes.inertia.readouts import ARROWS, AXIS_READOUTS, READOUTS
 from sandbox.scenes.measures import relative_drift
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 
 
@@ -61,9 +61,6 @@ def timestep_for(values: Values, data: mujoco.MjData | None = None) -> float:
 
 SCENE = Scene(
     name="inertia",
-    # G stays at the origin; the drawn basis and arrows reach ~0.4 m from it
-    look_at=((0.0, 0.0, 0.0), 0.8),
-    overlay={"spin_angle": "Angle entre ω et l'axe", "omega": "ω", "sigma_G": "σ en G"},
     title="Matrice d'inertie d'un solide : point, base, axes principaux",
     summary=(
         "A solid from the course (block, cylinder, sphere, rod, crankshaft) with its inertia "
@@ -85,39 +82,7 @@ SCENE = Scene(
     integrator="rk4",
     timestep=TIMESTEP,
     timestep_for=timestep_for,
-    plots=("spin_angle", "omega"),
-    study_presets=(
-        StudyPreset(
-            "Période du basculement selon la place de l'inertie intermédiaire",
-            ("b", 0.12, 0.28, 9),
-            "spin_angle",
-            statistic="period",
-            duration=20.0,
-            course="flip_period",
-            hint="Lancé autour de son axe intermédiaire, le pavé bascule périodiquement ; "
-            "la période (Euler) est la plus courte quand I₂ est à mi-chemin de I₁ et I₃.",
-            x=("Place de I₂ entre I₁ et I₃ : (I₂ − I₁)/(I₃ − I₁)", intermediate_place),
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Angle de l'axe de rotation au cours du temps",
-            "time",
-            ("spin_angle",),
-            hint="Lancé autour de l'axe d'inertie intermédiaire, le solide bascule "
-            "périodiquement ; autour des deux autres, l'angle reste petit.",
-        ),
-        XYPreset(
-            "Composantes de l'axe principal choisi",
-            "time",
-            ("axis_x", "axis_y", "axis_z"),
-            hint="Les composantes dans R₀ de l'axe principal autour duquel le solide est lancé.",
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="solid",
     sections="5.2–5.7, A.3",
-    names=Names(solids={"solid": "S"}),
     # Round-off: torque-free, {D} and the powers are 0 in the course; RK4 leaves 1e-17 N·m
     # and 1e-16 W, and G at rest keeps m·V(G) at 1e-17 kg·m/s.
     zero={
@@ -139,5 +104,43 @@ SCENE = Scene(
         rate=1000.0,
         timesteps=(5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2),
         drift_tol=1e-4,
+    ),
+    page=Page(
+        # G stays at the origin; the drawn basis and arrows reach ~0.4 m from it
+        look_at=((0.0, 0.0, 0.0), 0.8),
+        overlay={"spin_angle": "Angle entre ω et l'axe", "omega": "ω", "sigma_G": "σ en G"},
+        plots=("spin_angle", "omega"),
+        study_presets=(
+            StudyPreset(
+                "Période du basculement selon la place de l'inertie intermédiaire",
+                ("b", 0.12, 0.28, 9),
+                "spin_angle",
+                statistic="period",
+                duration=20.0,
+                course="flip_period",
+                hint="Lancé autour de son axe intermédiaire, le pavé bascule périodiquement ; "
+                "la période (Euler) est la plus courte quand I₂ est à mi-chemin de I₁ et I₃.",
+                x=("Place de I₂ entre I₁ et I₃ : (I₂ − I₁)/(I₃ − I₁)", intermediate_place),
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Angle de l'axe de rotation au cours du temps",
+                "time",
+                ("spin_angle",),
+                hint="Lancé autour de l'axe d'inertie intermédiaire, le solide bascule "
+                "périodiquement ; autour des deux autres, l'angle reste petit.",
+            ),
+            XYPreset(
+                "Composantes de l'axe principal choisi",
+                "time",
+                ("axis_x", "axis_y", "axis_z"),
+                hint="Les composantes dans R₀ de l'axe principal autour duquel le solide est "
+                "lancé.",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="solid",
+        names=Names(solids={"solid": "S"}),
     ),
 )

@@ -39,7 +39,7 @@ import numpy as np
 
 from sandbox.mechanics.robot_axis import step_response
 from sandbox.scenes.base import Accuracy, Effects, Scene, Series, Values
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.robot_axis.course import (
     axis_of,
@@ -129,47 +129,7 @@ SCENE = Scene(
     # Beyond 10 ms RK4 loses the arm's oscillation (0.6 rad per step: 1e-3 on V_2 at 10 ms)
     # and nears its stability limit on the speed servo (time constant 10 ms).
     max_timestep=1e-2,
-    plots=("y_ch", "omega_m", "deflection", "C_m"),
-    study_presets=(
-        StudyPreset(
-            "Inertie équivalente selon le rapport de réduction k",
-            ("k", 0.05, 1.0, 20),
-            "J_eq",
-            duration=0.01,
-            hint="Ramenée à l'arbre moteur, l'inertie de la charge compte avec le carré "
-            "du rapport de réduction : Jₑq = Jₘ + … + k²·(…).",
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Couple moteur au cours du mouvement",
-            "time",
-            ("C_m",),
-            hint="Le couple que le moteur fournit ; en tirets, celui que donne le cours "
-            "(inertie équivalente, frottement et rendement).",
-        ),
-        XYPreset(
-            "Vitesse du chariot selon sa position",
-            "y_ch",
-            ("V_ch",),
-            hint="Le profil de vitesse du chariot le long de sa course : accélération, "
-            "palier, freinage.",
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="carriage",
     sections="6.3, 6.4",
-    camera=((1.0, -0.2, 0.35), (0.0, 0.0, 1.0)),
-    names=Names(solids={"carriage": "ch (chariot)", "arm": "2 (bras z)"}),
-    # Round-off: at constant speed the carriage forces keep ~1e-9 N of the arm's last ringing
-    # (peaks of 100 N during a start), the powers and the theorem's residual ~1e-13 W; the
-    # arm's deflection decays to picometres in a pause: under half a nanometre it reads 0.
-    overlay={
-        "omega_m": "ωₘ",
-        "C_m": "Couple moteur Cₘ",
-        "deflection": "Déformation du bras",
-        "energy_residual": "Écart au théorème",
-    },
     zero={"N·m": 1e-10, "W": 1e-9, "J": 1e-12, "N": 1e-7, "m": 5e-10},
     accuracy=Accuracy(
         key="V_2",
@@ -182,6 +142,48 @@ SCENE = Scene(
         rate=2000.0,
         timesteps=(1e-4, 3e-4, 1e-3, 3e-3, 1e-2),
         drift_tol=1e-3,
+    ),
+    page=Page(
+        plots=("y_ch", "omega_m", "deflection", "C_m"),
+        study_presets=(
+            StudyPreset(
+                "Inertie équivalente selon le rapport de réduction k",
+                ("k", 0.05, 1.0, 20),
+                "J_eq",
+                duration=0.01,
+                hint="Ramenée à l'arbre moteur, l'inertie de la charge compte avec le carré "
+                "du rapport de réduction : Jₑq = Jₘ + … + k²·(…).",
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Couple moteur au cours du mouvement",
+                "time",
+                ("C_m",),
+                hint="Le couple que le moteur fournit ; en tirets, celui que donne le cours "
+                "(inertie équivalente, frottement et rendement).",
+            ),
+            XYPreset(
+                "Vitesse du chariot selon sa position",
+                "y_ch",
+                ("V_ch",),
+                hint="Le profil de vitesse du chariot le long de sa course : accélération, "
+                "palier, freinage.",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="carriage",
+        camera=((1.0, -0.2, 0.35), (0.0, 0.0, 1.0)),
+        names=Names(solids={"carriage": "ch (chariot)", "arm": "2 (bras z)"}),
+        # Round-off: at constant speed the carriage forces keep ~1e-9 N of the arm's last ringing
+        # (peaks of 100 N during a start), the powers and the theorem's residual ~1e-13 W; the
+        # arm's deflection decays to picometres in a pause: under half a nanometre it reads 0.
+        overlay={
+            "omega_m": "ωₘ",
+            "C_m": "Couple moteur Cₘ",
+            "deflection": "Déformation du bras",
+            "energy_residual": "Écart au théorème",
+        },
     ),
 )
 

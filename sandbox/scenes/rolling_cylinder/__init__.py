@@ -54,7 +54,7 @@ import numpy as np
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rolling_cylinder.course import (
     G,
@@ -89,7 +89,6 @@ integrator at 1 ms; this one separates them."""
 
 SCENE = Scene(
     name="rolling_cylinder",
-    overlay={"v": "v", "a": "a", "contact": "Contact"},
     title="Cylindre qui roule : V(A∈S) et V(A), frottement, énergie",
     summary=(
         "A cylinder rolls (or slips) down an inclined plane. The material point at the "
@@ -118,41 +117,8 @@ SCENE = Scene(
     # Beyond 20 ms the contact softens (penetration 2.5 mm, acceleration -0.8 %; -22 % at
     # 0.1 s): nothing explodes, so such timesteps are refused rather than detected.
     max_timestep=0.02,
-    plots=("v", "slip_velocity", "mu_required"),
-    study_presets=(
-        StudyPreset(
-            "Accélération selon la pente, de part et d'autre du glissement",
-            ("slope_deg", 2.0, 60.0, 30),
-            "a",
-            duration=0.3,
-            hint="Tant que μ suffit, le cylindre roule : a = g·sin α / (1 + I/(m·R²)). "
-            "Au-delà de tan α = 3μ (cylindre plein), il glisse : a = g·(sin α − μ·cos α).",
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Vitesse selon la distance parcourue",
-            "x",
-            ("v",),
-            hint="Sous accélération constante, v² croît comme x : la courbe est une "
-            "demi-parabole couchée.",
-        ),
-        XYPreset(
-            "Accélération au cours du temps",
-            "time",
-            ("a",),
-            hint="L'accélération du centre ; en tirets, celle du cours (roulement sans "
-            "glissement ou glissement selon μ).",
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="cylinder",
     sections="3.2, 6.1.3, 6.2",
-    camera=((0.1, -1.0, 0.25), (0.0, 0.0, 1.0)),
-    look_at=((0.5, 0.0, -0.15), 1.3),
-    leaves_view=True,
     run_ended=past_the_plane,
-    names=Names(solids={"cylinder": "cylindre", "eccentric": "masse excentrée"}),
     # Round-off: an absent eccentric mass is a 1e-9 kg point, which leaves 1e-9 N·m in
     # V(A) ∧ m V(G) where the course has 0 (δ in A is a few N·m).
     zero={"N": 1e-9, "N·m": 1e-8, "W": 1e-9, "J": 1e-12, "kg·m/s": 1e-12, "kg·m²/s": 1e-12},
@@ -166,6 +132,42 @@ SCENE = Scene(
         drift=energy_drift(),
         settle=0.01,
         drift_tol=5e-3,  # the course's energy theorem while rolling, to 0.5 %
+    ),
+    page=Page(
+        overlay={"v": "v", "a": "a", "contact": "Contact"},
+        plots=("v", "slip_velocity", "mu_required"),
+        study_presets=(
+            StudyPreset(
+                "Accélération selon la pente, de part et d'autre du glissement",
+                ("slope_deg", 2.0, 60.0, 30),
+                "a",
+                duration=0.3,
+                hint="Tant que μ suffit, le cylindre roule : a = g·sin α / (1 + I/(m·R²)). "
+                "Au-delà de tan α = 3μ (cylindre plein), il glisse : a = g·(sin α − μ·cos α).",
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Vitesse selon la distance parcourue",
+                "x",
+                ("v",),
+                hint="Sous accélération constante, v² croît comme x : la courbe est une "
+                "demi-parabole couchée.",
+            ),
+            XYPreset(
+                "Accélération au cours du temps",
+                "time",
+                ("a",),
+                hint="L'accélération du centre ; en tirets, celle du cours (roulement sans "
+                "glissement ou glissement selon μ).",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="cylinder",
+        camera=((0.1, -1.0, 0.25), (0.0, 0.0, 1.0)),
+        look_at=((0.5, 0.0, -0.15), 1.3),
+        leaves_view=True,
+        names=Names(solids={"cylinder": "cylindre", "eccentric": "masse excentrée"}),
     ),
 )
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.page import Components, Names
+from sandbox.scenes.page import Components, Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rotor.course import (
     balancing_solution,
@@ -51,7 +51,6 @@ from sandbox.scenes.roundoff import ROUND_OFF
 
 SCENE = Scene(
     name="rotor",
-    overlay={"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
     title="Rotor déséquilibré à équilibrer",  # one line in a projected panel
     summary=(
         "A rotor on two bearings turns at constant speed. A defect mass and a skewed disk "
@@ -70,41 +69,7 @@ SCENE = Scene(
     # implicitfast also keeps the speed servo stable through slider jumps.
     integrator="implicitfast",
     timestep=1e-2,
-    plots=("bearing_A", "bearing_B"),
-    xy_presets=(
-        XYPreset(
-            "Efforts des paliers selon ω, au démarrage",
-            "omega",
-            ("bearing_A", "bearing_B"),
-            values={"ramp_s": 2.0, "speed_rpm": 6000.0},
-            hint="Le rotor part du repos et monte à 6000 tr/min : les efforts des paliers "
-            "suivent la parabole du cours en ω² (tirets).",
-        ),
-        XYPreset(
-            "Efforts des paliers au cours du temps",
-            "time",
-            ("bearing_A", "bearing_B"),
-            hint="À vitesse constante, les efforts tournent avec le rotor mais gardent leur "
-            "intensité : celle du cours (tirets).",
-        ),
-    ),
-    study_presets=(
-        StudyPreset(
-            "Effort du palier A selon la vitesse (0 à 6000 tr/min)",
-            ("speed_rpm", 0.0, 6000.0, 13),
-            "bearing_A",
-            duration=0.1,
-            hint="Chaque point est une simulation à vitesse constante : l'effort croît "
-            "comme ω² (cours 7.2).",
-        ),
-    ),
-    arrows=ARROWS,
-    body_frame="rotor",
     sections="2–3, 5, 6, 7.2",
-    names=Names(
-        solids={"rotor": "1 (rotor)"},
-        markers={"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
-    ),
     solutions={"balancing_solution": balancing_solution},
     # Round-off: at 1500 rpm {D} and the frame's action keep 6e-12 N and 2e-12 N·m on
     # axes where the course has 0 (1e-13 of the 54 N peak), 1e-10 N at 6000 rpm.
@@ -121,12 +86,49 @@ SCENE = Scene(
         values={"speed_rpm": 3000.0},
         timesteps=(1e-4, 3e-4, 1e-3, 3e-3, 1e-2),
     ),
-    unbalance_diagram=DIAGRAM,
-    # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
-    # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
-    # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
-    components=Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
-    balancing=("bearing_A", "bearing_B"),
+    page=Page(
+        overlay={"omega": "ω", "bearing_A": "Palier A", "bearing_B": "Palier B"},
+        plots=("bearing_A", "bearing_B"),
+        xy_presets=(
+            XYPreset(
+                "Efforts des paliers selon ω, au démarrage",
+                "omega",
+                ("bearing_A", "bearing_B"),
+                values={"ramp_s": 2.0, "speed_rpm": 6000.0},
+                hint="Le rotor part du repos et monte à 6000 tr/min : les efforts des paliers "
+                "suivent la parabole du cours en ω² (tirets).",
+            ),
+            XYPreset(
+                "Efforts des paliers au cours du temps",
+                "time",
+                ("bearing_A", "bearing_B"),
+                hint="À vitesse constante, les efforts tournent avec le rotor mais gardent leur "
+                "intensité : celle du cours (tirets).",
+            ),
+        ),
+        study_presets=(
+            StudyPreset(
+                "Effort du palier A selon la vitesse (0 à 6000 tr/min)",
+                ("speed_rpm", 0.0, 6000.0, 13),
+                "bearing_A",
+                duration=0.1,
+                hint="Chaque point est une simulation à vitesse constante : l'effort croît "
+                "comme ω² (cours 7.2).",
+            ),
+        ),
+        arrows=ARROWS,
+        body_frame="rotor",
+        names=Names(
+            solids={"rotor": "1 (rotor)"},
+            markers={"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
+        ),
+        unbalance_diagram=DIAGRAM,
+        # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
+        # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
+        # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
+        components=Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
+        balancing=("bearing_A", "bearing_B"),
+    ),
 )
 
 __all__ = [

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from sandbox.mechanics.unbalance import PointMass, Unbalance
-from sandbox.scenes.base import UnbalanceDiagram
+from sandbox.scenes.page import UnbalanceDiagram
 from sandbox.scenes.rotor.course import unbalance
 from sandbox.scenes.rotor.params import CORRECTION_RADIUS, PLANE_X
 

@@ -12,7 +12,7 @@ from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Accuracy, Effects, Scene, Values, per_revolution_timestep
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.page import Names
+from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.wheel_balancer.course import machine_solution, reference, supports_model
 from sandbox.scenes.wheel_balancer.model import drive, edit, initial_state
@@ -111,45 +111,8 @@ SCENE = Scene(
     # beyond 1e-2 s the soft supports' vibration loses its accuracy (sandbox bench: 8e-4 at
     # 9e-3 s, diverged at 3e-2 s); rigid bearings use 1e-2 s
     max_timestep=RIGID_TIMESTEP,
-    plots=("bearing_inner", "bearing_outer"),
-    study_presets=(
-        StudyPreset(
-            "Effort du palier intérieur selon la vitesse",
-            ("speed_rpm", 0.0, 2000.0, 11),
-            "bearing_inner",
-            duration=0.5,
-            hint="Chaque point est une simulation à vitesse constante : l'effort croît comme ω².",
-        ),
-    ),
-    xy_presets=(
-        XYPreset(
-            "Efforts des paliers au cours du temps",
-            "time",
-            ("bearing_inner", "bearing_outer"),
-            hint="À vitesse constante, les efforts tournent avec la roue avec une intensité "
-            "fixe ; en tirets, celle du cours.",
-        ),
-    ),
-    overlay={
-        "bearing_inner": "Palier A",
-        "bearing_outer": "Palier B",
-        "clip_inner_g": "Masselotte intérieure",
-        "clip_outer_g": "Masselotte extérieure",
-    },
-    arrows=ARROWS,
-    body_frame="wheel",
     sections="7.1, 7.2",
-    names=Names(
-        solids={"wheel": "1 (roue)"},
-        markers={
-            "defect": "Point lourd",
-            "clip_inner": "m₁",
-            "clip_outer": "m₂",
-            "trial": "Essai",
-        },
-    ),
     solutions={"machine_solution": machine_solution, "influence_solution": influence_solution},
-    balancing=("bearing_inner", "bearing_outer"),
     zero={"N": 1e-9, "N·m": 1e-10, "W": 1e-12, "g": 1e-7, "m/s²": 1e-9},
     # Key quantity: the lab bench's vibration at B against the linear synchronous response
     # (rigid bearings are exact at every step); invariant: T at constant speed.
@@ -161,5 +124,45 @@ SCENE = Scene(
         invariant="T (constant speed)",
         drift=relative_drift("T"),
         values=BENCH_VALUES,
+    ),
+    page=Page(
+        plots=("bearing_inner", "bearing_outer"),
+        study_presets=(
+            StudyPreset(
+                "Effort du palier intérieur selon la vitesse",
+                ("speed_rpm", 0.0, 2000.0, 11),
+                "bearing_inner",
+                duration=0.5,
+                hint="Chaque point est une simulation à vitesse constante : l'effort croît "
+                "comme ω².",
+            ),
+        ),
+        xy_presets=(
+            XYPreset(
+                "Efforts des paliers au cours du temps",
+                "time",
+                ("bearing_inner", "bearing_outer"),
+                hint="À vitesse constante, les efforts tournent avec la roue avec une intensité "
+                "fixe ; en tirets, celle du cours.",
+            ),
+        ),
+        overlay={
+            "bearing_inner": "Palier A",
+            "bearing_outer": "Palier B",
+            "clip_inner_g": "Masselotte intérieure",
+            "clip_outer_g": "Masselotte extérieure",
+        },
+        arrows=ARROWS,
+        body_frame="wheel",
+        names=Names(
+            solids={"wheel": "1 (roue)"},
+            markers={
+                "defect": "Point lourd",
+                "clip_inner": "m₁",
+                "clip_outer": "m₂",
+                "trial": "Essai",
+            },
+        ),
+        balancing=("bearing_inner", "bearing_outer"),
     ),
 )

@@ -73,7 +73,7 @@ class Pacing:
         self.step_count = 0.0  # timesteps run, decayed alike
         self.requests: queue.Queue[Request] = queue.Queue()
         scene = as_scene(sim.scene)
-        self.playing = not (scene is not None and scene.start_paused)
+        self.playing = not (scene is not None and scene.page.start_paused)
         self.speed = 1.0
         self.diverged: str | None = None
         self.refusals = 0  # requests refused so far (the panels then show the real values)
@@ -320,10 +320,10 @@ class Pacing:
 
 
 def _timestep_refusal(sim: Simulation, dt: float) -> str:
-    """What the page says of a timestep that is not a positive number (the range the
-    simulation accepts, in its refusal's words)."""
+    """What the page says of a timestep that is not a positive number: the simulation's
+    own refusal of it (the range it accepts), or, were it to take it, that it is none."""
     try:
         sim.check_timestep(dt)
     except SandboxError as exc:
         return french_message(exc)
-    raise AssertionError(f"timestep {dt!r} was accepted")  # only non-positive ones come
+    return "Le pas de temps du modèle n'est pas un nombre positif."

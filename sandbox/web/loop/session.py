@@ -202,8 +202,8 @@ class Session:
         key = (id(sim.model), drawn_at, generation)
         if self.view.draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
-            arrows = scene.arrows if scene is not None else ()
-            trail = scene.trail if scene is not None else None
+            arrows = scene.page.arrows if scene is not None else ()
+            trail = scene.page.trail if scene is not None else None
             with sim.lock:
                 snap = drawn_snapshot(ctl, FORCES if arrows or (read and values is None) else ())
                 twin = secret.twin(sim) if secret is not None else None

@@ -149,12 +149,12 @@ class DisplayPanel:
         sim = controller.sim
         model = sim.model
         spec = as_scene(sim.scene)
-        self.words: Mapping[str, str] = spec.names.markers if spec is not None else {}
+        self.words: Mapping[str, str] = spec.page.names.markers if spec is not None else {}
         self.size = mechanism_size(model, sim.data)
         # A registered scene says whether its motion leaves the view; any file's free
         # body can. The camera follows it on request (each browser's camera moved every
-        # frame costs the class its frame rate: Scene.leaves_view).
-        leaves = spec is None or spec.leaves_view
+        # frame costs the class its frame rate: Scene.page.leaves_view).
+        leaves = spec is None or spec.page.leaves_view
         self.body = (
             followed_body(model, slides=spec is not None) if camera is not None and leaves else -1
         )

@@ -27,7 +27,7 @@ class IsolatePanel:
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         scene = as_scene(sim.scene)
-        self.names = names = dict(scene.names.solids) if scene else {}
+        self.names = names = dict(scene.page.names.solids) if scene else {}
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
         self.choices: dict[str, str] = {}
         for body in isolate.solids(sim.model):

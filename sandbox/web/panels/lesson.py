@@ -28,6 +28,7 @@ import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.physics.units import shown_scale
+from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row
 from sandbox.web.loop import Request
 from sandbox.web.loop.state import SessionState
@@ -251,12 +252,12 @@ class LessonPanel:
         self.plots = []
         with self.folder:
             if step.plots:
-                arrows = getattr(self.controller.sim.scene, "arrows", ())
+                scene = as_scene(self.controller.sim.scene)
+                arrows = scene.page.arrows if scene is not None else ()
                 colours = {a.name: a.color for a in arrows}  # a curve has its arrow's colour
                 words = {n: self.words.label(n) for n in step.plots}
-                zero_for = getattr(self.controller.sim.scene, "zero_for", None)
                 units = {n: self.units.get(n, "") for n in step.plots}
-                zero = {u: zero_for(u) for u in units.values()} if callable(zero_for) else {}
+                zero = {u: scene.zero_for(u) for u in units.values()} if scene else {}
                 for plot in group_by_unit(step.plots, units, colours, labels=words, zero=zero):
                     unit = f" [{plot.shown_unit}]" if plot.shown_unit else ""
                     plot.attach(self.gui, title=f"{', '.join(plot.labels)}{unit}")

@@ -322,10 +322,10 @@ class ComponentPlot(Plot):
 def component_plot(scene: Scene | None) -> ComponentPlot | None:
     """The scene's :class:`ComponentPlot` (None when it has none, or lacks its arrows or
     the body frame its basis needs)."""
-    spec = scene.components if scene is not None else None
-    if scene is None or spec is None or (spec.basis == "B1" and not scene.body_frame):
+    spec = scene.page.components if scene is not None else None
+    if scene is None or spec is None or (spec.basis == "B1" and not scene.page.body_frame):
         return None
-    by_name = {a.name: a for a in scene.arrows}
+    by_name = {a.name: a for a in scene.page.arrows}
     arrows = [by_name[n] for n in spec.arrows if n in by_name]
     if not arrows:
         return None

@@ -23,7 +23,9 @@ import numpy as np
 import viser
 
 from sandbox.mechanics.unbalance import Unbalance, polar
-from sandbox.scenes.base import UnbalanceDiagram
+from sandbox.physics.readonly import ReadOnlySimulation
+from sandbox.scenes.base import as_scene
+from sandbox.scenes.page import UnbalanceDiagram
 from sandbox.web.client.text import html_text, number
 from sandbox.web.panels.plots import nice_ceil
 
@@ -181,7 +183,7 @@ def panel_html(unbalance: Unbalance) -> str:
 # -- the panel --------------------------------------------------------------------------------
 class _Driver(Protocol):
     @property
-    def sim(self) -> object: ...
+    def sim(self) -> ReadOnlySimulation: ...
 
 
 class PolarPanel:
@@ -209,14 +211,15 @@ class PolarPanel:
     def create(cls, gui: viser.GuiApi, controller: _Driver) -> PolarPanel | None:
         """The panel when ``controller`` shows a scene that declares an unbalance diagram
         (the rotor), else None."""
-        diagram = getattr(getattr(controller.sim, "scene", None), "unbalance_diagram", None)
-        if not isinstance(diagram, UnbalanceDiagram):
+        scene = as_scene(controller.sim.scene)
+        diagram = scene.page.unbalance_diagram if scene is not None else None
+        if diagram is None:
             return None
         return cls(gui, controller, diagram)
 
     def refresh(self) -> bool:
         """Redraw when a parameter the diagram depends on changed; True when redrawn."""
-        values: Mapping[str, float] = getattr(self.controller.sim, "values", {})
+        values: Mapping[str, float] = self.controller.sim.values
         try:
             key = tuple(float(values[k]) for k in self.diagram.depends_on)
         except (KeyError, TypeError, ValueError):

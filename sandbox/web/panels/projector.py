@@ -86,7 +86,7 @@ def key_readouts(sim: ReadOnlySimulation) -> dict[str, str]:
     readout's label): the scene's ``overlay``, else its energies."""
     known = set(sim.readout_names())
     spec = as_scene(sim.scene)
-    names = dict(spec.overlay) if spec is not None and spec.overlay else {}
+    names = dict(spec.page.overlay) if spec is not None and spec.page.overlay else {}
     names = names or dict.fromkeys(FALLBACK_READOUTS, "")
     return {n: short for n, short in names.items() if n in known}
 

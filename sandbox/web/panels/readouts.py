@@ -67,7 +67,7 @@ class ReadoutPanel:
         if self.scene_rows:
             with gui.add_folder(SCENE_FOLDER) as self.folders[SCENE_FOLDER]:
                 self.scene_text = gui.add_markdown("")
-        names = list(scene.plots) if scene and scene.plots else ["T", "V"]
+        names = list(scene.page.plots) if scene and scene.page.plots else ["T", "V"]
         names = [n for n in names if n in infos]
         arrow_of = {a.name: a for a in (arrows.arrows if arrows else ())}
         colors = {n: a.color for n, a in arrow_of.items()}
@@ -77,9 +77,11 @@ class ReadoutPanel:
         )
         self.sim = sim
         self.body = -1
-        if scene is not None and scene.body_frame:
-            self.body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.body_frame)
-        self.scene_arrows = tuple(scene.arrows) if scene is not None else ()
+        if scene is not None and scene.page.body_frame:
+            self.body = mujoco.mj_name2id(
+                sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.page.body_frame
+            )
+        self.scene_arrows = tuple(scene.page.arrows) if scene is not None else ()
         self.components: ComponentPlot | None = component_plot(scene)
         if self.components is not None and self.components.spec.basis == "B1" and self.body <= 0:
             self.components = None
@@ -107,7 +109,7 @@ class ReadoutPanel:
             )
             bases = [BASIS_0]
             if self.body > 0 and scene is not None:
-                solid = scene.names.solids.get(scene.body_frame or "")
+                solid = scene.page.names.solids.get(scene.page.body_frame or "")
                 bases.append(f"B1, liée au solide {solid}" if solid else "B1, liée au solide")
             self.basis = gui.add_dropdown(
                 "Base",

@@ -111,7 +111,7 @@ def key_readout(
     if checked:
         return checked
     spec = SCENES.get(scene)
-    pair = spec.balancing if spec is not None else None
+    pair = spec.page.balancing if spec is not None else None
     if pair is not None and all(n in values for n in pair):
         a, b = (values[n] for n in pair)
         return pair[1] if b > a else pair[0]

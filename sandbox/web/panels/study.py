@@ -5,7 +5,7 @@ closed form dashed through them.
 The page builds a :class:`~sandbox.sweep.Study` from its fields (the other parameters at
 the session's current values), checks it with French refusals, and hands it to the
 server's :class:`~sandbox.web.loop.study_queue.StudyQueue`, below the live sessions. The
-scene's presets (:attr:`~sandbox.scenes.base.Scene.study_presets`) fill the fields with a
+scene's presets (:attr:`~sandbox.scenes.page.Page.study_presets`) fill the fields with a
 study that shows one of the course's laws.
 """
 
@@ -22,15 +22,15 @@ from sandbox.scenes.base import Param, as_scene
 from sandbox.scenes.presets import StudyPreset
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
 from sandbox.web.client.fields import param_label
-from sandbox.web.client.text import html_text, number
+from sandbox.web.client.text import number
 from sandbox.web.loop import Refused, as_number, french_message
 from sandbox.web.loop.state import SessionState
 from sandbox.web.loop.study_queue import StudyJob, StudyQueue, progress_words
+from sandbox.web.panels.preset_picker import PresetPicker
 from sandbox.web.panels.study_chart import STAT_LABELS, StudyChart
 from sandbox.web.panels.xy_data import Axis
 
 FOLDER = "Étude paramétrique"
-FREE = "Choix libre"
 NONE = "— aucune —"
 RUN = "Lancer l'étude"
 CANCEL = "Annuler l'étude"
@@ -73,7 +73,7 @@ class StudyPanel:
         }
         self.infos = {i.name: i for i in sim.readout_infos()}
         self.presets: dict[str, StudyPreset] = {
-            p.label: p for p in (scene.study_presets if scene else ())
+            p.label: p for p in (scene.page.study_presets if scene else ())
         }
         self.job: StudyJob | None = None
         self.received = False  # the job shown is the teacher's (follow mode)
@@ -89,13 +89,14 @@ class StudyPanel:
         first = next(iter(self.presets.values()), None)
         p0 = next(iter(self.params.values()))
         with gui.add_folder(FOLDER, expand_by_default=True) as self.folder:
-            self.preset = gui.add_dropdown(
+            self.picker = PresetPicker(
+                gui,
                 "Étude proposée",
-                (*self.presets, FREE),
-                initial_value=first.label if first is not None else FREE,
+                tuple(self.presets),
+                first=first.label if first is not None else None,
                 hint="Des études qui montrent les lois du cours pour cette scène",
             )
-            self.hint = gui.add_markdown("")
+            self.preset, self.hint = self.picker.dropdown, self.picker.hint
             self.vary = gui.add_dropdown(
                 "Paramètre varié", tuple(self.param_words), initial_value=param_label(p0)
             )
@@ -171,7 +172,7 @@ class StudyPanel:
         self.measure.value = words[preset.measure]  # type: ignore[misc]
         self.statistic.value = STAT_LABELS[preset.statistic]  # type: ignore[misc]
         self.duration.value, self.settle.value = preset.duration, preset.settle  # type: ignore[misc]
-        self.hint.content = html_text(preset.hint)
+        self.picker.show(preset.hint)
 
     def _show_family(self) -> None:
         on = str(self.family.value) != NONE
@@ -343,7 +344,7 @@ class StudyPanel:
                 self.fill(preset)
             else:
                 self.preset_used = None
-                self.hint.content = ""
+                self.picker.show("")
         elif pending.get("edited") or pending.get("family"):
             for pick, fields in (
                 (self.vary, (self.start, self.stop)),
@@ -357,8 +358,7 @@ class StudyPanel:
                         field.step = _step(q)
                         field.value = float(value)  # type: ignore[misc]
             self.preset_used = None  # the form no longer is the preset's
-            self.preset.value = FREE  # type: ignore[misc]
-            self.hint.content = ""
+            self.picker.free()
             self._show_family()
         job = self.job
         if job is None or job.done == self._shown_done and not job.finished:

@@ -1,7 +1,7 @@
 """Folder "Tracé X–Y": any readout against any other (or against time), with the
 course's value dashed, a cursor reading X, Y and the slope, and downloads.
 
-The scene's presets (:attr:`~sandbox.scenes.base.Scene.xy_presets`) show its laws in one
+The scene's presets (:attr:`~sandbox.scenes.page.Page.xy_presets`) show its laws in one
 click: the compressor's pilon and tamis over a crank revolution, the rotor's bearing
 forces against ω during a slow start. Samples come from the session's
 :class:`~sandbox.web.loop.probe.Probe`, taken between frames, only while the folder is shown
@@ -21,14 +21,13 @@ from viser import uplot
 
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
-from sandbox.web.client.text import html_text
 from sandbox.web.loop import Request
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.plots import PALETTE, dashed, dots, replace_chart
+from sandbox.web.panels.preset_picker import PresetPicker
 from sandbox.web.panels.xy_data import TIME_AXIS, Axis, XYData
 
 FOLDER = "Tracé X–Y"
-FREE = "Choix libre"
 NONE = "— aucune —"
 FREEZE = "Figer le tracé"
 RESUME = "Reprendre le tracé"
@@ -59,10 +58,10 @@ class XYPanel:
         sim = controller.sim
         scene = as_scene(sim.scene)
         self.presets: dict[str, XYPreset] = {
-            p.label: p for p in (scene.xy_presets if scene else ())
+            p.label: p for p in (scene.page.xy_presets if scene else ())
         }
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
-        colors = {a.name: a.color for a in (scene.arrows if scene is not None else ())}
+        colors = {a.name: a.color for a in (scene.page.arrows if scene is not None else ())}
         self.colors = colors
         self.axes: dict[str, Axis] = {TIME: TIME_AXIS}
         for info in sim.readout_infos():
@@ -88,13 +87,15 @@ class XYPanel:
         self.title = first.label if first is not None else ""
         readouts = tuple(t for t, n in self.words.items() if n != TIME)
         with gui.add_folder(FOLDER, expand_by_default=True) as self.folder:
-            self.preset = gui.add_dropdown(
+            self.picker = PresetPicker(
+                gui,
                 "Tracé proposé",
-                (*self.presets, FREE),
-                initial_value=first.label if first is not None else FREE,
+                tuple(self.presets),
+                first=first.label if first is not None else None,
                 hint="Des tracés qui montrent les lois du cours pour cette scène",
+                shown=first.hint if first is not None else "",
             )
-            self.hint = gui.add_markdown(html_text(first.hint) if first is not None else "")
+            self.preset, self.hint = self.picker.dropdown, self.picker.hint
             self.x_pick = gui.add_dropdown(
                 "Axe horizontal X",
                 tuple(self.words),
@@ -137,7 +138,7 @@ class XYPanel:
             x, ys = preset.x, [y for y in preset.ys if y in self.axes][:Y_SLOTS]
         else:
             scene = as_scene(self.controller.sim.scene)
-            plots = [n for n in (scene.plots if scene is not None else ()) if n in self.axes]
+            plots = [n for n in (scene.page.plots if scene is not None else ()) if n in self.axes]
             x, ys = TIME, plots[:1] or ["T"]
         refs = dict(preset.refs) if preset is not None else {}
         for y in ys:
@@ -182,7 +183,7 @@ class XYPanel:
             self.x_pick.value = self.title_of[x]  # type: ignore[misc]
             for k, pick in enumerate(self.y_picks):
                 pick.value = self.title_of[ys[k]] if k < len(ys) else NONE  # type: ignore[misc]
-            self.hint.content = html_text(preset.hint) if preset is not None else ""
+            self.picker.show(preset.hint if preset is not None else "")
             self.title = preset.label if preset is not None else ""
             self._rebuild(x, ys, refs)
             if preset is not None and preset.values:
@@ -194,8 +195,7 @@ class XYPanel:
             ys = [self.words[str(p.value)] for p in self.y_picks if str(p.value) in self.words]
             ys = list(dict.fromkeys(n for n in ys if n != TIME)) or [self.data.ys[0].name]
             refs = {y: f"{y}_ref" for y in ys if f"{y}_ref" in self.axes}
-            self.preset.value = FREE  # type: ignore[misc]
-            self.hint.content = ""
+            self.picker.free()
             self.title = ""
             self._rebuild(x, ys, refs)
         if "cursor" in pending:

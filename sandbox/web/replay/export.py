@@ -100,9 +100,9 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         renderer = SceneRenderer(scene)
         spec = as_scene(sim.scene)
         arrows = None
-        if spec is not None and spec.arrows:
+        if spec is not None and spec.page.arrows:
             arrows = ArrowLayer(
-                scene, spec.arrows, extent=float(sim.model.stat.extent), zero=spec.zero
+                scene, spec.page.arrows, extent=float(sim.model.stat.extent), zero=spec.zero
             )
         words = {i.name: i.label for i in sim.readout_infos()}
         key = key_readouts(sim)

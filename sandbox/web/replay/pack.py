@@ -100,7 +100,7 @@ def _series(rec: Recording) -> dict[str, object]:
     """The plotted readouts in the page's units, as JSON-able data."""
     scene = rec.header.get("scene")
     spec = SCENES.get(scene) if isinstance(scene, str) else None
-    wanted = [n for n in (spec.plots if spec else ()) if n in rec.names]
+    wanted = [n for n in (spec.page.plots if spec else ()) if n in rec.names]
     wanted = (wanted or [n for n in ("T", "V") if n in rec.names])[:PLOTTED]
     units = dict(zip(rec.names, rec.header.get("units", []), strict=False))
     labels: dict[str, str] = {}

@@ -99,7 +99,7 @@ def render_video(
     if strip is not None:
         strip.draw(*sampled(rec, open_simulation(rec), options.plots, options.start, stop))
     text = Text(height)
-    arrows = tuple(spec.arrows) if spec is not None else ()
+    arrows = tuple(spec.page.arrows) if spec is not None else ()
     size = mechanism_size(sim.model, sim.data)
     factors: dict[str, float] = {}
     direction, up = scene_view(sim)
@@ -109,8 +109,8 @@ def render_video(
             ((0.0, 1.0, 0.0) if options.camera == "top" else (0.0, 0.0, 1.0)),
         )
     center, extent = np.asarray(sim.model.stat.center, float), float(sim.model.stat.extent)
-    if spec is not None and spec.look_at is not None:
-        center, extent = np.asarray(spec.look_at[0], float), spec.look_at[1]
+    if spec is not None and spec.page.look_at is not None:
+        center, extent = np.asarray(spec.page.look_at[0], float), spec.page.look_at[1]
     position, look_at = camera_pose(center, extent, direction)  # as the page frames it
     tmp = options.out.with_name(f".{options.out.name}.part{options.out.suffix}")
     gif = options.out.suffix.lower() == ".gif"

@@ -13,7 +13,7 @@ MAXLEN = 600
 
 
 class Trail:
-    """Polyline of the points a scene's trail follows over time (``Scene.trail``, given
+    """Polyline of the points a scene's trail follows over time (``Scene.page.trail``, given
     by each frame's picture), in one client's scene.
 
     Args:

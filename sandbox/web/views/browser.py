@@ -102,15 +102,15 @@ D = TypeVar("D", bound=Driver)
 def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:
     """The scene's force arrows in a viser scene (None when the scene has none)."""
     spec = as_scene(sim.scene)
-    if spec is None or not spec.arrows:
+    if spec is None or not spec.page.arrows:
         return None
     units = {i.name: i.unit for i in sim.readout_infos()}
     return ArrowLayer(
         scene,
-        spec.arrows,
+        spec.page.arrows,
         extent=float(sim.model.stat.extent),
         size=mechanism_size(sim.model, sim.data),
-        units=[units.get(a.name, "") for a in spec.arrows],
+        units=[units.get(a.name, "") for a in spec.page.arrows],
         zero=spec.zero,
         prefix=prefix,
     )
@@ -161,7 +161,7 @@ class WebView(Generic[D]):
             self.renderer = SceneRenderer(client.scene)
             self.arrows = arrow_layer(client.scene, sim)
             scene = as_scene(sim.scene)
-            if scene is not None and scene.trail is not None:
+            if scene is not None and scene.page.trail is not None:
                 self.trail = Trail(client.scene, extent=float(model.stat.extent))
         self.controls: Controls
         self.lesson: LessonPanel | None = None
