@@ -42,8 +42,7 @@ def display_unit(unit: str) -> str:
 
 def param_unit(p: Param) -> str:
     """A parameter's unit as the page writes it (the scene's own display unit if any)."""
-    shown = getattr(p, "display_unit", None)
-    return shown if isinstance(shown, str) else display_unit(p.unit)
+    return p.display_unit
 
 
 def param_label(p: Param) -> str:
@@ -62,19 +61,18 @@ def param_hint(p: Param) -> str:
 
 def advanced(p: Param) -> bool:
     """True for a rarely changed parameter (shown in a folded folder)."""
-    return bool(getattr(p, "advanced", False))
+    return p.advanced
 
 
 def typed(p: Param) -> bool:
     """True when a parameter is typed in a number box (engineering notation) rather
     than slid: its range spans decades (``log``), or it is a rarely changed one."""
-    return bool(getattr(p, "log", False)) or advanced(p)
+    return p.log or advanced(p)
 
 
 def choices(p: Param) -> tuple[str, ...]:
     """French names of the values 0, 1, 2... of a parameter picking an option (else ())."""
-    names = getattr(p, "choices", ())
-    return tuple(str(c) for c in names) if isinstance(names, tuple | list) else ()
+    return tuple(str(c) for c in p.choices)
 
 
 def integrator_label(name: str) -> str:

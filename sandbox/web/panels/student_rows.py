@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Protocol
 
 import viser
 
@@ -20,6 +21,7 @@ from sandbox.scenes import SCENES
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
 from sandbox.web.panels.challenge import ChallengePanel
+from sandbox.web.panels.lesson import LessonPanel
 from sandbox.web.panels.lesson_goal import parts
 from sandbox.web.panels.projector import key_readouts, overlay_lines
 
@@ -53,6 +55,17 @@ class Readouts:
         return line.removeprefix(f"{label} = ")
 
 
+class StudentPage(Protocol):
+    """What the board reads of a student's own page (the browser view): its lesson panel
+    and its challenge panel, each None when the page has none."""
+
+    @property
+    def lesson(self) -> LessonPanel | None: ...
+
+    @property
+    def challenge(self) -> ChallengePanel | None: ...
+
+
 @dataclass
 class Student:
     """One student's page as the board reads it (kept across a follow-mode switch)."""
@@ -61,7 +74,7 @@ class Student:
     joined: float
     scene: str
     readouts: Readouts
-    view: object = None
+    view: StudentPage | None = None
     mode: str = "own"
     field: viser.GuiTextHandle | None = None
     name: str = ""
@@ -70,11 +83,11 @@ class Student:
     attempt: Attempt | None = None  # kept across a follow-mode student's switches
 
 
-def _read_lesson(view: object, row: Row) -> tuple[Row, str, Mapping[str, float]]:
+def _read_lesson(view: StudentPage | None, row: Row) -> tuple[Row, str, Mapping[str, float]]:
     """``row`` with the lesson as the student's page shows it, the readout its step
     checks ("" when none) and the page's readouts (each attribute read once: the
     session's loop may change them meanwhile)."""
-    panel = getattr(view, "lesson", None)
+    panel = view.lesson if view is not None else None
     if panel is None:
         return row, "", {}
     values: Mapping[str, float] = panel.values

@@ -17,6 +17,7 @@ from sandbox.web.panels.board import name_field, teacher_path
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.server import App
+from sandbox.web.views.browser import WebView
 
 log = logging.getLogger(__name__)
 
@@ -66,7 +67,8 @@ class ClassApp(App):
             else:
                 box = name_field(client.gui)
                 sim = session.controller.sim
-                self.classroom.student(client, sim, session.view, field=box)
+                view = session.view if isinstance(session.view, WebView) else None
+                self.classroom.student(client, sim, view, field=box)
         except Exception:
             log.exception("the class board could not take this browser")
         return session

@@ -25,8 +25,7 @@ from sandbox.challenges import for_scene, start
 from sandbox.physics.simulation import Simulation
 from sandbox.web.panels.board import BoardPanel
 from sandbox.web.panels.board_rows import REFRESH, Board, Row, Run, clean_name, from_wire, to_wire
-from sandbox.web.panels.challenge import ChallengePanel
-from sandbox.web.panels.student_rows import Readouts, Student, student_row
+from sandbox.web.panels.student_rows import Readouts, Student, StudentPage, student_row
 from sandbox.web.serving.roster import Roster
 
 log = logging.getLogger(__name__)
@@ -127,7 +126,7 @@ class Classroom:
         self,
         client: viser.ClientHandle,
         sim: Simulation,
-        view: object = None,
+        view: StudentPage | None = None,
         *,
         mode: str = "own",
         field: viser.GuiTextHandle | None = None,
@@ -137,19 +136,19 @@ class Classroom:
         cid = client.client_id
         with self._lock:
             old = self._students.get(cid)
-        panel = getattr(view, "challenge", None)
+        panel = view.challenge if view is not None else None
         if old is not None:
             if old.field is not None:
                 old.name = clean_name(old.field.value)
             old.view, old.mode, old.field = view, mode, field
             old.sim = sim
-            old.challenge = panel if isinstance(panel, ChallengePanel) else None
+            old.challenge = panel
             entry = old
         else:
             scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
             entry = Student(client, self.clock(), scene[:80], Readouts.of(sim), view, mode, field)
             entry.sim = sim
-            entry.challenge = panel if isinstance(panel, ChallengePanel) else None
+            entry.challenge = panel
             with self._lock:
                 self._students[cid] = entry
         with self._lock:

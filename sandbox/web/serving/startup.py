@@ -17,7 +17,7 @@ from sandbox.web.loop import Controller, Session
 from sandbox.web.serving import addresses, network
 from sandbox.web.serving.class_app import ClassApp
 from sandbox.web.serving.follow import FollowApp
-from sandbox.web.serving.server import MAX_SESSIONS, App, SimOptions, open_server
+from sandbox.web.serving.server import MAX_SESSIONS, SimOptions, open_server
 from sandbox.web.views import share as share_panel
 from sandbox.web.views.browser import WebView
 
@@ -47,7 +47,7 @@ def start(
     follow: bool = False,
     token: str | None = None,
     public_url: str | None = None,
-) -> App:
+) -> ClassApp | FollowApp:
     """Start the web app in background threads and return at once.
 
     The target is checked first by building one simulation, so a bad scene, file or
@@ -94,7 +94,7 @@ def start(
     urls = join_urls(host, bound, public_url)
 
     if follow:
-        app: App = FollowApp(
+        app: ClassApp | FollowApp = FollowApp(
             server, host, target, options, lesson=opened, token=token, join_urls=tuple(urls)
         )
     else:
@@ -107,7 +107,7 @@ def start(
 
         app = ClassApp(server, host, session, token=token, max_sessions=max_sessions, port=bound)
     if open_message:
-        teacher = getattr(app, "teacher_url", None)
+        teacher = app.teacher_url
         print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)
     return app
 

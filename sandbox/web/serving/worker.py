@@ -187,8 +187,8 @@ def worker_main(
         except Exception as exc:  # reported by the parent as one line
             events.put(("error", index, f"{type(exc).__name__}: {exc}"))
             return
-        classroom = getattr(app, "classroom", None)
-        if classroom is not None and board is not None:
+        classroom = app.classroom
+        if board is not None:
             hub = WorkerHub(events, index, board, classroom.receive)
             classroom.relay(hub, source=f"w{index}")
         adopter.start()

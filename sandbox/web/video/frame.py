@@ -15,6 +15,7 @@ import numpy as np
 from PIL import ImageFont
 
 from sandbox.physics.snapshot import Snapshot
+from sandbox.scenes.page import Arrow
 from sandbox.web.video.offscreen import project
 from sandbox.web.view3d.arrow_scale import arrow_points, auto_factor, caption
 
@@ -51,19 +52,19 @@ class Text:
 
 def add_arrows(
     scene: mujoco.MjvScene,
-    arrows: Sequence[Any],
+    arrows: Sequence[Arrow],
     snapshot: Snapshot,
     size: float,
     factors: dict[str, float],
     units: dict[str, str],
-) -> list[tuple[Any, np.ndarray, float, str]]:
+) -> list[tuple[Arrow, np.ndarray, float, str]]:
     """The scene's arrows as MuJoCo arrows in ``scene`` (sized as the page sizes them:
     a unit's factor changes only when its longest arrow would leave the view or shrink
     to a dot); returns (arrow, its point, magnitude, unit) of those drawn."""
     ends = []
     for arrow in arrows:
         origin, end, magnitude = arrow_points(arrow, snapshot)
-        unit = getattr(arrow, "unit", "") or units.get(arrow.name, "")
+        unit = arrow.unit or units.get(arrow.name, "")
         ends.append((arrow, origin, end, magnitude, unit))
     for unit in {e[4] for e in ends}:
         longest = max(float(np.linalg.norm(e[2] - e[1])) for e in ends if e[4] == unit)
@@ -89,7 +90,7 @@ def label_arrows(
     draw: Any,
     text: Text,
     scene: mujoco.MjvScene,
-    drawn: Sequence[tuple[Any, np.ndarray, float, str]],
+    drawn: Sequence[tuple[Arrow, np.ndarray, float, str]],
     width: int,
     height: int,
     zeros: dict[str, float],

@@ -49,7 +49,7 @@ def arrow_points(arrow: Arrow, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarr
 def caption(arrow: Arrow, magnitude: float, unit: str, zero: Mapping[str, float]) -> str:
     """An arrow's label: its words, magnitude and unit ("Palier A : 0,91 N"); its words
     alone for an arrow that shows a direction only. ``zero``: round-off by unit."""
-    if not getattr(arrow, "magnitude", True):
+    if not arrow.magnitude:
         return arrow.label
     value = number(magnitude, 3, zero=zero.get(unit, 0.0))
     return f"{arrow.label} : {with_unit(value, display_unit(unit))}"

@@ -114,9 +114,7 @@ class ArrowLayer:
         self.zero = dict(zero or {})
         self.arrows = tuple(arrows)
         given = tuple(units) + ("",) * (len(self.arrows) - len(units))
-        self.units = tuple(
-            getattr(a, "unit", "") or u for a, u in zip(self.arrows, given, strict=True)
-        )
+        self.units = tuple(a.unit or u for a, u in zip(self.arrows, given, strict=True))
         self.size = float(size) if size is not None and size > 0 else float(extent) or 1.0
         self._measured = size is not None and size > 0
         self.user_scale = 1.0
@@ -135,7 +133,7 @@ class ArrowLayer:
         # arrows starting from the same named point share a frame node there
         points: dict[str, list[int]] = {}
         for k, a in enumerate(self.arrows):
-            points.setdefault(getattr(a, "point", "") or f"_{a.name}", []).append(k)
+            points.setdefault(a.point or f"_{a.name}", []).append(k)
         self.groups: list[list[int]] = list(points.values())
         self.group_of = [0] * len(self.arrows)
         for g, members in enumerate(self.groups):
@@ -197,7 +195,7 @@ class ArrowLayer:
         self.dirty = False  # a setting changed since the last draw: draw again
 
     def _point(self, k: int) -> str:
-        return getattr(self.arrows[k], "point", "") or f"_{self.arrows[k].name}"
+        return self.arrows[k].point or f"_{self.arrows[k].name}"
 
     def watch(
         self,

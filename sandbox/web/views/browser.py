@@ -410,9 +410,8 @@ class WebView(Generic[D]):
             self.trail.add(drawing.time, drawing.trail)
         if self._showing(ISOLATE_FOLDER):
             self.isolate.refresh(sim)
-        cost = getattr(controller, "cost", None)
-        if cost is not None and self._showing(ACCURACY_FOLDER):
-            self.accuracy.refresh(sim, cost, now)
+        if isinstance(controller, Controller) and self._showing(ACCURACY_FOLDER):
+            self.accuracy.refresh(sim, controller.cost, now)  # a replay measures no cost
         if self.arrows is not None:
             self.arrows.relabel()
 
