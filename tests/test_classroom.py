@@ -592,3 +592,33 @@ def test_a_studying_student_learns_its_controls_and_sees_a_study_end() -> None:
     assert not student.finished.is_set()
     cs._learn(student, "Étude terminée : 13 simulations en 1,0 s.".encode())
     assert student.finished.is_set()
+
+
+def test_each_reader_thread_unpacks_with_its_own_decompressor():
+    """A zstd decompressor is not safe for concurrent use: students' reader threads
+    sharing one crashed the test process. Each thread gets its own, and the messages
+    unpacked at once by several threads come out whole."""
+    import threading
+
+    import zstandard
+
+    from sandbox.bench.classroom import wire
+
+    inner = bytes(range(256)) * 64
+    frame = zstandard.ZstdCompressor().compress(inner)
+    raw = len(inner).to_bytes(8, "little") + len(frame).to_bytes(8, "little") + frame
+    seen: list[object] = []
+    bad: list[int] = []
+
+    def read(k: int) -> None:
+        seen.append(wire._decompressor())
+        for _ in range(200):
+            if bytes(wire.unpack(raw)) != inner:
+                bad.append(k)
+
+    threads = [threading.Thread(target=read, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not bad and len({id(d) for d in seen}) == 4

@@ -6,6 +6,7 @@ control panel's status line, 3D nodes made or removed, a labelled control).
 from __future__ import annotations
 
 import re
+import threading
 from typing import Any
 
 import msgspec
@@ -30,7 +31,16 @@ STATUS_TIME = re.compile(rb"t = (-?[0-9](?:[0-9]|\xe2\x80\xaf)*(?:,[0-9]+)?) s \
 
 BIG_MESSAGE = 16_000
 """Bytes from which a server message counts as big (images, meshes, plot data)."""
-_ZSTD = zstandard.ZstdDecompressor()
+_LOCAL = threading.local()
+"""One zstd decompressor per thread: an instance is not safe for concurrent use (python-
+zstandard says so; four students' reader threads sharing one crashed the process)."""
+
+
+def _decompressor() -> zstandard.ZstdDecompressor:
+    dctx = getattr(_LOCAL, "dctx", None)
+    if dctx is None:
+        dctx = _LOCAL.dctx = zstandard.ZstdDecompressor()
+    return dctx
 
 
 def unpack(raw: bytes) -> bytes:
@@ -41,7 +51,7 @@ def unpack(raw: bytes) -> bytes:
     """
     size = int.from_bytes(raw[:8], "little")
     clen = int.from_bytes(raw[8:16], "little")
-    return _ZSTD.decompress(memoryview(raw)[16 : 16 + clen], max_output_size=size)
+    return _decompressor().decompress(memoryview(raw)[16 : 16 + clen], max_output_size=size)
 
 
 def is_update_frame(inner: bytes) -> bool:
