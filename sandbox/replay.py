@@ -48,7 +48,7 @@ import numpy as np
 from sandbox.errors import SandboxError
 from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
-from sandbox.recording import STATE_SPEC, BadRecording, Recording, get_state, set_state
+from sandbox.recording import STATE_SPEC, BadRecording, Recording, get_state
 from sandbox.scenes import SCENES
 
 MAX_REPLAY_STEPS = 20_000_000
@@ -96,6 +96,7 @@ def _from_mjcf(rec: Recording, scene: Any = None) -> Simulation:
             values=head["values"],
             integrator=head["integrator"],
             timestep=head["timestep"],
+            motion=head["motion"],
         )
     finally:
         shutil.rmtree(folder, ignore_errors=True)
@@ -164,6 +165,7 @@ def open_replay(rec: Recording) -> tuple[Simulation, ModelChoice]:
                 values=head["values"],
                 integrator=head["integrator"],
                 timestep=head["timestep"],
+                motion=head["motion"],
             )
             _check_changes(rec, sim)
             today = sim.mjcf()
@@ -211,7 +213,7 @@ def open_replay(rec: Recording) -> tuple[Simulation, ModelChoice]:
         raise _refuse(
             rec, f"holds states of {rec.states.shape[1]} numbers, but its model has {size}"
         )
-    set_state(sim.model, sim.data, rec.states[0])
+    sim.restore(rec.states[0])
     return sim, choice
 
 
@@ -321,6 +323,8 @@ def _apply(sim: Simulation, event: dict[str, Any]) -> None:
         sim.set_timestep(float(event["value"]))
     elif kind == "reset":
         sim.reset()
+    elif kind == "motion":
+        sim.set_motion(event["value"])
 
 
 def _steps_to(sim: Simulation, t: float) -> int:

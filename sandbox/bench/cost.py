@@ -29,6 +29,7 @@ def stepping_cost(
     integrator: str,
     timestep: float,
     duration: float,
+    motion: str = "free",
 ) -> float:
     """CPU seconds per simulated second of MuJoCo's stepping alone (``Simulation.step``
     over the whole run in one call, so that Python's per-call overhead does not hide the
@@ -38,7 +39,9 @@ def stepping_cost(
     run restarts when it reaches ``duration``); the smallest is kept, since other
     processes can only slow a measurement down.
     """
-    sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
+    sim = simulation(
+        target, values=dict(acc.values), integrator=integrator, timestep=timestep, motion=motion
+    )
     total = max(1, int(round(duration / timestep)))
     best = math.inf
     done = 0

@@ -53,7 +53,7 @@ def bench_effects(scene: Scene, *, quick: bool = False) -> EffectsResult:
         return sim
 
     dt = scene.default_timestep(acc.values)
-    declared = run_one(scene.name, acc, scene.integrator, dt, duration)
+    declared = run_one(scene.name, acc, scene.integrator, dt, duration)  # simulated, free
     on = run_one(scene.name, acc, scene.integrator, dt, duration, simulation=all_on)
     return EffectsResult(scene.name, declared, on)
 
@@ -82,7 +82,7 @@ def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -
     """Time both loops on the same model at the scene's defaults (best of three)."""
 
     def bare() -> float:
-        sim = Simulation(scene.name)
+        sim = Simulation(scene.name, motion="free")
         m, d = sim.model, sim.data
         per = max(1, int(round(1.0 / (rate * m.opt.timestep))))
         frames = int(round(duration * rate))
@@ -93,7 +93,7 @@ def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -
         return time.perf_counter() - start
 
     def ours() -> float:
-        sim = Simulation(scene.name)
+        sim = Simulation(scene.name, motion="free")
         start = time.perf_counter()
         simulate(sim, duration, rate, progress=False)
         return time.perf_counter() - start

@@ -38,19 +38,24 @@ def run_one(
     duration: float,
     *,
     simulation: Callable[..., Simulation] = Simulation,
+    motion: str = "free",
 ) -> Run:
     """Simulate ``duration`` seconds and measure error, drift, constraint and cost.
 
     The cost is timed separately (:func:`stepping_cost`): stepping only, no readouts.
+    ``motion``: "free" (the integrators' grid) or "imposed" (a scene's imposed motion,
+    computed exactly: the integrator and timestep then only set the sampling).
     """
-    run = Run(str(target), integrator, timestep, duration)
-    sim = simulation(target, values=dict(acc.values), integrator=integrator, timestep=timestep)
+    run = Run(str(target), integrator, timestep, duration, motion=motion)
+    sim = simulation(
+        target, values=dict(acc.values), integrator=integrator, timestep=timestep, motion=motion
+    )
     names = tuple(dict.fromkeys(("time", *acc.readouts)))
     columns, rows, error = simulate(sim, duration, acc.rate, progress=False, names=names)
     if error is not None:
         run.diverged, run.detail = True, str(error)
     if not run.diverged:
-        cost = stepping_cost(simulation, target, acc, integrator, timestep, duration)
+        cost = stepping_cost(simulation, target, acc, integrator, timestep, duration, motion)
         run.cpu_per_sim_s = cost
         run.realtime_factor = 1.0 / cost if cost > 0 else math.inf
     if run.diverged:
@@ -116,5 +121,19 @@ def bench_scene(
                     f"  {scene.name:<18} {integrator:<13} dt = {dt:<8.2g} {status:<16} {speed}"
                 )
     mark_pareto(result.runs, acc)
+    if (
+        scene.imposed is not None
+        and scene.imposed.refusal({**scene.defaults(), **acc.values}) is None
+    ):
+        # the same case, computed exactly: its error against the course and its cost (the
+        # timestep only samples it)
+        result.imposed = run_one(scene.name, acc, scene.integrator, default_dt, duration,
+                                 motion="imposed")  # fmt: skip
+        if progress is not None:
+            r = result.imposed
+            progress(
+                f"  {scene.name:<18} {'imposed':<13} (exact)       error {r.error:.2e}   "
+                f"{r.realtime_factor:8.1f}x real time"
+            )
     result.session = session_cost(scene)
     return result

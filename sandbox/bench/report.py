@@ -115,5 +115,13 @@ def markdown(results: Sequence[SceneResult]) -> str:
                 f"{_fmt(r.constraint)} | {_fmt(r.cpu_per_sim_s, '.3g')} | "
                 f"{_fmt(r.realtime_factor, '.1f')} | {', '.join(tags)} |"
             )
+        exact = res.imposed
+        if exact is not None:
+            parts.append(
+                f"| **imposed motion** (exact) | {exact.timestep:.3g} | {_fmt(exact.error)} | "
+                f"{_fmt(exact.drift)} | {_fmt(exact.constraint)} | "
+                f"{_fmt(exact.cpu_per_sim_s, '.3g')} | {_fmt(exact.realtime_factor, '.1f')} | "
+                "closure equations + inverse dynamics |"
+            )
         parts.append("")
     return "\n".join(parts)

@@ -28,6 +28,8 @@ class Run:
         detail: Divergence message.
         pareto: On the Pareto front (no other run is both cheaper and more accurate).
         default: The scene's default integrator and timestep.
+        motion: "free" (simulated: the grid) or "imposed" (the scene's imposed motion,
+            computed exactly by the closure equations and inverse dynamics).
     """
 
     scene: str
@@ -43,6 +45,7 @@ class Run:
     detail: str = ""
     pareto: bool = False
     default: bool = False
+    motion: str = "free"
 
 
 @dataclass
@@ -58,6 +61,9 @@ class SceneResult:
     drift_tol: float = math.inf
     constraint_tol: float = math.inf
     session: SessionCost | None = None
+    imposed: Run | None = None
+    """The scene's imposed motion (closure equations and inverse dynamics), where it has
+    one, at the benchmark's values: its error against the course and its cost."""
 
     def admissible(self, run: Run) -> bool:
         """Within this scene's drift and constraint limits (and not diverged)."""

@@ -49,20 +49,16 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
     """The results.json document (schema in docs/reference.md)."""
     scenes = {}
     for res in results:
-        runs = []
-        for r in res.runs:
-            d = asdict(r)
-            for k in ("error", "drift", "constraint", "cpu_per_sim_s", "realtime_factor"):
-                d[k] = _json_number(d[k])
-            runs.append(d)
         scenes[res.scene] = {
             "key": res.key,
             "invariant": res.invariant,
             "default": {"integrator": res.default_integrator, "timestep": res.default_timestep},
             "drift_tol": _json_number(res.drift_tol),
             "constraint_tol": _json_number(res.constraint_tol),
-            "runs": runs,
+            "runs": [_run_json(r) for r in res.runs],
         }
+        if res.imposed is not None:
+            scenes[res.scene]["imposed"] = _run_json(res.imposed)
         if res.session is not None:
             c = res.session
             scenes[res.scene]["session"] = {
@@ -80,6 +76,16 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
                 "meets_goal": c.meets_goal,
             }
     return {"schema": SCHEMA, "quick": quick, "machine": machine(), "scenes": scenes}
+
+
+def _run_json(run: Run) -> dict[str, Any]:
+    """One run as results.json writes it (the grid's simulated runs without ``motion``)."""
+    d = asdict(run)
+    for k in ("error", "drift", "constraint", "cpu_per_sim_s", "realtime_factor"):
+        d[k] = _json_number(d[k])
+    if d["motion"] == "free":
+        del d["motion"]
+    return d
 
 
 def _from_json_number(x: object) -> float:
@@ -139,6 +145,7 @@ def _run_from_json(r: object) -> Run:
         detail=text("detail", ""),
         pareto=flag("pareto"),
         default=flag("default"),
+        motion=text("motion", "free"),
     )
 
 
@@ -164,6 +171,7 @@ def scene_from_json(
         drift_tol=float(entry.get("drift_tol", math.inf)),
         constraint_tol=float(entry.get("constraint_tol", math.inf)),
         session=_session_from_json(scene, entry.get("session")),
+        imposed=None if entry.get("imposed") is None else _run_from_json(entry["imposed"]),
     )
     mark_pareto(res.runs, acc)
     return res

@@ -41,6 +41,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "workers", None),
                 getattr(args, "follow", False),
                 getattr(args, "public_url", None),
+                getattr(args, "motion", None),
             )
         with held_mujoco_warnings(held):
             code = _dispatch(args)

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from sandbox.errors import BadOption, shown
+from sandbox.physics.imposed import MOTIONS
 from sandbox.physics.model import INTEGRATORS
 
 
@@ -52,6 +53,17 @@ def version_text() -> str:
 
     python = ".".join(str(n) for n in sys.version_info[:3])
     return f"sandbox {of('sandbox')} (MuJoCo {of('mujoco')}, viser {of('viser')}, Python {python})"
+
+
+def _motion(parser: argparse.ArgumentParser) -> None:
+    """``--motion imposed|free``: how a scene whose input the course imposes is computed."""
+    parser.add_argument(
+        "--motion",
+        choices=MOTIONS,
+        help="imposed: the input's imposed motion (a crank at constant speed) computed "
+        "exactly by the closure equations and inverse dynamics; free: simulated by MuJoCo "
+        "(default: the scene's own, see 'sandbox describe')",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -100,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--integrator", choices=sorted(INTEGRATORS), help="override the integrator")
     r.add_argument("--timestep", type=_positive_float("--timestep"), help="override dt [s]")
+    _motion(r)
     r.add_argument(
         "--tolerance",
         type=_positive_float("--tolerance"),
@@ -150,6 +163,7 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     w.add_argument("--integrator", choices=sorted(INTEGRATORS), help="override the integrator")
     w.add_argument("--timestep", type=_positive_float("--timestep"), help="override dt [s]")
+    _motion(w)
     w.add_argument(
         "--jobs", type=int, default=None, help="processes running the study (default: cores)"
     )
@@ -170,6 +184,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _server_options(s)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    _motion(s)
     s.add_argument(
         "--follow",
         action="store_true",

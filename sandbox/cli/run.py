@@ -104,6 +104,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         values=pairs(args.set),
         integrator=integrator,
         timestep=timestep,
+        motion=args.motion,
     )
     check_run(args.duration, args.rate, sim.timestep)
     columns = sim.readout_names()

@@ -26,6 +26,7 @@ def cmd_serve(
     workers: int | None = None,
     follow: bool = False,
     public_url: str | None = None,
+    motion: str | None = None,
 ) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C).
 
@@ -66,6 +67,8 @@ def cmd_serve(
     if workers is not None and not 1 <= workers <= MAX_WORKERS:
         raise BadOption(f"--workers must be between 1 and {MAX_WORKERS}, got {workers!r}")
     options: dict[str, object] = {"follow": True} if follow else {}
+    if motion is not None:
+        options["motion"] = motion
     if public_url:
         if not public_url.startswith(("http://", "https://")) or len(public_url) > 200:
             raise BadOption(

@@ -33,6 +33,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         fixed=tuple(pairs(args.set).items()),
         integrator=args.integrator,
         timestep=args.timestep,
+        motion=args.motion,
     )
     steps = sweep.check(study)
     runs = len(study.points())

@@ -6,7 +6,9 @@ step's positions are carried forward with its velocities for the fraction of tim
 (``mj_integratePos``: exact for a rotation at constant speed, quaternions handled; a
 closed loop is brought back onto its constraints, :func:`close_loops`), then
 ``mj_kinematics`` (or ``mj_forward`` when arrows need forces) runs on a second
-``MjData`` that only the display reads: the physics itself is never touched.
+``MjData`` that only the display reads: the physics itself is never touched. An imposed
+motion needs none of this: its state at the display time is placed exactly
+(:meth:`~sandbox.physics.simulation.Simulation.put_at`).
 """
 
 from __future__ import annotations
@@ -83,21 +85,27 @@ class DisplayState:
             self._state = np.zeros(size)
         mujoco.mj_getState(model, physics, self._state, spec)
         mujoco.mj_setState(model, shown, self._state, spec)
-        if gap > 0:
-            mujoco.mj_integratePos(model, shown.qpos, shown.qvel, gap)
-            close_loops(model, shown)
-        shown.time = float(physics.time) + gap
-        if names:
-            generic.prepare(model, shown, names)
+        at = float(physics.time) + gap
+        if sim.put_at(shown, at, forces=bool(names)):
+            pass  # an imposed motion: the exact state at that time, nothing carried forward
         else:
-            mujoco.mj_kinematics(model, shown)
+            if gap > 0:
+                mujoco.mj_integratePos(model, shown.qpos, shown.qvel, gap)
+                close_loops(model, shown)
+            shown.time = at
+            if names:
+                generic.prepare(model, shown, names)
+            else:
+                mujoco.mj_kinematics(model, shown)
         self._key = key
         return shown
 
     def snapshot(self, time: float, names: Iterable[str] = ()) -> Snapshot:
         """A snapshot of the state at ``time`` for the readouts ``names`` (arrows)."""
         names = tuple(names)
-        return Snapshot(self.sim.model, self.data(time, names or ("time",)), self.sim.values)
+        sim = self.sim
+        data = self.data(time, names or ("time",))
+        return Snapshot(sim.model, data, sim.values, imposed=sim.imposed)
 
 
 LOOP_TOLERANCE = 1e-12

@@ -20,6 +20,7 @@ import mujoco
 from sandbox.data import data_dir
 from sandbox.errors import BadModel, BadOption, UnknownScene, choices, one_line, shown
 from sandbox.french import shown_value
+from sandbox.physics.imposed import ANCHOR_SLOTS, Imposed
 from sandbox.physics.limits import (
     check_spec,
     prescan,
@@ -100,6 +101,8 @@ class SceneSpec(Protocol):
     def reference(self) -> Callable[[Mapping[str, float]], dict[str, float]] | None: ...
     @property
     def mechanism(self) -> Callable[[Any, dict[str, float]], None] | None: ...  # (snap, out)
+    @property
+    def imposed(self) -> Imposed | None: ...  # the input motion the course imposes, if any
     def defaults(self) -> dict[str, float]: ...
     def param(self, name: object) -> Any: ...  # has check(value) -> float and live
     def default_timestep(
@@ -196,12 +199,21 @@ def resolve(target: str | Path) -> Source:
 
 def model_xml(source: Source, values: Mapping[str, float]) -> str:
     """MJCF text of the model: a file's own text, or the scene's file with the edits."""
-    if source.scene is None or source.scene.edit is None:
+    if source.scene is None or (source.scene.edit is None and source.scene.imposed is None):
         return read_mjcf(source.path)
     spec = mujoco.MjSpec.from_file(str(source.path))
-    source.scene.edit(spec, values)
+    _edit(spec, source.scene, values)
     spec.compile()
     return spec.to_xml()
+
+
+def _edit(spec: mujoco.MjSpec, scene: SceneSpec, values: Mapping[str, float]) -> None:
+    """The scene's edits of its MJCF, and the ``userdata`` an imposed law's anchor takes
+    (:mod:`sandbox.physics.imposed`: it travels with the state)."""
+    if scene.edit is not None:
+        scene.edit(spec, values)
+    if scene.imposed is not None:
+        spec.nuserdata = max(spec.nuserdata, scene.imposed.slot + ANCHOR_SLOTS)
 
 
 def build(
@@ -231,8 +243,8 @@ def build(
         spec = mujoco.MjSpec.from_file(str(source.path))
         if source.scene is None:
             check_spec(spec, source.path, timestep=own_timestep)
-        if source.scene is not None and source.scene.edit is not None:
-            source.scene.edit(spec, values)
+        if source.scene is not None:
+            _edit(spec, source.scene, values)
         model = spec.compile()
     except (ValueError, RuntimeError, mujoco.FatalError) as exc:  # MuJoCo's XML/compile
         text = one_line(str(exc))

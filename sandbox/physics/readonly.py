@@ -64,6 +64,14 @@ class ReadOnlySimulation(Protocol):
     def max_timestep(self) -> float:
         """The largest timestep [s] accepted."""
 
+    @property
+    def motion(self) -> str:
+        """ "imposed" (computed exactly) or "free" (simulated)."""
+
+    @property
+    def motions(self) -> tuple[str, ...]:
+        """The ways this simulation can compute its motion."""
+
     def readout_infos(self) -> list[ReadoutInfo]:
         """Every readout available."""
 

@@ -9,10 +9,13 @@ from pathlib import Path
 from typing import Any
 
 import mujoco
+import numpy as np
 
 from sandbox.errors import BadOption, Diverged, UnknownParameter, shown
 from sandbox.french import number, shown_value
+from sandbox.mechanics.imposed import Anchor
 from sandbox.physics import readouts as generic
+from sandbox.physics.imposed import FREE, IMPOSED, MOTIONS, ImposedMotion
 from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP, check_timestep
 from sandbox.physics.model import (
     Source,
@@ -48,6 +51,9 @@ class Simulation:
         values: Parameter values overriding the scene's defaults (validated).
         integrator: Integrator name overriding the scene's or file's own.
         timestep: Timestep [s] overriding the scene's or file's own.
+        motion: ``"imposed"``: the scene's imposed input motion computed exactly
+            (closure equations and inverse dynamics, nothing integrated); ``"free"``: the
+            motion simulated by MuJoCo; None: the scene's default (:attr:`motions`).
 
     ``lock`` serialises access when a web session steps while a GUI callback queues.
     """
@@ -59,6 +65,7 @@ class Simulation:
         values: Mapping[str, object] | None = None,
         integrator: str | None = None,
         timestep: float | None = None,
+        motion: str | None = None,
     ) -> None:
         self.source = target if isinstance(target, Source) else resolve(target)
         self.scene = self.source.scene
@@ -69,6 +76,14 @@ class Simulation:
         self._timestep = None if timestep is None else self.check_timestep(timestep)
         self.lock = threading.RLock()
         self._settled_at: float | None = None  # see _follow_state
+        spec = self.scene.imposed if self.scene is not None else None
+        self._wants_imposed = motion == IMPOSED or (
+            motion is None and spec is not None and spec.default
+        )
+        if motion is not None:
+            self.check_motion(motion)
+        self._imposed: ImposedMotion | None = None
+        self._fresh: tuple[object, ...] | None = None  # the imposed state last evaluated
         self.observers: list[Callable[[str, dict[str, Any]], None]] = []
         """Called with (kind, fields) after a reset or a change (recordings use it)."""
         self.model = self._compile()
@@ -120,6 +135,139 @@ class Simulation:
         while the scene's default for the parameters is in force."""
         return self._timestep is not None
 
+    # -- how the motion is computed -----------------------------------------------------
+    @property
+    def motions(self) -> tuple[str, ...]:
+        """The ways this simulation can compute its motion: ``("imposed", "free")`` for a
+        scene that declares an imposed motion (:attr:`Scene.imposed`), else ``("free",)``."""
+        spec = self.scene.imposed if self.scene is not None else None
+        return MOTIONS if spec is not None else (FREE,)
+
+    @property
+    def motion(self) -> str:
+        """``"imposed"`` while the imposed motion is computed exactly, else ``"free"``."""
+        return IMPOSED if self._imposed is not None else FREE
+
+    @property
+    def imposed(self) -> ImposedMotion | None:
+        """The imposed motion in force (None: the motion is simulated)."""
+        return self._imposed
+
+    def check_motion(self, name: object) -> str:
+        """``name`` checked as a way to compute the motion at the current values.
+
+        Raises:
+            BadOption: an unknown name, a scene without imposed motion, or values at which
+                it cannot be imposed (a torque command...); English and, as ``french``,
+                the page's words.
+        """
+        if name not in MOTIONS:
+            raise BadOption(
+                f"unknown motion {shown(name)}; choose one of: imposed, free",
+                french=f"Mouvement « {shown_value(name)} » inconnu : imposé ou libre.",
+            )
+        if name == FREE:
+            return FREE
+        spec = self.scene.imposed if self.scene is not None else None
+        if spec is None:
+            raise BadOption(
+                f"{shown(self.label)} has no imposed motion (its motion is what the simulation "
+                "finds); use --motion free",
+                french="Cette scène n'a pas de mouvement imposé : son mouvement est simulé.",
+            )
+        refusal = spec.refusal(self.values)
+        if refusal is not None:
+            english, french = refusal
+            raise BadOption(f"{english}; use --motion free", french=french)
+        return IMPOSED
+
+    def set_motion(self, name: object) -> None:
+        """Switch between the imposed motion and the free simulation, keeping the input's
+        position and speed (and every other joint's, on the loop) continuous.
+
+        Raises:
+            BadOption: see :meth:`check_motion`.
+        """
+        wanted = self.check_motion(name)
+        with self.lock:
+            self._wants_imposed = wanted == IMPOSED
+            if wanted == self.motion:
+                return
+            if wanted == IMPOSED:
+                self._start_imposed()
+            else:
+                self._stop_imposed()
+        self._emit("motion", value=wanted)
+
+    def _imposed_allowed(self) -> bool:
+        spec = self.scene.imposed if self.scene is not None else None
+        return self._wants_imposed and spec is not None and spec.refusal(self.values) is None
+
+    def _start_imposed(self, anchor: Anchor | None = None) -> None:
+        """Compute the motion exactly from now on, from the current time, input position
+        and speed (``anchor``: where to start from instead)."""
+        assert self.scene is not None and self.scene.imposed is not None
+        if self._imposed is None:
+            self._imposed = ImposedMotion(self.scene.imposed, self.model)
+        else:
+            self._imposed.bind(self.model)
+        self._imposed.start(self.data, anchor)
+        self._put(float(self.data.time))
+
+    def _stop_imposed(self) -> None:
+        """Simulate from the current exact state on (its loops closed, its speeds on them;
+        its acceleration stays as the solver's warm start)."""
+        self._imposed = None
+        self._fresh = None
+        mujoco.mj_forward(self.model, self.data)
+        self._warnings = self._warning_count()
+
+    def _put(self, t: float) -> None:
+        """The imposed state at time ``t`` in the simulation's data, with its forces."""
+        assert self._imposed is not None
+        self._imposed.put(self.model, self.data, self.values, t)
+        self._fresh = self._key(self.data)
+
+    def _key(self, data: mujoco.MjData) -> tuple[object, ...]:
+        return (
+            id(self.model), id(data), float(data.time), data.qpos.tobytes(),
+            data.qvel.tobytes(), data.qacc_warmstart.tobytes(),
+        )  # fmt: skip
+
+    def _prepare(self, data: mujoco.MjData, names: Iterable[str]) -> None:
+        """Bring ``data``'s derived quantities up to date for the readouts ``names``: a
+        forward pass of the free simulation, or the imposed motion's inverse dynamics
+        (from the state's own acceleration; skipped when it is the state just computed)."""
+        if self._imposed is None:
+            generic.prepare(self.model, data, list(names))
+            return
+        key = self._key(data)
+        if key != self._fresh:
+            self._imposed.forces(self.model, data)
+            self._fresh = key
+
+    def put_at(self, data: mujoco.MjData, t: float, *, forces: bool = True) -> bool:
+        """The imposed state at time ``t`` in ``data`` (another ``MjData`` of this model:
+        the drawn state), with its forces (``forces`` False: positions and poses only);
+        False (nothing done) when the motion is simulated."""
+        with self.lock:
+            if self._imposed is None:
+                return False
+            self._imposed.put(self.model, data, self.values, t, forces=forces)
+            return True
+
+    def restore(self, state: Any) -> None:
+        """Set the simulation's data to a recorded integration state (``mjSTATE_INTEGRATION``)
+        and bring its derived quantities up to date in the current way of computing the
+        motion (an imposed state carries its acceleration, see :mod:`.imposed`)."""
+        spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        with self.lock:
+            mujoco.mj_setState(self.model, self.data, np.asarray(state, dtype=float), spec)
+            if self._imposed is None:
+                mujoco.mj_forward(self.model, self.data)
+            else:
+                self._prepare(self.data, ())
+
     # -- state --------------------------------------------------------------------------
     def reset(self) -> None:
         """Back to the initial state: scene initial state, else the file's first keyframe."""
@@ -133,6 +281,10 @@ class Simulation:
                 self._apply_control()  # the command of the initial state
             mujoco.mj_forward(self.model, self.data)
             self._warnings = self._warning_count()
+            if self._imposed_allowed():
+                self._start_imposed()
+            else:
+                self._imposed = None
         self._emit("reset")
 
     def _emit(self, kind: str, **fields: Any) -> None:
@@ -170,6 +322,10 @@ class Simulation:
         number = self.check_value(name, value)
         with self.lock:
             old, old_dt = self.values[name], self.timestep
+            was = self.motion
+            before = None
+            if self._imposed is not None:
+                before = Anchor(float(self.data.time), *self._imposed.input(self.data))
             self.values[name] = number
             if self.scene is not None and self.scene.param(name).live:
                 self.model.opt.timestep = self._next_dt(old_dt)
@@ -184,9 +340,15 @@ class Simulation:
                 if self._next_dt(old_dt) != self.timestep:  # the running motion's step
                     self.model.opt.timestep = self._next_dt(old_dt)
                     self._apply_drive()
+            if self._imposed_allowed():
+                self._start_imposed(before)  # the law from here, with the new values
+            elif self._imposed is not None:
+                self._stop_imposed()  # these values cannot be imposed: simulated from here
         self._emit("set", name=name, value=number)
         if self.timestep != old_dt:
             self._emit("timestep", value=self.timestep)
+        if self.motion != was:
+            self._emit("motion", value=self.motion)
         return number
 
     def _next_dt(self, old_dt: float) -> float:
@@ -306,10 +468,27 @@ class Simulation:
         if nstep <= 0:
             return
         with self.lock:
+            if self._imposed is not None:
+                self._step_imposed(nstep)
+                return
             control = self.scene.control if self.scene is not None else None
             step_model(self.model, self.data, nstep, control, self.values)
             self._guard()
             self._follow_state()
+
+    def _step_imposed(self, nstep: int) -> None:
+        """Advance the time by ``nstep`` timesteps and evaluate the imposed motion there:
+        nothing is integrated, so the cost hardly depends on ``nstep`` and nothing
+        drifts. The time is summed step by step as ``mj_step`` does, so that it is the
+        same whatever the steps are grouped into, and after a restored state."""
+        t, dt = float(self.data.time), self.timestep
+        for _ in range(nstep):
+            t += dt
+        self._put(t)
+        d = self.data
+        if not math.isfinite(float(d.qpos.sum()) + float(d.qvel.sum()) + float(d.qacc.sum())):
+            raise Diverged(float(d.time), "NaN or Inf in the imposed motion")
+        self._follow_state()
 
     def _guard(self) -> None:
         d = self.data
@@ -345,7 +524,9 @@ class Simulation:
         self,
     ) -> tuple[tuple[ReadoutInfo, ...], tuple[str, ...], dict[str, Callable[[Snapshot], float]]]:
         """(infos, names, scene functions by name): fixed for a simulation, built once."""
-        table = getattr(self, "_table", None)
+        imposed = self._imposed is not None
+        tables = self.__dict__.setdefault("_tables", {})
+        table = tables.get(imposed)
         if table is None:
             infos = [
                 ReadoutInfo(r.name, r.unit, r.doc, r.label, r.hint)
@@ -354,10 +535,17 @@ class Simulation:
             fns: dict[str, Callable[[Snapshot], float]] = {}
             if self.scene is not None:
                 infos += [
-                    ReadoutInfo(r.name, r.unit, r.doc, r.label, r.hint) for r in self.scene.readouts
+                    ReadoutInfo(
+                        r.name,
+                        r.unit,
+                        r.doc,
+                        (getattr(r, "imposed_label", "") if imposed else "") or r.label,
+                        (getattr(r, "imposed_hint", "") if imposed else "") or r.hint,
+                    )
+                    for r in self.scene.readouts
                 ]
                 fns = {r.name: r.fn for r in self.scene.readouts}
-            table = self._table = (tuple(infos), tuple(i.name for i in infos), fns)
+            table = tables[imposed] = (tuple(infos), tuple(i.name for i in infos), fns)
         return table
 
     def snapshot(self, names: Iterable[str] = generic.GENERIC_NAMES) -> Snapshot:
@@ -366,6 +554,9 @@ class Simulation:
         The solver warm start is restored afterwards, so reading never changes the
         trajectory (a replay re-simulates bit for bit whatever the display rate).
         """
+        if self._imposed is not None:
+            self._prepare(self.data, names)
+            return Snapshot(self.model, self.data, self.values, imposed=self._imposed)
         warm = self.data.qacc_warmstart.copy()
         generic.prepare(self.model, self.data, list(names))
         self.data.qacc_warmstart[:] = warm
@@ -410,8 +601,8 @@ class Simulation:
             elif data is None:
                 snap = self.snapshot(needs)
             else:
-                generic.prepare(self.model, data, needs)
-                snap = Snapshot(self.model, data, self.values)
+                self._prepare(data, needs)
+                snap = Snapshot(self.model, data, self.values, imposed=self._imposed)
             out = generic.compute(
                 self.model, snap.data, [n for n in wanted if n not in scene_fns], snap.cache
             )

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import weakref
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -16,16 +16,30 @@ import numpy as np
 from sandbox.physics import readouts
 from sandbox.physics.kinematics import Kinematics, cached_kinematics
 
+if TYPE_CHECKING:
+    from sandbox.physics.imposed import ImposedMotion
+
 
 class Snapshot:
-    """Model, data and parameter values at one instant (after :func:`readouts.prepare`)."""
+    """Model, data and parameter values at one instant (after :func:`readouts.prepare`).
+
+    ``imposed``: the imposed motion the state comes from (None: a simulated state), so
+    that a readout looking ahead (a revolution's orders) evaluates the same law instead
+    of simulating.
+    """
 
     def __init__(
-        self, model: mujoco.MjModel, data: mujoco.MjData, values: Mapping[str, float]
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        values: Mapping[str, float],
+        *,
+        imposed: ImposedMotion | None = None,
     ) -> None:
         self.model = model
         self.data = data
         self.values = values
+        self.imposed = imposed
         self.cache: dict[str, Any] = {}
 
     @property

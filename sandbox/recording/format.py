@@ -6,11 +6,13 @@ Format (version 1, documented in docs/reference.md): a gzip stream of JSON lines
   "target": scene name or file name, "scene": scene name or null, "mjcf": MJCF text of the
   model as first built, "values": parameters, "integrator", "timestep", "state_spec": the
   MuJoCo ``mjtState`` bits of the recorded states, "state_size", "readouts": [names],
-  "units": [units], "lesson": lesson name or null}``;
+  "units": [units], "lesson": lesson name or null, "motion": "imposed" or "free"}`` (a
+  recording without "motion", made before it existed, is a free simulation);
 - then one record per line, in time order, each with ``"k"`` (kind) and ``"t"`` (sim time):
   ``frame`` (``"s"``: full integration state, floats), ``readouts`` (``"r"``: values in
   header order, null for non-finite), ``set`` (``"name"``, ``"value"``), ``integrator``
-  (``"value"``), ``timestep`` (``"value"``), ``reset``, ``lesson`` (``"step"``);
+  (``"value"``), ``timestep`` (``"value"``), ``reset``, ``lesson`` (``"step"``), ``motion``
+  (``"value"``: "imposed" or "free");
 - last line ``{"k": "end", "t": ..., "frames": n}``.
 
 Floats are written with ``repr`` so states round-trip exactly (``--verify`` expects 0).
@@ -34,7 +36,7 @@ FLUSH_EVERY = 5.0
 STATE_SPEC = int(mujoco.mjtState.mjSTATE_INTEGRATION)
 """Everything ``mj_step`` reads: a replay from it re-simulates bit for bit."""
 
-EVENT_KINDS = ("set", "integrator", "timestep", "reset", "lesson")
+EVENT_KINDS = ("set", "integrator", "timestep", "reset", "lesson", "motion")
 
 
 class BadRecording(SandboxError):

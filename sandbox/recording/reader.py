@@ -89,6 +89,17 @@ class Recording:
                 values[name] = float(numbers[i])
         return values
 
+    def motion_at(self, index: int) -> str:
+        """How the motion was computed at frame ``index`` ("imposed" or "free"): the
+        header's, changed by every ``motion`` event recorded before that frame."""
+        motion = str(self.header.get("motion", "free"))
+        for ev in self.events:
+            if ev["index"] > index:
+                break
+            if ev["k"] == "motion":
+                motion = str(ev["value"])
+        return motion
+
     @functools.cached_property
     def value_changes(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """For each parameter a recording changes: the frame index of each ``set`` event

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from sandbox.errors import choices
+from sandbox.physics.imposed import FREE, MOTIONS
 from sandbox.physics.limits import MAX_MJCF_BYTES, MAX_TIMESTEP, MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
 from sandbox.recording import limits
@@ -102,6 +103,8 @@ _HEADER_KEYS = (
     "format", "version", "created", "target", "scene", "mjcf", "values", "integrator",
     "timestep", "state_spec", "state_size", "readouts", "units", "lesson",
 )  # fmt: skip
+_OPTIONAL_KEYS = {"motion": FREE}
+"""Header fields added after version 1 came out, and their value in a file without them."""
 
 
 def check_header(path: Path, line: bytes) -> dict[str, Any]:
@@ -137,7 +140,7 @@ def check_header(path: Path, line: bytes) -> dict[str, Any]:
             f"recording {str(path)!r} has an incomplete header (missing "
             f"{', '.join(missing)}); {FIX}"
         )
-    extra = sorted(set(head) - set(_HEADER_KEYS))
+    extra = sorted(set(head) - set(_HEADER_KEYS) - set(_OPTIONAL_KEYS))
     if extra:
         raise BadRecording(
             f"recording {str(path)!r} has unknown header fields {_short(extra)}; {FIX}"
@@ -158,6 +161,9 @@ def check_header(path: Path, line: bytes) -> dict[str, Any]:
                 f"'integrator' is {_short(head['integrator'])}, not one of {choices(INTEGRATORS)}"
             )
         _timestep(head["timestep"], "'timestep'")
+        motion = head.get("motion", FREE)
+        if not isinstance(motion, str) or motion not in MOTIONS:
+            raise Refused(f"'motion' is {_short(motion)}, not one of {choices(MOTIONS)}")
         if head["state_spec"] != STATE_SPEC or type(head["state_spec"]) is not int:
             raise Refused(f"'state_spec' is {_short(head['state_spec'])}, not {STATE_SPEC}")
         size = head["state_size"]
@@ -176,7 +182,9 @@ def check_header(path: Path, line: bytes) -> dict[str, Any]:
             _text(unit, "unit", limit=32)
     except Refused as exc:
         raise BadRecording(f"recording {str(path)!r} has a bad header ({exc}); {FIX}") from None
-    return {k: head[k] for k in _HEADER_KEYS}
+    out = {k: head[k] for k in _HEADER_KEYS}
+    out.update({k: head.get(k, default) for k, default in _OPTIONAL_KEYS.items()})
+    return out
 
 
 _RECORD_KEYS: dict[str, frozenset[str]] = {
@@ -189,6 +197,7 @@ _RECORD_KEYS: dict[str, frozenset[str]] = {
         "timestep": ("value",),
         "reset": (),
         "lesson": ("step",),
+        "motion": ("value",),
         "end": ("frames",),
     }.items()
 }
@@ -305,6 +314,10 @@ class RecordReader:
             return {"value": rec["value"]}
         if kind == "timestep":
             return {"value": _timestep(rec.get("value"), "the timestep")}
+        if kind == "motion":
+            if not isinstance(rec.get("value"), str) or rec["value"] not in MOTIONS:
+                raise Refused(f"motion {_short(rec.get('value'))} is neither imposed nor free")
+            return {"value": rec["value"]}
         if kind == "lesson":
             step = rec.get("step")
             if type(step) is not int or not 0 <= step <= 10_000:

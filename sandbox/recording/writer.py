@@ -136,6 +136,7 @@ class Recorder:
             "readouts": self.names,
             "units": [units[n] for n in self.names],
             "lesson": lesson,
+            "motion": sim.motion,
         }
         self._write(header)
         self._last_flush = -math.inf

@@ -18,6 +18,7 @@ import numpy as np
 
 from sandbox import french
 from sandbox.errors import BadParameter, UnknownParameter, choices, shown
+from sandbox.physics.imposed import Imposed
 from sandbox.physics.units import display_unit
 from sandbox.scenes.page import Page
 
@@ -250,6 +251,10 @@ class SceneReadout:
         label: What the web page shows: French words with the course's symbol, e.g.
             "Effort du palier A" ("" shows ``name``).
         hint: French tooltip of the web page: one sentence ("" shows ``doc``).
+        imposed_label: The label while the motion is imposed, when the readout then
+            means something else in words (a motor's torque becomes the torque it must
+            give: « Couple nécessaire »); "" keeps ``label``.
+        imposed_hint: The tooltip while the motion is imposed ("" keeps ``hint``).
     """
 
     name: str
@@ -258,6 +263,8 @@ class SceneReadout:
     fn: Callable[[Snapshot], float]
     label: str = ""
     hint: str = ""
+    imposed_label: str = ""
+    imposed_hint: str = ""
 
     @property
     def display_unit(self) -> str:
@@ -372,6 +379,10 @@ class Scene:
         page: What the page shows of the scene (:class:`~sandbox.scenes.page.Page`:
             plots, arrows, camera, names, presets, diagrams); the simulation reads none
             of it.
+        imposed: The input motion the course imposes (a crank at constant speed, a
+            speed profile), computed exactly by the closure equations and inverse
+            dynamics instead of simulated (:class:`~sandbox.physics.imposed.Imposed`);
+            None: the motion is always simulated.
     """
 
     name: str
@@ -399,6 +410,7 @@ class Scene:
     zero: Mapping[str, float] = field(default_factory=dict)
     effects_for: Callable[[Values], Effects] | None = None
     page: Page = field(default_factory=Page)
+    imposed: Imposed | None = None
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

@@ -8,6 +8,9 @@ other's; the speed counts as unchanged within :data:`SPEED_TOLERANCE` (relative)
 with the one it was simulated at rather than rounded (a speed at a rounding boundary would
 simulate again at every reading).
 
+An imposed motion's revolution is not simulated but placed, exactly, at angles a turn
+apart (:func:`imposed_turn`): it is kept the same way, and is never provisional.
+
 Right after a change (a new model, new parameters) the motion settles: a revolution
 simulated then is provisional and simulated once more :data:`SETTLE` simulated seconds
 later (the engine cut from four cylinders to two read a first order of 0.18 N, a leak of
@@ -18,11 +21,13 @@ from __future__ import annotations
 
 import math
 import weakref
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
 import mujoco
+
+from sandbox.physics.snapshot import Snapshot
 
 T = TypeVar("T")
 
@@ -43,9 +48,16 @@ class _Kept(Generic[T]):
 
 
 class PerModel(Generic[T]):
-    """One result per compiled model, valid while its inputs stay."""
+    """One result per compiled model, valid while its inputs stay.
 
-    def __init__(self) -> None:
+    Args:
+        tolerance: Relative change of the speed below which a result still serves
+            (:data:`SPEED_TOLERANCE`; 0 for an exact result that must not be reused at
+            another speed, an imposed motion's).
+    """
+
+    def __init__(self, tolerance: float = SPEED_TOLERANCE) -> None:
+        self.tolerance = tolerance
         self._kept: weakref.WeakKeyDictionary[Any, _Kept[T]] = weakref.WeakKeyDictionary()
         self.misses = 0  # results computed (the counted guard of the tests)
 
@@ -65,7 +77,9 @@ class PerModel(Generic[T]):
         kept = self._kept.get(model)
         if kept is None or kept.result is None or kept.inputs != self._inputs(model, values):
             return None
-        if not math.isclose(omega, kept.omega, rel_tol=SPEED_TOLERANCE, abs_tol=1e-9):
+        if not math.isclose(
+            omega, kept.omega, rel_tol=self.tolerance, abs_tol=1e-9 * (self.tolerance > 0)
+        ):
             return None
         provisional = kept.at - kept.since < SETTLE
         if provisional and time - kept.at >= SETTLE:
@@ -102,3 +116,30 @@ class PerModel(Generic[T]):
     def clear(self) -> None:
         """Forget every kept result."""
         self._kept.clear()
+
+
+def imposed_turn(
+    s: Snapshot, samples: int, row: Callable[[mujoco.MjData], Sequence[float]]
+) -> list[Sequence[float]]:
+    """One revolution of an imposed motion at the current speed, exactly: the mechanism
+    placed at ``samples`` input angles a turn apart from the current one (constant speed,
+    no acceleration) on a scratch copy, each with its forces (inverse dynamics), read by
+    ``row``. Nothing is simulated: the revolution the crank turns at that speed.
+
+    Args:
+        s: A snapshot of an imposed motion (``s.imposed`` set).
+        samples: Angles per turn.
+        row: Reads one sample from the placed state (its forces up to date).
+    """
+    imposed = s.imposed
+    assert imposed is not None
+    model = s.model
+    data = mujoco.MjData(model)
+    mujoco.mj_copyData(data, model, s.data)
+    theta, omega = imposed.input(s.data)
+    turn = math.copysign(2.0 * math.pi, omega if omega != 0.0 else 1.0)
+    rows = []
+    for k in range(samples):
+        imposed.place(model, data, s.values, (theta + turn * k / samples, omega, 0.0))
+        rows.append(row(data))
+    return rows

@@ -47,6 +47,7 @@ def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
         values={**dict(study.fixed), **point},
         integrator=study.integrator,
         timestep=study.timestep,
+        motion=study.motion,
     )
     total, per = check_run(study.duration, RATE, sim.timestep)
     hinge = _first_hinge(sim) if study.measure.statistic.startswith("order") else None

@@ -113,6 +113,8 @@ class Study:
     fixed: tuple[tuple[str, str], ...] = ()
     integrator: str | None = None
     timestep: float | None = None
+    motion: str | None = None
+    """How a scene with an imposed input computes it ("imposed", "free"; None: its default)."""
     course: str | None = None
     """Key of the closed form in the scene's reference when it is not the readout's own
     (e.g. ``flip_period`` for the period of ``spin_angle``)."""
@@ -161,9 +163,14 @@ def check(study: Study) -> int:
                 values={**fixed, vary.name: value},
                 integrator=study.integrator,
                 timestep=study.timestep,
+                motion=study.motion,
             )
     sim = Simulation(
-        study.target, values=fixed, integrator=study.integrator, timestep=study.timestep
+        study.target,
+        values=fixed,
+        integrator=study.integrator,
+        timestep=study.timestep,
+        motion=study.motion,
     )
     known = sim.readout_names()
     if study.measure.readout not in known:

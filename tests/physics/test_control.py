@@ -67,6 +67,7 @@ class _Spec:
     drive: Callable[..., None] | None = None
     initial_state: Callable[..., None] | None = None
     reference: Callable[..., dict[str, float]] | None = None
+    imposed: Any = None
 
     @property
     def effects(self) -> _Effects:

@@ -194,7 +194,7 @@ def test_a_revolution_simulated_while_the_motion_settles_is_simulated_again():
     from sandbox.scenes.engine import cycle as engine
     from sandbox.scenes.revolutions import SETTLE
 
-    sim = Simulation("engine")
+    sim = Simulation("engine", motion="free")  # a revolution simulated ahead
     sim.advance(0.3)
     sim.set_value("cylinders", 2.0)
     sim.advance(0.05)

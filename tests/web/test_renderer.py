@@ -281,7 +281,7 @@ def test_a_round_off_force_draws_no_arrow():
     from sandbox.scenes.base import as_scene
     from sandbox.web.view3d.arrows import ArrowLayer
 
-    sim = Simulation("engine", values={"cylinders": 4.0})
+    sim = Simulation("engine", values={"cylinders": 4.0}, motion="free")  # imposed: exactly 0
     sim.advance(0.05)
     spec = as_scene(sim.scene)
     assert spec is not None

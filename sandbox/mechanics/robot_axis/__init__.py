@@ -58,7 +58,7 @@ from sandbox.mechanics.robot_axis.motion import (
     state_matrices,
     step_response,
 )
-from sandbox.mechanics.robot_axis.moves import back_and_forth
+from sandbox.mechanics.robot_axis.moves import back_and_forth, back_and_forth_motion
 from sandbox.mechanics.robot_axis.torque import (
     motor_torque,
     power_loss,
@@ -77,6 +77,7 @@ __all__ = [
     "arm_ringing",
     "as_real",
     "back_and_forth",
+    "back_and_forth_motion",
     "chain_mass",
     "check_rho",
     "energy_balance",

@@ -24,9 +24,22 @@ def back_and_forth(
         accel_time: Time to reach ``top_speed`` from rest [s] (0: a speed step).
         pause: Standstill at each end [s] (>= 0).
     """
+    x, v, _ = back_and_forth_motion(t, stroke, top_speed, accel_time, pause)
+    return x, v
+
+
+def back_and_forth_motion(
+    t: float, stroke: float, top_speed: float, accel_time: float, pause: float
+) -> tuple[float, float, float]:
+    """(position [m], speed [m/s], acceleration [m/s²]) of :func:`back_and_forth`'s cycle.
+
+    The acceleration is ±top_speed / accel_time on the ramps and 0 elsewhere (at a
+    ramp's end, the value of the segment that starts there); a speed step (accel_time = 0)
+    has no finite acceleration and reads 0.
+    """
     v_top = abs(top_speed)
     if stroke <= 0 or v_top <= 0 or t <= 0:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0
     ramp = max(accel_time, 0.0)
     if ramp > 0 and stroke < v_top * ramp:  # triangle: never reaches v_top
         v_top = math.sqrt(stroke * v_top / ramp)
@@ -37,12 +50,12 @@ def back_and_forth(
     if back:
         t -= move + pause
     if t >= move:
-        x, v = stroke, 0.0
+        x, v, a = stroke, 0.0, 0.0
     elif ramp > 0 and t < ramp:
-        x, v = 0.5 * v_top * t * t / ramp, v_top * t / ramp
+        x, v, a = 0.5 * v_top * t * t / ramp, v_top * t / ramp, v_top / ramp
     elif ramp > 0 and t > move - ramp:
         left = move - t
-        x, v = stroke - 0.5 * v_top * left * left / ramp, v_top * left / ramp
+        x, v, a = stroke - 0.5 * v_top * left * left / ramp, v_top * left / ramp, -v_top / ramp
     else:
-        x, v = v_top * (t - 0.5 * ramp), v_top
-    return (stroke - x, -v) if back else (x, v)
+        x, v, a = v_top * (t - 0.5 * ramp), v_top, 0.0
+    return (stroke - x, -v, -a) if back else (x, v, a)

@@ -39,6 +39,7 @@ from sandbox.scenes.compressor.cycle import (
 from sandbox.scenes.compressor.model import (
     CLOSURE_TIMECONST,
     FASTER,
+    IMPOSED,
     LARGEST_TIMESTEP,
     SERVO_STIFFNESS,
     STEP_ANGLE,
@@ -46,6 +47,7 @@ from sandbox.scenes.compressor.model import (
     drive,
     edit,
     initial_state,
+    place,
     set_loop_state,
 )
 from sandbox.scenes.compressor.params import DEFAULTS, PARAMS, RPM
@@ -85,6 +87,7 @@ SCENE = Scene(
     # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
     zero={**ROUND_OFF, "m": 1e-13},
     accuracy=ACCURACY,
+    imposed=IMPOSED,
     page=Page(
         overlay={
             "theta": "θ",
@@ -139,6 +142,7 @@ __all__ = [
     "DEFAULTS",
     "FASTER",
     "FITTED_ORDERS",
+    "IMPOSED",
     "HARMONIC_SAMPLES",
     "LARGEST_TIMESTEP",
     "LOOP_SAMPLES",
@@ -159,6 +163,7 @@ __all__ = [
     "loop_forces",
     "motor_torque",
     "pilon_harmonics",
+    "place",
     "reference",
     "revolution",
     "set_loop_state",

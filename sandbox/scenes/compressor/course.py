@@ -45,15 +45,27 @@ class Kinematics:
     phi_theta: float = 0.0
 
 
-def kinematics(theta: float, omega: float, R: float, L: float, *, alpha: float = 0.0) -> Kinematics:
+def kinematics(
+    theta: float,
+    omega: float,
+    R: float,
+    L: float,
+    *,
+    alpha: float = 0.0,
+    sin_cos: tuple[float, float] | None = None,
+) -> Kinematics:
     """λ = R sin θ + √(L² − R² cos² θ) and its derivatives; sin φ = R cos θ / L.
 
     With q = √(L² − R² cos² θ): λ_θ = R cos θ + R² sin θ cos θ / q,
     λ_θθ = −R sin θ + R² (cos² θ − sin² θ) / q − R⁴ sin² θ cos² θ / q³, and
     λ'' = λ_θθ ω² + λ_θ α; φ_θ = −R sin θ / (L cos φ),
     φ_θθ = −(R / L) (cos θ / cos φ + sin θ sin φ φ_θ / cos² φ), φ'' = φ_θθ ω² + φ_θ α.
+
+    ``sin_cos``: (sin θ, cos θ) when the caller has them more exactly than from ``theta``
+    (a throw's phase subtracted from a crank angle of millions of radians loses the
+    angle's last digits; a rotation of the crank's own sine and cosine does not).
     """
-    s, c = math.sin(theta), math.cos(theta)
+    s, c = (math.sin(theta), math.cos(theta)) if sin_cos is None else sin_cos
     q = math.sqrt(L * L - R * R * c * c)
     lam = R * s + q
     lam_t = R * c + R * R * s * c / q

@@ -4,6 +4,7 @@ or put on the loop at the current speed, and the orders of its pilon and tamis."
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import mujoco
 import numpy as np
@@ -13,20 +14,46 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.compressor.course import HARMONIC_SAMPLES, frame_force, motor_torque
 from sandbox.scenes.compressor.model import set_loop_state
-from sandbox.scenes.revolutions import PerModel
+from sandbox.scenes.revolutions import PerModel, imposed_turn
 from sandbox.scenes.slider_crank import fit_orders, revolution_table
 
 LOOP_SAMPLES = 32
 """Crank angles of :func:`loop_forces` (orders 0..4 need 9; 32 keeps aliasing out)."""
 
 _REVOLUTIONS: PerModel[dict[str, np.ndarray]] = PerModel()
+_IMPOSED: PerModel[dict[str, np.ndarray]] = PerModel(tolerance=0.0)
+_COLUMNS = ("pilon", "tamis", "motor_torque", "pilon_ref", "tamis_ref", "motor_torque_ref")
+
+
+def _row(model: mujoco.MjModel, data: mujoco.MjData, v: Mapping[str, float]) -> tuple[float, ...]:
+    """(θ, pilon, tamis, C_mot, and the course's three) of a state with its forces."""
+    theta, w, alpha = float(data.qpos[0]), float(data.qvel[0]), float(data.qacc[0])
+    force = -generic.support_torsor(model, data)[0]
+    ref = frame_force(theta, w, v, alpha=alpha)
+    return (theta, force[1], force[0], float(joint_drive(model, data)[0]), ref[1], ref[0],
+            motor_torque(theta, w, v, alpha=alpha))  # fmt: skip
+
+
+def _imposed_revolution(s: Snapshot) -> dict[str, np.ndarray]:
+    """The imposed crank's revolution at its current speed, placed exactly at
+    :data:`HARMONIC_SAMPLES` angles (:func:`~sandbox.scenes.revolutions.imposed_turn`)."""
+    model, v = s.model, s.values
+    omega = float(s.data.qvel[0])
+    kept = _IMPOSED.get(model, v, omega)
+    if kept is not None:
+        return kept
+    rows = imposed_turn(s, HARMONIC_SAMPLES, lambda d: _row(model, d, v))
+    return _IMPOSED.put(model, v, omega, revolution_table(rows, _COLUMNS))
 
 
 def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     """One revolution simulated from the current state on a scratch copy (the trajectory
     itself is untouched): crank angle [deg], pilon, tamis and motor torque, and the
     course's values at the same angles. Cached while the model, the parameters and the
-    speed (to 0.1 %) stay the same: in steady state the revolution does not change."""
+    speed (to 0.1 %) stay the same: in steady state the revolution does not change. An
+    imposed motion's revolution at the current speed is placed exactly instead."""
+    if s.imposed is not None:
+        return _imposed_revolution(s)
     model, v = s.model, s.values
     omega = float(s.data.qvel[0])
     kept = _REVOLUTIONS.get(model, v, omega, float(s.data.time))
@@ -40,15 +67,9 @@ def revolution(s: Snapshot) -> dict[str, np.ndarray]:
     while data.time < s.data.time + period and abs(omega) > 1e-6:
         mujoco.mj_forward(model, data)
         mujoco.mj_rnePostConstraint(model, data)
-        theta, w = float(data.qpos[0]), float(data.qvel[0])
-        force = -generic.support_torsor(model, data)[0]
-        alpha = float(data.qacc[0])
-        ref = frame_force(theta, w, v, alpha=alpha)
-        rows.append((theta, force[1], force[0], float(joint_drive(model, data)[0]), ref[1], ref[0],
-                     motor_torque(theta, w, v, alpha=alpha)))  # fmt: skip
+        rows.append(_row(model, data, v))
         mujoco.mj_step(model, data, per)
-    out = revolution_table(rows, ("pilon", "tamis", "motor_torque", "pilon_ref", "tamis_ref",
-                                  "motor_torque_ref"))  # fmt: skip
+    out = revolution_table(rows, _COLUMNS)
     _REVOLUTIONS.put(model, v, omega, out, float(s.data.time))
     return out
 
@@ -96,7 +117,7 @@ def pilon_harmonics(s: Snapshot) -> np.ndarray:
     if cached is not None:
         return cached[0]
     rev = None
-    if steady(s):
+    if steady(s) or s.imposed is not None:  # imposed: the turn at the current speed, exact
         rev = revolution(s)
         hit = _ORDERS.get(id(rev))
         if hit is not None and hit[0] is rev:  # the same cached revolution: same orders

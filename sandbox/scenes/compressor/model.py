@@ -11,9 +11,12 @@ import numpy as np
 
 from sandbox.errors import BadParameter
 from sandbox.french import number
+from sandbox.mechanics.imposed import Motion
+from sandbox.physics.imposed import Imposed
 from sandbox.scenes.base import Values, per_revolution_timestep
 from sandbox.scenes.compressor.course import kinematics
 from sandbox.scenes.compressor.params import DEFAULTS, RPM
+from sandbox.scenes.imposed import held_speed
 
 
 def _check_geometry(v: Values) -> None:
@@ -69,8 +72,11 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
     cw = spec.body("counterweight")
     cw.pos = [-v["counterweight_radius"], 0, 0]
     m_cw = v["counterweight_mass"]
-    tiny = m_cw * 1e-6 + 1e-12
-    _inertial(cw, max(m_cw, 1e-9), [0, 0, 0], [tiny, tiny, tiny, 0, 0, 0])
+    # a welded point mass: no mass at all when there is none (the course's counterweight)
+    cw.explicitinertial = True
+    cw.mass = m_cw
+    cw.ipos = [0, 0, 0]
+    cw.inertia = [m_cw * 1e-6] * 3
     spec.geom("counterweight").rgba = [0.3, 0.3, 0.8, 1.0 if m_cw > 0 else 0.15]
     # Rod: frame at B, y2 from A to B, so A = -L y2 and G2 = A + d2 y2;
     # I_A,2 = diag(A2, B2, C2) in B2, at G2 (AG2 along y2).
@@ -189,3 +195,19 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None
         set_loop_state(model, data, 0.0, omega, v)
         if model.na:
             data.act[:] = omega
+
+
+def place(model: mujoco.MjModel, data: mujoco.MjData, v: Values, motion: Motion) -> None:
+    """The closure equations of the imposed motion: every joint from the crank's θ, θ'
+    and θ'' (λ, φ and their derivatives, exact: :func:`kinematics`); the accelerations
+    go to ``qacc_warmstart`` (:mod:`sandbox.physics.imposed`)."""
+    theta, omega, alpha = motion
+    k = kinematics(theta, omega, v["R"], v["L"], alpha=alpha)
+    data.qpos[:] = [theta, k.lam, k.phi]
+    data.qvel[:] = [omega, k.dlam, k.dphi]
+    data.qacc_warmstart[:] = [alpha, k.ddlam, k.ddphi]
+
+
+IMPOSED = Imposed("crank", "motor", place, held_speed, default=True)
+"""The crank turning at ``speed_rpm`` (from rest through the lag ``ramp_s`` when it is
+positive), as the course studies it (4, 6.1.2, 7.3): imposed by default."""

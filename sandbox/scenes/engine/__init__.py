@@ -63,12 +63,14 @@ from sandbox.scenes.engine.course import (
 )
 from sandbox.scenes.engine.cycle import DENSE, orders, revolution
 from sandbox.scenes.engine.model import (
+    IMPOSED,
     SHAFT_ECCENTRICITY,
     STEP_ANGLE,
     default_timestep,
     drive,
     edit,
     initial_state,
+    place,
     positions,
     set_state,
 )
@@ -117,6 +119,7 @@ SCENE = Scene(
     cycle=revolution,
     zero={**ROUND_OFF, "m": 1e-15},
     accuracy=ACCURACY,
+    imposed=IMPOSED,
     page=Page(
         overlay={
             "omega": "ω",
@@ -167,6 +170,7 @@ __all__ = [
     "DEFAULTS",
     "DENSE",
     "FORCE_SCALE",
+    "IMPOSED",
     "MAX_CYLINDERS",
     "MOMENT_SCALE",
     "PARAMS",
@@ -185,6 +189,7 @@ __all__ = [
     "masses",
     "motor_torque_ref",
     "orders",
+    "place",
     "positions",
     "reference",
     "revolution",

@@ -5,6 +5,7 @@ the state with every loop closed and the default timestep (the compressor's choi
 from __future__ import annotations
 
 import math
+import weakref
 
 import mujoco
 import numpy as np
@@ -12,12 +13,15 @@ import numpy as np
 from sandbox.errors import BadParameter
 from sandbox.french import number
 from sandbox.mechanics.engine import THROWS_DEG, lanchester_unbalance
+from sandbox.mechanics.imposed import Motion
+from sandbox.physics.imposed import Imposed
 from sandbox.scenes.base import Values, per_revolution_timestep
 from sandbox.scenes.compressor import model as compressor
 from sandbox.scenes.compressor.course import kinematics
 from sandbox.scenes.compressor.params import RPM
 from sandbox.scenes.engine.course import counterweight_mass, cylinder_count, engine_of, masses
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS
+from sandbox.scenes.imposed import held_speed
 
 SHAFT_ECCENTRICITY = 0.01
 """Distance [m] of each Lanchester shaft's unbalance from its axis."""
@@ -102,7 +106,10 @@ def edit(spec: mujoco.MjSpec, v: Values) -> None:
         web.size = [R / 2 + 0.006, 0.008, 0.003]
         cw = spec.body(f"cw_{i}")
         cw.pos = [-sign * R, 0, z]
-        _inertial(cw, max(m_cw, 1e-9), [0, 0, 0], [m_cw * 1e-6 + 1e-12] * 3)
+        cw.explicitinertial = True  # a welded point mass: none at all when m_cw = 0
+        cw.mass = m_cw
+        cw.ipos = [0, 0, 0]
+        cw.inertia = [m_cw * 1e-6] * 3
         spec.geom(f"cw_{i}").rgba = [0.3, 0.3, 0.8, 1.0 if m_cw > 0 else 0.15]
         piston = spec.body(f"piston_{i}")
         piston.pos = [0, 0, z]
@@ -199,3 +206,54 @@ def default_timestep(v: Values, data: mujoco.MjData | None = None) -> float:
     if data is not None:
         omega = max(omega, abs(float(data.qvel[0])) / compressor.FASTER)
     return per_revolution_timestep(angle, omega, largest=compressor.LARGEST_TIMESTEP)
+
+
+def place(model: mujoco.MjModel, data: mujoco.MjData, v: Values, motion: Motion) -> None:
+    """The closure equations of the imposed motion: every piston and rod from the
+    crankshaft's angle, speed and acceleration (the compressor's exact slider-crank per
+    cylinder, its throw's phase subtracted), the balance shafts at ±2θ; accelerations
+    into ``qacc_warmstart`` (:mod:`sandbox.physics.imposed`)."""
+    theta, omega, alpha = motion
+    n = cylinder_count(v)
+    qpos, qvel, qacc = data.qpos, data.qvel, data.qacc_warmstart
+    ids = _joint_addresses(model)
+
+    def put(joint: str, q: float, dq: float, ddq: float) -> None:
+        a, d = ids[joint]
+        qpos[a], qvel[d], qacc[d] = q, dq, ddq
+
+    put("crank", theta, omega, alpha)
+    s, c = math.sin(theta), math.cos(theta)
+    for i, phi in enumerate(np.radians(THROWS_DEG[n]), start=1):
+        # θ − φ_i by rotating the crank's own sine and cosine: after an hour at 6000 rpm θ
+        # is 2×10⁶ rad, whose subtraction would lose 5×10⁻¹⁰ rad (3×10⁻¹² m on the pin)
+        sp, cp = round(math.sin(phi), 15), round(math.cos(phi), 15)  # exact for the throws
+        turned = (s * cp - c * sp, c * cp + s * sp)
+        k = kinematics(theta - phi, omega, v["R"], v["L"], alpha=alpha, sin_cos=turned)
+        put(f"piston_{i}", k.lam, k.dlam, k.ddlam)
+        put(f"rod_{i}", k.phi, k.dphi, k.ddphi)
+    if v["lanchester"] >= 0.5:
+        put("shaft_1", 2 * theta, 2 * omega, 2 * alpha)
+        put("shaft_2", -2 * theta, -2 * omega, -2 * alpha)
+
+
+_ADDRESSES: weakref.WeakKeyDictionary[mujoco.MjModel, dict[str, tuple[int, int]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _joint_addresses(model: mujoco.MjModel) -> dict[str, tuple[int, int]]:
+    """(qpos address, dof address) of every joint by name, per compiled model."""
+    found = _ADDRESSES.get(model)
+    if found is None:
+        found = {
+            model.joint(j).name: (int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]))
+            for j in range(model.njnt)
+        }
+        _ADDRESSES[model] = found
+    return found
+
+
+IMPOSED = Imposed("crank", "motor", place, held_speed, default=True)
+"""The crankshaft turning at ``speed_rpm``, as the course studies it (1, 7.3): imposed by
+default."""

@@ -52,6 +52,7 @@ from sandbox.scenes.robot_axis.course import (
     servo_gain,
 )
 from sandbox.scenes.robot_axis.model import (
+    IMPOSED,
     MEMORY,
     control,
     drive,
@@ -120,6 +121,7 @@ SCENE = Scene(
     initial_state=initial_state,
     reference=reference,
     mechanism=mechanism,
+    imposed=IMPOSED,
     # RK4: the arm's oscillation (58.5 rad/s against the free chain) keeps its amplitude
     # with dt = 1 ms (0.06 rad per step); the step shrinks with the fastest eigenvalue
     # when K_t grows or M2 shrinks (default_timestep).

@@ -5,11 +5,15 @@ step starts from kept in ``userdata``, and the start at rest."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import mujoco
 
-from sandbox.mechanics.robot_axis import back_and_forth
+from sandbox.mechanics.imposed import Anchor, Motion, follow
+from sandbox.mechanics.robot_axis import back_and_forth, back_and_forth_motion
+from sandbox.physics.imposed import Imposed
 from sandbox.scenes.base import Values
+from sandbox.scenes.imposed import one_joint
 from sandbox.scenes.robot_axis.course import axis_of, flexible, profile, servo_gain
 from sandbox.scenes.robot_axis.params import (
     BACK_AND_FORTH,
@@ -125,3 +129,49 @@ def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None
     data.qvel[:] = 0.0
     if model.na:
         data.act[:] = 0.0
+
+
+def _reference_motion(v: Values) -> Callable[[float], Motion]:
+    """The back-and-forth move's (position, speed, acceleration) of the carriage at t."""
+    r = v["R_p"] * v["k"]
+    args = (v["stroke"], v["speed_rpm"] * RPM * r, v["accel_s"], v["pause_s"])
+    return lambda t: back_and_forth_motion(t, *args)
+
+
+def imposed_law(v: Values, anchor: Anchor, t: float) -> Motion:
+    """The carriage on the back-and-forth move (:func:`move_reference`), joined from where
+    it was without a jump (the free simulation's servo lags it a little) within the
+    position loop's time constant."""
+    return follow(anchor, _reference_motion(v), POSITION_TIME, t)
+
+
+def imposed_refusal(v: Values) -> tuple[str, str] | None:
+    """Why the carriage's motion cannot be imposed at these values, or None."""
+    if flexible(v):
+        return (
+            "the flexible arm vibrates on its spring: its motion must be simulated "
+            "(set flexible=0 for a rigid arm)",
+            "Le bras souple vibre sur son ressort : son mouvement doit être simulé (choisissez "
+            "le bras rigide pour imposer le mouvement).",
+        )
+    if profile(v) != BACK_AND_FORTH:
+        return (
+            "only the back-and-forth move (profile=2) imposes the carriage's motion; the "
+            "other commands give a torque or run the carriage onto its stops",
+            "Seul le va-et-vient impose le mouvement du chariot ; les autres commandes "
+            "donnent un couple ou amènent le chariot en butée : mouvement simulé.",
+        )
+    return None
+
+
+IMPOSED = Imposed(
+    "carriage",
+    "motor",
+    one_joint("carriage"),
+    imposed_law,
+    unavailable=imposed_refusal,
+    slot=2 * MEMORY,
+)
+"""The rigid arm's carriage on the trapezoidal speed profile (course 6.3): the torque the
+motor must give, by inverse dynamics (free by default: the flexible arm's vibration is
+the scene's first lesson)."""

@@ -14,6 +14,7 @@ Modules: :mod:`.params` (the parameter table and the geometry), :mod:`.course`
 from __future__ import annotations
 
 from sandbox.scenes.base import Accuracy, Effects, Scene
+from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
 from sandbox.scenes.page import Components, Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
@@ -62,6 +63,7 @@ SCENE = Scene(
     readouts=READOUTS,
     edit=edit,
     drive=drive,
+    imposed=spinning("spin", "motor"),
     initial_state=initial_state,
     reference=reference,
     # A uniform rotation is integrated exactly by every integrator (sandbox bench: errors

@@ -11,6 +11,7 @@ from sandbox.mechanics.two_planes import clip_unbalance, influence_correction
 from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import Accuracy, Effects, Scene, Values, per_revolution_timestep
+from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
 from sandbox.scenes.page import Names, Page
 from sandbox.scenes.presets import StudyPreset, XYPreset
@@ -18,6 +19,18 @@ from sandbox.scenes.wheel_balancer.course import machine_solution, reference, su
 from sandbox.scenes.wheel_balancer.model import drive, edit, initial_state
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, PARAMS, effects, omega, soft
 from sandbox.scenes.wheel_balancer.readouts import ARROWS, READOUTS, accelerometer, phase
+
+
+def _soft_bench(values: Values) -> tuple[str, str] | None:
+    """The lab bench's housing vibrates on its springs: its motion must be simulated."""
+    if not soft(values):
+        return None
+    return (
+        "the lab bench's bearings vibrate on their springs: their motion must be simulated "
+        "(supports=0 for the rigid bearings of the garage's machine)",
+        "Sur le banc de laboratoire, les paliers vibrent sur leurs ressorts : leur mouvement "
+        "doit être simulé (paliers rigides pour imposer la rotation).",
+    )
 
 
 def vibrations(values: Values, *, settle: float = 1.0) -> np.ndarray:
@@ -101,6 +114,7 @@ SCENE = Scene(
     readouts=READOUTS,
     edit=edit,
     drive=drive,
+    imposed=spinning("spin", "motor", unavailable=_soft_bench),
     initial_state=initial_state,
     reference=reference,
     # RK4: exact for the uniform rotation on rigid bearings at any step, and fourth order

@@ -34,6 +34,7 @@ from sandbox.web.loop.requests import (
     Challenge,
     Command,
     Integrator,
+    Motion,
     Pause,
     Play,
     Record,
@@ -323,6 +324,9 @@ class Controller(Pacing):
                 return None
             case Timestep(value):
                 sim.set_timestep(check_timestep(sim, value))
+                return None
+            case Motion(value):
+                sim.set_motion(value)
                 return None
             case Button(value):  # a label no button has (only a crafted message sends it)
                 raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")

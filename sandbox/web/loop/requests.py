@@ -21,7 +21,7 @@ class Request:
     Attributes:
         kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step`` (timesteps),
             ``advance`` (a "Pas" in time or angle), ``reset``, ``speed``,
-            ``integrator`` or ``timestep``; ``challenge`` (a
+            ``integrator``, ``timestep`` or ``motion`` ("imposed" or "free"); ``challenge`` (a
             :class:`~sandbox.web.loop.secret.Secret`, or None to end it: built by the server,
             no control sends it).
         name: Parameter name for ``set_value``; ``s`` or ``deg`` for ``advance`` (the
@@ -48,7 +48,7 @@ def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
 def merged(requests: list[Request]) -> list[Request]:
     """``requests`` with repeated settings merged: of several values of one slider, of
     the speed, the timestep or the integrator, only the last is kept (at its place)."""
-    settings = ("set_value", "speed", "timestep", "integrator", "seek")
+    settings = ("set_value", "speed", "timestep", "integrator", "motion", "seek")
     last = {(r.kind, r.name): i for i, r in enumerate(requests) if r.kind in settings}
     return [
         r for i, r in enumerate(requests) if r.kind not in settings or last[(r.kind, r.name)] == i
@@ -146,6 +146,17 @@ class Timestep:
 
 
 @dataclass(frozen=True)
+class Motion:
+    """Impose the input's motion exactly, or simulate it.
+
+    Attributes:
+        name: "imposed" or "free", unvalidated.
+    """
+
+    name: object
+
+
+@dataclass(frozen=True)
 class Challenge:
     """Start or end a challenge (built by the server: no control sends it).
 
@@ -200,6 +211,7 @@ Command: TypeAlias = (
     | SetValue
     | Integrator
     | Timestep
+    | Motion
     | Challenge
     | Record
     | StopRecord
@@ -219,6 +231,7 @@ COMMANDS: Mapping[str, Callable[[Request], Command]] = {
     "set_value": lambda r: SetValue(r.name, r.value),
     "integrator": lambda r: Integrator(r.value),
     "timestep": lambda r: Timestep(r.value),
+    "motion": lambda r: Motion(r.value),
     "challenge": lambda r: Challenge(r.value),
     "record": lambda r: Record(),
     "stop_record": lambda r: StopRecord(),

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 import viser
 
+from sandbox.physics.imposed import IMPOSED, MOTION_WORDS
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.readonly import ReadOnlySimulation
@@ -51,6 +52,13 @@ RECORD_BUSY = ("Arrêter l'enregistrement",)
 RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
 
 SPEED_LABEL = "Vitesse ×"
+MOTION_LABEL = "Mouvement"
+MOTION_HINT = (
+    "Imposé : le moteur impose exactement le mouvement d'entrée (la manivelle tourne à la "
+    "vitesse demandée) ; positions, vitesses et accélérations viennent des équations de "
+    "fermeture, les efforts de la dynamique inverse, comme dans le cours. Libre : MuJoCo "
+    "calcule le mouvement pas à pas, le moteur asservi en vitesse."
+)
 INTEGRATOR_LABEL = "Intégrateur"
 TIMESTEP_LABEL = "Pas de temps dt [s]"
 PARAMS_FOLDER = "Paramètres"
@@ -78,11 +86,23 @@ def param_step(p: Param) -> float:
     return p.step if p.step > 0 else (p.max - p.min) / 200.0
 
 
+IMPOSED_HYPOTHESIS = (
+    "Mouvement d'entrée imposé par le moteur : positions, vitesses et accélérations par "
+    "les équations de fermeture, efforts par la dynamique inverse (rien n'est intégré)"
+)
+CLOSURE_HYPOTHESIS = "Fermeture de chaîne par contrainte d'égalité raide"
+"""A free simulation's closure, which the imposed motion does not need (its loops are
+closed by the closure equations themselves)."""
+
+
 def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
     scene = as_scene(sim.scene)
     if scene is not None:
-        return tuple(scene.effects_at(sim.values).hypotheses())
+        effects = scene.effects_at(sim.values).hypotheses()
+        if sim.motion == IMPOSED:
+            return (IMPOSED_HYPOTHESIS, *(h for h in effects if h != CLOSURE_HYPOTHESIS))
+        return tuple(effects)
     flags = int(sim.model.opt.disableflags)
     dsbl = mujoco.mjtDisableBit
     g = float(np.linalg.norm(sim.model.opt.gravity))
@@ -152,6 +172,13 @@ class ControlPanel:
             self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
             self.speed = speed_slider(gui, "Temps simulé divisé par le temps réel (1 : temps réel)")
             on_user(self.speed, lambda v: submit(Request("speed", v)))
+            self.motion: viser.GuiDropdownHandle[str] | None = None
+            if len(sim.motions) > 1:
+                words = tuple(MOTION_WORDS[m] for m in sim.motions)
+                self.motion = gui.add_dropdown(
+                    MOTION_LABEL, words, initial_value=MOTION_WORDS[sim.motion], hint=MOTION_HINT
+                )
+                on_user(self.motion, lambda v: submit(Request("motion", _motion_name(v))))
             self.record = gui.add_button_group(
                 "Enregistrer",
                 RECORD_IDLE,
@@ -185,6 +212,10 @@ class ControlPanel:
             ),
             "<dt>": Mirror(self.timestep, lambda: sim.timestep, busy=busy),
         }
+        if self.motion is not None:
+            self.mirrors["<motion>"] = Mirror(
+                self.motion, lambda: MOTION_WORDS[sim.motion], busy=busy
+            )
         self.sliders: dict[str, viser.GuiInputHandle[Any]] = {}
         params = scene.params if scene is not None else ()
         self._params = {p.name: p for p in params}
@@ -339,6 +370,15 @@ def _known(name: str) -> str:
     return name if name in INTEGRATORS else "euler"
 
 
+def _motion_name(words: object) -> object:
+    """The motion a dropdown's words name ("imposed", "free"), or the words themselves (a
+    crafted value, which the simulation refuses in French)."""
+    for name, text in MOTION_WORDS.items():
+        if words == text:
+            return name
+    return words
+
+
 def _reader(sim: ReadOnlySimulation, name: str) -> Callable[[], float]:
     return lambda: sim.values[name]
 
@@ -358,7 +398,10 @@ class HypothesesPanel:
     def _content(self) -> str:
         s = self.sim
         return tables.hypotheses_markdown(
-            hypotheses(s), integrator=s.integrator, timestep=s.timestep
+            hypotheses(s),
+            integrator=s.integrator,
+            timestep=s.timestep,
+            imposed=s.motion == IMPOSED,
         )
 
     def refresh(self) -> None:

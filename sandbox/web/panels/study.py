@@ -229,6 +229,7 @@ class StudyPanel:
             duration,
             settle,
             fixed=fixed,
+            motion=sim.motion,
             course=course,
         )
         try:

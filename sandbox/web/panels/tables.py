@@ -337,9 +337,15 @@ def _label_cell(row: Row) -> str:
     return label + (f" [{cell(shown)}]" if shown else "")
 
 
-def hypotheses_markdown(lines: Sequence[str], *, integrator: str, timestep: float) -> str:
-    """Bulleted modelling hypotheses followed by the numerical method."""
+def hypotheses_markdown(
+    lines: Sequence[str], *, integrator: str, timestep: float, imposed: bool = False
+) -> str:
+    """Bulleted modelling hypotheses followed by the numerical method (an imposed motion
+    has none: it is exact at any instant)."""
     items = [f"- {html_text(line)}" for line in lines]
-    method = html_text(integrator_words(integrator))
-    items.append(f"- Intégrateur **{method}**, pas de temps dt = {fmt(timestep * 1e3)} ms")
+    if imposed:
+        items.append("- Calcul exact à chaque instant : ni intégrateur ni pas de temps")
+    else:
+        method = html_text(integrator_words(integrator))
+        items.append(f"- Intégrateur **{method}**, pas de temps dt = {fmt(timestep * 1e3)} ms")
     return "\n".join(items)

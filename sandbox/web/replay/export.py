@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import viser
 
-from sandbox.recording import Recording, set_state, write_csv
+from sandbox.recording import Recording, write_csv
 from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import number, with_unit
@@ -131,7 +131,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
                 # a recording whose scene is gone replays its MJCF: no parameters
                 if name in values and values[name] != value:
                     sim.set_value(name, value)
-            set_state(sim.model, sim.data, rec.states[i])
+            sim.restore(rec.states[i])
             renderer.sync(sim.model, sim.data)
             if arrows is not None:
                 arrows.update(sim.snapshot(("sup_R_x", "dyn_R_x")))

@@ -18,7 +18,7 @@ import numpy as np
 import viser
 
 from sandbox.errors import SandboxError
-from sandbox.recording import Recording, set_state
+from sandbox.recording import Recording
 from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.fields import param_label, set_value
@@ -146,7 +146,10 @@ class ReplayController:
             ]
             if changes:
                 set_values(sim, changes)
-            set_state(sim.model, sim.data, self.rec.states[index])
+            motion = self.rec.motion_at(index)
+            if motion != sim.motion:
+                sim.set_motion(motion)
+            sim.restore(self.rec.states[index])
         self.index = index
 
     def values(self) -> dict[str, float]:

@@ -50,6 +50,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
         values=options.get("values") or {},
         integrator=options.get("integrator"),
         timestep=options.get("timestep"),
+        motion=options.get("motion"),
     )
     check_port(host, port)
     if port == 0:

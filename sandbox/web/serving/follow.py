@@ -328,6 +328,7 @@ class FollowApp(App):
                 values=dict(sim.values),
                 integrator=sim.integrator,
                 timestep=sim.timestep,
+                motion=sim.motion,
             )
         )
         client.scene.add_frame(SHARED, show_axes=False, visible=False)  # this browser only

@@ -36,6 +36,7 @@ class SimOptions(TypedDict):
     values: Mapping[str, object]
     integrator: str | None
     timestep: float | None
+    motion: str | None
 
 
 def check_port(host: str, port: int) -> None:

@@ -40,6 +40,7 @@ def start(
     values: Mapping[str, object] | None = None,
     integrator: str | None = None,
     timestep: float | None = None,
+    motion: str | None = None,
     lesson: str | Path | None = None,
     open_message: bool = True,
     check_port: bool = True,
@@ -60,6 +61,7 @@ def start(
         values: Parameter values for every session.
         integrator: Integrator name overriding the scene's.
         timestep: Timestep [s] overriding the scene's.
+        motion: "imposed" or "free" for a scene with an imposed input (None: its own).
         lesson: Lesson opened in every new browser (its scene is ``target``): a lesson's
             name, or the path of a lesson file (``*.md``, offered in this process with
             the shipped lessons, see :func:`sandbox.lessons.open_lesson_file`).
@@ -87,6 +89,7 @@ def start(
         "values": dict(values or {}),
         "integrator": integrator,
         "timestep": timestep,
+        "motion": motion,
     }
     Simulation(target, **options)
     server = open_server(host, port, PAGE_TITLE, check=check_port)

@@ -16,7 +16,7 @@ from PIL import Image
 
 from sandbox.bench.plot import LOCK, comma_formatter, new_figure
 from sandbox.physics.units import shown_scale
-from sandbox.recording import Recording, set_state
+from sandbox.recording import Recording
 
 
 # -- the recorded motion, between its frames --------------------------------------------------
@@ -39,7 +39,7 @@ class Follow:
                 # a recording whose scene is gone replays its MJCF: no parameters
                 if name in sim.values and sim.values[name] != value:
                     sim.set_value(name, value)
-            set_state(sim.model, sim.data, rec.states[i])
+            sim.restore(rec.states[i])
             self.index = i
         steps = math.floor((time - float(sim.data.time)) / sim.timestep + 1e-9)
         if steps > 0:

@@ -1,0 +1,276 @@
+"""Imposed motion: a mechanism whose input the course imposes (a crank at constant speed, a
+speed profile) is not integrated. Its state at any instant comes from the imposed law
+through the closure equations, and every force from inverse dynamics, exactly.
+
+- :class:`Imposed` is what a scene declares: the input joint, the motor that imposes it,
+  the closure (every joint's position, speed and acceleration from the input's) and the
+  law of the input in time.
+- :func:`inverse_dynamics` turns a state with its acceleration into MuJoCo's derived
+  quantities and forces: with M (``mj_mulM``) and the bias forces of ``mj_fwdVelocity``,
+  the generalised force the motion takes, τ = M q̈ + c − passive − applied, is shared
+  between the motor and the loops' constraints by one small linear solve,
+  τ = B u + Jᵀ λ (the course's PFD solid by solid, written in the joints' coordinates).
+  MuJoCo's soft constraints would produce no force on exact kinematics: the loop forces
+  are λ, written into ``efc_force`` so that ``mj_rnePostConstraint`` (the frame's action,
+  the torsors) reads them as it reads a simulated state's.
+- :class:`ImposedMotion` is one simulation's imposed motion: where the law starts (its
+  anchor) and the evaluation at any time.
+
+The state's acceleration q̈ is kept in ``qacc_warmstart`` (the solver's warm start,
+which nothing integrates in this mode) and the law's anchor in three ``userdata`` slots:
+a recorded or copied state then carries both, so that its forces can be computed again
+from the state alone and the motion continues from it exactly (a replay, ``--verify``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from sandbox.mechanics.imposed import Anchor, Motion
+
+Values = Mapping[str, float]
+
+IMPOSED, FREE = "imposed", "free"
+MOTIONS = (IMPOSED, FREE)
+"""The names of the two ways a scene's motion is computed (``--motion``)."""
+
+MOTION_WORDS = {
+    IMPOSED: "Mouvement imposé (dynamique inverse)",
+    FREE: "Mouvement libre (simulé)",
+}
+"""The two ways in the page's words."""
+
+_EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+
+ANCHOR_SLOTS = 3
+"""``userdata`` numbers of the anchor: time, input position, input speed."""
+
+
+@dataclass(frozen=True)
+class Imposed:
+    """How a scene's input motion is imposed, as the course studies it.
+
+    Attributes:
+        joint: The input joint (a crank's hinge, a carriage's slide): its position and
+            speed are the law's.
+        actuator: The motor that imposes it: its force is what inverse dynamics gives
+            (« Couple nécessaire »).
+        place: Closure equations: writes ``qpos``, ``qvel`` and ``qacc_warmstart`` (the
+            acceleration) of every joint from the input's (position, speed,
+            acceleration), exactly (closed form, or Newton to round-off).
+        law: The input's motion at time t from an anchor: (values, anchor, t) ->
+            (position, speed, acceleration) (:mod:`sandbox.mechanics.imposed`).
+        default: Imposed unless the free simulation is asked for (a steady regime the
+            course studies); False: free by default, imposed on request.
+        slot: First of the :data:`ANCHOR_SLOTS` ``userdata`` numbers that hold the law's
+            anchor (after the scene's own; the model is given enough of them).
+        unavailable: Why the motion cannot be imposed at these parameter values (e.g.
+            a torque command, a flexible arm that must be simulated): (English, French),
+            or None when it can.
+    """
+
+    joint: str
+    actuator: str
+    place: Callable[[mujoco.MjModel, mujoco.MjData, Values, Motion], None]
+    law: Callable[[Values, Anchor, float], Motion]
+    default: bool = False
+    unavailable: Callable[[Values], tuple[str, str] | None] | None = None
+    slot: int = 0
+
+    def refusal(self, values: Values) -> tuple[str, str] | None:
+        """(English, French) reason the motion cannot be imposed at ``values``, or None."""
+        return None if self.unavailable is None else self.unavailable(values)
+
+
+def _dense_moment(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """The actuators' moment arms (nu, nv), after ``mj_fwdPosition``."""
+    moment = np.zeros((model.nu, model.nv))
+    if model.nu:
+        mujoco.mju_sparse2dense(
+            moment, data.actuator_moment, data.moment_rownnz, data.moment_rowadr,
+            data.moment_colind,
+        )  # fmt: skip
+    return moment
+
+
+def _equality_jacobian(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, J): the equality constraints' rows of ``efc_J`` (dense), after
+    ``mj_fwdPosition``; rows whose Jacobian is zero (a planar loop's out-of-plane row)
+    are left out: they carry no force."""
+    nefc, nv = int(data.nefc), int(model.nv)
+    if nefc == 0:
+        return np.zeros(0, dtype=int), np.zeros((0, nv))
+    rows = np.flatnonzero(np.asarray(data.efc_type[:nefc]) == _EQUALITY)
+    if rows.size == 0:
+        return rows, np.zeros((0, nv))
+    if mujoco.mj_isSparse(model):
+        jac = np.zeros((nefc, nv))
+        mujoco.mju_sparse2dense(
+            jac, data.efc_J, data.efc_J_rownnz, data.efc_J_rowadr, data.efc_J_colind
+        )
+    else:
+        jac = np.asarray(data.efc_J[: nefc * nv]).reshape(nefc, nv)
+    jac = jac[rows]
+    scale = float(np.abs(jac).max()) if jac.size else 0.0
+    keep = np.abs(jac).max(axis=1) > 1e-12 * max(scale, 1.0)
+    return rows[keep], jac[keep]
+
+
+def _applied(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """Generalised forces of ``qfrc_applied`` and ``xfrc_applied`` (nv,)."""
+    out = np.array(data.qfrc_applied, dtype=float)
+    if data.xfrc_applied.any():
+        for b in np.flatnonzero(np.abs(data.xfrc_applied).sum(1)):
+            f = np.array(data.xfrc_applied[b, :3])
+            m = np.array(data.xfrc_applied[b, 3:])
+            mujoco.mj_applyFT(model, data, f, m, np.array(data.xipos[b]), int(b), out)
+    return out
+
+
+def inverse_dynamics(model: mujoco.MjModel, data: mujoco.MjData, actuators: np.ndarray) -> float:
+    """MuJoCo's derived quantities and every force of a state whose motion is imposed.
+
+    ``data`` holds the positions, speeds and (in ``qacc_warmstart``) the accelerations;
+    the motors ``actuators`` provide what the motion takes, the loops' equality
+    constraints the rest. Afterwards ``qacc``, ``actuator_force``, ``qfrc_actuator``,
+    ``efc_force`` (equality rows; the others 0), ``qfrc_constraint`` and, through
+    ``mj_rnePostConstraint``, ``cacc``, ``cfrc_int`` and ``cfrc_ext`` are those of the
+    motion, as after ``mj_forward`` and ``mj_rnePostConstraint`` on a simulated state.
+
+    Args:
+        model: The model.
+        data: The state (positions, speeds, accelerations in ``qacc_warmstart``).
+        actuators: Ids of the motors whose forces are unknown (others keep the force of
+            their command).
+
+    Returns:
+        The residual of the solve [N or N·m]: 0 up to round-off when the motors and the
+        loops can impose this motion (a large one means a joint nobody drives).
+    """
+    qacc = np.array(data.qacc_warmstart, dtype=float)
+    mujoco.mj_fwdPosition(model, data)
+    mujoco.mj_fwdVelocity(model, data)
+    mujoco.mj_fwdActuation(model, data)
+    moment = _dense_moment(model, data)
+    force = np.array(data.actuator_force, dtype=float)
+    force[actuators] = 0.0
+    need = np.empty(model.nv)
+    mujoco.mj_mulM(model, data, need, qacc)
+    need += data.qfrc_bias - data.qfrc_passive - _applied(model, data) - moment.T @ force
+    rows, jac = _equality_jacobian(model, data)
+    system = np.concatenate([moment[actuators].T, jac.T], axis=1)
+    if system.shape[0] == system.shape[1]:
+        try:
+            x = np.linalg.solve(system, need)
+        except np.linalg.LinAlgError:
+            x = np.linalg.lstsq(system, need, rcond=None)[0]
+    else:
+        x = np.linalg.lstsq(system, need, rcond=None)[0]
+    residual = float(np.abs(system @ x - need).max()) if need.size else 0.0
+    k = len(actuators)
+    force[actuators] = x[:k]
+    data.qacc[:] = qacc
+    data.actuator_force[:] = force
+    data.qfrc_actuator[:] = moment.T @ force
+    nefc = int(data.nefc)
+    if nefc:
+        data.efc_force[:nefc] = 0.0
+        data.efc_force[rows] = x[k:]
+    data.qfrc_constraint[:] = jac.T @ x[k:]
+    mujoco.mj_rnePostConstraint(model, data)
+    return residual
+
+
+class ImposedMotion:
+    """One simulation's imposed motion: its law, where it starts, and its evaluation.
+
+    Args:
+        spec: What the scene declares.
+        model: The compiled model (its joint and actuator addresses are looked up).
+    """
+
+    def __init__(self, spec: Imposed, model: mujoco.MjModel) -> None:
+        self.spec = spec
+        self.residual = 0.0
+        self.bind(model)
+
+    def bind(self, model: mujoco.MjModel) -> None:
+        """Look up the input joint's and the motor's addresses in ``model`` (a rebuilt
+        model may place them elsewhere)."""
+        joint = model.joint(self.spec.joint).id
+        self._qpos = int(model.jnt_qposadr[joint])
+        self._dof = int(model.jnt_dofadr[joint])
+        motor = model.actuator(self.spec.actuator).id
+        self.actuators = np.array([motor], dtype=int)
+        self._act = int(model.actuator_actadr[motor]) if model.na else -1
+        self._slot = self.spec.slot
+        if model.nuserdata < self._slot + ANCHOR_SLOTS:
+            raise ValueError(
+                f"the model has {model.nuserdata} userdata numbers; the imposed motion's anchor "
+                f"needs {self._slot + ANCHOR_SLOTS} (sandbox.physics.model.build reserves them)"
+            )
+
+    def input(self, data: mujoco.MjData) -> tuple[float, float]:
+        """The input joint's (position, speed) in ``data``."""
+        return float(data.qpos[self._qpos]), float(data.qvel[self._dof])
+
+    def start(self, data: mujoco.MjData, anchor: Anchor | None = None) -> None:
+        """Anchor the law at ``data``'s time, input position and speed (a reset, a switch
+        from the free simulation, a new set point), or at ``anchor``: nothing jumps but
+        what the law itself changes (a speed step of the course's constant ω). The anchor
+        is kept in ``data``'s ``userdata``."""
+        if anchor is None:
+            anchor = Anchor(float(data.time), *self.input(data))
+        s = self._slot
+        data.userdata[s : s + ANCHOR_SLOTS] = (anchor.time, anchor.position, anchor.speed)
+
+    def anchor(self, data: mujoco.MjData) -> Anchor:
+        """The law's anchor kept in ``data``."""
+        s = self._slot
+        return Anchor(*(float(x) for x in data.userdata[s : s + ANCHOR_SLOTS]))
+
+    def motion(self, values: Values, data: mujoco.MjData, t: float) -> Motion:
+        """The input's (position, speed, acceleration) at time ``t``, by the law anchored
+        in ``data``."""
+        return self.spec.law(values, self.anchor(data), t)
+
+    def put(
+        self,
+        model: mujoco.MjModel,
+        data: mujoco.MjData,
+        values: Values,
+        t: float,
+        *,
+        forces: bool = True,
+    ) -> None:
+        """The exact state at time ``t`` in ``data``, with every force (see
+        :func:`inverse_dynamics`; ``forces`` False: the bodies' poses only)."""
+        motion = self.motion(values, data, t)
+        data.time = t
+        if forces:
+            self.place(model, data, values, motion)
+            return
+        self.spec.place(model, data, values, motion)
+        if self._act >= 0:
+            data.act[self._act] = motion[1]
+        mujoco.mj_kinematics(model, data)
+
+    def place(
+        self, model: mujoco.MjModel, data: mujoco.MjData, values: Values, motion: Motion
+    ) -> None:
+        """The mechanism at the input's ``motion`` (position, speed, acceleration), with
+        every force: the closure, then inverse dynamics (a filtered set point's state
+        follows the speed, so that the free simulation takes over without a jump)."""
+        self.spec.place(model, data, values, motion)
+        if self._act >= 0:
+            data.act[self._act] = motion[1]
+        self.forces(model, data)
+
+    def forces(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Derived quantities and forces of the state in ``data`` (its acceleration in
+        ``qacc_warmstart``)."""
+        self.residual = inverse_dynamics(model, data, self.actuators)
