@@ -12,6 +12,7 @@ from typing import Any
 
 import pytest
 
+from sandbox.errors import BadOption
 from sandbox.lessons import (
     BadLesson,
     Progress,
@@ -499,3 +500,46 @@ def test_checks_are_parsed_one_at_a_time(monkeypatch):
     for t in threads:
         t.join()
     assert most[0] == 1
+
+
+def _imposed_checks():
+    for name in ALL:
+        lesson = get_lesson(name)
+        scene = SCENES.get(lesson.scene)
+        if scene is None or scene.imposed is None:
+            continue
+        for index, step in enumerate(lesson.steps):
+            if step.check is not None:
+                yield pytest.param(name, index, id=f"{name}-{index + 1}")
+
+
+@pytest.mark.parametrize(("name", "index"), list(_imposed_checks()))
+@pytest.mark.parametrize("motion", ["imposed", "free"])
+def test_a_check_passes_in_the_solved_state_whichever_way_the_motion_is_computed(
+    name, index, motion
+):
+    """Issue 35: a lesson's checks hold for the imposed motion and the free simulation
+    alike (where the scene's values let the motion be imposed)."""
+    lesson = get_lesson(name)
+    step = lesson.steps[index]
+    values: dict[str, float] = {}
+    for earlier in lesson.steps[: index + 1]:
+        values.update(dict(earlier.preset))
+    sim = Simulation(lesson.scene, values=values)
+    if motion not in sim.motions:
+        pytest.skip("this scene has no imposed motion")
+    try:
+        sim.set_motion(motion)
+    except BadOption:
+        pytest.skip("these values call for the free simulation")
+    sim.advance(0.1)
+    progress = Progress(lesson)
+    progress.go(index)
+    assert progress.observe(sim.readouts(), sim.values) is False  # not solved yet
+    for key, value in solution_values(step, lesson.scene, sim.values).items():
+        sim.set_value(key, value)
+    for _ in range(20):
+        sim.advance(0.25)
+        if progress.observe(sim.readouts(), sim.values):
+            break
+    assert index in progress.passed

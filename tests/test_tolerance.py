@@ -22,10 +22,19 @@ def test_the_cheapest_admissible_run_reaching_the_tolerance_is_chosen():
 
 
 def test_run_says_what_it_chose_and_uses_it(capsys):
-    assert main(["run", "compressor", "--tolerance", "1e-4", "--duration", "0.01"]) == 0
+    argv = ["run", "compressor", "--motion", "free", "--tolerance", "1e-4", "--duration", "0.01"]
+    assert main(argv) == 0
     out, err = capsys.readouterr()
     assert "--tolerance 0.0001: rk4 at dt = 0.0001 s (error 6.2e-05 on pilon" in err
     assert "compressor: 0.01 s simulated (rk4, dt = 0.0001 s)" in out  # and it ran so
+
+
+def test_an_imposed_motion_meets_any_tolerance_exactly(capsys):
+    """The compressor's default is the imposed motion: nothing to choose, it is exact."""
+    assert main(["run", "compressor", "--tolerance", "1e-6", "--duration", "0.01"]) == 0
+    out, err = capsys.readouterr()
+    assert "--tolerance 1e-06: the imposed motion is exact" in err
+    assert "imposed motion, exact" in out
 
 
 @pytest.mark.parametrize(
@@ -37,6 +46,6 @@ def test_run_says_what_it_chose_and_uses_it(capsys):
     ],
 )
 def test_refusals_are_one_line(capsys, extra, words):
-    assert main(["run", "compressor", *extra]) == 2
+    assert main(["run", "compressor", "--motion", "free", *extra]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and words in err, err

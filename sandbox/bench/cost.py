@@ -61,6 +61,26 @@ def stepping_cost(
     return best
 
 
+def evaluation_cost(
+    simulation: Callable[..., Simulation], target: str, acc: Accuracy, timestep: float
+) -> float:
+    """CPU seconds of one evaluation of an imposed motion (the state at an instant from
+    the closure equations, every force by inverse dynamics): ``Simulation.step(1)``
+    timed as :func:`stepping_cost` times its batches (best of :data:`REPEATS`)."""
+    sim = simulation(target, values=dict(acc.values), timestep=timestep, motion="imposed")
+    best = math.inf
+    for _ in range(REPEATS):
+        cpu, calls = 0.0, 0
+        while cpu < MIN_CPU:
+            start = time.process_time()
+            for _ in range(100):
+                sim.step(1)
+            cpu += time.process_time() - start
+            calls += 100
+        best = min(best, cpu / calls)
+    return best
+
+
 # -- what one browser session costs ----------------------------------------------------------
 FRAME_RATE = 60.0
 """Frames per second of a web session: poses and the arrows' snapshot (at most)."""

@@ -30,6 +30,9 @@ class Run:
         default: The scene's default integrator and timestep.
         motion: "free" (simulated: the grid) or "imposed" (the scene's imposed motion,
             computed exactly by the closure equations and inverse dynamics).
+        evaluation_s: CPU seconds of one evaluation of an imposed motion (its state and
+            forces at an instant: a web frame needs one, whatever the timestep); NaN
+            for a simulated run.
     """
 
     scene: str
@@ -46,6 +49,7 @@ class Run:
     pareto: bool = False
     default: bool = False
     motion: str = "free"
+    evaluation_s: float = math.nan
 
 
 @dataclass

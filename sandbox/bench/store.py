@@ -81,10 +81,10 @@ def to_json(results: Sequence[SceneResult], *, quick: bool) -> dict[str, object]
 def _run_json(run: Run) -> dict[str, Any]:
     """One run as results.json writes it (the grid's simulated runs without ``motion``)."""
     d = asdict(run)
-    for k in ("error", "drift", "constraint", "cpu_per_sim_s", "realtime_factor"):
+    for k in ("error", "drift", "constraint", "cpu_per_sim_s", "realtime_factor", "evaluation_s"):
         d[k] = _json_number(d[k])
     if d["motion"] == "free":
-        del d["motion"]
+        del d["motion"], d["evaluation_s"]
     return d
 
 
@@ -146,6 +146,7 @@ def _run_from_json(r: object) -> Run:
         pareto=flag("pareto"),
         default=flag("default"),
         motion=text("motion", "free"),
+        evaluation_s=number("evaluation_s", math.nan),
     )
 
 

@@ -52,6 +52,10 @@ def describe(target: str) -> dict:
         "hypotheses": list(scene.effects.hypotheses()) if scene else [],
         "integrator": sim.integrator,
         "timestep": sim.timestep,
+        # how the motion is computed: "imposed" (closure equations and inverse dynamics)
+        # or "free" (simulated); the ways --motion offers
+        "motion": sim.motion,
+        "motions": list(sim.motions),
         "params": params,
         "readouts": [
             {
@@ -76,6 +80,16 @@ def cmd_describe(target: str, as_json: bool) -> int:
     print(f"{info['name']}: {info['title']}")
     effects = ", ".join(info["effects"])
     print(f"  effects: {effects}; {info['integrator']}, dt = {info['timestep']:g} s")
+    if len(info["motions"]) > 1:
+        other = "free" if info["motion"] == "imposed" else "imposed"
+        print(
+            f"  motion: {info['motion']} by default (--motion {other}: "
+            + (
+                "simulated by MuJoCo)"
+                if other == "free"
+                else "the input's motion imposed, computed exactly by inverse dynamics)"
+            )
+        )
     if info["params"]:
         print("  parameters:")
         for p in info["params"]:

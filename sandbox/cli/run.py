@@ -81,6 +81,32 @@ def _for_tolerance(args: argparse.Namespace) -> tuple[str, float]:
     return run.integrator, run.timestep
 
 
+def _exact(args: argparse.Namespace, sim: Simulation) -> None:
+    """``--tolerance`` with an imposed motion: nothing to choose, it is exact (says so on
+    stderr, with the error the benchmark measured against the course).
+
+    Raises:
+        BadOption: with --integrator or --timestep, or outside (0, 1), as for a choice.
+    """
+    tol = args.tolerance
+    if args.integrator is not None or args.timestep is not None:
+        raise BadOption("give --tolerance or --integrator/--timestep, not both")
+    if not 0 < tol < 1:
+        raise BadOption(f"--tolerance is a relative error in (0, 1), got {tol:g}; e.g. 1e-4")
+    result = load_results(sim.label)
+    measured = result.imposed if result is not None else None
+    error = (
+        f"error {measured.error:.2g} on {result.key} against the course"
+        if measured is not None and result is not None
+        else "error at round-off"
+    )
+    print(
+        f"sandbox: --tolerance {tol:g}: the imposed motion is exact ({error}); "
+        "--motion free chooses an integrator and a timestep instead",
+        file=sys.stderr,
+    )
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     """``sandbox run``: simulate, write readouts, summarise.
 
@@ -97,11 +123,16 @@ def cmd_run(args: argparse.Namespace) -> int:
                 f"--out and --record name the same file {shown(str(args.out))}; give two names"
             )
     integrator, timestep = args.integrator, args.timestep
+    source, values = resolve(args.target), pairs(args.set)
     if args.tolerance is not None:
-        integrator, timestep = _for_tolerance(args)
+        probe = Simulation(source, values=values, motion=args.motion)
+        if probe.motion == "imposed":
+            _exact(args, probe)
+        else:
+            integrator, timestep = _for_tolerance(args)
     sim = Simulation(
-        resolve(args.target),
-        values=pairs(args.set),
+        source,
+        values=values,
         integrator=integrator,
         timestep=timestep,
         motion=args.motion,
@@ -149,8 +180,13 @@ def cmd_run(args: argparse.Namespace) -> int:
         return error.exit_code
     ref = sim.reference()
     units = {r.name: r.unit for r in sim.readout_infos()}
+    how = (
+        f"imposed motion, exact: closure equations and inverse dynamics every {sim.timestep:g} s"
+        if sim.motion == "imposed"
+        else f"{sim.integrator}, dt = {sim.timestep:g} s"
+    )
     print(
-        f"{sim.label}: {args.duration:g} s simulated ({sim.integrator}, dt = {sim.timestep:g} s)"
+        f"{sim.label}: {args.duration:g} s simulated ({how})"
         + (f", {writer.count} rows written to {args.out}" if writer is not None else "")
     )
     scene_names = [r.name for r in sim.scene.readouts] if sim.scene else ["T", "V", "P_acc"]

@@ -89,6 +89,7 @@ def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
         (Request("timestep", "nan"), "dt = nan s refusé"),
         (Request("integrator", "leapfrog"), "Intégrateur « leapfrog » inconnu : choisissez parmi"),
         (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,01 et ×4."),
+        (Request("motion", "<i>fly</i>"), "Mouvement « <i>fly</i> » inconnu : imposé ou libre."),
         (Request("launch_missiles"), "Commande inconnue « launch_missiles »."),
     ],
 )
@@ -101,6 +102,25 @@ def test_bad_requests_are_refused_with_a_message(ctl, request_, needle):
     assert ctl.sim.values == values and ctl.sim.timestep == dt
     _run(ctl, 0.2)
     assert ctl.sim.data.time > 0.15  # still running
+
+
+def test_the_motion_is_imposed_or_simulated_on_request_without_a_jump(ctl):
+    """« Mouvement » (issue 35): the rotor's spin imposed exactly, then simulated again;
+    the angle goes on where it was, the session keeps running."""
+    _run(ctl, 0.2)
+    assert ctl.sim.motion == "free"
+    ctl.submit(Request("motion", "imposed"))
+    assert ctl.frame() == []
+    assert ctl.sim.motion == "imposed"
+    _run(ctl, 0.2)
+    t = ctl.sim.data.time
+    assert t > 0.35
+    ctl.submit(Request("motion", "free"))
+    ctl.submit(Request("motion", "imposed"))  # the last one wins
+    ctl.submit(Request("motion", "free"))
+    assert ctl.frame() == [] and ctl.sim.motion == "free"
+    _run(ctl, 0.2)
+    assert ctl.sim.data.time > t
 
 
 def test_a_parameter_change_keeps_the_motion_going(ctl):
