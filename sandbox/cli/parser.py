@@ -270,6 +270,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     b.add_argument("--follow", action="store_true", help="--classroom: serve with --follow")
     b.add_argument(
+        "--busy-core",
+        action="store_true",
+        help="--classroom: another program keeps one core busy during the run (a laptop "
+        "that also drives a projector and a video call)",
+    )
+    b.add_argument(
         "--all", action="store_true", help="--classroom: every scene in turn, then one table"
     )
     b.add_argument(

@@ -99,12 +99,12 @@ def _dense_moment(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
 
 def _equality_jacobian(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray]:
     """(rows, J): the equality constraints' rows of ``efc_J`` (dense), after
-    ``mj_fwdPosition``; rows whose Jacobian is zero (a planar loop's out-of-plane row)
-    are left out: they carry no force."""
+    ``mj_fwdPosition``; rows whose Jacobian is exactly zero (a planar loop's out-of-plane
+    row) are left out: they carry no force."""
     nefc, nv = int(data.nefc), int(model.nv)
     if nefc == 0:
         return np.zeros(0, dtype=int), np.zeros((0, nv))
-    rows = np.flatnonzero(np.asarray(data.efc_type[:nefc]) == _EQUALITY)
+    rows = np.flatnonzero(data.efc_type[:nefc] == _EQUALITY)
     if rows.size == 0:
         return rows, np.zeros((0, nv))
     if mujoco.mj_isSparse(model):
@@ -113,10 +113,9 @@ def _equality_jacobian(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.n
             jac, data.efc_J, data.efc_J_rownnz, data.efc_J_rowadr, data.efc_J_colind
         )
     else:
-        jac = np.asarray(data.efc_J[: nefc * nv]).reshape(nefc, nv)
+        jac = data.efc_J[: nefc * nv].reshape(nefc, nv)
     jac = jac[rows]
-    scale = float(np.abs(jac).max()) if jac.size else 0.0
-    keep = np.abs(jac).max(axis=1) > 1e-12 * max(scale, 1.0)
+    keep = jac.any(axis=1)
     return rows[keep], jac[keep]
 
 
@@ -131,7 +130,54 @@ def _applied(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     return out
 
 
-def inverse_dynamics(model: mujoco.MjModel, data: mujoco.MjData, actuators: np.ndarray) -> float:
+class _Plan:
+    """What one evaluation reuses of the previous one on the same model: the equality
+    rows that carry a force (checked again each time: a row left out must still be zero),
+    and the motors' moment arms when their transmissions are joints (constant)."""
+
+    def __init__(self, model: mujoco.MjModel, actuators: np.ndarray) -> None:
+        self.model = model
+        self.key: bytes = b""
+        self.rows = np.zeros(0, dtype=int)
+        self.zero = np.zeros(0, dtype=int)  # equality rows left out (exactly zero)
+        joints = int(mujoco.mjtTrn.mjTRN_JOINT)
+        self.moment: np.ndarray | None = None
+        if model.nu and all(int(t) == joints for t in model.actuator_trntype):
+            moment = np.zeros((model.nu, model.nv))
+            for a in range(model.nu):
+                joint = int(model.actuator_trnid[a, 0])
+                if int(model.jnt_type[joint]) not in (
+                    int(mujoco.mjtJoint.mjJNT_HINGE),
+                    int(mujoco.mjtJoint.mjJNT_SLIDE),
+                ):
+                    break
+                moment[a, int(model.jnt_dofadr[joint])] = float(model.actuator_gear[a, 0])
+            else:
+                self.moment = moment
+        self.columns = self.moment[actuators].T.copy() if self.moment is not None else None
+
+    def equality(self, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray]:
+        """(rows, J) as :func:`_equality_jacobian`, reusing the rows found last time
+        while the constraints' layout is the same."""
+        nefc, nv = int(data.nefc), int(self.model.nv)
+        if nefc == 0 or mujoco.mj_isSparse(self.model):
+            return _equality_jacobian(self.model, data)
+        types = data.efc_type[:nefc]
+        key = types.tobytes()
+        full = data.efc_J[: nefc * nv].reshape(nefc, nv)
+        if key != self.key or (self.zero.size and full[self.zero].any()):
+            rows = np.flatnonzero(types == _EQUALITY)
+            nonzero = full[rows].any(axis=1)
+            self.rows, self.zero, self.key = rows[nonzero], rows[~nonzero], key
+        return self.rows, full[self.rows]
+
+
+def inverse_dynamics(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    actuators: np.ndarray,
+    plan: _Plan | None = None,
+) -> float:
     """MuJoCo's derived quantities and every force of a state whose motion is imposed.
 
     ``data`` holds the positions, speeds and (in ``qacc_warmstart``) the accelerations;
@@ -146,41 +192,61 @@ def inverse_dynamics(model: mujoco.MjModel, data: mujoco.MjData, actuators: np.n
         data: The state (positions, speeds, accelerations in ``qacc_warmstart``).
         actuators: Ids of the motors whose forces are unknown (others keep the force of
             their command).
+        plan: What the previous evaluation on this model found (:class:`_Plan`: the
+            same result, sooner).
 
     Returns:
         The residual of the solve [N or N·m]: 0 up to round-off when the motors and the
         loops can impose this motion (a large one means a joint nobody drives).
     """
-    qacc = np.array(data.qacc_warmstart, dtype=float)
+    qacc = data.qacc_warmstart.copy()
     mujoco.mj_fwdPosition(model, data)
     mujoco.mj_fwdVelocity(model, data)
-    mujoco.mj_fwdActuation(model, data)
-    moment = _dense_moment(model, data)
-    force = np.array(data.actuator_force, dtype=float)
-    force[actuators] = 0.0
+    moment = plan.moment if plan is not None and plan.moment is not None else None
+    if moment is None:
+        moment = _dense_moment(model, data)
+    k = len(actuators)
+    others = model.nu > k
+    if others:  # other motors keep the force of their command
+        mujoco.mj_fwdActuation(model, data)
+        force = data.actuator_force.copy()
+        force[actuators] = 0.0
+    else:
+        force = np.zeros(model.nu)
     need = np.empty(model.nv)
     mujoco.mj_mulM(model, data, need, qacc)
-    need += data.qfrc_bias - data.qfrc_passive - _applied(model, data) - moment.T @ force
-    rows, jac = _equality_jacobian(model, data)
-    system = np.concatenate([moment[actuators].T, jac.T], axis=1)
+    need += data.qfrc_bias
+    need -= data.qfrc_passive
+    if data.qfrc_applied.any() or data.xfrc_applied.any():
+        need -= _applied(model, data)
+    if others:
+        need -= force @ moment
+    rows, jac = plan.equality(data) if plan is not None else _equality_jacobian(model, data)
+    system = np.empty((model.nv, k + len(rows)))
+    columns = plan.columns if plan is not None else None
+    system[:, :k] = columns if columns is not None else moment[actuators].T
+    system[:, k:] = jac.T
+    x = None
     if system.shape[0] == system.shape[1]:
         try:
             x = np.linalg.solve(system, need)
         except np.linalg.LinAlgError:
-            x = np.linalg.lstsq(system, need, rcond=None)[0]
-    else:
+            x = None
+    if x is None:
         x = np.linalg.lstsq(system, need, rcond=None)[0]
-    residual = float(np.abs(system @ x - need).max()) if need.size else 0.0
-    k = len(actuators)
+    gap = system @ x
+    gap -= need
+    residual = float(np.abs(gap).max()) if gap.size else 0.0
     force[actuators] = x[:k]
     data.qacc[:] = qacc
     data.actuator_force[:] = force
-    data.qfrc_actuator[:] = moment.T @ force
+    data.qfrc_actuator[:] = force @ moment
     nefc = int(data.nefc)
     if nefc:
-        data.efc_force[:nefc] = 0.0
-        data.efc_force[rows] = x[k:]
-    data.qfrc_constraint[:] = jac.T @ x[k:]
+        efc = data.efc_force
+        efc[:nefc] = 0.0
+        efc[rows] = x[k:]
+    data.qfrc_constraint[:] = x[k:] @ jac
     mujoco.mj_rnePostConstraint(model, data)
     return residual
 
@@ -206,6 +272,7 @@ class ImposedMotion:
         self._dof = int(model.jnt_dofadr[joint])
         motor = model.actuator(self.spec.actuator).id
         self.actuators = np.array([motor], dtype=int)
+        self._plan = _Plan(model, self.actuators)
         self._act = int(model.actuator_actadr[motor]) if model.na else -1
         self._slot = self.spec.slot
         if model.nuserdata < self._slot + ANCHOR_SLOTS:
@@ -273,4 +340,5 @@ class ImposedMotion:
     def forces(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Derived quantities and forces of the state in ``data`` (its acceleration in
         ``qacc_warmstart``)."""
-        self.residual = inverse_dynamics(model, data, self.actuators)
+        plan = self._plan if self._plan.model is model else None
+        self.residual = inverse_dynamics(model, data, self.actuators, plan)

@@ -58,6 +58,35 @@ def body_groups(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
     return found
 
 
+_CARRIERS: weakref.WeakKeyDictionary[Any, np.ndarray] = weakref.WeakKeyDictionary()
+
+
+def carriers(model: mujoco.MjModel) -> np.ndarray:
+    """For each group of :func:`body_groups` (same order), the root of the moving group
+    that carries it, or 0: a group whose every joint is a hinge or a ball turning about
+    its root's origin keeps that origin fixed in its parent's group (the compressor's rod
+    on its piston, a top's body on its ring), so a view can hang it there and send its
+    orientation only. Cached per model."""
+    found = _CARRIERS.get(model)
+    if found is not None:
+        return found
+    roots, group = body_groups(model)
+    turning = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_BALL))
+    out = np.zeros(len(roots), dtype=int)
+    for k, b in enumerate(roots):
+        first, count = int(model.body_jntadr[b]), int(model.body_jntnum[b])
+        joints = range(first, first + count)
+        if count == 0 or int(model.body_mocapid[b]) >= 0:
+            continue
+        if not all(
+            int(model.jnt_type[j]) in turning and not np.any(model.jnt_pos[j]) for j in joints
+        ):
+            continue
+        out[k] = int(group[int(model.body_parentid[b])])
+    _CARRIERS[model] = out
+    return out
+
+
 def geom_local_poses(model: mujoco.MjModel) -> np.ndarray:
     """Pose (x, y, z, w, qx, qy, qz) of every geom in its group's frame (in the world for
     the world's own geoms), from the model's reference configuration: a welded body keeps

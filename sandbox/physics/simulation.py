@@ -216,9 +216,18 @@ class Simulation:
 
     def _stop_imposed(self) -> None:
         """Simulate from the current exact state on (its loops closed, its speeds on them;
-        its acceleration stays as the solver's warm start)."""
+        its acceleration stays as the solver's warm start), at the timestep the scene's
+        default gives this motion (an imposed motion's only samples time: it does not
+        follow the state)."""
         self._imposed = None
         self._fresh = None
+        dt = self.timestep
+        if self._timestep is None and self.scene is not None:
+            dt = self.scene.default_timestep(self.values, self.data)
+        if dt != self.timestep:
+            self.model.opt.timestep = dt
+            self._apply_drive()
+            self._emit("timestep", value=dt)
         mujoco.mj_forward(self.model, self.data)
         self._warnings = self._warning_count()
 
@@ -359,6 +368,8 @@ class Simulation:
             return self._timestep
         if self.scene is None or self.scene.timestep_for is None:
             return self.timestep
+        if self._imposed is not None:  # exact at any step: the new values' own, at once
+            return self.scene.default_timestep(self.values)
         return min(old_dt, self.scene.default_timestep(self.values, self.data))
 
     def _follow_state(self) -> None:
@@ -488,7 +499,6 @@ class Simulation:
         d = self.data
         if not math.isfinite(float(d.qpos.sum()) + float(d.qvel.sum()) + float(d.qacc.sum())):
             raise Diverged(float(d.time), "NaN or Inf in the imposed motion")
-        self._follow_state()
 
     def _guard(self) -> None:
         d = self.data

@@ -310,7 +310,7 @@ def test_default_timestep_keeps_the_crank_angle_per_step():
 
 
 def test_a_new_speed_brings_its_timestep_unless_the_user_chose_one():
-    sim = Simulation("compressor")
+    sim = Simulation("compressor", motion="free")  # the servo and the closure follow dt
     model, events = sim.model, []
     sim.observers.append(lambda kind, fields: events.append((kind, fields.get("value"))))
     sim.set_value("speed_rpm", 17000)
@@ -341,7 +341,7 @@ def test_a_live_drop_from_17000_rpm_keeps_the_fine_step_until_the_crank_has_slow
     slows by 0.9 mm. Keeping the step of the actual speed until the crank has turned at its
     new speed for 50 steps, it opens as with a fixed 1e-4 s (1.5e-4 m while braking),
     closes again, and the 1 ms step comes back."""
-    sim = Simulation("compressor", values={"speed_rpm": 17000.0})
+    sim = Simulation("compressor", values={"speed_rpm": 17000.0}, motion="free")
     sim.advance(0.05)
     events = []
     sim.observers.append(lambda kind, fields: events.append((kind, fields.get("value"))))
@@ -392,7 +392,7 @@ def test_a_recorded_speed_change_replays_exactly(tmp_path):
     from sandbox.recording import Recorder, load
     from sandbox.replay import resimulate
 
-    sim = Simulation("compressor")
+    sim = Simulation("compressor", motion="free")  # the servo's braking re-simulated
     rec = Recorder(tmp_path / "c.sbx", sim)
     for k in range(60):
         sim.step(5)

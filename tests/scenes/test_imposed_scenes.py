@@ -263,3 +263,15 @@ def test_an_imposed_recording_replays_and_verifies_bit_for_bit(tmp_path):
     assert again.readouts(["motor_torque"]) == pytest.approx(
         {"motor_torque": loaded.readouts[0][loaded.names.index("motor_torque")]}, rel=1e-12
     )
+
+
+def test_an_imposed_speed_change_brings_its_timestep_at_once():
+    """The imposed motion is exact at any step: the new speed's default timestep comes at
+    once, both ways (the free crank keeps the fine step while its servo brakes it)."""
+    sim = Simulation("compressor")
+    sim.set_value("speed_rpm", 17000.0)
+    assert sim.timestep == 1e-4
+    sim.set_value("speed_rpm", 3000.0)
+    assert sim.timestep == 5e-4
+    sim.set_motion("free")
+    assert sim.timestep == 5e-4

@@ -301,7 +301,7 @@ def test_a_classroom_forgets_a_browser_that_left_and_publishes_the_rest():
     published: list[tuple[list[dict[str, object]], bool]] = []
 
     class Hub:
-        def publish(self, rows, wants):
+        def publish(self, rows, wants, load=None):
             published.append((rows, wants))
 
     from sandbox.physics.simulation import Simulation

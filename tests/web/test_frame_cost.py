@@ -74,6 +74,8 @@ def served(monkeypatch) -> Iterator[callable]:
         made.clear()
         app = web_app.start(scene, port=0, open_message=False)
         apps.append(app)
+        # the capacity's first measure (a session of its own for 2 s) is not counted
+        assert wait_for(lambda: app.classroom.first is not None, timeout=30)
         url, origin = f"ws://127.0.0.1:{app.port}", f"http://127.0.0.1:{app.port}"
 
         async def read() -> None:

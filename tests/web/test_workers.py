@@ -370,7 +370,10 @@ def test_a_worker_s_hub_sends_its_rows_and_delivers_the_merged_board():
     delivered: list[Board] = []
     hub = worker.WorkerHub(events, 3, reader, delivered.append)  # type: ignore[arg-type]
     hub.publish([{"key": "w3:1", "joined": 1.0}], True)
-    assert events.get(timeout=1) == ("board", 3, ([{"key": "w3:1", "joined": 1.0}], True))
+    assert events.get(timeout=1) == ("board", 3, ([{"key": "w3:1", "joined": 1.0}], True, None))
+    load = {"sessions": 1, "frames": 60.0, "cpu": 0.05, "stepping": 0.01}
+    hub.publish([], False, load)  # what its sessions cost, for the capacity estimate
+    assert events.get(timeout=1) == ("board", 3, ([], False, load))
     writer.send("not a board")
     board = Board(0.0, (Row(key="w3:1", joined=1.0, number=1),))
     writer.send(board.wire())

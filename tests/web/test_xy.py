@@ -27,10 +27,24 @@ def _axis(sim: Simulation, name: str) -> Axis:
     return Axis.of(name, info.label or name, info.unit)
 
 
+class Clock:
+    """A wall clock the frames move on (the session's time never goes back)."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
 def _run(ctl: Controller, seconds: float, fps: float = 60.0) -> None:
-    """Frames of the session loop over ``seconds`` of wall time (a fake clock)."""
-    t0 = ctl.clock()
+    """Frames of the session loop over ``seconds`` of wall time (a fake clock, moved on
+    by each frame when the controller has one)."""
+    clock = ctl.clock
+    t0 = clock()
     for k in range(1, int(seconds * fps) + 1):
+        if isinstance(clock, Clock):
+            clock.now = t0 + k / fps
         ctl.frame(t0 + k / fps)
 
 
@@ -58,7 +72,7 @@ def test_the_probe_splits_steps_and_keeps_its_rate():
 def test_nothing_is_sampled_while_no_view_wants_it():
     """Counted, not timed: no readout evaluated between frames when no X–Y plot is
     shown; with one, about RATE samples per wall second whatever the speed."""
-    ctl = Controller(Simulation("compressor"))
+    ctl = Controller(Simulation("compressor"), clock=Clock())
     _run(ctl, 0.5)
     assert ctl.probe.since(0) == (0, [])
     ctl.probe.want("view", ["theta", "pilon"])
@@ -77,7 +91,7 @@ def test_the_compressors_pilon_over_a_revolution_matches_the_course():
     timestep gives 40 steps a turn: every 9°) and equal the course's exact slider-crank
     expressions (dashed) within 0.1 % of their peak."""
     sim = Simulation("compressor")
-    ctl = Controller(sim)
+    ctl = Controller(sim, clock=Clock())
     data = XYData(
         _axis(sim, "theta"),
         [_axis(sim, "pilon"), _axis(sim, "tamis")],
@@ -105,7 +119,7 @@ def test_the_rotors_start_draws_the_course_parabola():
     1000 rpm, and the cursor's slope equals 2·K·ω within 2 %."""
     preset = next(p for p in SCENES["rotor"].page.xy_presets if p.values)
     sim = Simulation("rotor", values=dict(preset.values))
-    ctl = Controller(sim)
+    ctl = Controller(sim, clock=Clock())
     data = XYData(
         _axis(sim, preset.x),
         [_axis(sim, y) for y in preset.ys],

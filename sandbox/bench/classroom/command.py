@@ -7,6 +7,7 @@ Usage::
     sandbox bench --classroom 60 rotor --compare bench/classroom.json
     sandbox bench --classroom 30 rotor --flood     # plus a student flooding "Pas"
     sandbox bench --classroom 30 rotor --studies 5 # 25 measured, 5 running studies
+    sandbox bench --classroom 30 --all --busy-core # one core kept busy by another program
 
 Each scene runs as :func:`sandbox.bench.classroom.run.run_classroom` does alone (its own
 server, N headless browsers, each pressing « Lecture » when the scene opens paused);
@@ -107,6 +108,7 @@ def cli_classroom(
             drop_clients=0 if many else 20,
             progress=lambda line: print(line, file=sys.stderr, flush=True),
             side=side,
+            busy_core=bool(getattr(args, "busy_core", False)),
         )
         runs.append(results)
         print(report(results), flush=True)

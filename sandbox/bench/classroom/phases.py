@@ -28,6 +28,7 @@ from sandbox.bench.classroom.processes import (
 from sandbox.bench.classroom.server import Server
 from sandbox.bench.classroom.speed import SpeedProbe
 from sandbox.bench.classroom.stats import summary
+from sandbox.bench.classroom.teacher import TeacherPage
 from sandbox.bench.classroom.wire import is_update_frame, unpack
 from sandbox.bench.classroom.workers import by_worker
 
@@ -58,6 +59,7 @@ async def main_phase(
     teacher: str | None = None,
     panel: str | None = None,
     side: Side | None = None,
+    board: str | None = None,
 ) -> dict[str, Any]:
     """N clients in this loop: warm up, then measure frames, sim rate, delays, CPU, RSS.
 
@@ -74,6 +76,9 @@ async def main_phase(
         side: A task run beside the clients once they all draw (a hostile student:
             :mod:`sandbox.bench.classroom.flood`), given the URL, the Origin, the window and
             the clients; what it returns is kept as ``main["side"]``.
+        board: The teacher's path (``/prof/<token>``) of a class whose teacher's page
+            reads « La classe » (the capacity estimate the teacher sees, kept as
+            ``main["teacher"]``); the teacher is not in the statistics.
     """
     url, origin = f"ws://127.0.0.1:{server.port}", f"http://127.0.0.1:{server.port}"
     window = Window()
@@ -87,6 +92,9 @@ async def main_phase(
                 run_client(url, s, window, origin=origin, param=probe, seed=s.index, panel=panel)
             )
         )
+    page = TeacherPage() if board is not None else None
+    if page is not None:
+        tasks.append(asyncio.create_task(page.read(url + str(board), origin)))
     if teacher is not None:
         lead = ClientStats(-1)
         tasks.append(
@@ -172,6 +180,7 @@ async def main_phase(
         "big_messages_per_client_per_s": sum(s.big for s in stats) / seconds / clients,
         "largest_message_bytes": max((s.max_bytes for s in stats), default=0),
         "side": side_result,
+        "teacher": page.results() if page is not None else None,
     }
 
 

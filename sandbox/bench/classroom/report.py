@@ -20,6 +20,7 @@ def report(results: dict[str, Any]) -> str:
     m = results["main"]
     fps, rate, delay = m["fps"], m["sim_rate"], m["slider_delay_s"]
     mode = " --follow" if results["follow"] else ""
+    mode += " --busy-core" if results.get("busy_core") else ""
     lines = [
         f"classroom: {results['scene']}{mode}, {m['clients']} clients "
         f"({m['connected']} got frames, ready after {m['ready_s']:.1f} s), "
@@ -56,6 +57,7 @@ def report(results: dict[str, Any]) -> str:
         f"  machine speed probe          {m.get('machine_probe_ms', math.nan):.2f} ms for a "
         "fixed piece of work, median over the window (lower is faster; the processor's "
         "speed on a small piece of work, whatever the server does)",
+        *_teacher_lines(m.get("teacher")),
     ]
     if m["errors"]:
         lines.append(f"  client errors: {'; '.join(m['errors'][:3])}")
@@ -102,6 +104,24 @@ def report(results: dict[str, Any]) -> str:
             value = f"{t['value']:.3f}"
         lines.append(f"  {t['verdict']:<4}  {t['target']:<58} {value}{note}")
     return "\n".join(lines)
+
+
+def _teacher_lines(teacher: object) -> list[str]:
+    """What the teacher's « La classe » said during the run."""
+    if not isinstance(teacher, dict):
+        return []
+    students = teacher.get("students")
+    said = (
+        f"{students} at 30 frames/s (« Ce portable tient environ {students} élèves »)"
+        if students is not None
+        else "no estimate shown" + (f" ({teacher['error']})" if teacher.get("error") else "")
+    )
+    lines = [f"  students this laptop holds   {said}, read on the teacher's board"]
+    if teacher.get("lowered_fps") is not None:
+        lines.append(f"  frame rate lowered to        {teacher['lowered_fps']} for every student")
+    if teacher.get("saturated"):
+        lines.append("  saturated                    new students follow the teacher's simulation")
+    return lines
 
 
 def jsonable(value: Any) -> Any:

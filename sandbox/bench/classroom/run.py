@@ -11,6 +11,7 @@ import time
 from collections.abc import Callable, Coroutine
 from typing import Any, TypeVar
 
+from sandbox.bench.classroom.busy import BusyCore
 from sandbox.bench.classroom.phases import (
     FOREIGN_ORIGIN,
     Side,
@@ -88,6 +89,7 @@ def run_classroom(
     panel: str | None = None,
     progress: Callable[[str], None] | None = None,
     side: Side | None = None,
+    busy_core: bool = False,
 ) -> dict[str, Any]:
     """Start a server, run the main phase, the connect-and-drop phase and the Origin probe.
 
@@ -106,6 +108,8 @@ def run_classroom(
             ``"Précision et coût"``); None keeps the default.
         progress: Called with one line per phase.
         side: A task beside the clients (:func:`main_phase`).
+        busy_core: Another program keeps one core busy from before the server starts
+            to after it stops (a laptop driving a projector and a video call).
 
     Returns:
         JSON-able results (see :func:`~sandbox.bench.classroom.report.report`).
@@ -114,8 +118,9 @@ def run_classroom(
     require_psutil()  # missing: say how to install it before a server starts
     load = load_average()
     param = probe_param(scene)
-    with Server(scene, follow=follow, workers=workers) as server:
-        teacher = server.teacher_path() if follow else None
+    with BusyCore(busy_core), Server(scene, follow=follow, workers=workers) as server:
+        link = server.teacher_path()
+        teacher = link if follow else None
         if follow and teacher is None:
             say("no teacher link in the server's output: no slider probe")
 
@@ -131,6 +136,7 @@ def run_classroom(
                 teacher=teacher,
                 panel=panel,
                 side=side,
+                board=None if follow else link,
             )
             out: dict[str, Any] = {"main": main}
             if main["longest_frame_gap_s"]["max"] >= STALL:  # what the server said then
@@ -146,6 +152,7 @@ def run_classroom(
     results.update(
         scene=scene,
         follow=follow,
+        busy_core=busy_core,
         workers=workers,
         worker_count=1 if follow else (workers if workers is not None else _cores()),
         date=time.strftime("%Y-%m-%d %H:%M:%S %Z"),

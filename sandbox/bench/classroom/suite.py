@@ -37,6 +37,7 @@ FIGURES: tuple[tuple[str, str, str, str], ...] = (
     ("server_rss_bytes", "RSS MB", "lower", ".0f"),
     ("side.ratio_min", "flood ratio", "higher", ".2f"),
     ("machine_probe_ms", "machine probe ms", "", ".2f"),
+    ("teacher.students", "students held", "higher", ".0f"),
 )
 """(key, column, which way is better, format) of the figures a run is summed up by ("":
 neither way: the cores a server uses grow with the frames it delivers)."""
@@ -46,6 +47,7 @@ def run_key(results: Mapping[str, Any]) -> str:
     """How a run is named in a saved file: ``rotor×30``, ``rotor --follow×120``,
     ``rotor --flood×30``."""
     mode = " --follow" if results.get("follow") else ""
+    mode += " --busy-core" if results.get("busy_core") else ""
     side = results["main"].get("side")
     if isinstance(side, Mapping) and "students" in side:
         mode += f" --{side.get('work', 'studies')} {side['students']}"

@@ -45,6 +45,12 @@ FLOOD_TARGET = Target(
     ">=",
     0.8,
 )
+BUSY_TARGETS = (
+    Target("--busy-core: min update frames/s >= 15", "fps.min", ">=", 15, 30),
+    Target("--busy-core: simulated time >= 0.98 of real time", "sim_rate.min", ">=", 0.98, 30),
+)
+"""Issue 35: one core kept busy by another program, the class still in real time at 15
+frames/s or more."""
 COMMON_TARGETS = (
     Target("idle after 20 connect-and-drop: < 0.05 cores within 10 s", "idle", "<", 0.05),
     Target("a foreign Origin gets no session", "origin", "is", 1.0),
@@ -79,6 +85,8 @@ def targets(results: dict[str, Any]) -> list[dict[str, Any]]:
     chosen: tuple[Target, ...]
     if results["follow"]:
         chosen = FOLLOW_TARGETS
+    elif results.get("busy_core"):
+        chosen = BUSY_TARGETS
     elif results["main"]["clients"] >= CROWD:
         chosen = CROWD_TARGETS
     else:

@@ -66,24 +66,35 @@ def kinematics(
     angle's last digits; a rotation of the crank's own sine and cosine does not).
     """
     s, c = (math.sin(theta), math.cos(theta)) if sin_cos is None else sin_cos
+    lam, dlam, ddlam, phi, dphi, ddphi, lam_t, phi_t = loop(s, c, omega, alpha, R, L)
+    return Kinematics(
+        theta, omega, lam, dlam, ddlam, phi, dphi, ddphi, alpha, lam_t, phi_t
+    )  # fmt: skip
+
+
+def loop(
+    s: float, c: float, omega: float, alpha: float, R: float, L: float
+) -> tuple[float, float, float, float, float, float, float, float]:
+    """(λ, λ', λ'', φ, φ', φ'', λ_θ, φ_θ) of the slider-crank at sin θ = ``s``,
+    cos θ = ``c``, θ' = ``omega``, θ'' = ``alpha`` (:func:`kinematics`'s formulas, as a
+    tuple: the imposed motion evaluates them at every frame)."""
     q = math.sqrt(L * L - R * R * c * c)
     lam = R * s + q
     lam_t = R * c + R * R * s * c / q
     lam_tt = -R * s + R * R * (c * c - s * s) / q - R**4 * s * s * c * c / q**3
-    phi = math.asin(R * c / L)
+    sin_phi = R * c / L
+    phi = math.asin(sin_phi)
     cp = math.cos(phi)
     phi_t = -R * s / (L * cp)
-    phi_tt = -(R / L) * (c / cp + s * math.sin(phi) * phi_t / cp**2)
-    return Kinematics(
-        theta,
-        omega,
+    phi_tt = -(R / L) * (c / cp + s * sin_phi * phi_t / cp**2)
+    w2 = omega * omega
+    return (
         lam,
         lam_t * omega,
-        lam_tt * omega**2 + lam_t * alpha,
+        lam_tt * w2 + lam_t * alpha,
         phi,
         phi_t * omega,
-        phi_tt * omega**2 + phi_t * alpha,
-        alpha,
+        phi_tt * w2 + phi_t * alpha,
         lam_t,
         phi_t,
     )

@@ -14,7 +14,7 @@ from sandbox.french import number
 from sandbox.mechanics.imposed import Motion
 from sandbox.physics.imposed import Imposed
 from sandbox.scenes.base import Values, per_revolution_timestep
-from sandbox.scenes.compressor.course import kinematics
+from sandbox.scenes.compressor.course import kinematics, loop
 from sandbox.scenes.compressor.params import DEFAULTS, RPM
 from sandbox.scenes.imposed import held_speed
 
@@ -202,10 +202,12 @@ def place(model: mujoco.MjModel, data: mujoco.MjData, v: Values, motion: Motion)
     and θ'' (λ, φ and their derivatives, exact: :func:`kinematics`); the accelerations
     go to ``qacc_warmstart`` (:mod:`sandbox.physics.imposed`)."""
     theta, omega, alpha = motion
-    k = kinematics(theta, omega, v["R"], v["L"], alpha=alpha)
-    data.qpos[:] = [theta, k.lam, k.phi]
-    data.qvel[:] = [omega, k.dlam, k.dphi]
-    data.qacc_warmstart[:] = [alpha, k.ddlam, k.ddphi]
+    lam, dlam, ddlam, phi, dphi, ddphi, _, _ = loop(
+        math.sin(theta), math.cos(theta), omega, alpha, v["R"], v["L"]
+    )
+    data.qpos[:] = (theta, lam, phi)
+    data.qvel[:] = (omega, dlam, dphi)
+    data.qacc_warmstart[:] = (alpha, ddlam, ddphi)
 
 
 IMPOSED = Imposed("crank", "motor", place, held_speed, default=True)

@@ -17,7 +17,7 @@ from sandbox.mechanics.imposed import Motion
 from sandbox.physics.imposed import Imposed
 from sandbox.scenes.base import Values, per_revolution_timestep
 from sandbox.scenes.compressor import model as compressor
-from sandbox.scenes.compressor.course import kinematics
+from sandbox.scenes.compressor.course import kinematics, loop
 from sandbox.scenes.compressor.params import RPM
 from sandbox.scenes.engine.course import counterweight_mass, cylinder_count, engine_of, masses
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS
@@ -215,42 +215,56 @@ def place(model: mujoco.MjModel, data: mujoco.MjData, v: Values, motion: Motion)
     into ``qacc_warmstart`` (:mod:`sandbox.physics.imposed`)."""
     theta, omega, alpha = motion
     n = cylinder_count(v)
-    qpos, qvel, qacc = data.qpos, data.qvel, data.qacc_warmstart
-    ids = _joint_addresses(model)
-
-    def put(joint: str, q: float, dq: float, ddq: float) -> None:
-        a, d = ids[joint]
-        qpos[a], qvel[d], qacc[d] = q, dq, ddq
-
-    put("crank", theta, omega, alpha)
+    qpos, qvel, qacc = data.qpos.copy(), data.qvel.copy(), data.qacc_warmstart.copy()
+    layout = _layout(model, n, v["lanchester"] >= 0.5)
+    crank, cylinders, shafts = layout
+    qpos[crank[0]], qvel[crank[1]], qacc[crank[1]] = theta, omega, alpha
     s, c = math.sin(theta), math.cos(theta)
-    for i, phi in enumerate(np.radians(THROWS_DEG[n]), start=1):
+    R, L = v["R"], v["L"]
+    for (sp, cp), (pq, pd), (rq, rd) in cylinders:
         # θ − φ_i by rotating the crank's own sine and cosine: after an hour at 6000 rpm θ
         # is 2×10⁶ rad, whose subtraction would lose 5×10⁻¹⁰ rad (3×10⁻¹² m on the pin)
-        sp, cp = round(math.sin(phi), 15), round(math.cos(phi), 15)  # exact for the throws
-        turned = (s * cp - c * sp, c * cp + s * sp)
-        k = kinematics(theta - phi, omega, v["R"], v["L"], alpha=alpha, sin_cos=turned)
-        put(f"piston_{i}", k.lam, k.dlam, k.ddlam)
-        put(f"rod_{i}", k.phi, k.dphi, k.ddphi)
-    if v["lanchester"] >= 0.5:
-        put("shaft_1", 2 * theta, 2 * omega, 2 * alpha)
-        put("shaft_2", -2 * theta, -2 * omega, -2 * alpha)
+        lam, dlam, ddlam, phi, dphi, ddphi, _, _ = loop(
+            s * cp - c * sp, c * cp + s * sp, omega, alpha, R, L
+        )
+        qpos[pq], qvel[pd], qacc[pd] = lam, dlam, ddlam
+        qpos[rq], qvel[rd], qacc[rd] = phi, dphi, ddphi
+    for sign, (q, d) in shafts:
+        qpos[q], qvel[d], qacc[d] = sign * 2 * theta, sign * 2 * omega, sign * 2 * alpha
+    data.qpos[:], data.qvel[:], data.qacc_warmstart[:] = qpos, qvel, qacc
 
 
-_ADDRESSES: weakref.WeakKeyDictionary[mujoco.MjModel, dict[str, tuple[int, int]]] = (
-    weakref.WeakKeyDictionary()
-)
+Address = tuple[int, int]
+Layout = tuple[
+    Address,
+    tuple[tuple[tuple[float, float], Address, Address], ...],
+    tuple[tuple[float, Address], ...],
+]
+_LAYOUTS: weakref.WeakKeyDictionary[mujoco.MjModel, Layout] = weakref.WeakKeyDictionary()
 
 
-def _joint_addresses(model: mujoco.MjModel) -> dict[str, tuple[int, int]]:
-    """(qpos address, dof address) of every joint by name, per compiled model."""
-    found = _ADDRESSES.get(model)
+def _layout(model: mujoco.MjModel, n: int, shafts: bool) -> Layout:
+    """Per compiled model: the crank's (qpos, dof) address; each cylinder's throw phase
+    (sin φ, cos φ, exact for the throws' 0 and 180°), piston's and rod's addresses; each
+    balance shaft's sign and address."""
+    found = _LAYOUTS.get(model)
     if found is None:
-        found = {
-            model.joint(j).name: (int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]))
-            for j in range(model.njnt)
-        }
-        _ADDRESSES[model] = found
+
+        def at(name: str) -> Address:
+            j = model.joint(name).id
+            return int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j])
+
+        cylinders = tuple(
+            (
+                (round(math.sin(phi), 15), round(math.cos(phi), 15)),
+                at(f"piston_{i}"),
+                at(f"rod_{i}"),
+            )
+            for i, phi in enumerate(np.radians(THROWS_DEG[n]), start=1)
+        )
+        turning = ((1.0, at("shaft_1")), (-1.0, at("shaft_2"))) if shafts else ()
+        found = (at("crank"), cylinders, turning)
+        _LAYOUTS[model] = found
     return found
 
 

@@ -26,9 +26,11 @@ from sandbox.web.loop.requests import Request
 
 log = logging.getLogger(__name__)
 
-MAX_LAG = 0.25
-"""Wall-clock lag [s] beyond which pacing re-syncs instead of catching up. A loaded
-server draws fewer frames (4 a second at worst) but keeps simulated time real."""
+MAX_LAG = 0.5
+"""Wall-clock lag [s] beyond which pacing re-syncs instead of catching up (a laptop that
+slept, a clock that jumped). A loaded server draws fewer frames (the governor lowers them
+to 15 a second, :mod:`~sandbox.web.loop.governor`) but keeps simulated time real: a frame
+comes well within this."""
 
 SLOW_HOLD = 3.0
 """Seconds the status keeps saying "plus lent que le temps réel" after the step budget last
@@ -36,9 +38,18 @@ held the motion back: on a machine that only just keeps up, the note would other
 and go every second, and the buttons under the status line jump with it."""
 
 STEP_BUDGET = 0.005
-"""CPU seconds of stepping one frame may spend (5 ms: 30 % of a core at 60 frames/s).
-A timestep too small for real time on this machine then makes the motion run slower
-than real time (the status line says so) instead of taking a whole core."""
+"""CPU seconds of stepping one frame at 60 frames/s may spend (5 ms: 30 % of a core). A
+longer frame (the governor lowered the rate) may spend in proportion
+(:data:`STEP_SHARE` of its wall time), so that the same motion keeps real time at any
+frame rate. A timestep too small for real time on this machine makes the motion run
+slower than real time (the status line says so) instead of taking a whole core."""
+
+STEP_SHARE = STEP_BUDGET * FPS
+"""Share of a core one session's stepping may take (0.3), whatever its frame rate."""
+
+LONGEST_FRAME = 0.1
+"""Wall seconds of a frame counted at most for its step budget (a frame after a pause of
+the loop does not get a second of stepping at once)."""
 
 MAX_FRAME_STEPS = 5000
 """Most timesteps one frame runs, whatever the measured cost (the budget before any
@@ -71,6 +82,7 @@ class Pacing:
         self.step_cpu = 0.0  # CPU seconds spent stepping (this thread), decayed
         self.step_sim = 0.0  # simulated seconds stepped, decayed alike
         self.step_count = 0.0  # timesteps run, decayed alike
+        self.step_cpu_total = 0.0  # CPU seconds spent stepping so far (never decayed)
         self.requests: queue.Queue[Request] = queue.Queue()
         scene = as_scene(sim.scene)
         self.playing = not (scene is not None and scene.page.start_paused)
@@ -80,6 +92,8 @@ class Pacing:
         self.slow_until = -math.inf  # wall clock until which the status says "slower"
         self._limited = 0  # consecutive frames the step budget held back
         self._spent = 0.0  # CPU seconds of stepping in the current frame
+        self._budget = STEP_BUDGET  # CPU seconds of stepping the current frame may spend
+        self._last_frame: float | None = None  # wall clock of the previous frame
         self._owed = 0  # timesteps of a "Pas" still to run, a budget's worth a frame
         self._owed_target: float | None = None  # display time once they are run
         self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
@@ -145,6 +159,7 @@ class Pacing:
         core. A timestep that is not a positive number pauses, said once.
         """
         now = self.clock() if now is None else now
+        self._frame_budget(now)
         if self._owed and not self.diverged:
             return self._run_owed(now)
         if not self.playing or self.diverged:
@@ -255,15 +270,30 @@ class Pacing:
         self._resync(now)
         return []
 
+    def _frame_budget(self, now: float) -> None:
+        """This frame's step budget: :data:`STEP_SHARE` of the wall time since the
+        previous frame (5 ms at 60 frames/s, 20 ms at 15), within
+        [:data:`STEP_BUDGET`, :data:`STEP_SHARE` × :data:`LONGEST_FRAME`]; only
+        :data:`STEP_BUDGET` while the motion is slower than real time anyway (a timestep
+        this machine cannot keep up with, a flood of « Pas »): such a session does not
+        take a larger share of the loop because the class's frames were slowed."""
+        last, self._last_frame = self._last_frame, now
+        wall = (now - last) if last is not None else 1.0 / FPS
+        if self.slowed(now):
+            self._budget = STEP_BUDGET
+            return
+        self._budget = STEP_SHARE * min(max(wall, 1.0 / FPS), LONGEST_FRAME)
+
     @property
     def stepping(self) -> bool:
         """True while a "Pas" is being run over several frames."""
         return self._owed > 0
 
     def frame_steps(self) -> int:
-        """Timesteps the rest of this frame may run: what is left of :data:`STEP_BUDGET`
-        at the measured cost of a step, at least 1, at most :data:`MAX_FRAME_STEPS`."""
-        left = STEP_BUDGET - self._spent
+        """Timesteps the rest of this frame may run: what is left of its step budget
+        (:data:`STEP_BUDGET` at 60 frames/s, in proportion to a longer frame) at the
+        measured cost of a step, at least 1, at most :data:`MAX_FRAME_STEPS`."""
+        left = self._budget - self._spent
         if self.step_count > 0 and self.step_cpu > 0:
             per_step = self.step_cpu / self.step_count
             return max(1, min(MAX_FRAME_STEPS, int(left / per_step)))
@@ -276,6 +306,7 @@ class Pacing:
     def _count(self, cpu: float, simulated: float, steps: int = 0) -> None:
         """Keep a running cost of stepping (the last few seconds weigh most)."""
         keep = 0.98
+        self.step_cpu_total += cpu
         self.step_cpu = keep * self.step_cpu + cpu
         self.step_sim = keep * self.step_sim + simulated
         self.step_count = keep * self.step_count + steps

@@ -12,6 +12,8 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
+from sandbox.web.loop.governor import Governor
+
 log = logging.getLogger(__name__)
 
 IDLE_EXIT = 5.0
@@ -52,8 +54,9 @@ class Scheduler:
 
     One thread instead of one per browser: with thirty browsers, thirty threads waking
     sixty times a second spend more time handing the interpreter lock to each other
-    than drawing. When the frames cost more than the machine has, every session slows
-    down evenly (each is served in turn), and none starves.
+    than drawing. When the frames cost more than the machine has, the :attr:`governor`
+    lowers every session's frame rate alike (each is served in turn, none starves) and
+    each frame steps the wall time that passed: simulated time does not slow down.
 
     Args:
         clock: Wall clock [s] (monotonic) deciding when frames are due.
@@ -73,6 +76,8 @@ class Scheduler:
         self._heap: list[tuple[float, int, Turns]] = []
         self._seq = 0
         self._thread: threading.Thread | None = None
+        self.governor = Governor(clock=clock)
+        """The frame rate every session runs at, at most its own."""
 
     @classmethod
     def shared(cls) -> Scheduler:
@@ -109,6 +114,11 @@ class Scheduler:
         """True when called from the scheduler's own thread."""
         return threading.current_thread() is self._thread
 
+    def next_due(self) -> float | None:
+        """When the earliest session is due [s on :attr:`clock`], None with no session."""
+        with self._cond:
+            return self._heap[0][0] if self._heap else None
+
     @property
     def sessions(self) -> int:
         """Sessions being served."""
@@ -132,11 +142,27 @@ class Scheduler:
         return due_now
 
     def _burst(self, due_now: list[tuple[float, int, Turns]]) -> None:
-        """Serve the sessions due at one tick, in turn. (Holding every browser's messages
-        until the last frame of the burst was measured: viser's sending thread, woken
-        only between bursts, then coalesced frames and the class got fewer of them.)"""
+        """Serve the sessions due at one tick, in turn, and tell the governor what it
+        took. (Holding every browser's messages until the last frame of the burst was
+        measured: viser's sending thread, woken only between bursts, then coalesced
+        frames and the class got fewer of them.)"""
+        if not due_now:
+            self.governor.update(sessions=self._driving(), served=self.sessions)
+            return
+        start, cpu = self.clock(), time.thread_time()
+        stepping = 0.0
         for due, seq, session in due_now:
+            before = float(getattr(session, "stepping_cpu", 0.0))
             self._serve(due, seq, session)
+            stepping += float(getattr(session, "stepping_cpu", 0.0)) - before
+        end = self.clock()
+        self.governor.spent(end - start, time.thread_time() - cpu, len(due_now), stepping)
+        self.governor.update(end, sessions=self._driving(), served=self.sessions)
+
+    def _driving(self) -> int:
+        """Sessions stepping a simulation of their own (not a view of another's)."""
+        with self._cond:
+            return sum(1 for _, _, s in self._heap if getattr(s, "drive", False))
 
     def _run(self) -> None:
         while True:
@@ -169,8 +195,9 @@ class Scheduler:
                 log.exception("session end failed")
             return
         after = self.clock()
-        following = due + session.period
+        period = self.governor.period_of(session.period)
+        following = due + period
         if following < after:  # late: the next tick of its rate, behind those waiting
-            following = tick(after, session.period)
+            following = tick(after, period)
         with self._cond:
             heapq.heappush(self._heap, (following, seq, session))

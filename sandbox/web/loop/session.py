@@ -105,6 +105,15 @@ class Session:
                 ctl.stop_recording()
 
     @property
+    def stepping_cpu(self) -> float:
+        """CPU seconds this session spent stepping its simulation so far (0 for a view
+        of a simulation another session steps, or a replay)."""
+        ctl = self.controller
+        if not self.drive or not isinstance(ctl, Controller):
+            return 0.0
+        return ctl.step_cpu_total
+
+    @property
     def stopping(self) -> bool:
         """True once the session was asked to stop (the scheduler drops it next turn)."""
         return self._stop.is_set()

@@ -329,6 +329,9 @@ class AccuracyPanel:
             at_test=at_test,
             at_test_run=at_test_run,
         )
+        if sim.motion == "imposed":
+            exact = self.results.imposed if self.results is not None else None
+            text = imposed_markdown(exact, cost, key=self.key_words) + "\n\n" + text
         if self.text.content != text:
             self.text.content = text
         self._chart(mine_run, default_run)
@@ -372,6 +375,26 @@ def _measured(run: Run | None, what: str) -> str:
     if what == "drift":
         return relative(run.drift)
     return with_unit(fmt(run.cpu_per_sim_s, digits=2), "s")
+
+
+def imposed_markdown(exact: Run | None, cost: float, *, key: str = "") -> str:
+    """What « Précision et coût » says first while the motion is imposed: computed
+    exactly at each instant, its error on the reference test and what an evaluation
+    costs (the benchmark's), and that the table below is the free simulation's."""
+    text = (
+        "**Mouvement imposé : calcul exact à chaque instant** (équations de fermeture et "
+        "dynamique inverse : ni intégrateur ni pas de temps)."
+    )
+    if exact is not None and math.isfinite(exact.error):
+        text += (
+            f" Sur l'essai de référence, erreur relative sur {cell(key)} : {relative(exact.error)}"
+        )
+        if math.isfinite(exact.evaluation_s):
+            text += f", {fmt(exact.evaluation_s * 1e6, digits=2)} µs de calcul par image"
+        text += "."
+    if math.isfinite(cost) and cost > 0:
+        text += f" Cette session : {fmt(cost, digits=3)} s de calcul par seconde simulée."
+    return text + " Le tableau ci-dessous vaut pour le mouvement libre (simulé)."
 
 
 def accuracy_markdown(

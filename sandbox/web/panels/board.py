@@ -24,6 +24,7 @@ from sandbox.web.panels.board_table import (
     SORT_LABEL,
     SORTS,
     board_html,
+    capacity_words,
     csv_text,
     duration,
     sort_rows,
@@ -96,6 +97,7 @@ class BoardPanel:
         self.challenge: viser.GuiDropdownHandle[str] | None = None
         with self.folder:
             self.summary = gui.add_markdown(WAITING)
+            self.capacity = gui.add_markdown("")
             if self.challenges and announce is not None:
                 titles = tuple(self.challenges)
                 self.challenge = gui.add_dropdown(
@@ -180,8 +182,11 @@ class BoardPanel:
             rows = sort_rows(board.rows, self.by)
             text = summary(rows, board.left_out)
             html = board_html(rows)
+            load = capacity_words(board.load)
             if self.summary.content != text:
                 self.summary.content = text
+            if self.capacity.content != load:
+                self.capacity.content = load
             if self.table.content != html:
                 self.table.content = html
 

@@ -23,6 +23,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
 
+from sandbox.web.loop.capacity import Load
+
 MAX_NAME = 40
 """Longest name a student may give [characters]."""
 
@@ -220,6 +222,8 @@ class Board:
     rows: tuple[Row, ...] = ()
     left_out: int = 0
     run: Run | None = None
+    load: Load | None = None
+    """What the class's sessions cost, every process's added up (None: not measured)."""
 
     def wire(self) -> dict[str, Any]:
         """As plain values, for a pipe between processes."""
@@ -228,6 +232,7 @@ class Board:
             "rows": [to_wire(r) for r in self.rows],
             "left_out": self.left_out,
             "run": self.run.wire() if self.run is not None else None,
+            "load": self.load.wire() if self.load is not None else None,
         }
 
     @classmethod
@@ -241,4 +246,5 @@ class Board:
         checked = [from_wire(r) for r in rows[:MAX_ROWS]]
         count = left_out if isinstance(left_out, int) else 0
         rows_ = tuple(r for r in checked if r is not None)
-        return cls(float(start), rows_, max(count, 0), Run.from_wire(data.get("run")))
+        run, load = Run.from_wire(data.get("run")), Load.from_wire(data.get("load"))
+        return cls(float(start), rows_, max(count, 0), run, load)

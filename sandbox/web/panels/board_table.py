@@ -16,6 +16,8 @@ import unicodedata
 from collections.abc import Iterable, Sequence
 
 from sandbox.web.client.text import html_text
+from sandbox.web.loop.capacity import ESTIMATE_FPS, Load, students_at
+from sandbox.web.loop.frame import FPS
 from sandbox.web.panels.board_rows import MAX_NAME, Row
 
 SORT_LABEL = "Trier par"
@@ -214,6 +216,32 @@ def summary(rows: Sequence[Row], left_out: int = 0) -> str:
         s = "s" if left_out > 1 else ""
         text += f" Tableau plein : {left_out} autre{s} non affiché{s}."
     return text
+
+
+def capacity_words(load: Load | None) -> str:
+    """What the laptop holds, in the teacher's words (markdown): « Ce portable tient
+    environ N élèves sur cette scène », the frame rate when the class's was lowered, and
+    « Portable saturé » past the lowest one ("" before anything was measured)."""
+    if load is None:
+        return ""
+    held = students_at(load)
+    lines = []
+    if held is not None:
+        lines.append(
+            f"Ce portable tient environ **{held} élève{'s' if held > 1 else ''}** sur cette "
+            f"scène, à {ESTIMATE_FPS:.0f} images par seconde."
+        )
+    if load.saturated:
+        lines.append(
+            "**Portable saturé : les nouveaux élèves suivent votre simulation** (projetée, "
+            "sans réglages personnels) ; fermez d'autres programmes ou ajoutez une machine."
+        )
+    elif load.fps < FPS - 0.5:
+        lines.append(
+            f"Portable chargé : images abaissées à {load.fps:.0f} par seconde pour tous ; "
+            "le temps simulé reste celui de l'horloge."
+        )
+    return "\n\n".join(lines)
 
 
 def board_html(rows: Sequence[Row]) -> str:

@@ -172,13 +172,6 @@ class ControlPanel:
             self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
             self.speed = speed_slider(gui, "Temps simulé divisé par le temps réel (1 : temps réel)")
             on_user(self.speed, lambda v: submit(Request("speed", v)))
-            self.motion: viser.GuiDropdownHandle[str] | None = None
-            if len(sim.motions) > 1:
-                words = tuple(MOTION_WORDS[m] for m in sim.motions)
-                self.motion = gui.add_dropdown(
-                    MOTION_LABEL, words, initial_value=MOTION_WORDS[sim.motion], hint=MOTION_HINT
-                )
-                on_user(self.motion, lambda v: submit(Request("motion", _motion_name(v))))
             self.record = gui.add_button_group(
                 "Enregistrer",
                 RECORD_IDLE,
@@ -186,6 +179,16 @@ class ControlPanel:
             )
             self.record.on_click(lambda event: submit(command(RECORD_KINDS, event.target.value)))
             with gui.add_folder(NUMERICS_FOLDER, expand_by_default=False):
+                self.motion: viser.GuiDropdownHandle[str] | None = None
+                if len(sim.motions) > 1:
+                    words = tuple(MOTION_WORDS[m] for m in sim.motions)
+                    self.motion = gui.add_dropdown(
+                        MOTION_LABEL,
+                        words,
+                        initial_value=MOTION_WORDS[sim.motion],
+                        hint=MOTION_HINT,
+                    )
+                    on_user(self.motion, lambda v: submit(Request("motion", _motion_name(v))))
                 labels = tuple(integrator_label(n) for n in INTEGRATORS)
                 self.integrator = gui.add_dropdown(
                     INTEGRATOR_LABEL,

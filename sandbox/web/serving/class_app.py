@@ -2,6 +2,12 @@
 simulation; the teacher's secret link ``/prof/<token>`` opens the teacher's own
 simulation plus "La classe"; every other page gets "Votre prénom" and a row on the
 board. In follow mode the teacher's page has it too (:mod:`sandbox.web.serving.follow`).
+
+When the process is saturated (its frame rate at the governor's floor and still too
+costly, :mod:`sandbox.web.loop.governor`), a student who arrives follows the teacher's
+simulation instead, drawn once into the broadcast scene for every such student (the
+follow mode's view, which costs nothing per student): the teacher's own when the
+teacher's page is served by this process, else one shared copy at the class's settings.
 """
 
 from __future__ import annotations
@@ -12,14 +18,29 @@ from collections.abc import Callable
 
 import viser
 
-from sandbox.web.loop import Session
+from sandbox.web.loop import Controller, Session
+from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.panels.board import name_field, teacher_path
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
+from sandbox.web.serving.follow import FOLLOWER_FPS, SHARED, BroadcastView, FollowerView
 from sandbox.web.serving.server import App
+from sandbox.web.view3d.camera import point_camera
 from sandbox.web.views.browser import WebView
 
 log = logging.getLogger(__name__)
+
+SATURATED_INTRO = (
+    "Le portable du professeur est saturé : vous suivez la simulation qu'il projette, "
+    "sans réglages personnels. « Ma simulation » vous en donnera une dès qu'il aura de "
+    "la place."
+)
+"""What a student who arrives while the process is saturated reads first."""
+
+STILL_SATURATED = (
+    "Le portable du professeur est encore saturé : restez sur la simulation projetée pour "
+    "l'instant, puis réessayez."
+)
 
 
 class ClassApp(App):
@@ -34,6 +55,10 @@ class ClassApp(App):
         token: Secret of the teacher's link (random when None).
         max_sessions: Browsers served at once by this process.
         port: The port students reach (the workers' shared one).
+        shared: Makes the class's shared simulation (at the server's settings) that the
+            students arriving on a saturated process follow when the teacher's page is
+            not served here (None: they always get their own).
+        scheduler: The loop whose governor says when the process is saturated.
     """
 
     def __init__(
@@ -45,11 +70,19 @@ class ClassApp(App):
         token: str | None = None,
         max_sessions: int,
         port: int | None = None,
+        shared: Callable[[], Controller] | None = None,
+        scheduler: Scheduler | None = None,
     ) -> None:
         self.build = factory
+        self.shared = shared
+        self.scheduler = scheduler or Scheduler.shared()
         self.token = token or secrets.token_urlsafe(9)
         network.page_alias(teacher_path(self.token))
         self.classroom = Classroom(lambda cid: self.connected(cid))
+        self.broadcast: BroadcastView | None = None
+        self._broadcast_session: Session | None = None
+        self._teacher: tuple[int, Controller] | None = None  # the teacher's page here
+        self.overflow: set[int] = set()  # students following because of saturation
         super().__init__(server, host, self._open, max_sessions=max_sessions, port=port)
         self.classroom.start()
 
@@ -59,13 +92,24 @@ class ClassApp(App):
         return self.url + teacher_path(self.token)
 
     def _open(self, client: viser.ClientHandle) -> Session:
+        teacher = network.request_path(self.server, client.client_id) == teacher_path(self.token)
+        if not teacher and self.shared is not None and self.scheduler.governor.saturated:
+            try:
+                return self._follower(client)
+            except Exception:  # a simulation of their own, then: never no page at all
+                log.exception("a student could not follow the projected simulation")
+                client.gui.reset()
+                client.scene.reset()
         session = self.build(client)
+        self._hide_broadcast(client)
         try:  # the board is not worth a session: a failure here is only logged
-            if network.request_path(self.server, client.client_id) == teacher_path(self.token):
+            if teacher:
                 scene = session.controller.sim.scene
                 self.classroom.teacher(client, scene=scene.name if scene is not None else "")
+                if isinstance(session.controller, Controller):
+                    self._teacher = (client.client_id, session.controller)
             else:
-                box = name_field(client.gui)
+                box = name_field(client.gui, self.classroom.name_of(client.client_id))
                 sim = session.controller.sim
                 view = session.view if isinstance(session.view, WebView) else None
                 self.classroom.student(client, sim, view, field=box)
@@ -73,10 +117,79 @@ class ClassApp(App):
             log.exception("the class board could not take this browser")
         return session
 
+    @staticmethod
+    def _hide_broadcast(client: viser.ClientHandle) -> None:
+        """A page with a simulation of its own never shows the projected one (drawn for
+        the students who follow it, should the process saturate): a node of this page
+        named like its folder hides it here only."""
+        client.scene.add_frame(SHARED, show_axes=False, visible=False)
+
+    # -- the students who arrive on a saturated process ----------------------------------
+    def _projected(self) -> BroadcastView:
+        """The broadcast the saturated process's new students follow (made once): the
+        teacher's simulation when their page is here, else the class's shared copy."""
+        if self.broadcast is None:
+            teacher = self._teacher
+            if teacher is not None and self.connected(teacher[0]):
+                controller, drive = teacher[1], False  # the teacher's page steps it
+            else:
+                assert self.shared is not None
+                controller, drive = self.shared(), True
+            self.broadcast = BroadcastView(self.server, controller)
+            self._broadcast_session = Session(controller, self.broadcast, drive=drive)
+            self._broadcast_session.start()
+        return self.broadcast
+
+    def _follower(self, client: viser.ClientHandle) -> Session:
+        cid = client.client_id
+        broadcast = self._projected()
+        point_camera(client, broadcast.controller.sim)
+        view = FollowerView(client, broadcast, lambda: self._own(client), intro=SATURATED_INTRO)
+        box = name_field(client.gui, self.classroom.name_of(cid))
+        self.classroom.student(client, broadcast.controller.sim, mode="follow", field=box)
+        self.overflow.add(cid)
+        return Session(
+            broadcast.controller, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid),
+            drive=False,
+        )  # fmt: skip
+
+    def _own(self, client: viser.ClientHandle) -> None:
+        """A following student asks for a simulation of their own: given once the
+        process is no longer saturated, else a French line says to wait."""
+        cid = client.client_id
+        if self.scheduler.governor.saturated:
+            client.add_notification("Classe", STILL_SATURATED, auto_close_seconds=8.0)
+            return
+        with self._lock:
+            old = self.sessions.pop(cid, None)
+        if old is None:
+            return
+        old.stop()
+        self.overflow.discard(cid)
+        client.gui.reset()
+        client.scene.reset()
+        try:
+            session = self._open(client)
+        except Exception:
+            log.exception("a student's own simulation could not be made")
+            session = self._follower(client)
+        with self._lock:
+            self.sessions[cid] = session
+        session.start()
+
     def _disconnect(self, client: viser.ClientHandle) -> None:
         super()._disconnect(client)
         self.classroom.forget(client.client_id)
+        self.overflow.discard(client.client_id)
+        teacher = self._teacher
+        if teacher is not None and teacher[0] == client.client_id:
+            self._teacher = None
+            session = self._broadcast_session
+            if session is not None and session.controller is teacher[1]:
+                session.drive = True  # nobody steps the teacher's simulation now: this one
 
     def stop(self) -> None:
         self.classroom.stop()
+        if self._broadcast_session is not None:
+            self._broadcast_session.stop()
         super().stop()

@@ -23,6 +23,8 @@ import viser
 
 from sandbox.challenges import for_scene, start
 from sandbox.physics.simulation import Simulation
+from sandbox.web.loop.capacity import Load
+from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.panels.board import BoardPanel
 from sandbox.web.panels.board_rows import REFRESH, Board, Row, Run, clean_name, from_wire, to_wire
 from sandbox.web.panels.student_rows import Readouts, Student, StudentPage, student_row
@@ -39,9 +41,12 @@ ARRIVAL_GAP = 0.25
 class Hub(Protocol):
     """Where a process's rows go: merged here, or sent to the parent process."""
 
-    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
+    def publish(
+        self, rows: list[dict[str, Any]], wants: bool, load: dict[str, Any] | None = None
+    ) -> None:
         """This process's students now (wire dicts); ``wants``: a teacher's page here
-        waits for the merged board."""
+        waits for the merged board; ``load``: what its sessions cost (a wire
+        :class:`~sandbox.web.loop.capacity.Load`)."""
 
     def announce(self, run: Run) -> None:
         """A teacher here started or stopped a challenge (every process is told)."""
@@ -68,10 +73,12 @@ class LocalHub:
         self.clock = clock
         self.run: Run | None = None
 
-    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
+    def publish(
+        self, rows: list[dict[str, Any]], wants: bool, load: dict[str, Any] | None = None
+    ) -> None:
         now = self.clock()
         checked = [r for r in (from_wire(d) for d in rows) if r is not None]
-        self.roster.update("local", checked, now)
+        self.roster.update("local", checked, now, Load.from_wire(load))
         if wants:
             self.deliver(replace(self.roster.board(now), run=self.run))
 
@@ -91,6 +98,8 @@ class Classroom:
         connected: Whether a browser is still connected (by client id).
         clock: Wall clock [s].
         period: Seconds between readings.
+        load: What this process's sessions cost now (default: the process loop's
+            governor); before any is measured, :attr:`first` (the start-up measure).
     """
 
     def __init__(
@@ -99,8 +108,12 @@ class Classroom:
         *,
         clock: Callable[[], float] = time.time,
         period: float = REFRESH,
+        load: Callable[[], Load] | None = None,
     ) -> None:
         self.connected = connected
+        self.load = load or (lambda: Scheduler.shared().governor.load)
+        self.first: Load | None = None
+        """The capacity measure taken at the start, before any session (None: none)."""
         self.clock = clock
         self.period = period
         self.start_time = clock()
@@ -217,11 +230,22 @@ class Classroom:
         try:
             with self._lock:
                 wants = bool(self._teachers)
-            self.hub.publish([to_wire(r) for r in self.rows()], wants)
+            self.hub.publish([to_wire(r) for r in self.rows()], wants, self._load())
         except Exception:
             if not self._failed:  # once: the next ticks would say the same
                 self._failed = True
                 log.exception("the class board could not be read")
+
+    def _load(self) -> dict[str, Any] | None:
+        """What this process's sessions cost: measured live once a session runs, else
+        the start-up measure (None: neither yet)."""
+        live = self.load()
+        if live.sessions > 0 and live.frames > 0:
+            return live.wire()
+        first = self.first
+        if first is None:
+            return None
+        return replace(first, fps=live.fps, saturated=live.saturated).wire()
 
     # -- challenges ------------------------------------------------------------------------
     def announce(self, run: Run) -> None:

@@ -159,16 +159,19 @@ class FollowerView:
     readouts, and the way out to a simulation of their own."""
 
     def __init__(
-        self, client: viser.ClientHandle, broadcast: BroadcastView, on_own: Callable[[], None]
+        self,
+        client: viser.ClientHandle,
+        broadcast: BroadcastView,
+        on_own: Callable[[], None],
+        *,
+        intro: str = "Vous suivez la simulation que le professeur projette.",
     ) -> None:
         self.broadcast = broadcast
         self._seen = -1
         client.gui.configure_theme(control_width="large", show_share_button=False)
         client.gui.add_html(style_html(FONT_SIZES[0]))  # the page's 16 px text
         with client.gui.add_folder("Simulation du professeur"):
-            self.intro = client.gui.add_markdown(
-                "Vous suivez la simulation que le professeur projette."
-            )
+            self.intro = client.gui.add_markdown(intro)
             self.text = client.gui.add_markdown("")
             self.own = client.gui.add_button(
                 OWN,

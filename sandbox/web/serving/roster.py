@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
 
+from sandbox.web.loop.capacity import Load, merged
 from sandbox.web.panels.board_rows import KEEP_GONE, MAX_ROWS, STALE, Board, Row
 
 
@@ -59,12 +60,18 @@ class Roster:
         self._left_out: dict[Hashable, int] = {}  # students not listed, by source
         self._entries: dict[str, _Entry] = {}
         self._heard: dict[Hashable, float] = {}
+        self._loads: dict[Hashable, Load] = {}
         self._next = 1
 
-    def update(self, source: Hashable, rows: Sequence[Row], now: float) -> None:
+    def update(
+        self, source: Hashable, rows: Sequence[Row], now: float, load: Load | None = None
+    ) -> None:
         """The rows ``source`` has now (its connected students); those it no longer has
-        are marked gone at ``now``."""
+        are marked gone at ``now``. ``load``: what the source's sessions cost (the
+        capacity estimate adds every source's)."""
         self._heard[source] = now
+        if load is not None:
+            self._loads[source] = load
         seen = set()
         for row in sorted(rows, key=lambda r: (r.joined, r.key)):
             seen.add(row.key)
@@ -92,6 +99,7 @@ class Roster:
         """``source`` is gone (a worker restarted): its students count as gone."""
         self._heard.pop(source, None)
         self._left_out.pop(source, None)
+        self._loads.pop(source, None)
         for entry in self._entries.values():
             if entry.source == source and entry.row.connected:
                 entry.row = replace(entry.row, left=now)
@@ -121,4 +129,6 @@ class Roster:
 
     def board(self, now: float) -> Board:
         """The merged board at ``now``."""
-        return Board(self.start, tuple(self.rows(now)), self.left_out)
+        rows = tuple(self.rows(now))
+        load = merged(self._loads.values()) if self._loads else None
+        return Board(self.start, rows, self.left_out, load=load)

@@ -5,21 +5,26 @@ names the addresses to open.
 
 from __future__ import annotations
 
+import logging
 import sys
-from collections.abc import Mapping
+import threading
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import viser
 
 from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
-from sandbox.web.loop import Controller, Session
+from sandbox.web.loop import Controller, Session, first_estimate
 from sandbox.web.serving import addresses, network
 from sandbox.web.serving.class_app import ClassApp
+from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.follow import FollowApp
 from sandbox.web.serving.server import MAX_SESSIONS, SimOptions, open_server
 from sandbox.web.views import share as share_panel
 from sandbox.web.views.browser import WebView
+
+log = logging.getLogger(__name__)
 
 SWITCH_INTERVAL = 0.0005
 """Seconds a thread may hold the interpreter lock while another waits (Python's
@@ -108,11 +113,34 @@ def start(
             share_panel.attach(server, client, view, lesson=opened)  # "Partager", a link
             return Session(controller, view)
 
-        app = ClassApp(server, host, session, token=token, max_sessions=max_sessions, port=bound)
+        app = ClassApp(
+            server,
+            host,
+            session,
+            token=token,
+            max_sessions=max_sessions,
+            port=bound,
+            shared=lambda: Controller(Simulation(target, **options)),
+        )
+    measure_capacity(app.classroom, lambda: Controller(Simulation(target, **options)))
     if open_message:
         teacher = app.teacher_url
         print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)
     return app
+
+
+def measure_capacity(classroom: Classroom, controller: Callable[[], Controller]) -> None:
+    """The first capacity estimate, before any student: one session of the served scene
+    measured for two seconds in a thread of its own (:mod:`sandbox.web.loop.first_estimate`),
+    then given to the class board."""
+
+    def run() -> None:
+        try:
+            classroom.first = first_estimate.measure(controller)
+        except Exception:  # an estimate is a bonus: the board waits for the live one
+            log.exception("the first capacity estimate failed")
+
+    threading.Thread(target=run, name="sandbox-capacity", daemon=True).start()
 
 
 def _public(host: str) -> bool:

@@ -128,10 +128,12 @@ class WorkerHub:
         self._thread = threading.Thread(target=self._receive, name="sandbox-board-in", daemon=True)
         self._thread.start()
 
-    def publish(self, rows: list[dict[str, Any]], wants: bool) -> None:
-        """This worker's students to the parent (never blocks: the queue's own thread
-        sends)."""
-        self.events.put(("board", self.index, (rows, wants)))
+    def publish(
+        self, rows: list[dict[str, Any]], wants: bool, load: dict[str, Any] | None = None
+    ) -> None:
+        """This worker's students and what its sessions cost, to the parent (never
+        blocks: the queue's own thread sends)."""
+        self.events.put(("board", self.index, (rows, wants, load)))
 
     def announce(self, run: Run) -> None:
         """A teacher here started or stopped a challenge: to the parent, which tells every

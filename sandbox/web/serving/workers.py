@@ -43,6 +43,7 @@ from typing import Any
 from sandbox.cores import DEFAULT_WORKERS_CAP as DEFAULT_WORKERS_CAP  # re-exported
 from sandbox.cores import default_workers as default_workers  # re-exported
 from sandbox.errors import BadOption
+from sandbox.web.loop.capacity import Load
 from sandbox.web.panels.board_rows import MAX_ROWS, REFRESH, SETTLE, Run, from_wire
 from sandbox.web.serving.front import Front
 from sandbox.web.serving.roster import Roster
@@ -277,13 +278,16 @@ class WorkerPool:
     def _board(self, index: int, detail: object) -> None:
         """A worker's students: merged; the board to the workers where a teacher waits,
         once a second, and at once when someone arrives, leaves or is named."""
-        if not (isinstance(detail, tuple) and len(detail) == 2 and isinstance(detail[0], list)):
+        if not (
+            isinstance(detail, tuple) and len(detail) in (2, 3) and isinstance(detail[0], list)
+        ):
             log.warning("worker %d sent an unreadable class board", index)
             return
         rows: list[object] = detail[0]
         checked = [r for r in (from_wire(d) for d in rows[:MAX_ROWS]) if r is not None]
         now = time.time()
-        self.roster.update(index, checked, now)
+        load = Load.from_wire(detail[2]) if len(detail) == 3 else None
+        self.roster.update(index, checked, now, load)
         if detail[1]:
             self._teachers.add(index)
         else:

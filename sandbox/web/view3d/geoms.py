@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from sandbox.physics.picture import body_groups, geom_local_poses
+from sandbox.physics.picture import body_groups, carriers, geom_local_poses
 
 _T = mujoco.mjtGeom
 KINDS: dict[int, str] = {
@@ -168,17 +168,29 @@ def geom_shapes(model: mujoco.MjModel, *, prefix: str = "/model") -> list[GeomSh
             size = (marker,)
         if moving:
             local = tuple(float(x) for x in locals_[i])
-            node = f"{body_frame(prefix, body)}/{i}_{name}"
+            node = f"{body_frame(prefix, body, model)}/{i}_{name}"
             shapes.append(GeomShape(i, node, kind, size, rgba, True, mesh_id, body, local))
         else:
             shapes.append(GeomShape(i, f"{prefix}/{i}_{name}", kind, size, rgba, False, mesh_id))
     return shapes
 
 
-def body_frame(prefix: str, body: int) -> str:
+def body_frame(prefix: str, body: int, model: mujoco.MjModel | None = None) -> str:
     """Scene-tree name of the frame that carries the geoms of a moving group (``body``:
-    the group's root)."""
-    return f"{prefix}/body{body}"
+    the group's root): under the frame of the group that carries it, when ``model`` says
+    it is carried (:func:`~sandbox.physics.picture.carriers`: hanging there, it needs its
+    orientation only, a message less a frame), else at the top of ``prefix``."""
+    path = f"/body{body}"
+    if model is not None:
+        roots, _ = body_groups(model)
+        index = {int(r): k for k, r in enumerate(roots)}
+        carried = carriers(model)
+        k = index.get(body)
+        while k is not None and carried[k]:
+            body = int(carried[k])
+            path = f"/body{body}{path}"
+            k = index.get(body)
+    return f"{prefix}{path}"
 
 
 def mat_to_wxyz(mat: np.ndarray) -> np.ndarray:

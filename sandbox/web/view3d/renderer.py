@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 import viser
 
-from sandbox.physics.picture import Picture, body_groups, geom_local_poses
+from sandbox.physics.picture import Picture, body_groups, carriers, geom_local_poses
 from sandbox.web.client import wire
 from sandbox.web.view3d.geoms import (
     GeomShape,
@@ -77,6 +77,23 @@ def add_node(
     raise ValueError(f"cannot draw geom kind {shape.kind!r}")
 
 
+def _in_carriers(poses: np.ndarray, carrier: np.ndarray) -> np.ndarray:
+    """``poses`` (G, 7: x, y, z, w, qx, qy, qz in the world) with each carried group's
+    pose expressed in its carrier's frame (``carrier``: the carrier's index, -1 for none):
+    q = q_c⁻¹ q_k, p = q_c⁻¹ (p_k − p_c) q_c."""
+    if len(carrier) != len(poses) or not (carrier >= 0).any():
+        return poses
+    out = poses.copy()
+    inv, pos, quat = np.zeros(4), np.zeros(3), np.zeros(4)
+    for k in np.flatnonzero(carrier >= 0):
+        c = poses[int(carrier[k])]
+        mujoco.mju_negQuat(inv, c[3:])
+        mujoco.mju_rotVecQuat(pos, poses[k, :3] - c[:3], inv)
+        mujoco.mju_mulQuat(quat, inv, poses[k, 3:])
+        out[k, :3], out[k, 3:] = pos, quat
+    return out
+
+
 def _triple(size: tuple[float, ...]) -> tuple[float, float, float]:
     x, y, z = size
     return (x, y, z)
@@ -92,7 +109,10 @@ class SceneRenderer:
 
     Moving geoms are children of their group's frame, placed once at their pose in the
     group; every frame then sends a position and an orientation per group that moved (not
-    one per geom, nor per welded body), and nothing for a still one.
+    one per geom, nor per welded body), and nothing for a still one. A group turning about
+    a point of another (:func:`~sandbox.physics.picture.carriers`: a rod on its piston)
+    hangs under that group's frame: its pose is sent in it, so its position never changes
+    and only its orientation is sent.
 
     Args:
         scene: A viser ``SceneApi`` (``client.scene``, or ``server.scene`` for all).
@@ -105,9 +125,12 @@ class SceneRenderer:
         self.model: mujoco.MjModel | None = None
         self.nodes: dict[int, tuple[GeomShape, viser.SceneNodeHandle]] = {}
         self.bodies: dict[int, viser.FrameHandle] = {}
+        self._paths: dict[int, str] = {}  # scene-tree name of each group's frame
         self.labels: dict[int, tuple[str, viser.LabelHandle, int]] = {}  # geom: text, node, group
         self._sent = np.zeros((0, 7))  # last pose sent of each group of ``_roots``
         self._roots = np.zeros(0, dtype=int)
+        self._carrier = np.zeros(0, dtype=int)  # index in _roots of each group's carrier, -1
+        self._world = np.zeros((0, 7))  # the groups' last world poses drawn
         self._turned = np.zeros(0)  # angle turned by each group since label_boxes [rad]
         self._move = 0.0  # POSE_MOVE times the mechanism's size [m]
         self.label_scale = LABEL_EM * 16 / PX_PER_SCALE  # viser's font_screen_scale
@@ -135,8 +158,17 @@ class SceneRenderer:
             self._roots = roots.copy()
             self._sent = np.full((len(roots), 7), np.nan)
             self._turned = np.zeros(len(roots))
+            index = {int(r): k for k, r in enumerate(roots)}
+            carried = carriers(model) if len(roots) == len(body_groups(model)[0]) else None
+            self._carrier = np.array(
+                [index.get(int(c), -1) if carried is not None and c else -1
+                 for c in (carried if carried is not None else np.zeros(len(roots)))],
+                dtype=int,
+            )  # fmt: skip
         if len(roots) == 0:
             return
+        self._world = poses
+        poses = _in_carriers(poses, self._carrier)
         sent = self._sent
         ok = np.isfinite(poses).all(axis=1)
         moved = ~(np.abs(poses[:, :3] - sent[:, :3]).max(axis=1) <= self._move)  # NaN: never sent
@@ -159,17 +191,26 @@ class SceneRenderer:
                 sent[k, 3:] = poses[k, 3:]
                 self.messages += 1
 
+    def _frame_world(self, root: int) -> tuple[np.ndarray, np.ndarray]:
+        """World position and (w, x, y, z) of a group's frame, as last drawn."""
+        hits = np.flatnonzero(self._roots == root)
+        if hits.size and len(self._world) == len(self._roots):
+            pose = self._world[int(hits[0])]
+            return np.asarray(pose[:3], float), np.asarray(pose[3:], float)
+        frame = self.bodies[root]
+        return np.asarray(frame.position, float), np.asarray(frame.wxyz, float)
+
     def world_pose(self, geom_id: int) -> tuple[np.ndarray, np.ndarray]:
         """Where the browser draws a geom: world position [m] and (w, x, y, z)."""
         shape, node = self.nodes[geom_id]
         if not shape.moving:
             return np.asarray(node.position, float), np.asarray(node.wxyz, float)
-        frame = self.bodies[shape.body]
+        position, wxyz = self._frame_world(shape.body)
         quat = np.zeros(4)
-        mujoco.mju_mulQuat(quat, np.asarray(frame.wxyz, float), np.asarray(shape.local[3:]))
+        mujoco.mju_mulQuat(quat, wxyz, np.asarray(shape.local[3:]))
         offset = np.zeros(3)
-        mujoco.mju_rotVecQuat(offset, np.asarray(shape.local[:3]), np.asarray(frame.wxyz, float))
-        return np.asarray(frame.position, float) + offset, quat
+        mujoco.mju_rotVecQuat(offset, np.asarray(shape.local[:3]), wxyz)
+        return position + offset, quat
 
     def label_geoms(self, texts: dict[int, str]) -> None:
         """Labels riding on moving geoms (``texts``: geom -> words), children of their
@@ -197,7 +238,7 @@ class SceneRenderer:
             if old is not None:
                 old[1].remove()
             label = self.scene.add_label(
-                f"{body_frame(self.prefix, root)}/label{g}",
+                f"{self._paths.get(root) or body_frame(self.prefix, root)}/label{g}",
                 text,
                 position=np.array(local[g, :3]),
                 anchor="bottom-center",
@@ -222,14 +263,13 @@ class SceneRenderer:
         boxes: list[Rect] = []
         index = {int(root): k for k, root in enumerate(self._roots)}
         for text, label, root in self.labels.values():
-            frame = self.bodies.get(root)
-            if frame is None:
+            if self.bodies.get(root) is None:
                 continue
-            wxyz = np.asarray(frame.wxyz, dtype=float)
+            position, wxyz = self._frame_world(root)
             local = np.asarray(label.position, dtype=float)
             world = np.zeros(3)
             mujoco.mju_rotVecQuat(world, local, wxyz)
-            x, y, depth = camera.project(np.asarray(frame.position, dtype=float) + world)
+            x, y, depth = camera.project(position + world)
             if not math.isfinite(x):
                 continue
             k = index.get(int(root))
@@ -249,6 +289,12 @@ class SceneRenderer:
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:
         """Keep nodes whose shape is unchanged, replace the others; returns new ids."""
         wanted = {s.geom_id: s for s in geom_shapes(model, prefix=self.prefix)}
+        paths = {
+            b: body_frame(self.prefix, b, model)
+            for b in {s.body for s in wanted.values() if s.moving}
+        }
+        if any(self._paths.get(b, paths[b]) != paths[b] for b in paths if b in self.bodies):
+            self.clear()  # a group hangs elsewhere now: every node made again
         for gid in list(self.nodes):
             shape, node = self.nodes[gid]
             if wanted.get(gid) != shape:
@@ -259,8 +305,9 @@ class SceneRenderer:
             self.bodies.pop(body).remove()
             for g in [g for g, (_, _, root) in self.labels.items() if root == body]:
                 del self.labels[g]  # removed with its frame
-        for body in sorted(moving - set(self.bodies)):
-            self.bodies[body] = self.scene.add_frame(body_frame(self.prefix, body), show_axes=False)
+        for body in sorted(moving - set(self.bodies)):  # a carrier before what it carries
+            self._paths[body] = paths[body]
+            self.bodies[body] = self.scene.add_frame(paths[body], show_axes=False)
         self._sent[:] = np.nan  # the new frames know no pose yet
         self._move = POSE_MOVE * mechanism_size(model)
         fresh = []
@@ -291,6 +338,7 @@ class SceneRenderer:
         self.nodes.clear()
         self.labels.clear()
         self.bodies.clear()
+        self._paths.clear()
         self._sent = np.zeros((0, 7))
         self._roots = np.zeros(0, dtype=int)
         self.model = None

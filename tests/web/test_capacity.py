@@ -1,0 +1,107 @@
+"""How many students the laptop holds (sandbox.web.loop.capacity, first_estimate), the
+board's words for it, and the students who arrive on a saturated process following the
+projected simulation (sandbox.web.serving.class_app)."""
+
+from __future__ import annotations
+
+import pytest
+from conftest import free_port, wait_for
+
+from sandbox.physics.simulation import Simulation
+from sandbox.web.loop.capacity import Load, merged, students_at, students_for
+from sandbox.web.loop.controller import Controller
+from sandbox.web.loop.first_estimate import measure
+from sandbox.web.loop.scheduler import Scheduler
+from sandbox.web.panels.board_rows import Board
+from sandbox.web.panels.board_table import capacity_words
+from sandbox.web.serving.roster import Roster
+
+
+def test_a_load_travels_between_processes_and_a_crafted_one_is_dropped():
+    load = Load(sessions=15, frames=900.0, cpu=0.9, stepping=0.2, fps=45.0, saturated=False)
+    assert Load.from_wire(load.wire()) == load
+    for bad in ([1], {"sessions": "15"}, {"cpu": float("nan")}, {"frames": -1},
+                {"saturated": "yes"}, {"sessions": True}):  # fmt: skip
+        assert Load.from_wire(bad) is None
+
+
+def test_the_estimate_is_the_cores_over_a_student_s_cost_at_30_frames():
+    # 1 ms a frame, no stepping: 30 frames/s is 0.03 core a student; 2 cores at 85 %
+    assert students_for(0.0, 1e-3, cores=2) == 56
+    assert students_for(0.03, 1e-3, cores=2) == 28  # stepping doubles it
+    load = Load(sessions=30, frames=30 * 45.0, cpu=30 * (0.01 + 45 * 0.5e-3), stepping=0.3)
+    # a student: 0.01 core of stepping and 0.5 ms a frame -> 0.025 core at 30 frames/s
+    assert students_at(load, cores=2) == 68
+    assert students_at(Load(), cores=2) is None
+
+
+def test_the_board_adds_the_workers_loads_and_says_it_in_words():
+    roster = Roster(0.0)
+    one = Load(sessions=15, frames=675.0, cpu=0.45, stepping=0.15, fps=45.0)
+    two = Load(sessions=15, frames=675.0, cpu=0.45, stepping=0.15, fps=40.0)
+    roster.update(0, [], 1.0, one)
+    roster.update(1, [], 1.0, two)
+    board = roster.board(1.0)
+    assert board.load == merged([one, two])
+    assert Board.from_wire(board.wire()) == board
+    words = capacity_words(board.load)
+    assert "Ce portable tient environ **" in words and "élèves** sur cette scène" in words
+    assert "images abaissées à 40 par seconde pour tous" in words
+    saturated = capacity_words(Load(sessions=30, frames=450, cpu=1.9, stepping=1.0,
+                                    fps=15.0, saturated=True))  # fmt: skip
+    assert "Portable saturé : les nouveaux élèves suivent votre simulation" in saturated
+    assert capacity_words(None) == ""
+    roster.drop(1, 2.0)
+    assert roster.board(2.0).load == one
+
+
+def test_the_first_estimate_measures_one_session_of_the_scene():
+    """Two seconds of one session's frames (a fake clock: no wait), its stepping and
+    its frames on this thread's CPU."""
+
+    class Clock:
+        now = 0.0
+
+        def __call__(self) -> float:
+            return self.now
+
+    clock = Clock()
+
+    def sleep(seconds: float) -> None:
+        clock.now += max(seconds, 1 / 60)
+
+    load = measure(lambda: Controller(Simulation("rotor"), clock=clock), sleep=sleep)
+    assert load.sessions == 1
+    assert load.frames == pytest.approx(60.0, rel=0.05)
+    assert load.cpu > load.stepping > 0
+    assert students_at(load) is not None and students_at(load) > 0
+
+
+@pytest.mark.slow  # a server and two websocket students: a few seconds
+def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulation():
+    from test_board import FakeStudent
+
+    from sandbox.web.serving.app import start
+
+    governor = Scheduler.shared().governor
+    app = start("rotor", port=free_port(), open_message=False, token="tok-sat")
+    url = app.url.replace("http", "ws")
+    students = []
+    try:
+        students.append(FakeStudent(url))
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        assert not app.overflow  # its own simulation
+        # what the governor decides after three windows at 15 frames/s still too costly
+        # (tests/web/test_governor.py): here, said directly
+        governor.saturated = True
+        students.append(FakeStudent(url))
+        assert wait_for(lambda: len(app.sessions) == 2, 30)
+        assert len(app.overflow) == 1  # following, drawn once for every such student
+        assert app.broadcast is not None
+        follower = app.sessions[next(iter(app.overflow))]
+        assert follower.drive is False and follower.controller is app.broadcast.controller
+    finally:
+        governor.saturated = False
+        for s in students:
+            s.close()
+        app.stop()
