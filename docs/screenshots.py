@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 
 from playwright.sync_api import sync_playwright
-from sandbox.web.app import start
+from sandbox.web.serving.app import start
 
 from sandbox.scenes import SCENES
 

@@ -622,3 +622,23 @@ def test_each_reader_thread_unpacks_with_its_own_decompressor():
     for t in threads:
         t.join()
     assert not bad and len({id(d) for d in seen}) == 4
+
+
+@pytest.mark.slow  # a real server, 30 browsers and a core kept busy: about 25 s
+def test_thirty_browsers_beside_a_busy_core_keep_real_time_and_even_frames() -> None:
+    """Issue 35: another program keeps one core busy (the laptop driving a projector and
+    a video call): every session keeps simulated/real >= 0.98, the frame rates within a
+    factor 1.5 of each other; the teacher's board says how many students it holds."""
+    results = rn.run_classroom(
+        "rotor", 30, seconds=6.0, warmup=3.0, drop_clients=0, busy_core=True
+    )
+    main = results["main"]
+    assert results["busy_core"] and main["connected"] == 30 and not main["errors"]
+    rates = [r for r in main["sim_rate_per_client"] if r == r]  # NaN: no status read
+    assert len(rates) >= 25 and min(rates) >= 0.98, sorted(rates)[:3]
+    fps = main["fps_per_client"]
+    assert min(fps) > 0 and max(fps) <= 1.5 * min(fps), sorted(fps)
+    teacher = main["teacher"]
+    assert teacher is not None and teacher["students"] is not None and teacher["students"] > 0
+    assert "students this laptop holds" in rp.report(results)
+    assert any(t["target"].startswith("--busy-core") for t in results["targets"])

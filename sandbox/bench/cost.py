@@ -152,8 +152,9 @@ def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
     """Measure :class:`SessionCost` at the scene's default parameters, integrator and
     timestep, after ``warmup`` simulated seconds (start-up transients, cached revolutions).
 
-    Stepping is timed like :func:`stepping_cost` (one call per batch of at least
-    :data:`MIN_CPU`); a snapshot and a row are timed over a simulated second's worth
+    Stepping is timed a frame's steps at a time (:data:`FRAME_RATE` calls a simulated
+    second, as a web session steps; an imposed motion is evaluated once a call), for at
+    least :data:`MIN_CPU`; a snapshot and a row are timed over a simulated second's worth
     (:data:`FRAME_RATE` and :data:`PANEL_RATE` calls); each is the best of
     :data:`REPEATS`.
     """
@@ -164,7 +165,7 @@ def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
     for _ in range(REPEATS):
         cpu, steps = 0.0, 0
         while cpu < MIN_CPU:
-            n = max(1, int(round(0.05 / dt)))
+            n = max(1, int(round(1.0 / (FRAME_RATE * dt))))  # a frame's steps, as served
             start = time.process_time()
             sim.step(n)
             cpu += time.process_time() - start

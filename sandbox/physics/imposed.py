@@ -39,10 +39,12 @@ MOTIONS = (IMPOSED, FREE)
 """The names of the two ways a scene's motion is computed (``--motion``)."""
 
 MOTION_WORDS = {
-    IMPOSED: "Mouvement imposé (dynamique inverse)",
-    FREE: "Mouvement libre (simulé)",
+    IMPOSED: "imposé (dynamique inverse)",
+    FREE: "libre (simulé)",
 }
-"""The two ways in the page's words."""
+"""The two ways in the page's words, after the control's label « Mouvement » (« Mouvement
+imposé (dynamique inverse) », « Mouvement libre (simulé) »: the whole phrase did not fit
+the control's width on a projector)."""
 
 _EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
 

@@ -409,3 +409,22 @@ def test_a_precision_asked_applies_the_cheapest_measured_setting_that_reaches_it
     assert len(applied) == 1
     panel._asked(object(), "<img>")  # a crafted option
     assert len(applied) == 1 and panel.chosen.content == ""
+
+
+def test_an_imposed_motion_says_it_is_exact_with_the_benchmark_s_error_and_cost():
+    """Issue 35: « Précision et coût » of an imposed motion starts by what it is (exact at
+    each instant), its error on the reference test and an evaluation's cost from
+    bench/results.json, then says the table below is the free simulation's."""
+    from sandbox.bench import load_results
+    from sandbox.web.panels.accuracy import imposed_markdown
+
+    result = load_results("compressor")
+    assert result is not None and result.imposed is not None
+    exact = result.imposed
+    assert exact.motion == "imposed" and exact.error < 1e-12 and exact.evaluation_s > 0
+    text = imposed_markdown(exact, 2e-3, key="Effet de pilon")
+    assert text.startswith("**Mouvement imposé : calcul exact à chaque instant**")
+    assert "erreur relative sur Effet de pilon : < 10⁻¹²" in text
+    assert "µs de calcul par image" in text and "0,002 s de calcul par seconde simulée" in text
+    assert text.endswith("Le tableau ci-dessous vaut pour le mouvement libre (simulé).")
+    assert "." not in text.split("µs")[0].split(":")[-1]  # decimal comma, never a point

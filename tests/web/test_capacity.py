@@ -4,6 +4,8 @@ projected simulation (sandbox.web.serving.class_app)."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import pytest
 from conftest import free_port, wait_for
 
@@ -11,7 +13,6 @@ from sandbox.physics.simulation import Simulation
 from sandbox.web.loop.capacity import Load, merged, students_at, students_for
 from sandbox.web.loop.controller import Controller
 from sandbox.web.loop.first_estimate import measure
-from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.panels.board_rows import Board
 from sandbox.web.panels.board_table import capacity_words
 from sandbox.web.serving.roster import Roster
@@ -83,7 +84,6 @@ def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulat
 
     from sandbox.web.serving.app import start
 
-    governor = Scheduler.shared().governor
     app = start("rotor", port=free_port(), open_message=False, token="tok-sat")
     url = app.url.replace("http", "ws")
     students = []
@@ -92,8 +92,8 @@ def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulat
         assert wait_for(lambda: len(app.sessions) == 1, 30)
         assert not app.overflow  # its own simulation
         # what the governor decides after three windows at 15 frames/s still too costly
-        # (tests/web/test_governor.py): here, said directly
-        governor.saturated = True
+        # (tests/web/test_governor.py): here, a loop whose governor says so
+        app.scheduler = SimpleNamespace(governor=SimpleNamespace(saturated=True))
         students.append(FakeStudent(url))
         assert wait_for(lambda: len(app.sessions) == 2, 30)
         assert len(app.overflow) == 1  # following, drawn once for every such student
@@ -101,7 +101,6 @@ def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulat
         follower = app.sessions[next(iter(app.overflow))]
         assert follower.drive is False and follower.controller is app.broadcast.controller
     finally:
-        governor.saturated = False
         for s in students:
             s.close()
         app.stop()
