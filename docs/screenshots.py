@@ -16,9 +16,9 @@ import time
 from pathlib import Path
 
 from playwright.sync_api import sync_playwright
-from sandbox.web.serving.app import start
 
 from sandbox.scenes import SCENES
+from sandbox.web.serving.app import start
 
 SIZES = ((1280, 720), (1600, 900))
 CHROMIUM_ARGS = [

@@ -629,9 +629,7 @@ def test_thirty_browsers_beside_a_busy_core_keep_real_time_and_even_frames() -> 
     """Issue 35: another program keeps one core busy (the laptop driving a projector and
     a video call): every session keeps simulated/real >= 0.98, the frame rates within a
     factor 1.5 of each other; the teacher's board says how many students it holds."""
-    results = rn.run_classroom(
-        "rotor", 30, seconds=6.0, warmup=3.0, drop_clients=0, busy_core=True
-    )
+    results = rn.run_classroom("rotor", 30, seconds=6.0, warmup=3.0, drop_clients=0, busy_core=True)
     main = results["main"]
     assert results["busy_core"] and main["connected"] == 30 and not main["errors"]
     rates = [r for r in main["sim_rate_per_client"] if r == r]  # NaN: no status read
