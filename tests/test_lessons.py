@@ -58,14 +58,20 @@ def test_every_check_fails_at_the_start_and_passes_in_the_solved_state(name, ind
     values: dict[str, float] = {}
     for earlier in lesson.steps[: index + 1]:
         values.update(dict(earlier.preset))
-    sim = Simulation(lesson.scene, values=values)
+    _solve(Simulation(lesson.scene, values=values), lesson, index)
+
+
+def _solve(sim: Simulation, lesson, index: int) -> None:
+    """Step ``index`` of ``lesson`` is not solved at its start, and is once the step's
+    solution is set (the motion given up to 5 s to reach the goal)."""
+    step = lesson.steps[index]
     sim.advance(0.1)
     progress = Progress(lesson)
     progress.go(index)
     assert progress.observe(sim.readouts(), sim.values) is False  # not solved yet
     for key, value in solution_values(step, lesson.scene, sim.values).items():
         sim.set_value(key, value)
-    for _ in range(20):  # give the motion up to 5 s to reach the goal
+    for _ in range(20):
         sim.advance(0.25)
         if progress.observe(sim.readouts(), sim.values):
             break
@@ -521,7 +527,6 @@ def test_a_check_passes_in_the_solved_state_whichever_way_the_motion_is_computed
     """Issue 35: a lesson's checks hold for the imposed motion and the free simulation
     alike (where the scene's values let the motion be imposed)."""
     lesson = get_lesson(name)
-    step = lesson.steps[index]
     values: dict[str, float] = {}
     for earlier in lesson.steps[: index + 1]:
         values.update(dict(earlier.preset))
@@ -532,14 +537,4 @@ def test_a_check_passes_in_the_solved_state_whichever_way_the_motion_is_computed
         sim.set_motion(motion)
     except BadOption:
         pytest.skip("these values call for the free simulation")
-    sim.advance(0.1)
-    progress = Progress(lesson)
-    progress.go(index)
-    assert progress.observe(sim.readouts(), sim.values) is False  # not solved yet
-    for key, value in solution_values(step, lesson.scene, sim.values).items():
-        sim.set_value(key, value)
-    for _ in range(20):
-        sim.advance(0.25)
-        if progress.observe(sim.readouts(), sim.values):
-            break
-    assert index in progress.passed
+    _solve(sim, lesson, index)

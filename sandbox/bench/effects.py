@@ -11,7 +11,8 @@ import mujoco
 
 from sandbox.bench.grid import QUICK_DURATION, run_one
 from sandbox.bench.results import Run
-from sandbox.physics.simulation import Simulation, step_model
+from sandbox.physics.simulation import Simulation
+from sandbox.physics.stepping import step_model
 from sandbox.runner import simulate
 from sandbox.scenes.base import Scene
 

@@ -9,13 +9,12 @@ from pathlib import Path
 from typing import Any
 
 import mujoco
-import numpy as np
 
 from sandbox.errors import BadOption, Diverged, UnknownParameter, shown
 from sandbox.french import number, shown_value
 from sandbox.mechanics.imposed import Anchor
 from sandbox.physics import readouts as generic
-from sandbox.physics.imposed import FREE, IMPOSED, MOTIONS, ImposedMotion
+from sandbox.physics.imposed import IMPOSED, ImposedMotion
 from sandbox.physics.limits import MAX_TIMESTEP, MIN_TIMESTEP, check_timestep
 from sandbox.physics.model import (
     Source,
@@ -25,8 +24,11 @@ from sandbox.physics.model import (
     model_xml,
     resolve,
 )
+from sandbox.physics.motion_choice import MotionChoice
 from sandbox.physics.readouts import ReadoutInfo
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.stepping import finite as finite  # re-exported
+from sandbox.physics.stepping import step_model
 
 ENERGIES = frozenset({"T", "P_ext", "P_int", "P_acc"})
 """Generic readouts a scene's ``mechanism`` may correct."""
@@ -43,7 +45,7 @@ _BAD_WARNINGS = (
 _BAD_CODES = tuple(int(w) for w, _ in _BAD_WARNINGS)
 
 
-class Simulation:
+class Simulation(MotionChoice):
     """One MuJoCo simulation of a scene or MJCF file.
 
     Args:
@@ -134,148 +136,6 @@ class Simulation:
         """True once a timestep was asked for (constructor or :meth:`set_timestep`); False
         while the scene's default for the parameters is in force."""
         return self._timestep is not None
-
-    # -- how the motion is computed -----------------------------------------------------
-    @property
-    def motions(self) -> tuple[str, ...]:
-        """The ways this simulation can compute its motion: ``("imposed", "free")`` for a
-        scene that declares an imposed motion (:attr:`Scene.imposed`), else ``("free",)``."""
-        spec = self.scene.imposed if self.scene is not None else None
-        return MOTIONS if spec is not None else (FREE,)
-
-    @property
-    def motion(self) -> str:
-        """``"imposed"`` while the imposed motion is computed exactly, else ``"free"``."""
-        return IMPOSED if self._imposed is not None else FREE
-
-    @property
-    def imposed(self) -> ImposedMotion | None:
-        """The imposed motion in force (None: the motion is simulated)."""
-        return self._imposed
-
-    def check_motion(self, name: object) -> str:
-        """``name`` checked as a way to compute the motion at the current values.
-
-        Raises:
-            BadOption: an unknown name, a scene without imposed motion, or values at which
-                it cannot be imposed (a torque command...); English and, as ``french``,
-                the page's words.
-        """
-        if name not in MOTIONS:
-            raise BadOption(
-                f"unknown motion {shown(name)}; choose one of: imposed, free",
-                french=f"Mouvement « {shown_value(name)} » inconnu : imposé ou libre.",
-            )
-        if name == FREE:
-            return FREE
-        spec = self.scene.imposed if self.scene is not None else None
-        if spec is None:
-            raise BadOption(
-                f"{shown(self.label)} has no imposed motion (its motion is what the simulation "
-                "finds); use --motion free",
-                french="Cette scène n'a pas de mouvement imposé : son mouvement est simulé.",
-            )
-        refusal = spec.refusal(self.values)
-        if refusal is not None:
-            english, french = refusal
-            raise BadOption(f"{english}; use --motion free", french=french)
-        return IMPOSED
-
-    def set_motion(self, name: object) -> None:
-        """Switch between the imposed motion and the free simulation, keeping the input's
-        position and speed (and every other joint's, on the loop) continuous.
-
-        Raises:
-            BadOption: see :meth:`check_motion`.
-        """
-        wanted = self.check_motion(name)
-        with self.lock:
-            self._wants_imposed = wanted == IMPOSED
-            if wanted == self.motion:
-                return
-            if wanted == IMPOSED:
-                self._start_imposed()
-            else:
-                self._stop_imposed()
-        self._emit("motion", value=wanted)
-
-    def _imposed_allowed(self) -> bool:
-        spec = self.scene.imposed if self.scene is not None else None
-        return self._wants_imposed and spec is not None and spec.refusal(self.values) is None
-
-    def _start_imposed(self, anchor: Anchor | None = None) -> None:
-        """Compute the motion exactly from now on, from the current time, input position
-        and speed (``anchor``: where to start from instead)."""
-        assert self.scene is not None and self.scene.imposed is not None
-        if self._imposed is None:
-            self._imposed = ImposedMotion(self.scene.imposed, self.model)
-        else:
-            self._imposed.bind(self.model)
-        self._imposed.start(self.data, anchor)
-        self._put(float(self.data.time))
-
-    def _stop_imposed(self) -> None:
-        """Simulate from the current exact state on (its loops closed, its speeds on them;
-        its acceleration stays as the solver's warm start), at the timestep the scene's
-        default gives this motion (an imposed motion's only samples time: it does not
-        follow the state)."""
-        self._imposed = None
-        self._fresh = None
-        dt = self.timestep
-        if self._timestep is None and self.scene is not None:
-            dt = self.scene.default_timestep(self.values, self.data)
-        if dt != self.timestep:
-            self.model.opt.timestep = dt
-            self._apply_drive()
-            self._emit("timestep", value=dt)
-        mujoco.mj_forward(self.model, self.data)
-        self._warnings = self._warning_count()
-
-    def _put(self, t: float) -> None:
-        """The imposed state at time ``t`` in the simulation's data, with its forces."""
-        assert self._imposed is not None
-        self._imposed.put(self.model, self.data, self.values, t)
-        self._fresh = self._key(self.data)
-
-    def _key(self, data: mujoco.MjData) -> tuple[object, ...]:
-        return (
-            id(self.model), id(data), float(data.time), data.qpos.tobytes(),
-            data.qvel.tobytes(), data.qacc_warmstart.tobytes(),
-        )  # fmt: skip
-
-    def _prepare(self, data: mujoco.MjData, names: Iterable[str]) -> None:
-        """Bring ``data``'s derived quantities up to date for the readouts ``names``: a
-        forward pass of the free simulation, or the imposed motion's inverse dynamics
-        (from the state's own acceleration; skipped when it is the state just computed)."""
-        if self._imposed is None:
-            generic.prepare(self.model, data, list(names))
-            return
-        key = self._key(data)
-        if key != self._fresh:
-            self._imposed.forces(self.model, data)
-            self._fresh = key
-
-    def put_at(self, data: mujoco.MjData, t: float, *, forces: bool = True) -> bool:
-        """The imposed state at time ``t`` in ``data`` (another ``MjData`` of this model:
-        the drawn state), with its forces (``forces`` False: positions and poses only);
-        False (nothing done) when the motion is simulated."""
-        with self.lock:
-            if self._imposed is None:
-                return False
-            self._imposed.put(self.model, data, self.values, t, forces=forces)
-            return True
-
-    def restore(self, state: Any) -> None:
-        """Set the simulation's data to a recorded integration state (``mjSTATE_INTEGRATION``)
-        and bring its derived quantities up to date in the current way of computing the
-        motion (an imposed state carries its acceleration, see :mod:`.imposed`)."""
-        spec = mujoco.mjtState.mjSTATE_INTEGRATION
-        with self.lock:
-            mujoco.mj_setState(self.model, self.data, np.asarray(state, dtype=float), spec)
-            if self._imposed is None:
-                mujoco.mj_forward(self.model, self.data)
-            else:
-                self._prepare(self.data, ())
 
     # -- state --------------------------------------------------------------------------
     def reset(self) -> None:
@@ -487,19 +347,6 @@ class Simulation:
             self._guard()
             self._follow_state()
 
-    def _step_imposed(self, nstep: int) -> None:
-        """Advance the time by ``nstep`` timesteps and evaluate the imposed motion there:
-        nothing is integrated, so the cost hardly depends on ``nstep`` and nothing
-        drifts. The time is summed step by step as ``mj_step`` does, so that it is the
-        same whatever the steps are grouped into, and after a restored state."""
-        t, dt = float(self.data.time), self.timestep
-        for _ in range(nstep):
-            t += dt
-        self._put(t)
-        d = self.data
-        if not math.isfinite(float(d.qpos.sum()) + float(d.qvel.sum()) + float(d.qacc.sum())):
-            raise Diverged(float(d.time), "NaN or Inf in the imposed motion")
-
     def _guard(self) -> None:
         d = self.data
         if self._warning_count() > self._warnings:
@@ -629,33 +476,3 @@ class Simulation:
         if self.scene is None or self.scene.reference is None:
             return {}
         return self.scene.reference(self.values)
-
-
-def step_model(
-    model: mujoco.MjModel,
-    data: mujoco.MjData,
-    nstep: int,
-    control: Callable[[mujoco.MjModel, mujoco.MjData, Mapping[str, float]], None] | None = None,
-    values: Mapping[str, float] | None = None,
-) -> None:
-    """Advance ``nstep`` timesteps: ``mj_step(model, data, nstep)`` in one call without a
-    control; with one, ``control(model, data, values)`` then ``mj_step(model, data)`` at
-    every timestep (a time-varying command held over each step), and the control once more
-    at the end, so that the state left (read, drawn, recorded) carries the command of its
-    own time, as after a reset (a pure control computes the same again before the next
-    step). Every loop that steps a scene's model goes through here, so that a scene's
-    control is never skipped."""
-    if control is None:
-        mujoco.mj_step(model, data, nstep)
-        return
-    values = values if values is not None else {}
-    for _ in range(nstep):
-        control(model, data, values)
-        mujoco.mj_step(model, data)
-    if nstep > 0:
-        control(model, data, values)
-
-
-def finite(values: Mapping[str, float]) -> bool:
-    """True when every value is a finite number."""
-    return all(math.isfinite(v) for v in values.values())

@@ -163,3 +163,24 @@ def test_simulated_time_keeps_real_time_at_the_floor_frame_rate(monkeypatch):
     rate = (ctl.sim.data.time - start) / 2.0
     assert rate >= 0.98
     assert not ctl.slowed()
+
+
+def test_frames_held_for_the_browsers_senders_lower_the_rate_evenly():
+    """The loop has time to spare but the websocket's thread cannot send every frame: a
+    quarter of the frames are held back (each session draws nothing while its sender
+    holds three frames). The rate goes down to what the browsers got, for every session
+    alike, and is not raised while frames are still held."""
+    clock = Clock()
+    gov = Governor(clock=clock)
+    gov.spent(0.5 * WINDOW, frames=30 * 60, held=30 * 15)
+    clock.now += WINDOW
+    gov.update(served=30)
+    assert gov.fps == pytest.approx(45.0)
+    gov.spent(0.3 * WINDOW, frames=30 * 45, held=30 * 9)  # still held: not raised
+    clock.now += WINDOW
+    gov.update(served=30)
+    assert gov.fps <= 45.0
+    gov.spent(0.3 * WINDOW, frames=30 * 40, held=0)  # sent again: raised
+    clock.now += WINDOW
+    gov.update(served=30)
+    assert gov.fps > 40.0

@@ -56,6 +56,12 @@ KEPT_UP = 0.95
 keeps up needs no lower rate (on a machine shared with another program the loop seems
 busy all the time, the operating system handing its core to the other in turns)."""
 
+HELD = 0.1
+"""Share of a window's frames held back for their browsers' senders (a session draws
+nothing while its sender still holds three frames) beyond which the sending, not the
+loop, is what is short: the rate is lowered all the same, evenly, rather than leaving
+each browser the frames its turn in the sending thread happens to give it."""
+
 RAISE = 1.25
 """Largest factor one window raises the frame rate by (a quick fall, a slow climb: a
 class that just connected costs more for a few seconds than it will)."""
@@ -95,6 +101,7 @@ class Governor:
         self._cpu = 0.0
         self._frames = 0
         self._stepping = 0.0
+        self._held = 0
         self._since = clock()
         self._process = process_time()
         self.load = Load()
@@ -116,14 +123,25 @@ class Governor:
         own = 1.0 / period
         return 1.0 / max(min(own, self.floor), own * self.scale)
 
-    def spent(self, wall: float, cpu: float = 0.0, frames: int = 0, stepping: float = 0.0) -> None:
+    def spent(
+        self,
+        wall: float,
+        cpu: float = 0.0,
+        frames: int = 0,
+        stepping: float = 0.0,
+        *,
+        held: int = 0,
+    ) -> None:
         """A burst of frames ran: ``wall`` seconds of wall time, ``cpu`` seconds of the
-        loop thread's CPU (``stepping`` of them stepping simulations), ``frames`` frames."""
+        loop thread's CPU (``stepping`` of them stepping simulations), ``frames`` frames,
+        ``held`` of which drew nothing because their browser's sender still held frames
+        (the websocket's thread, not the loop, was short)."""
         with self._lock:
             self._busy += max(wall, 0.0)
             self._cpu += max(cpu, 0.0)
             self._frames += frames
             self._stepping += max(stepping, 0.0)
+            self._held += max(held, 0)
 
     def update(self, now: float | None = None, *, sessions: int = 0, served: int = 0) -> bool:
         """Move the frame rate once a window has passed; True when it moved.
@@ -141,9 +159,9 @@ class Governor:
             if elapsed < WINDOW:
                 return False
             share = self._busy / elapsed
-            cpu, frames, stepping = self._cpu, self._frames, self._stepping
+            cpu, frames, stepping, held = self._cpu, self._frames, self._stepping, self._held
             self._busy = self._cpu = self._stepping = 0.0
-            self._frames = 0
+            self._frames = self._held = 0
             self._since = now
             process, self._process = self._process, self.process_time()
             process = self._process - process
@@ -152,12 +170,15 @@ class Governor:
         if frames:
             self.cpu_per_frame = cpu / frames
         old = self.fps
-        given = frames / elapsed / served if served > 0 else self.fps  # a session's frames
-        if share > HIGH and given < KEPT_UP * self.fps:
-            # the loop, busy all the time, could not give the rate asked for: ask for what
-            # it gave (every session alike), a little less while it stays saturated
-            self.fps = max(self.floor, min(given, self.fps * max(0.5, TARGET / share)))
-        elif share < LOW and self.fps < self.top:
+        drawn = frames - held  # frames that reached their browser's sender
+        given = drawn / elapsed / served if served > 0 else self.fps  # a session's frames
+        sending = frames > 0 and held > HELD * frames  # the websocket's thread is short
+        if (share > HIGH or sending) and given < KEPT_UP * self.fps:
+            # the loop, busy all the time, or the sending could not give the rate asked
+            # for: ask for what was given (every session alike), a little less while so
+            lowered = self.fps * (max(0.5, TARGET / share) if share > HIGH else 0.95)
+            self.fps = max(self.floor, min(given, lowered))
+        elif share < LOW and not sending and self.fps < self.top:
             self.fps = min(self.top, self.fps * min(RAISE, TARGET / max(share, 1e-3)))
         self._over = self._over + 1 if self.fps <= self.floor and share > HIGH else 0
         if self._over >= SATURATED_AFTER:

@@ -150,13 +150,17 @@ class Scheduler:
             self.governor.update(sessions=self._driving(), served=self.sessions)
             return
         start, cpu = self.clock(), time.thread_time()
-        stepping = 0.0
+        stepping, held = 0.0, 0
         for due, seq, session in due_now:
             before = float(getattr(session, "stepping_cpu", 0.0))
+            was = int(getattr(session, "held", 0))
             self._serve(due, seq, session)
             stepping += float(getattr(session, "stepping_cpu", 0.0)) - before
+            held += int(getattr(session, "held", 0)) - was
         end = self.clock()
-        self.governor.spent(end - start, time.thread_time() - cpu, len(due_now), stepping)
+        self.governor.spent(
+            end - start, time.thread_time() - cpu, len(due_now), stepping, held=held
+        )
         self.governor.update(end, sessions=self._driving(), served=self.sessions)
 
     def _driving(self) -> int:

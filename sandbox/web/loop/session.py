@@ -72,6 +72,7 @@ class Session:
         self._next_check = 0.0
         self._pictured: tuple[int, float, int] | None = None  # key of the last picture
         self._seen: dict[tuple[str, str, str], float] = {}  # error notices: last seen
+        self.held = 0  # frames not drawn because the browser's sender still held frames
         self._faults: dict[tuple[str, str, str], float] = {}  # frame failures: last seen
 
     def start(self) -> None:
@@ -209,7 +210,10 @@ class Session:
         snap: Snapshot | None = None
         secret: Secret | None = live.secret if live is not None else None  # a replay has none
         key = (id(sim.model), drawn_at, generation)
-        if self.view.draws and not ctl.diverged and key != self._pictured:
+        draws = self.view.draws
+        if not draws and getattr(self.view, "holding", False):
+            self.held += 1  # the governor counts these: the sending, not the loop, is short
+        if draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None

@@ -233,6 +233,7 @@ class WebView(Generic[D]):
             )
         self._picture: Picture | None = None  # the last one drawn
         self._held_since: float | None = None  # first frame not drawn for the sender
+        self.holding = False  # the last frame was not drawn: the sender still held frames
         self._marks: deque[int] = deque(maxlen=IN_FLIGHT)  # viser's last message id
         # before each of the last frames drawn
         self._last_panel = -math.inf
@@ -322,11 +323,13 @@ class WebView(Generic[D]):
         marks = wire.sent_marks(self.client)
         if marks is None or len(self._marks) < IN_FLIGHT or marks[1] >= self._marks[0]:
             self._held_since = None
+            self.holding = False
             return True
         now = time.monotonic()
         if self._held_since is None:
             self._held_since = now
-        return now - self._held_since > MAX_HELD  # never silent for long, whatever holds
+        self.holding = now - self._held_since <= MAX_HELD  # never silent for long
+        return not self.holding
 
     def _note_sent(self) -> None:
         """Before a new frame's messages: the last message queued so far, which must have
