@@ -79,7 +79,10 @@ def cmd_describe(target: str, as_json: bool) -> int:
         return 0
     print(f"{info['name']}: {info['title']}")
     effects = ", ".join(info["effects"])
-    print(f"  effects: {effects}; {info['integrator']}, dt = {info['timestep']:g} s")
+    numerics = f"{info['integrator']}, dt = {info['timestep']:g} s"
+    if info["motion"] == "imposed":
+        numerics += " when simulated (--motion free)"
+    print(f"  effects: {effects}; {numerics}")
     if len(info["motions"]) > 1:
         other = "free" if info["motion"] == "imposed" else "imposed"
         print(

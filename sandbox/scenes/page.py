@@ -131,6 +131,8 @@ class Page:
         overlay: The 3-4 key readouts written large over the 3D view (projector mode), by
             name, with the short French words written there ("" keeps the readout's
             label); empty: the scene's kinetic and potential energies.
+        imposed_overlay: The overlay's words that change while the motion is imposed
+            (the motor's torque becomes the torque it must give: « Couple nécessaire »).
         xy_presets: Plots of one readout against another that show the course's laws
             (folder « Tracé X–Y »; the first is shown at the start).
         study_presets: Parameter studies that show them (folder « Étude paramétrique »).
@@ -150,6 +152,7 @@ class Page:
     start_paused: bool = False
     leaves_view: bool = False
     overlay: Mapping[str, str] = field(default_factory=dict)
+    imposed_overlay: Mapping[str, str] = field(default_factory=dict)
     xy_presets: tuple[XYPreset, ...] = ()
     study_presets: tuple[StudyPreset, ...] = ()
     unbalance_diagram: UnbalanceDiagram | None = None

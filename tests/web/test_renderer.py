@@ -339,3 +339,47 @@ def test_a_label_riding_on_a_fast_turning_body_hides_and_shows_when_it_slows():
     renderer.sync(model, data)
     (grown,) = renderer.label_boxes(camera, 16.0)
     assert label.visible and grown[2] - grown[0] > width + READABLE_PX * 0.9
+
+
+def test_a_rod_hangs_under_its_piston_and_sends_its_orientation_only():
+    """A group turning about a point of another (:func:`carriers`) is drawn in that one's
+    frame: the compressor's rod sends no position a frame, only its orientation; the
+    engine's model rebuilt with other cylinders removes what hangs under a frame first
+    (viser warned of nodes removed twice)."""
+    import warnings
+
+    import viser
+    from conftest import free_port
+
+    from sandbox.physics.picture import body_groups, carriers
+    from sandbox.physics.simulation import Simulation
+
+    sim = Simulation("compressor")
+    roots, _ = body_groups(sim.model)
+    carried = dict(zip(roots.tolist(), carriers(sim.model).tolist(), strict=True))
+    rod, piston = sim.model.body("rod").id, sim.model.body("piston").id
+    assert (
+        carried[rod] == piston and carried[piston] == 0 and carried[sim.model.body("crank").id] == 0
+    )
+    scene = FakeScene()
+    renderer = SceneRenderer(scene)
+    renderer.sync(sim.model, sim.data)
+    sent = renderer.messages
+    sim.advance(0.003)
+    renderer.sync(sim.model, sim.data)
+    # crank: orientation; piston: position; rod: orientation (its position in the piston
+    # is the same): 3 messages, not 4
+    assert renderer.messages - sent == 3
+    server = viser.ViserServer(port=free_port(), verbose=False)
+    try:
+        engine = Simulation("engine")
+        live = SceneRenderer(server.scene)
+        live.sync(engine.model, engine.data)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            for n in (2.0, 1.0, 4.0):
+                engine.set_value("cylinders", n)
+                live.sync(engine.model, engine.data)
+        assert not [w for w in caught if "removed" in str(w.message)]
+    finally:
+        server.stop()

@@ -95,6 +95,7 @@ SCENE = Scene(
             "tamis": "Effet de tamis",
             "motor_torque": "Couple moteur",
         },
+        imposed_overlay={"motor_torque": "Couple nécessaire"},
         # Time plots of slow quantities (the pilon itself is drawn against θ in "Sur un tour").
         plots=("pilon_h1", "pilon_h2", "tamis_h1", "omega"),
         xy_presets=(

@@ -315,9 +315,11 @@ class AccuracyPanel:
         if at_test is not None and default is not None and at_test.same(default):
             at_test = None
         at_test_run = self.run(at_test, now, at_once=True) if at_test is not None else None
+        imposed = sim.motion == "imposed"
         text = accuracy_markdown(
             mine,
-            cost,
+            math.nan if imposed else cost,  # this session's cost is the imposed motion's
+            title=FREE_TITLE if imposed else SESSION_TITLE,
             default=default if self.scene is not None else None,
             mine_run=mine_run,
             default_run=default_run,
@@ -329,7 +331,7 @@ class AccuracyPanel:
             at_test=at_test,
             at_test_run=at_test_run,
         )
-        if sim.motion == "imposed":
+        if imposed:
             exact = self.results.imposed if self.results is not None else None
             text = imposed_markdown(exact, cost, key=self.key_words) + "\n\n" + text
         if self.text.content != text:
@@ -397,10 +399,17 @@ def imposed_markdown(exact: Run | None, cost: float, *, key: str = "") -> str:
     return text + " Le tableau ci-dessous vaut pour le mouvement libre (simulé)."
 
 
+SESSION_TITLE = "Cette session"
+FREE_TITLE = "En mouvement libre (simulé)"
+"""The first table's title: the session's setting, or while the motion is imposed the
+free simulation's setting, should the session switch to it."""
+
+
 def accuracy_markdown(
     setting: Setting,
     cost: float,
     *,
+    title: str = SESSION_TITLE,
     default: Setting | None = None,
     mine_run: Run | None = None,
     default_run: Run | None = None,
@@ -416,7 +425,8 @@ def accuracy_markdown(
 
     Args:
         setting: The integrator and timestep in force.
-        cost: This session's CPU seconds per simulated second.
+        cost: This session's CPU seconds per simulated second (NaN: not measured, "—").
+        title: The first table's title (:data:`SESSION_TITLE`, :data:`FREE_TITLE`).
         default: The scene's default setting for the parameters (None: no reference
             test, only the cost is shown).
         mine_run, default_run: Their runs on the reference test (None: being measured).
@@ -432,13 +442,16 @@ def accuracy_markdown(
     rtf = 1.0 / cost if cost > 0 else math.nan
     factor = fmt(round(rtf)) if rtf >= 10 else fmt(rtf, digits=2)
     lines = [
-        "| Cette session | |",
+        f"| {title} | |",
         "|:--|--:|",
         table_row("Intégrateur", html_text(integrator_words(setting.integrator))),
         table_row("Pas de temps dt", html_text(duration(setting.timestep))),
-        table_row("Coût CPU par seconde simulée", f"{fmt(cost, digits=3)} s"),
-        table_row("Facteur temps réel possible", f"×{factor}"),
     ]
+    if math.isfinite(cost):  # (not the free simulation's while the motion is imposed)
+        lines += [
+            table_row("Coût CPU par seconde simulée", f"{fmt(cost, digits=3)} s"),
+            table_row("Facteur temps réel possible", f"×{factor}"),
+        ]
     if default is None:
         return "\n".join(lines)
     same = default.same(setting)

@@ -51,6 +51,11 @@ RECORD_IDLE = ("Enregistrer",)
 RECORD_BUSY = ("Arrêter l'enregistrement",)
 RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
 
+INTEGRATOR_HINT = "Schéma qui calcule le mouvement d'un pas de temps au suivant"
+EXACT_HINT = (
+    "Sans objet en mouvement imposé : le calcul est exact à chaque instant. Passez en "
+    "mouvement libre pour choisir un intégrateur et un pas de temps."
+)
 SPEED_LABEL = "Vitesse ×"
 MOTION_LABEL = "Mouvement"
 MOTION_HINT = (
@@ -194,17 +199,17 @@ class ControlPanel:
                     INTEGRATOR_LABEL,
                     labels,
                     initial_value=integrator_label(_known(sim.integrator)),
-                    hint="Schéma qui calcule le mouvement d'un pas de temps au suivant",
+                    hint=INTEGRATOR_HINT,
                 )
                 on_user(
                     self.integrator, lambda v: submit(Request("integrator", integrator_name(v)))
                 )
+                self._dt_hint = (
+                    f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
+                    f"{number(sim.max_timestep)} s)"
+                )
                 self.timestep = gui.add_number(
-                    TIMESTEP_LABEL,
-                    initial_value=sim.timestep,
-                    step=1e-5,
-                    hint=f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
-                    f"{number(sim.max_timestep)} s)",
+                    TIMESTEP_LABEL, initial_value=sim.timestep, step=1e-5, hint=self._dt_hint
                 )
                 on_user(self.timestep, lambda v: submit(Request("timestep", v)))
         busy = self._busy
@@ -233,6 +238,7 @@ class ControlPanel:
                         for p in rare:
                             self._control(gui, p)
         self._playing: bool | None = None
+        self._exact: bool | None = None  # the motion imposed (integrator and dt disabled)
         self._recording = False
         self._concealed: dict[str, Mirror | None] = {}  # a challenge's controls, put aside
 
@@ -331,6 +337,15 @@ class ControlPanel:
             self.alert_text.content = ctl.diverged or ""
         for mirror in self.mirrors.values():
             mirror.refresh(force=refused)  # a refused value: the controls show the real ones
+        exact = ctl.sim.motion == IMPOSED
+        if exact != self._exact:  # nothing to integrate: the numerical method waits
+            self._exact = exact
+            for handle, hint in (
+                (self.integrator, INTEGRATOR_HINT),
+                (self.timestep, self._dt_hint),
+            ):
+                handle.disabled = exact
+                handle.hint = EXACT_HINT if exact else hint
 
     def sync(self) -> None:
         """Put every control back to the simulation's actual values at once."""

@@ -142,7 +142,11 @@ class Projector:
         infos = {i.name: i for i in sim.readout_infos()}
         short = key_readouts(sim)
         self.names = list(short)
+        self.sim = sim
         self.labels = {n: short[n] or infos[n].label for n in self.names}
+        spec = as_scene(sim.scene)
+        changed = dict(spec.page.imposed_overlay) if spec is not None else {}
+        self.imposed_labels = {n: changed.get(n, label) for n, label in self.labels.items()}
         self.units = {n: infos[n].unit for n in self.names}
         spec = as_scene(sim.scene)  # the scene's round-off: 5e-15 W is written 0
         self.zeros = {n: spec.zero_for(self.units[n]) if spec else 0.0 for n in self.names}
@@ -182,7 +186,8 @@ class Projector:
         elif values is None:
             return
         else:
-            lines = overlay_lines(self.names, values, self.labels, self.units, self.zeros)
+            labels = self.imposed_labels if self.sim.motion == "imposed" else self.labels
+            lines = overlay_lines(self.names, values, labels, self.units, self.zeros)
         if lines != self._lines:
             self._lines = lines
             self.overlay.content = overlay_html(lines)

@@ -55,16 +55,26 @@ class ReadoutPanel:
         scene = as_scene(sim.scene)
         infos = {i.name: i for i in sim.readout_infos()}
         self.zero: dict[str, float] = dict(scene.zero) if scene is not None else {}
-        self.scene_rows = [
-            tables.Row(r.name, r.unit, r.doc, r.label, r.hint, self.zero.get(r.unit, 0.0))
-            for r in (scene.readouts if scene else ())
-        ]
+        self._rows = {
+            imposed: [
+                tables.Row(
+                    r.name,
+                    r.unit,
+                    r.doc,
+                    (r.imposed_label if imposed else "") or r.label,
+                    (r.imposed_hint if imposed else "") or r.hint,
+                    self.zero.get(r.unit, 0.0),
+                )
+                for r in (scene.readouts if scene else ())
+            ]
+            for imposed in (False, True)
+        }
         self.withheld: frozenset[str] = frozenset()  # a challenge's secret readouts
         self._ref_key: tuple[tuple[str, float], ...] | None = None
         self._ref: dict[str, float] = {}
         self.scene_text: viser.GuiMarkdownHandle | None = None
         self.folders: dict[str, viser.GuiFolderHandle] = {}
-        if self.scene_rows:
+        if self._rows[False]:
             with gui.add_folder(SCENE_FOLDER) as self.folders[SCENE_FOLDER]:
                 self.scene_text = gui.add_markdown("")
         names = list(scene.page.plots) if scene and scene.page.plots else ["T", "V"]
@@ -120,6 +130,12 @@ class ReadoutPanel:
             self.torsor_text = gui.add_markdown("")
         with gui.add_folder(ENERGY_FOLDER) as self.folders[ENERGY_FOLDER]:
             self.energy_text = gui.add_markdown("")
+
+    @property
+    def scene_rows(self) -> list[tables.Row]:
+        """The scene's rows, in the words of the way its motion is computed now (an
+        imposed motion's torque row reads « Couple nécessaire »)."""
+        return self._rows[self.sim.motion == "imposed"]
 
     # -- choices of the user -------------------------------------------------------------
     def chosen_point(self) -> tuple[np.ndarray, str]:

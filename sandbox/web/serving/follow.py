@@ -135,6 +135,8 @@ class BroadcastView:
         elif frame.readouts is not None:
             values = frame.readouts
             rows = [table_row("Grandeur", "Valeur"), "|:--|--:|"]
+            # the words of the way the motion is computed now (« Couple nécessaire »)
+            self.labels = {i.name: plain(i.label or i.name) for i in controller.sim.readout_infos()}
             for name in self.names:
                 unit, k = self.units.get(name, ("", 1.0))
                 shown = fmt(values.get(name, math.nan) * k, floor=self.zeros.get(name, 0.0) * k)

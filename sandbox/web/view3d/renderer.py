@@ -301,8 +301,11 @@ class SceneRenderer:
                 node.remove()
                 del self.nodes[gid]
         moving = {s.body for s in wanted.values() if s.moving}
-        for body in [b for b in self.bodies if b not in moving or b >= model.nbody]:
-            self.bodies.pop(body).remove()
+        gone = [b for b in self.bodies if b not in moving or b >= model.nbody]
+        for body in sorted(gone, key=lambda b: -self._paths.get(b, "").count("/")):
+            frame = self.bodies.pop(body)  # what hangs under it first: it goes with it
+            self._paths.pop(body, None)
+            frame.remove()
             for g in [g for g, (_, _, root) in self.labels.items() if root == body]:
                 del self.labels[g]  # removed with its frame
         for body in sorted(moving - set(self.bodies)):  # a carrier before what it carries
