@@ -471,7 +471,10 @@ def test_two_clients_on_the_rotor_get_frames_and_simulated_time(monkeypatch) -> 
     # the probe found the French slider ("Masse de correction m₁ [g]") and saw its changes
     assert main["slider_param"] == "mass1_g" and main["slider_samples"] > 0
     assert main["server_rss_bytes"] > 0 and "refused" in results["origin"]
-    assert sum(main["clients_per_process"]) == 2  # both websockets, each in its worker
+    # both students' websockets, each in its worker (the teacher's page the run reads is
+    # not one of them)
+    assert sum(main["clients_per_process"]) == 2
+    assert main["teacher"] is not None and main["teacher"]["students"] is not None
     assert main["server_cpu_cores"] > 0 and main["server_cpu_ms_per_frame"] > 0
     assert main["server_threads"] >= main["server_processes"] >= 2  # parent and workers
     assert main["server_top_thread_cores"][0] > 0

@@ -123,7 +123,10 @@ async def main_phase(
         rss.append(tree_rss(server.pid))
         processes = len(process_tree(server.pid))
         owner = browsers_by_process(server.pid, server.port)
-        spread = sorted(collections.Counter(owner.values()).values(), reverse=True)
+        # the students' websockets (the teacher's page, one more, is not in the figures)
+        mine = [owner[s.port] for s in stats if s.port in owner]
+        held = collections.Counter(mine if mine else owner.values())
+        spread = sorted(held.values(), reverse=True)
         side_result = None
         if beside is not None:
             side_result = await asyncio.wait_for(beside, timeout=30.0)

@@ -18,6 +18,14 @@ import viser
 
 from sandbox.physics.picture import Picture, body_groups, carriers, geom_local_poses
 from sandbox.web.client import wire
+from sandbox.web.view3d.batches import (
+    Batch,
+    batches,
+    instance_poses,
+    instance_scale,
+    linear_colors,
+    unit_mesh,
+)
 from sandbox.web.view3d.geoms import (
     GeomShape,
     body_frame,
@@ -94,6 +102,29 @@ def _in_carriers(poses: np.ndarray, carrier: np.ndarray) -> np.ndarray:
     return out
 
 
+def add_batch(
+    scene: viser.SceneApi, model: mujoco.MjModel, name: str, batch: Batch
+) -> viser.SceneNodeHandle:
+    """Create the node drawing a batch's geoms (:mod:`sandbox.web.view3d.batches`) in
+    ``scene``, its instances at their pose in their group (sent again on the first frame)."""
+    first = batch.shapes[0]
+    arrays = unit_mesh(first)
+    if arrays is None:
+        verts, faces = mesh_arrays(model, first.mesh_id)
+        arrays = (np.asarray(verts, np.float32), np.asarray(faces, np.uint32))
+    return scene.add_batched_meshes_simple(
+        name,
+        arrays[0],
+        arrays[1],
+        batched_wxyzs=batch.local[:, 3:].astype(np.float32),
+        batched_positions=batch.local[:, :3].astype(np.float32),
+        batched_scales=np.array([instance_scale(s) for s in batch.shapes], np.float32),
+        batched_colors=linear_colors(batch.shapes),
+        lod="off",
+        flat_shading=first.kind in ("box", "mesh"),
+    )
+
+
 def _triple(size: tuple[float, ...]) -> tuple[float, float, float]:
     x, y, z = size
     return (x, y, z)
@@ -113,6 +144,12 @@ class SceneRenderer:
     a point of another (:func:`~sandbox.physics.picture.carriers`: a rod on its piston)
     hangs under that group's frame: its pose is sent in it, so its position never changes
     and only its orientation is sent.
+
+    Opaque geoms of one kind that several groups carry (the engine's four pistons and four
+    rods: :mod:`sandbox.web.view3d.batches`) are the instances of one batched node, posed
+    in the world by one message a frame for all of them; a group whose geoms are all
+    batched sends no pose of its own, unless a label rides on it or a group it carries
+    needs its frame.
 
     Args:
         scene: A viser ``SceneApi`` (``client.scene``, or ``server.scene`` for all).
@@ -135,6 +172,11 @@ class SceneRenderer:
         self._move = 0.0  # POSE_MOVE times the mechanism's size [m]
         self.label_scale = LABEL_EM * 16 / PX_PER_SCALE  # viser's font_screen_scale
         self.messages = 0  # pose messages queued so far (the counted guard of the tests)
+        self.batched: dict[int, GeomShape] = {}  # geoms drawn as instances of a batch
+        self._batches: list[tuple[Batch, viser.SceneNodeHandle]] = []
+        self._bsent = np.zeros((0, 7))  # world pose of each group last sent in the batches
+        self._framed = np.zeros(0, dtype=bool)  # groups whose frame holds something
+        self._reframe = True  # labels or nodes changed: which frames to pose is recomputed
 
     def sync(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Draw ``data`` (its bodies' poses up to date): rebuild the nodes if the model
@@ -165,10 +207,16 @@ class SceneRenderer:
                  for c in (carried if carried is not None else np.zeros(len(roots)))],
                 dtype=int,
             )  # fmt: skip
+            self._bsent = np.full((len(roots), 7), np.nan)
+            self._reframe = True
         if len(roots) == 0:
             return
+        if self._reframe:
+            self._frames_to_pose()
         self._world = poses
-        poses = _in_carriers(poses, self._carrier)
+        if self._batches:
+            self._pose_batches(poses)
+        poses = _in_carriers(poses, np.where(self._framed, self._carrier, -1))
         sent = self._sent
         ok = np.isfinite(poses).all(axis=1)
         moved = ~(np.abs(poses[:, :3] - sent[:, :3]).max(axis=1) <= self._move)  # NaN: never sent
@@ -178,7 +226,7 @@ class SceneRenderer:
         if self.labels:  # how far the labels rode: 2 acos|q·q'| per sent turn
             angle = 2.0 * np.arccos(np.fmin(dots, 1.0))  # dots >= 0; fmin(NaN, 1) = 1
             self._turned += np.where(turned & ok, angle, 0.0)
-        for k in np.flatnonzero(ok & (moved | turned)):
+        for k in np.flatnonzero(ok & (moved | turned) & self._framed):
             frame = self.bodies.get(int(roots[k]))
             if frame is None:
                 continue
@@ -191,6 +239,44 @@ class SceneRenderer:
                 sent[k, 3:] = poses[k, 3:]
                 self.messages += 1
 
+    def _frames_to_pose(self) -> None:
+        """Which groups' frames hold something (a geom's node, a label, or a carried group
+        whose frame does): only those are posed. A frame that now needs its pose gets it
+        on this frame."""
+        roots = self._roots
+        holding = {s.body for s, _ in self.nodes.values() if s.moving}
+        holding |= {root for _, _, root in self.labels.values()}
+        framed = np.array([int(r) in holding for r in roots], dtype=bool)
+        if len(self._carrier) == len(roots):
+            for k in np.flatnonzero(framed):  # a carrier chain is short: walk it up
+                c = int(self._carrier[k])
+                while c >= 0 and not framed[c]:
+                    framed[c] = True
+                    c = int(self._carrier[c])
+        if len(self._framed) == len(framed):
+            self._sent[framed & ~self._framed] = np.nan
+        self._framed = framed
+        self._reframe = False
+
+    def _pose_batches(self, poses: np.ndarray) -> None:
+        """Send the instances' world poses of each batch one of whose groups moved by more
+        than :data:`POSE_MOVE` (``poses``: the groups' world poses)."""
+        sent = self._bsent
+        ok = np.isfinite(poses).all(axis=1)
+        moved = ~(np.abs(poses[:, :3] - sent[:, :3]).max(axis=1) <= self._move)
+        dots = np.abs((poses[:, 3:] * sent[:, 3:]).sum(axis=1))
+        changed = ok & (moved | ~(1.0 - dots <= 0.125 * POSE_MOVE**2))
+        if not changed.any():
+            return
+        for batch, node in self._batches:
+            groups = batch.groups
+            if not changed[groups].any() or not ok[groups].all():
+                continue
+            positions, wxyzs = instance_poses(batch, poses)
+            wire.set_props(node, batched_positions=positions, batched_wxyzs=wxyzs)
+            self.messages += 1
+        sent[changed] = poses[changed]
+
     def _frame_world(self, root: int) -> tuple[np.ndarray, np.ndarray]:
         """World position and (w, x, y, z) of a group's frame, as last drawn."""
         hits = np.flatnonzero(self._roots == root)
@@ -202,8 +288,11 @@ class SceneRenderer:
 
     def world_pose(self, geom_id: int) -> tuple[np.ndarray, np.ndarray]:
         """Where the browser draws a geom: world position [m] and (w, x, y, z)."""
-        shape, node = self.nodes[geom_id]
-        if not shape.moving:
+        if geom_id in self.batched:
+            shape, node = self.batched[geom_id], None
+        else:
+            shape, node = self.nodes[geom_id]
+        if node is not None and not shape.moving:
             return np.asarray(node.position, float), np.asarray(node.wxyz, float)
         position, wxyz = self._frame_world(shape.body)
         quat = np.zeros(4)
@@ -219,6 +308,7 @@ class SceneRenderer:
         model = self.model
         for g in [g for g in self.labels if g not in texts]:
             self.labels.pop(g)[1].remove()
+            self._reframe = True
         if model is None:
             return
         _, groups = body_groups(model)
@@ -245,6 +335,7 @@ class SceneRenderer:
                 font_screen_scale=self.label_scale,
             )
             self.labels[g] = (text, label, root)
+            self._reframe = True
 
     def set_label_scale(self, scale: float) -> None:
         """Size of the geoms' labels (viser's ``font_screen_scale``: 12 px per unit),
@@ -288,19 +379,18 @@ class SceneRenderer:
 
     def _rebuild(self, model: mujoco.MjModel) -> list[int]:
         """Keep nodes whose shape is unchanged, replace the others; returns new ids."""
-        wanted = {s.geom_id: s for s in geom_shapes(model, prefix=self.prefix)}
-        paths = {
-            b: body_frame(self.prefix, b, model)
-            for b in {s.body for s in wanted.values() if s.moving}
-        }
+        shapes = geom_shapes(model, prefix=self.prefix)
+        paths = {b: body_frame(self.prefix, b, model) for b in {s.body for s in shapes if s.moving}}
         if any(self._paths.get(b, paths[b]) != paths[b] for b in paths if b in self.bodies):
             self.clear()  # a group hangs elsewhere now: every node made again
+        self._set_batches(model, batches(shapes, body_groups(model)[0]))
+        wanted = {s.geom_id: s for s in shapes if s.geom_id not in self.batched}
         for gid in list(self.nodes):
             shape, node = self.nodes[gid]
             if wanted.get(gid) != shape:
                 node.remove()
                 del self.nodes[gid]
-        moving = {s.body for s in wanted.values() if s.moving}
+        moving = {s.body for s in shapes if s.moving}  # batched groups too: labels hang there
         gone = [b for b in self.bodies if b not in moving or b >= model.nbody]
         for body in sorted(gone, key=lambda b: -self._paths.get(b, "").count("/")):
             frame = self.bodies.pop(body)  # what hangs under it first: it goes with it
@@ -312,6 +402,8 @@ class SceneRenderer:
             self._paths[body] = paths[body]
             self.bodies[body] = self.scene.add_frame(paths[body], show_axes=False)
         self._sent[:] = np.nan  # the new frames know no pose yet
+        self._bsent[:] = np.nan
+        self._reframe = True
         self._move = POSE_MOVE * mechanism_size(model)
         fresh = []
         data = None
@@ -330,8 +422,26 @@ class SceneRenderer:
                         node.wxyz = wxyz
         return fresh
 
+    def _set_batches(self, model: mujoco.MjModel, wanted: list[Batch]) -> None:
+        """Draw ``wanted`` batches: kept when they are the same geoms as drawn, else every
+        batch node is made again (a model edit is rare; a batch is one message)."""
+        if [(b.key, b.shapes) for b in wanted] == [(b.key, b.shapes) for b, _ in self._batches]:
+            self._batches = [(b, node) for b, (_, node) in zip(wanted, self._batches, strict=True)]
+            return  # the same nodes; the groups' indices may have moved
+        for _, node in self._batches:
+            node.remove()
+        self._batches = [
+            (b, add_batch(self.scene, model, f"{self.prefix}/batch{k}", b))
+            for k, b in enumerate(wanted)
+        ]
+        self.batched = {s.geom_id: s for b in wanted for s in b.shapes}
+
     def clear(self) -> None:
         """Remove every node."""
+        for _, node in self._batches:
+            node.remove()
+        self._batches = []
+        self.batched = {}
         for _, node in self.nodes.values():
             node.remove()
         for _, label, _ in self.labels.values():
@@ -343,5 +453,7 @@ class SceneRenderer:
         self.bodies.clear()
         self._paths.clear()
         self._sent = np.zeros((0, 7))
+        self._bsent = np.zeros((0, 7))
         self._roots = np.zeros(0, dtype=int)
+        self._framed = np.zeros(0, dtype=bool)
         self.model = None
