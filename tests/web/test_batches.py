@@ -48,12 +48,12 @@ def test_unit_meshes_have_the_size_the_scales_assume_and_face_out(make, volume, 
 def test_colours_are_sent_as_linear_light():
     """A batch's bytes are linear light, a single node's are sRGB: mid-grey (sRGB 0.5)
     is 21.4 % of full light, byte 55; sent as 128 it was drawn paler."""
-    shape = geom_shapes(mujoco.MjModel.from_xml_string(THREE_BOXES))[0]
+    shape = geom_shapes(mujoco.MjModel.from_xml_string(FIVE_BOXES))[0]
     grey = type(shape)(**{**shape.__dict__, "rgba": (0.5, 0.0, 1.0, 1.0)})
     assert linear_colors([grey]).tolist() == [[55, 0, 255]]
 
 
-THREE_BOXES = """
+FIVE_BOXES = """
 <mujoco>
   <worldbody>
     <body name="a" pos="0 0 0"><joint type="slide" axis="1 0 0"/>
@@ -62,6 +62,10 @@ THREE_BOXES = """
       <geom type="box" size="0.1 0.2 0.1" rgba="0 1 0 1"/></body>
     <body name="c" pos="0 2 0" euler="0 0 30"><joint type="hinge" axis="0 0 1"/>
       <geom type="box" size="0.1 0.1 0.3" pos="0.2 0 0" euler="10 0 0" rgba="0 0 1 1"/></body>
+    <body name="d" pos="0 5 0"><joint type="slide" axis="0 1 0"/>
+      <geom type="box" size="0.2 0.1 0.1" rgba="1 1 0 1"/></body>
+    <body name="e" pos="0 6 0"><joint type="slide" axis="0 0 1"/>
+      <geom type="box" size="0.1 0.1 0.2" rgba="0 1 1 1"/></body>
     <body name="own" pos="0 3 0"><joint type="slide" axis="1 0 0"/>
       <geom type="box" size="0.1 0.1 0.1"/><geom type="sphere" size="0.1"/></body>
     <body name="glass" pos="0 4 0"><joint type="slide" axis="1 0 0"/>
@@ -79,19 +83,23 @@ def _model_data(xml: str) -> tuple[mujoco.MjModel, mujoco.MjData]:
 
 
 def test_only_groups_whose_every_geom_is_shared_are_batched():
-    """Boxes of any size over three groups are one batch; the group with a sphere of its
+    """Boxes of any size over five groups are one batch; the group with a sphere of its
     own keeps its frame (its pose is sent anyway), and a translucent box is not batched
     (the instances of one node are drawn unsorted)."""
-    model, _ = _model_data(THREE_BOXES)
+    model, _ = _model_data(FIVE_BOXES)
     from sandbox.physics.picture import body_groups
 
     roots, _ = body_groups(model)
     (batch,) = batches(geom_shapes(model), roots)
     names = {model.body(int(roots[k])).name for k in batch.groups}
-    assert batch.key == ("box",) and names == {"a", "b", "c"}
+    assert batch.key == ("box",) and names == {"a", "b", "c", "d", "e"}
     # two groups of two kinds each: two batch messages for two poses, nothing saved
     two, _ = _model_data(TWO_PAIRS)
     assert batches(geom_shapes(two), body_groups(two)[0]) == []
+    # four groups of boxes: three messages saved, fewer than posing a batch costs
+    body_e = FIVE_BOXES[FIVE_BOXES.index('<body name="e"') : FIVE_BOXES.index('<body name="own"')]
+    four, _ = _model_data(FIVE_BOXES.replace(body_e, ""))
+    assert batches(geom_shapes(four), body_groups(four)[0]) == []
 
 
 TWO_PAIRS = """
@@ -107,10 +115,10 @@ TWO_PAIRS = """
 
 
 def test_instances_are_drawn_where_mujoco_holds_the_geoms():
-    model, data = _model_data(THREE_BOXES)
+    model, data = _model_data(FIVE_BOXES)
     scene = FakeScene()
     renderer = SceneRenderer(scene)
-    data.qpos[:] = (0.3, -0.2, 0.7, 0.1, 0.4)
+    data.qpos[:] = (0.3, -0.2, 0.7, 0.25, -0.15, 0.1, 0.4)
     mujoco.mj_kinematics(model, data)
     renderer.sync(model, data)
     (node,) = [n for n in scene.nodes if n.kind == "batched_meshes_simple"]
