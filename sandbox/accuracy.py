@@ -70,6 +70,22 @@ def test_default(scene: Scene) -> Setting | None:
     return Setting(scene.integrator, scene.default_timestep(dict(scene.accuracy.values)))
 
 
+def on_test(sim: ReadOnlySimulation, setting: Setting) -> Setting:
+    """``setting`` as the reference test measures it: the same timestep, or where the
+    scene's default is an angle per step (:attr:`~sandbox.scenes.base.Accuracy.same_angle`)
+    the same angle per step at the test's speed (the page's default is then the test's
+    default: the compressor's 500 µs at 3000 tr/min is 100 µs at 17,000)."""
+    scene = as_scene(sim.scene)
+    acc = scene.accuracy if scene is not None else None
+    if scene is None or acc is None or not acc.same_angle:
+        return setting
+    page = scene.default_timestep(sim.values)
+    test = scene.default_timestep(dict(acc.values))
+    if not (page > 0 and test > 0):
+        return setting
+    return Setting(setting.integrator, float(f"{setting.timestep * test / page:.6g}"))
+
+
 def saved(result: SceneResult | None, setting: Setting) -> Run | None:
     """The saved benchmark's run of ``setting``, if it ran it."""
     if result is None:

@@ -92,6 +92,26 @@ def session_markdown(results: Sequence[SceneResult]) -> str:
     return "\n".join(lines) + "\n\n"
 
 
+def _angle_note(name: str) -> list[str]:
+    """Why a default that is a crank angle per step is measured at the test's speed."""
+    from sandbox.scenes import SCENES  # the registry (this module is below the scenes)
+
+    scene = SCENES.get(name)
+    acc = scene.accuracy if scene is not None else None
+    if scene is None or acc is None or not acc.same_angle:
+        return []
+    test = scene.default_timestep(dict(acc.values))
+    page = scene.default_timestep({})
+    return [
+        "",
+        f"The default timestep is a crank angle per step: the errors depend on ω·dt alone, "
+        f"so the default is the same angle at every speed, {test:.3g} s at the test's "
+        f"speed and {page:.3g} s at the page's default speed, and « Précision et coût » "
+        "measures a page's setting on this test at the same angle per step. A fixed "
+        "timestep cannot do it: at the test's speed only about 1e-4 s is admissible.",
+    ]
+
+
 def markdown(results: Sequence[SceneResult]) -> str:
     """The sessions' table (:func:`session_markdown`), then one table per scene: every
     run, the Pareto front and the default marked."""
@@ -124,5 +144,6 @@ def markdown(results: Sequence[SceneResult]) -> str:
                 f"closure equations + inverse dynamics, {exact.evaluation_s * 1e6:.0f} µs "
                 "per evaluation (one a web frame, whatever dt) |"
             )
+        parts += _angle_note(res.scene)
         parts.append("")
     return "\n".join(parts)

@@ -1,7 +1,8 @@
 """Isolating one solid: its dynamic torsor and every action on it, from MuJoCo's data.
 
 A *solid* is a group of bodies welded together (one ``body_weldid``). The actions on it
-are: the joint to its parent (motor torque shown apart), the joints to its children,
+are: the joint to its parent (the torque a motor passes on to the solid shown apart: its
+torque less what its own rotor takes, a joint's armature), the joints to its children,
 contacts and equality constraints (loop closures), and weight. Their sum equals the
 solid's dynamic torsor {D} (PFD): :func:`balance` gives them all at the solid's centre
 of mass with the PFD's residual, for the web panel to show.
@@ -20,6 +21,7 @@ from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.kinematics import Kinematics
 from sandbox.physics.mechanism import gravity_vector as _gravity
 from sandbox.physics.torsors import dof_wrenches as _dof_wrenches
+from sandbox.physics.torsors import joint_drive as _joint_drive
 from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
 
 JOINT_NAMES = {
@@ -72,7 +74,10 @@ def actions(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> list[Acti
     joints = range(model.body_jntadr[solid], model.body_jntadr[solid] + model.body_jntnum[solid])
     kinds = ", ".join(JOINT_NAMES.get(int(model.jnt_type[j]), "liaison") for j in joints)
     r, m = _spatial_at_origin(model, data, solid, data.cfrc_int[solid])
-    mr, mm = _dof_wrenches(model, data, data.qfrc_actuator, np.array([solid]))
+    # what the motor passes on to the solid: its torque less what its own rotor takes
+    # (armature·q̈, C_act = C_mot + J·θ''); the joint then keeps its reactions only, and
+    # a frictionless joint's moment about its own axis is 0
+    mr, mm = _dof_wrenches(model, data, _joint_drive(model, data), np.array([solid]))
     out.append(Action(f"{_name(model, parent)} → solide ({kinds})", r - mr, m - mm))
     if np.any(mr) or np.any(mm):
         out.append(Action("moteur", mr, mm))

@@ -57,6 +57,7 @@ ACCURACY = Accuracy(
     settle=0.003,  # the servo takes a few steps to build its torque
     drift_tol=1e-3,  # the issue's limit on the energy-theorem residual
     constraint_tol=1e-6,
+    same_angle=True,  # the default step is a crank angle (ω·dt): see Accuracy.same_angle
 )
 """Accuracy entry of the compressor and of the engine (the same slider-crank benchmark)."""
 

@@ -131,3 +131,36 @@ def test_the_engines_pfd_gap_is_round_off_of_its_largest_action():
         assert b.residual <= 1e-9, (solid, b.residual)
         at_o = isolate.balance(sim.model, sim.data, solid, np.zeros(3))
         assert at_o.residual <= 1e-9 and np.allclose(at_o.point, 0.0)
+
+
+@pytest.mark.parametrize("motion", ["free", "imposed"])
+def test_a_frictionless_joint_has_no_moment_about_its_own_axis(motion):
+    """The compressor's crank at 6000 tr/min, free (its speed ripples: θ'' ≠ 0): the
+    motor's rotor (J = 0,02 kg·m², a joint armature) takes J·θ'' of the actuator's torque,
+    and the crank receives the rest, C_mot = C_act − J·θ''. The pivot only reacts: its
+    moment about its own axis is 0 (it read −J·θ'', 1 N·m, when the motor's action was
+    the actuator's torque)."""
+    from sandbox.physics.torsors import joint_drive
+
+    sim = Simulation("compressor", values={"speed_rpm": 6000.0}, motion=motion)
+    sim.advance(0.0371)
+    sim.snapshot(["sup_R_x"])
+    model, data = sim.model, sim.data
+    crank = model.body("crank").id
+    joint = int(model.body_jntadr[crank])
+    dof = int(model.jnt_dofadr[joint])
+    acts = {a.label: a for a in isolate.actions(model, data, crank)}
+    pivot = acts["0 (bâti) → solide (pivot)"]
+    motor = acts["moteur"]
+    axis, anchor = data.xaxis[joint], data.xanchor[joint]
+    about = lambda a: float((a.moment + np.cross(a.resultant, anchor)) @ axis)  # noqa: E731
+    actuator = float(data.qfrc_actuator[dof])
+    inertia = float(model.dof_armature[dof] * data.qacc[dof])
+    assert abs(about(pivot)) <= 1e-9 * abs(actuator)
+    assert about(motor) == pytest.approx(float(joint_drive(model, data)[dof]), rel=1e-12)
+    assert about(motor) == pytest.approx(actuator - inertia, rel=1e-12)
+    if motion == "free":  # the difference the page must name: J·θ'' of the torque
+        assert abs(inertia) > 1e-3 * abs(actuator)
+    d = isolate.dynamic_torsor(model, data, crank)
+    total = sum(a.moment for a in acts.values())
+    assert np.abs(total - d.moment).max() < 1e-9 * max(np.abs(d.moment).max(), 1.0)

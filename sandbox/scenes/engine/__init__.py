@@ -40,10 +40,10 @@ constant-speed references see as a 0.3 % gap on the pilon.
 The references take the engine at constant ω (:class:`sandbox.mechanics.engine.Engine`)
 at the measured speed; the servo holds it within 3e-4 of its set point (four cylinders,
 3000 rpm), so the gap is the simulation's own error. Measured with RK4 at the default
-step (7e-4 s at 3000 rpm, 1e-4 s at 17,000 rpm): pilon within 5e-4 of its peak, orders 1
-and 2 and the largest rocking moment within 1.5e-4 of the course's, loops closed to 1.1e-6
-m (7.8e-7 m at 17,000 rpm), |P_int| below 1e-4 of the shaft's power; the four cylinders
-run 31 times faster than real time on one core (25 times with the web page's readouts).
+step, the compressor's crank angle (5e-4 s at 3000 rpm, 1e-4 s at 17,000 rpm): pilon
+within 3.3e-4 of its peak, loops closed to 6.6e-7 m (7.8e-7 m at 17,000 rpm), |P_int|
+below 3e-5 of the shaft's power; the four cylinders run 33 times faster than real time
+on one core in free motion (the default motion is imposed, computed exactly).
 
 Modules: :mod:`.params` (the parameter table), :mod:`.course` (the closed forms),
 :mod:`.model` (model edits, servo, state, timestep), :mod:`.cycle` (one revolution and its
@@ -111,9 +111,9 @@ SCENE = Scene(
     initial_state=initial_state,
     reference=reference,
     # The compressor's choices: RK4 keeps the closures from draining energy; the same
-    # crank angle per step at every speed (7e-4 s at 3000 rpm, 1e-4 s at 17,000 rpm).
+    # crank angle per step at every speed (5e-4 s at 3000 rpm, 1e-4 s at 17,000 rpm).
     integrator="rk4",
-    timestep=7e-4,
+    timestep=5e-4,
     timestep_for=default_timestep,
     sections="1, 7.3, figure 1",
     cycle=revolution,

@@ -307,12 +307,16 @@ class AccuracyPanel:
         mine = accuracy.in_force(sim)
         default = accuracy.default(sim)
         same = default is not None and default.same(mine)
-        mine_run = self.run(mine, now, at_once=same) if self.scene is not None else None
+        # as the reference test measures them (the same angle per step where the default
+        # is one: the page's default is then the test's)
+        mine_test = accuracy.on_test(sim, mine)
+        default_test = accuracy.on_test(sim, default) if default is not None else None
+        mine_run = self.run(mine_test, now, at_once=same) if self.scene is not None else None
         default_run = None
-        if default is not None and self.scene is not None:
-            default_run = mine_run if same else self.run(default, now, at_once=True)
+        if default_test is not None and self.scene is not None:
+            default_run = mine_run if same else self.run(default_test, now, at_once=True)
         at_test = accuracy.test_default(self.scene) if self.scene is not None else None
-        if at_test is not None and default is not None and at_test.same(default):
+        if at_test is not None and default_test is not None and at_test.same(default_test):
             at_test = None
         at_test_run = self.run(at_test, now, at_once=True) if at_test is not None else None
         imposed = sim.motion == "imposed"
@@ -330,6 +334,7 @@ class AccuracyPanel:
             chart=self.image is not None,
             at_test=at_test,
             at_test_run=at_test_run,
+            tested=(mine_test, default_test),
         )
         if imposed:
             exact = self.results.imposed if self.results is not None else None
@@ -362,8 +367,13 @@ def _mark(run: Run | None) -> tuple | None:
     return (run.integrator, run.timestep, run.cpu_per_sim_s, run.error, run.diverged)
 
 
-def _setting_cell(setting: Setting) -> str:
-    return html_text(f"{integrator_words(setting.integrator)}, dt = {duration(setting.timestep)}")
+def _setting_cell(setting: Setting, tested: Setting | None = None) -> str:
+    """A setting in words, and the timestep the test measures it at when another (the
+    same angle per step at the test's speed)."""
+    text = f"{integrator_words(setting.integrator)}, dt = {duration(setting.timestep)}"
+    if tested is not None and not tested.same(setting):
+        text += f" ({duration(tested.timestep)} à la vitesse de l'essai)"
+    return html_text(text)
 
 
 def _measured(run: Run | None, what: str) -> str:
@@ -420,6 +430,7 @@ def accuracy_markdown(
     chart: bool = False,
     at_test: Setting | None = None,
     at_test_run: Run | None = None,
+    tested: tuple[Setting | None, Setting | None] = (None, None),
 ) -> str:
     """The table of "Précision et coût", in French with decimal commas.
 
@@ -438,6 +449,8 @@ def accuracy_markdown(
         at_test: The scene's default at the test's own parameter values, when the
             default follows the parameters and differs there (None otherwise), with
             ``at_test_run`` its run: a sentence says what it gives.
+        tested: ``setting`` and ``default`` as the test measures them, when it does at
+            the same angle per step (:func:`sandbox.accuracy.on_test`; None: as they are).
     """
     rtf = 1.0 / cost if cost > 0 else math.nan
     factor = fmt(round(rtf)) if rtf >= 10 else fmt(rtf, digits=2)
@@ -466,10 +479,11 @@ def accuracy_markdown(
         runs = [("◆ ★ Votre réglage, celui par défaut", setting, mine_run)]
     else:
         runs = [("◆ Votre réglage", setting, mine_run), ("★ Par défaut", default, default_run)]
+    scaled = dict(zip((id(setting), id(default)), tested, strict=True))
     lines += [
         table_row("", *(title for title, _, _ in runs)),
         "|:--|" + "--:|" * len(runs),
-        table_row("Réglage", *(_setting_cell(s) for _, s, _ in runs)),
+        table_row("Réglage", *(_setting_cell(s, scaled.get(id(s))) for _, s, _ in runs)),
         table_row("Erreur relative", *(_measured(r, "error") for _, _, r in runs)),
         table_row(drift_label, *(_measured(r, "drift") for _, _, r in runs)),
         table_row(
@@ -478,6 +492,13 @@ def accuracy_markdown(
         ),
     ]
     text = "\n".join(lines)
+    pairs = zip(tested, (setting, default), strict=True)
+    if any(t is not None and s is not None and not t.same(s) for t, s in pairs):
+        text += (
+            "\n\nLe pas de temps par défaut est un angle du vilebrequin par pas (l'erreur ne "
+            "dépend que de ω·dt) : l'essai mesure chaque réglage au même angle par pas, à sa "
+            "propre vitesse."
+        )
     if at_test is not None:
         text += (
             f"\n\nLe pas par défaut suit les paramètres : aux valeurs de l'essai, il vaut "
@@ -496,8 +517,11 @@ def accuracy_markdown(
             not r.diverged and math.isfinite(r.error) and not result.admissible(r)
             for r in result.runs
         ):
-            text += (
-                f" Un cercle vide est un réglage non admissible : {cell(invariant)} au-delà "
-                f"de {relative(result.drift_tol)}."
-            )
+            limits = f"{cell(invariant)} au-delà de {relative(result.drift_tol)}"
+            if math.isfinite(result.constraint_tol):
+                limits += (
+                    f", ou fermeture des boucles au-delà de "
+                    f"{with_unit(fmt(result.constraint_tol), 'm')}"
+                )
+            text += f" Un cercle vide est un réglage non admissible : {limits}."
     return text
