@@ -419,3 +419,44 @@ def test_serve_help_names_the_lesson_prefix_and_lesson_files(capsys):
         main(["serve", "--help"])
     out = " ".join(capsys.readouterr().out.split())
     assert "lesson:NAME" in out and "FILE.md" in out
+
+
+@pytest.mark.parametrize(
+    "scene, values, motion",
+    [
+        ("compressor", ["speed_rpm=6000"], "free"),
+        ("compressor", ["speed_rpm=6000", "ramp_s=0.05"], "imposed"),
+        ("engine", ["speed_rpm=6000"], "free"),
+        ("robot_axis", ["profile=3", "sine_Nm=2", "sine_Hz=9"], None),
+        ("robot_axis", ["profile=1", "ramp_s=0", "eta=0.8"], None),
+        ("robot_axis", ["eta=0.8"], None),
+    ],
+)
+def test_every_row_of_a_run_is_one_instant_p_ext_is_the_torque_times_the_speed(
+    tmp_path, scene, values, motion
+):
+    """Issue 36: a student who multiplies two numbers of one row gets the third. The
+    compressor's and the engine's P_ext is the actuator's torque times ω, the actuator's
+    torque C_mot + J θ'' (the rotor's inertia, J = 0,02 kg·m², is in T); the robot axis's
+    P_motor and P_ext are C_m ω_m, C_m the torque applied from the row's instant on."""
+    import csv
+
+    out = tmp_path / "rows.csv"
+    args = ["run", scene, "--duration", "0.1", "--rate", "500", "--out", str(out)]
+    for v in values:
+        args += ["--set", v]
+    if motion is not None:
+        args += ["--motion", motion]
+    assert main(args) == 0
+    with out.open() as f:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    assert len(rows) >= 50
+    peak = max(abs(r["P_ext"]) for r in rows)
+    assert peak > 0
+    for r in rows:
+        if scene == "robot_axis":
+            power = r["C_m"] * r["omega_m"]
+            assert abs(r["P_motor"] - power) <= 1e-9 * peak, r["time"]
+        else:
+            power = r["actuator_torque"] * r["omega"]
+        assert abs(r["P_ext"] - power) <= 1e-9 * peak, r["time"]

@@ -74,6 +74,10 @@ class Param:
             notation instead.
         choices: French names of the values 0, 1, 2... of a parameter that picks one of
             a few options (a preset, on/off): the page shows a dropdown or a checkbox.
+        hypothesis: A modelling hypothesis this parameter sets, in French, with ``{}``
+            where its value goes (with its unit): « Hypothèses de modélisation » lists it,
+            so that a parameter folded away that changes a headline number (the motor
+            rotor's inertia in T and P_ext) is in sight ("": none).
     """
 
     name: str
@@ -90,6 +94,7 @@ class Param:
     advanced: bool = False
     log: bool = False
     choices: tuple[str, ...] = ()
+    hypothesis: str = ""
 
     @property
     def display_unit(self) -> str:

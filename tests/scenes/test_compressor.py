@@ -452,3 +452,23 @@ def test_60_seconds_at_3000_rpm():
     tail = _one_revolution(sim)
     _assert_healthy(tail, 5e-3, sim)
     assert _peak_error(tail, "motor_torque") < 5e-3
+
+
+@pytest.mark.parametrize("scene", ["compressor", "engine"])
+def test_the_actuators_torque_is_the_shafts_plus_what_turns_the_rotor(scene):
+    """Issue 36: two torques, two names. At 6000 tr/min in free motion (the speed
+    ripples, θ'' ≠ 0) the actuator's torque, whose power is P_ext, is C_mot + J θ'': J the
+    motor rotor's inertia (0,02 kg·m²), C_mot what reaches the crank shaft (the course's
+    C_mot, the « Couple moteur » row); they differ by up to 20 % of the peak."""
+    sim = Simulation(scene, values={"speed_rpm": 6000.0}, motion="free")
+    gap = peak = 0.0
+    for _ in range(40):
+        sim.advance(0.0011)
+        got = sim.readouts(["actuator_torque", "motor_torque", "P_ext"])
+        alpha, omega = float(sim.data.qacc[0]), float(sim.data.qvel[0])
+        relation = got["motor_torque"] + 0.02 * alpha
+        assert got["actuator_torque"] == pytest.approx(relation, rel=1e-12, abs=1e-12)
+        assert got["P_ext"] == pytest.approx(got["actuator_torque"] * omega, rel=1e-12)
+        gap = max(gap, abs(got["actuator_torque"] - got["motor_torque"]))
+        peak = max(peak, abs(got["actuator_torque"]))
+    assert gap > 0.05 * peak

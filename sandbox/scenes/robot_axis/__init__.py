@@ -24,9 +24,10 @@ pushed by ρ C_m with ρ (J_m + J_r) and ρ f_v upstream (see
 switches to the braking formula, then shows the gap. The generic T, P_ext, P_int and
 P_acc are the mechanism's, not the simulated chain's (the scene's ``mechanism`` hook adds the
 (1 − ρ) share of J_m + J_r, C_m ω_m and the reducer's loss): the kinetic-energy theorem reads
-the course's machine for any ρ. C_m is the motor torque averaged over the step the
-integrator took (the servo's torque at the start of a step is its largest), so it does not
-depend on the timestep.
+the course's machine for any ρ. Every reading is of one instant: C_m is the torque the
+motor applies from it on (what MuJoCo applies in the step starting there), so that C_m ω_m
+is the row's P_motor and P_ext; a speed servo's torque held over a step depends on the
+timestep (the default move's peak: 4.98 N·m at 1 ms, 4.80 at 0.1 ms).
 
 Modules: :mod:`.params` (the parameter table), :mod:`.course` (the course's axis, the
 command's gains, the timestep), :mod:`.model` (model edits and commands),

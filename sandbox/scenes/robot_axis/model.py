@@ -89,38 +89,13 @@ def control(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:
         data.ctrl[0] = v_ref / r + min(max(correction, -top), top)
     elif command == SINE:
         data.ctrl[0] = v["sine_Nm"] * math.sin(2.0 * math.pi * v["sine_Hz"] * t)
-    _remember(model, data)
 
 
 MEMORY = 7
-"""Numbers kept per state in ``userdata`` (two states): time, y_ch, V_ch, y, v, the
-command held over the step that starts there, and the set point filter's state."""
-
-
-def _remember(model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    """Keep the state a step starts from and its command in ``userdata``: slot 1 the
-    current one, slot 0 the one before, so that a reading after a step knows the step
-    that led to it (:func:`_last_step`). Called by :func:`control` before every step and
-    after the last: a new time shifts slot 1 into slot 0; the same time (the call before
-    the next step, a command changed by a slider) only refreshes slot 1. A deterministic
-    function of the trajectory: a replay or a reset rebuilds the same numbers."""
-    u = data.userdata
-    if u.size < 2 * MEMORY:
-        return
-    t = float(data.time)
-    if u[MEMORY] != t:
-        u[:MEMORY] = u[MEMORY : 2 * MEMORY]
-    y, dy = (float(data.qpos[1]), float(data.qvel[1])) if model.nv > 1 else (0.0, 0.0)
-    act = float(data.act[0]) if model.na else 0.0
-    u[MEMORY : 2 * MEMORY] = (
-        t,
-        float(data.qpos[0]),
-        float(data.qvel[0]),
-        y,
-        dy,
-        float(data.ctrl[0]),
-        act,
-    )
+"""``userdata`` numbers once kept per state (two states) for readings averaged over the
+last step; the readings are now of one instant (the torque applied from it on) and
+nothing writes them, but the slots stay reserved: the states of recordings made before
+keep their size, and the imposed motion's anchor follows them."""
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, v: Values) -> None:

@@ -7,7 +7,7 @@ set programmatically (event.client is None) are never sent back as requests.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Mapping
+from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any
 
 import mujoco
@@ -37,7 +37,7 @@ from sandbox.web.client.fields import (
 from sandbox.web.client.fields import (
     set_value as set_value,
 )
-from sandbox.web.client.text import number, plain
+from sandbox.web.client.text import number, plain, with_unit
 from sandbox.web.loop import SPEEDS, Request
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
@@ -100,14 +100,25 @@ CLOSURE_HYPOTHESIS = "Fermeture de chaîne par contrainte d'égalité raide"
 closed by the closure equations themselves)."""
 
 
+def parameter_hypotheses(params: Sequence[Param], values: Mapping[str, float]) -> list[str]:
+    """The hypotheses the parameters set (:attr:`~sandbox.scenes.base.Param.hypothesis`),
+    their values written as the page writes them; one whose value is 0 sets none."""
+    lines = []
+    for p in params:
+        value = values.get(p.name, p.default)
+        if p.hypothesis and value != 0:
+            lines.append(p.hypothesis.format(with_unit(number(value, 4), p.display_unit)))
+    return lines
+
+
 def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
     scene = as_scene(sim.scene)
     if scene is not None:
         effects = scene.effects_at(sim.values).hypotheses()
         if sim.motion == IMPOSED:
-            return (IMPOSED_HYPOTHESIS, *(h for h in effects if h != CLOSURE_HYPOTHESIS))
-        return tuple(effects)
+            effects = (IMPOSED_HYPOTHESIS, *(h for h in effects if h != CLOSURE_HYPOTHESIS))
+        return (*effects, *parameter_hypotheses(scene.params, sim.values))
     flags = int(sim.model.opt.disableflags)
     dsbl = mujoco.mjtDisableBit
     g = float(np.linalg.norm(sim.model.opt.gravity))
