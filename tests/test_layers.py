@@ -55,6 +55,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "sandbox.lessons",
             "sandbox.replay",
             "sandbox.sweep",
+            "sandbox.written",  # how a readout is written, for every view
         ),
     ),
     ("web", ("sandbox.web",)),

@@ -148,7 +148,7 @@ def test_static_export_speaks_french_beside_the_mechanism_and_shows_it_is_loadin
     assert text.splitlines() == [
         "t = 1,25\u00a0s",
         "ω = 1\u202f500\u00a0tr/min",
-        "Palier A = 54,4\u00a0N",
+        "Palier A = 54,42\u00a0N",
     ]
     html = export_static(rec, tmp_path / "export").read_text(encoding="utf-8")
     assert f"id='{LOADING_ID}'" in html and "Chargement de l'animation" in html

@@ -292,7 +292,7 @@ def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     panel.refresh(now)
     free = student_row("p:7", student)
     assert (free.step, free.goal, free.readout, free.label) == (0, "", "bearing_A", "Palier A")
-    assert free.shown == "54,4\u00a0N"
+    assert free.shown == "54,42\u00a0N"
     assert math.isnan(free.progress)
 
 

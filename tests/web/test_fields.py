@@ -177,8 +177,8 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
     lines = overlay_lines(
         ["theta", "contact"], {"theta": 4 * math.pi + 0.5, "contact": 1.0}, {}, {"theta": "rad"}
     )
-    assert lines == ["theta = 29°", "contact = oui"]
+    assert lines == ["theta = 28,65°", "contact = oui"]
     (gimbal,) = overlay_lines(["gimbal_outer"], {"gimbal_outer": -0.5}, {}, {"gimbal_outer": "rad"})
     (residual,) = overlay_lines(["r"], {"r": -5.5e-15}, {"r": "Écart"}, {"r": "W"}, {"r": 1e-9})
     assert residual == "Écart = 0\u00a0W"  # below the scene's round-off
-    assert gimbal == "gimbal_outer = −28,6°"  # not modulo: a gimbal swings both ways
+    assert gimbal == "gimbal_outer = −28,65°"  # not modulo: a gimbal swings both ways

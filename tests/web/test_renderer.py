@@ -218,6 +218,7 @@ class HandleScene:
 )
 def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     from sandbox.physics.simulation import Simulation
+    from sandbox.physics.units import shown_scale
     from sandbox.scenes.base import as_scene
     from sandbox.web.view3d.arrow_scale import MAX_REACH, MIN_REACH, SHAFT
     from sandbox.web.view3d.arrows import ArrowLayer
@@ -251,7 +252,9 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     layer.relabel()
     for k, label in enumerate(layer.labels):
         if getattr(spec.page.arrows[k], "magnitude", True) and layer.units[k]:
-            assert label.text.endswith(layer.units[k].replace("rpm", "tr/min")), label.text
+            # in the unit every view writes it in (a speed in tr/min, as the tables)
+            unit = shown_scale(spec.page.arrows[k].name, layer.units[k])[0]
+            assert label.text.endswith(unit), label.text
             assert "." not in label.text.split(":")[-1], label.text  # decimal comma
 
 

@@ -11,6 +11,8 @@ import html
 import re
 
 from sandbox.french import number
+from sandbox.written import UNIT_SPACE as UNIT_SPACE  # the readouts' typography, one place
+from sandbox.written import with_unit as with_unit
 
 __all__ = [
     "GAP",
@@ -57,16 +59,3 @@ def table_row(*cells: str) -> str:
     """One markdown table row of ``cells`` (already escaped), a :data:`GAP` before each
     cell after the first."""
     return "| " + " | ".join([cells[0], *(GAP + c for c in cells[1:])]) + " |"
-
-
-UNIT_SPACE = "\u00a0"
-"""The no-break space between a number and its unit."""
-
-
-def with_unit(shown: str, unit: str) -> str:
-    """A written number and its unit as French typography has them: "54,4 N" with a
-    no-break space (a narrow line never puts the unit alone on the next one), "29°" (an
-    angle's degree sign follows the number), the number alone without a unit."""
-    if not unit:
-        return shown
-    return f"{shown}{unit}" if unit == "°" else f"{shown}{UNIT_SPACE}{unit}"

@@ -41,6 +41,7 @@ from sandbox.web.client.text import number, plain, with_unit
 from sandbox.web.loop import SPEEDS, Request
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
+from sandbox.written import time_words
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
 COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
@@ -138,8 +139,8 @@ def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
 
 
 def _seconds(t: float) -> str:
-    """Simulated time with two decimals and a decimal comma ("12,35", "1 234,56")."""
-    return number(t, max(3, len(f"{abs(t):.0f}") + 2))
+    """Simulated time as every view writes it (:func:`sandbox.written.time_words`)."""
+    return time_words(t)
 
 
 def speed_slider(gui: viser.GuiApi, hint: str) -> viser.GuiSliderHandle[float]:

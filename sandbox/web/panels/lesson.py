@@ -27,7 +27,6 @@ from typing import Protocol
 import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
-from sandbox.physics.units import shown_scale
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row
 from sandbox.web.loop import Request
@@ -86,13 +85,11 @@ class LessonPanel:
         }
         infos = sim.readout_infos()
         zero_for = getattr(sim.scene, "zero_for", None)  # the scene's round-off by unit
-        shown = {i.name: shown_scale(i.name, i.unit) for i in infos}
         self.units = {i.name: i.unit for i in infos}
         self.words = Words(
             {i.name: i.label for i in infos},
-            {n: unit for n, (unit, _) in shown.items()},
+            self.units,
             {i.name: zero_for(i.unit) for i in infos} if callable(zero_for) else {},
-            {n: k for n, (_, k) in shown.items()},
         )
         self.progress: Progress | None = None
         # what the page shows, kept for the class board (read once a second elsewhere)

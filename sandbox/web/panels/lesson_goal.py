@@ -21,7 +21,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from sandbox.lessons import Check, CheckError, number_of
-from sandbox.web.client.text import html_text, number, with_unit
+from sandbox.web.client.text import html_text, number
+from sandbox.written import written
 
 SYMBOLS: dict[type, str] = {
     ast.Lt: "<", ast.LtE: "≤", ast.Gt: ">", ast.GtE: "≥", ast.Eq: "=", ast.NotEq: "≠",
@@ -133,30 +134,26 @@ class Line:
 
 
 class Words:
-    """How readouts are written: French label (else the name), unit as shown on the page,
-    the factor from the contract unit to it (ω in tr/min: 30/π; default 1), and the
-    scene's round-off by readout in its contract unit (values at or under it are
-    written 0)."""
+    """How readouts are written: French label (else the name), and the value as every
+    view writes it (:func:`sandbox.written.written`) from its contract unit and the
+    scene's round-off by readout in that unit (values at or under it are written 0)."""
 
     def __init__(
         self,
         labels: Mapping[str, str],
         units: Mapping[str, str],
         zeros: Mapping[str, float] | None = None,
-        scales: Mapping[str, float] | None = None,
     ) -> None:
         self.labels = labels
-        self.units = units
+        self.units = units  # contract units
         self.zeros = zeros or {}
-        self.scales = scales or {}
 
     def label(self, name: str) -> str:
         return self.labels.get(name) or name
 
     def quantity(self, value: float, name: str) -> str:
         unit = self.units.get(name, "")
-        k = self.scales.get(name, 1.0)
-        return with_unit(number(value * k, 3, zero=self.zeros.get(name, 0.0) * k), unit)
+        return str(written(name, value, unit, zero=self.zeros.get(name, 0.0)))
 
 
 def lines(

@@ -15,17 +15,10 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.physics.units import (
-    FLAGS,
-    TURN_ANGLES,
-    TURN_SPEEDS,
-    flag_words,
-    shown_scale,
-    shown_value,
-)
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.fields import on_user, set_value
-from sandbox.web.client.text import html_text, number, with_unit
+from sandbox.web.client.text import html_text
+from sandbox.written import written
 
 if TYPE_CHECKING:
     import viser
@@ -91,6 +84,19 @@ def key_readouts(sim: ReadOnlySimulation) -> dict[str, str]:
     return {n: short for n, short in names.items() if n in known}
 
 
+def overlay_labels(sim: ReadOnlySimulation) -> dict[str, str]:
+    """The overlay's words for each of its readouts (:func:`key_readouts`), in the way
+    the motion is computed now (« Couple nécessaire » while it is imposed): the scene's
+    short words, else the readout's label. Every view that writes the overlay (the page,
+    the class board, a video, a static export) takes them from here."""
+    infos = {i.name: i for i in sim.readout_infos()}
+    short = key_readouts(sim)
+    spec = as_scene(sim.scene)
+    imposed = spec is not None and sim.motion == "imposed"
+    changed = dict(spec.page.imposed_overlay) if spec is not None and imposed else {}
+    return {n: changed.get(n) or w or infos[n].label or n for n, w in short.items()}
+
+
 def overlay_lines(
     names: Sequence[str],
     values: Mapping[str, float],
@@ -98,22 +104,14 @@ def overlay_lines(
     units: Mapping[str, str],
     zeros: Mapping[str, float] | None = None,
 ) -> list[str]:
-    """One line per readout: "label = value unit" (French number, "—" when missing; an
-    angle's degree sign follows the number)."""
+    """One line per readout: "label = value unit", written as every view writes it
+    (:func:`sandbox.written.written`: the tables' digits, θ modulo 360°, a flag in words,
+    "—" when missing)."""
     lines = []
     for name in names:
         value = values.get(name, math.nan)
-        contract = units.get(name, "")
-        unit, factor = shown_scale(name, contract)
-        zero = (zeros or {}).get(name, 0.0) * factor
-        shown = number(shown_value(name, contract, value), 3, zero=zero)
-        if name in TURN_ANGLES and contract == "rad" and math.isfinite(value):
-            shown = str(round(shown_value(name, contract, value)) % 360)
-        elif name in TURN_SPEEDS and unit == "tr/min":
-            shown = number(value * factor, 4, zero=zero)
-        elif name in FLAGS and math.isfinite(value):
-            shown, unit = flag_words(value), ""
-        lines.append(f"{labels.get(name) or name} = {with_unit(shown, unit)}")
+        text = written(name, value, units.get(name, ""), zero=(zeros or {}).get(name, 0.0))
+        lines.append(f"{labels.get(name) or name} = {text}")
     return lines
 
 
@@ -140,13 +138,8 @@ class Projector:
         self.left, self.right = left, right
         self.font = FONT_SIZES[0]
         infos = {i.name: i for i in sim.readout_infos()}
-        short = key_readouts(sim)
-        self.names = list(short)
+        self.names = list(key_readouts(sim))
         self.sim = sim
-        self.labels = {n: short[n] or infos[n].label for n in self.names}
-        spec = as_scene(sim.scene)
-        changed = dict(spec.page.imposed_overlay) if spec is not None else {}
-        self.imposed_labels = {n: changed.get(n, label) for n, label in self.labels.items()}
         self.units = {n: infos[n].unit for n in self.names}
         spec = as_scene(sim.scene)  # the scene's round-off: 5e-15 W is written 0
         self.zeros = {n: spec.zero_for(self.units[n]) if spec else 0.0 for n in self.names}
@@ -186,7 +179,7 @@ class Projector:
         elif values is None:
             return
         else:
-            labels = self.imposed_labels if self.sim.motion == "imposed" else self.labels
+            labels = overlay_labels(self.sim)  # the motion may have changed since
             lines = overlay_lines(self.names, values, labels, self.units, self.zeros)
         if lines != self._lines:
             self._lines = lines

@@ -23,7 +23,7 @@ from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
 from sandbox.web.panels.challenge import ChallengePanel
 from sandbox.web.panels.lesson import LessonPanel
 from sandbox.web.panels.lesson_goal import parts
-from sandbox.web.panels.projector import key_readouts, overlay_lines
+from sandbox.web.panels.projector import overlay_labels, overlay_lines
 
 _GOAL_KEYS = {word: key for key, word in GOALS.items()}
 
@@ -40,7 +40,7 @@ class Readouts:
     @classmethod
     def of(cls, sim: ReadOnlySimulation) -> Readouts:
         infos = {i.name: i for i in sim.readout_infos()}
-        short = key_readouts(sim)
+        short = overlay_labels(sim)
         spec = as_scene(sim.scene)
         names = tuple(short)
         labels = {n: (short.get(n) or i.label or n) for n, i in infos.items()}

@@ -21,9 +21,10 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
-from sandbox.physics.units import FLAGS, flag_words, shown_scale, shown_value
+from sandbox.physics.units import shown_scale
 from sandbox.web.client.fields import INTEGRATOR_LABELS
 from sandbox.web.client.text import html_text, number, table_row
+from sandbox.written import written
 
 RELATIVE_ZERO = 1e-9
 """A component below this fraction of the largest one of its table is round-off (shown 0)."""
@@ -310,12 +311,9 @@ def scene_markdown(
         v = values.get(row.name, math.nan)
         ref = reference.get(row.name)
         label = _label_cell(row)
-        floor = row.zero * shown_scale(row.name, row.unit)[1]
-        course = fmt(shown_value(row.name, row.unit, ref), floor=floor) if ref is not None else "—"
-        if row.name in FLAGS and math.isfinite(v):
-            shown = flag_words(v)  # « Contact avec le plan : oui », not « 1 »
-        else:
-            shown = fmt(shown_value(row.name, row.unit, v), floor=floor)
+        # written as every view writes it (a flag « oui », θ modulo 360°, the round-off 0)
+        course = written(row.name, ref, row.unit, zero=row.zero).number if ref is not None else "—"
+        shown = written(row.name, v, row.unit, zero=row.zero).number
         lines.append(
             table_row(
                 label,

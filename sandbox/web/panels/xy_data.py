@@ -24,6 +24,7 @@ from sandbox.physics.units import TURN_ANGLES, shown_scale
 from sandbox.runner import csv_cell
 from sandbox.scenes.presets import TIME
 from sandbox.web.client.text import number, with_unit
+from sandbox.written import Written, time_words, written
 
 WINDOW = 10.0
 """Seconds of simulated time kept when X is time."""
@@ -269,14 +270,15 @@ class XYData:
         if found is None:
             return "Pas encore de points : lancez la simulation (▶ Lecture)."
         x, ys = found
+        at = self._written(self.x, x)
         if len(xs) > 1 and np.nanmax(xs) == np.nanmin(xs):
             return (
-                f"X ne varie pas ({self.x.words} = {with_unit(number(x, 4), self.x.shown)}) : "
+                f"X ne varie pas ({self.x.words} = {at}) : "
                 "aucune courbe à tracer. Choisissez une autre grandeur en X, ou un "
                 "préréglage qui la fait varier."
             )
         zero = zero or {}
-        lines = [f"**{self.x.words}** = {with_unit(number(x, 4), self.x.shown)}"]
+        lines = [f"**{self.x.words}** = {at}"]
         span = float(np.nanmax(xs) - np.nanmin(xs)) if len(xs) else 0.0
         for y, value, slope in ys:
             z = zero.get(y.unit, 0.0) * y.scale
@@ -285,10 +287,17 @@ class XYData:
             size = float(np.nanmax(np.abs(values[y.name]))) if len(xs) else 0.0
             flat = max(z, 1e-9 * size) / span if span > 0 else 0.0
             lines.append(
-                f"**{y.words}** = {with_unit(number(value, 4, zero=z), y.shown)} ; "
+                f"**{y.words}** = {self._written(y, value, zero.get(y.unit, 0.0))} ; "
                 f"pente {with_unit(number(slope, 3, zero=flat), slope_unit(y.shown, self.x.shown))}"
             )
         return "  \n".join(lines)
+
+    @staticmethod
+    def _written(axis: Axis, shown: float, zero: float = 0.0) -> Written:
+        """A value the chart shows (in the page's unit) as every view writes it."""
+        if axis.name == TIME:
+            return Written(time_words(shown), "s", shown)
+        return written(axis.name, shown / axis.scale, axis.unit, zero=zero)
 
     # -- files ---------------------------------------------------------------------------
     def csv_text(self) -> str:

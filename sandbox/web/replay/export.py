@@ -21,12 +21,13 @@ import viser
 from sandbox.recording import Recording, write_csv
 from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web.client.text import number, with_unit
+from sandbox.web.client.text import with_unit
 from sandbox.web.page import locale as client_text
-from sandbox.web.panels.projector import key_readouts, overlay_lines
+from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.renderer import SceneRenderer
+from sandbox.written import time_words
 
 EXPORT_FPS = 30.0
 """Frames per second of a static export (recordings are thinned to this rate)."""
@@ -43,7 +44,7 @@ def overlay_text(
     the time, then "label = value unit" per readout in French (decimal comma, tr/min and
     degrees, 0 below the scene's round-off)."""
     units = dict(zip(rec.names, rec.header.get("units", [""] * len(rec.names)), strict=False))
-    lines = [f"t = {with_unit(number(values.get('time', math.nan), 3), 's')}"]
+    lines = [f"t = {with_unit(time_words(values.get('time', math.nan)), 's')}"]
     lines += overlay_lines(names, values, labels or {}, units, zeros)
     return "\n".join(lines)
 
@@ -104,10 +105,9 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
             arrows = ArrowLayer(
                 scene, spec.page.arrows, extent=float(sim.model.stat.extent), zero=spec.zero
             )
-        words = {i.name: i.label for i in sim.readout_infos()}
-        key = key_readouts(sim)
+        key = overlay_labels(sim)  # the page's overlay words
         names = [n for n in key if n in rec.names]
-        labels = {n: key[n] or words.get(n) or n for n in names}
+        labels = {n: key[n] for n in names}
         units = dict(zip(rec.names, rec.header.get("units", []), strict=False))
         zeros = {n: spec.zero_for(units.get(n, "")) if spec else 0.0 for n in names}
         # Beside the mechanism, not over it: one extent to the left of its centre as the

@@ -8,6 +8,7 @@ panel differs: a time scrubber, play/pause, frame stepping and a speed factor.
 
 from __future__ import annotations
 
+import math
 import queue
 import sys
 import time
@@ -39,6 +40,7 @@ from sandbox.web.loop import (
 from sandbox.web.panels.controls import bounds, command, speed_slider
 from sandbox.web.serving.server import App, open_server, run_forever
 from sandbox.web.views.browser import WebView
+from sandbox.written import time_words
 
 
 class ReplayController:
@@ -162,8 +164,9 @@ TIMELINE_LABEL = "Temps [s]"
 
 
 def seconds(t: float) -> str:
-    """A time on the timeline, to the hundredth of a second: ``5,80``."""
-    return f"{float(t):.2f}".replace(".", ",").replace("-", "−")
+    """A time on the timeline, to the hundredth of a second: ``5,80`` (as every view
+    writes a time: :func:`sandbox.written.time_words`)."""
+    return time_words(float(t))
 
 
 class ReplayPanel:
@@ -176,7 +179,10 @@ class ReplayPanel:
         rec = controller.rec
         submit = controller.submit
         t1 = float(controller.timeline[-1])
-        step = t1 / max(len(rec.times) - 1, 1) or 0.01
+        # viser writes the box with as many decimals as its step, bounds and value have:
+        # a step of 13,46/137 s wrote « 13,4600000 »; to the hundredth, as the status
+        step = max(round(t1 / max(len(rec.times) - 1, 1), 2), 0.01)
+        top = math.ceil(max(t1, step) * 100.0 - 1e-9) / 100.0
         with gui.add_folder("Relecture"):
             # The header comes from a file students exchange: shown as text, never HTML.
             lesson = rec.header.get("lesson")
@@ -195,10 +201,10 @@ class ReplayPanel:
             self.time = gui.add_slider(
                 TIMELINE_LABEL,
                 min=0.0,
-                max=max(t1, step),
+                max=top,
                 step=step,
                 initial_value=0.0,
-                marks=bounds(0.0, max(t1, step)),
+                marks=bounds(0.0, top),
                 hint="Position dans l'enregistrement : faites glisser pour y aller",
             )
             self.speed = speed_slider(gui, "Temps relu divisé par le temps réel (1 : temps réel)")
@@ -247,8 +253,9 @@ class ReplayPanel:
         )
         if self.status.content != status:
             self.status.content = status
-        if not abs(self.time.value - pos) <= 1e-9:  # also a NaN a browser sent
-            set_value(self.time, pos)
+        shown = round(pos, 2)  # to the hundredth, as its box writes it
+        if not abs(self.time.value - shown) <= 1e-9:  # also a NaN a browser sent
+            set_value(self.time, shown)
         if not self.speed.value == ctl.speed:
             set_value(self.speed, ctl.speed)  # a refused speed: the value in force
         if self.params is not None:

@@ -28,7 +28,6 @@ from pathlib import Path
 import viser
 
 from sandbox.physics.simulation import Simulation
-from sandbox.physics.units import shown_scale
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row, with_unit
 from sandbox.web.loop import Controller, Frame, Notice, Request, Session
@@ -46,6 +45,7 @@ from sandbox.web.view3d.camera import point_camera
 from sandbox.web.view3d.renderer import SceneRenderer
 from sandbox.web.view3d.stage import draw_scene
 from sandbox.web.views.browser import WebView, arrow_layer
+from sandbox.written import time_words, written
 
 log = logging.getLogger(__name__)
 
@@ -93,7 +93,7 @@ class BroadcastView:
         spec = as_scene(sim.scene)
         self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
         infos = {i.name: i for i in sim.readout_infos()}
-        self.units = {n: shown_scale(n, i.unit) for n, i in infos.items()}
+        self.units = {n: i.unit for n, i in infos.items()}  # contract units
         zero = dict(spec.zero) if spec is not None else {}
         self.zeros = {n: zero.get(i.unit, 0.0) for n, i in infos.items()}
         self.labels = {n: plain(i.label or n) for n, i in infos.items()}
@@ -129,7 +129,7 @@ class BroadcastView:
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller
         state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"t = {with_unit(fmt(frame.time, digits=4), 's')} · {state}"]
+        lines = [f"t = {with_unit(time_words(frame.time), 's')} · {state}"]
         if frame.diverged:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:
@@ -137,10 +137,14 @@ class BroadcastView:
             rows = [table_row("Grandeur", "Valeur"), "|:--|--:|"]
             # the words of the way the motion is computed now (« Couple nécessaire »)
             self.labels = {i.name: plain(i.label or i.name) for i in controller.sim.readout_infos()}
-            for name in self.names:
-                unit, k = self.units.get(name, ("", 1.0))
-                shown = fmt(values.get(name, math.nan) * k, floor=self.zeros.get(name, 0.0) * k)
-                rows.append(table_row(self.labels.get(name, name), with_unit(shown, unit)))
+            for name in self.names:  # written as the page's table writes it
+                shown = written(
+                    name,
+                    values.get(name, math.nan),
+                    self.units.get(name, ""),
+                    zero=self.zeros.get(name, 0.0),
+                )
+                rows.append(table_row(self.labels.get(name, name), str(shown)))
             lines.append("\n".join(rows))
         text = "\n\n".join(lines)
         if text != self.summary:

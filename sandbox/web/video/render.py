@@ -30,14 +30,15 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import open_simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web.client.text import number
-from sandbox.web.panels.projector import key_readouts, overlay_lines
+from sandbox.web.client.text import with_unit
+from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.video.frame import Text, add_arrows, label_arrows
 from sandbox.web.video.offscreen import aim, backdrop, offscreen_renderer
 from sandbox.web.video.options import DIRECTIONS, VideoError, VideoOptions, check
 from sandbox.web.video.strip import Follow, Strip, sampled
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.geoms import mechanism_size
+from sandbox.written import time_words
 
 MP4_SPEED = ["-preset", "veryfast"]
 """x264's faster preset: the encoder shares a 2-core laptop with the drawing (its default
@@ -75,9 +76,8 @@ def render_video(
     spec = as_scene(sim.scene)
     infos = {i.name: i for i in sim.readout_infos()}
     words = {n: i.label or n for n, i in infos.items()}
-    key = key_readouts(sim)
-    names = [n for n in key if n in infos]
-    labels = {n: key[n] or words.get(n, n) for n in names}
+    labels = overlay_labels(sim)  # the page's overlay words
+    names = [n for n in labels if n in infos]
     units = {n: i.unit for n, i in infos.items()}
     zeros = {n: spec.zero_for(units.get(n, "")) if spec else 0.0 for n in infos}
     by_unit = dict(spec.zero) if spec is not None else {}
@@ -149,7 +149,7 @@ def render_video(
             draw = ImageDraw.Draw(frame, "RGBA")
             label_arrows(draw, text, scene, drawn, width, view_h, by_unit)
             values = sim.readouts(names + ["time"], data=data)
-            lines = [f"t = {number(float(t), 4)} s"]
+            lines = [f"t = {with_unit(time_words(float(t)), 's')}"]
             lines += overlay_lines(names, values, labels, units, zeros)
             # top left: a player's controls cover the bottom of a video
             text.box(draw, (0.02 * width, 0.03 * view_h), lines, text.big)

@@ -17,9 +17,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
-from sandbox.physics.units import display_unit
 from sandbox.scenes.page import Arrow
-from sandbox.web.client.text import number, with_unit
+from sandbox.written import written
 
 MIN_LENGTH = 1e-4
 """Arrows shorter than this [m] are hidden (a cone alone would mislead)."""
@@ -51,8 +50,8 @@ def caption(arrow: Arrow, magnitude: float, unit: str, zero: Mapping[str, float]
     alone for an arrow that shows a direction only. ``zero``: round-off by unit."""
     if not arrow.magnitude:
         return arrow.label
-    value = number(magnitude, 3, zero=zero.get(unit, 0.0))
-    return f"{arrow.label} : {with_unit(value, display_unit(unit))}"
+    # written as every view writes it: a speed in tr/min as the tables write it
+    return f"{arrow.label} : {written(arrow.name, magnitude, unit, zero=zero.get(unit, 0.0))}"
 
 
 def auto_factor(current: float, longest: float, size: float) -> float:

@@ -1,0 +1,56 @@
+"""How a readout is written, one definition for every view (issue 36)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from sandbox.written import Written, time_words, with_unit, written
+
+
+def test_a_value_is_written_with_the_tables_digits_in_the_pages_unit():
+    assert str(written("motor_torque", 1.0043, "N·m")) == "1,004\u00a0N·m"  # not « 1 »
+    assert str(written("omega", 157.0796, "rad/s")) == "1\u202f500\u00a0tr/min"
+    assert str(written("omega", 157.0796, "rad/s", digits=3)) == "1\u202f500\u00a0tr/min"
+    assert str(written("gimbal_outer", -0.5, "rad")) == "−28,65°"  # swings both ways
+    assert str(written("speed_rpm", 3000.0, "rpm")) == "3\u202f000\u00a0tr/min"
+    assert written("bearing_A", 54.4174, "N") == Written("54,42", "N", 54.4174)
+
+
+def test_a_turn_counter_is_written_modulo_a_turn_after_rounding():
+    """θ unwrapped in files (16 994 rad after a minute at 3000 tr/min) is an angle on
+    the page: 973 684° was written; and 359,99996° rounds to 0, never to « 360 »."""
+    assert str(written("theta", 16994.0, "rad")) == str(
+        written("theta", 16994.0 % (2 * math.pi), "rad")
+    )
+    assert 0.0 <= written("theta", 16994.0, "rad").value < 360.0
+    almost = math.radians(359.99996) + 20 * math.pi
+    assert written("theta", almost, "rad").number == "0"
+    assert written("theta", 4 * math.pi + 0.5, "rad").number == "28,65"
+
+
+def test_flags_round_off_and_missing_values():
+    assert str(written("contact", 1.0, "")) == "oui" and str(written("contact", 0.0, "")) == "non"
+    assert str(written("P_int", -5.5e-15, "W", zero=1e-9)) == "0\u00a0W"
+    assert str(written("P_int", 5.5e-15, "W")) == "5,5×10⁻¹⁵\u00a0W"
+    # the round-off is in the contract unit: 1e-9 rad/s is 1e-8 tr/min
+    assert written("omega", 2e-9, "rad/s", zero=1e-9).number != "0"
+    assert written("omega", 0.9e-9, "rad/s", zero=1e-9).number == "0"
+    assert str(written("bearing_A", math.nan, "N")) == "—\u00a0N"
+    assert written("contact", math.inf, "").number == "—"
+    assert written("bearing_A", "abc", "N").number == "—"  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    "t, words",
+    [(13.46, "13,46"), (13.4600000001, "13,46"), (0.0, "0,00"), (1234.5, "1\u202f234,50"),
+     (-0.004, "0,00"), (-1.5, "−1,50"), (math.nan, "—")],
+)  # fmt: skip
+def test_a_time_is_written_to_the_hundredth(t, words):
+    assert time_words(t) == words
+
+
+def test_the_unit_follows_french_typography():
+    assert with_unit("29", "°") == "29°" and with_unit("3", "N") == "3\u00a0N"
+    assert with_unit("0,5", "") == "0,5"
