@@ -93,6 +93,9 @@ def written(
     bound = max(abs(zero) * factor, floor)
     if name in TURN_ANGLES and unit == "rad":
         shown %= 360.0
+        # read at a turn's precision: with 4 digits, 0,05° (a θ that is 10⁻⁶° past a
+        # whole number of turns is 0°, not 1,88×10⁻⁶°)
+        bound = max(bound, 0.5 * 10.0 ** (3 - digits))
         text = number(shown, digits, zero=bound)
         if text == number(360.0, digits):  # 359,99996° rounds to 360: it is 0
             shown, text = 0.0, "0"

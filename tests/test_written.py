@@ -28,6 +28,9 @@ def test_a_turn_counter_is_written_modulo_a_turn_after_rounding():
     almost = math.radians(359.99996) + 20 * math.pi
     assert written("theta", almost, "rad").number == "0"
     assert written("theta", 4 * math.pi + 0.5, "rad").number == "28,65"
+    # a turn's precision: 3,3×10⁻⁸ rad past 3000 turns is 0°, not 1,88×10⁻⁶°
+    assert written("theta", 6000 * math.pi + 3.3e-8, "rad").number == "0"
+    assert written("theta", 0.001, "rad").number == "0,0573"
 
 
 def test_flags_round_off_and_missing_values():

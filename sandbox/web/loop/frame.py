@@ -12,6 +12,7 @@ from typing import Protocol
 
 from sandbox.physics.picture import Picture
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.snapshot import Snapshot
 
 FPS = 60.0
 """Frame rate of pose updates sent to the browser [Hz]."""
@@ -48,6 +49,10 @@ class Frame:
             names a consumer needs); None on ticks that refresh no panel.
         picture: What the 3D view draws (poses, arrows), computed once when the drawn
             state changed and a view draws; None otherwise (nothing moved: nothing sent).
+        state: The state ``readouts`` were computed from (the drawn state, its forces
+            prepared), for the panels that compute their own numbers from a state
+            (« Isoler un solide », the basis of a solid): one instant for the whole
+            frame. None: the physics state's (while recording, a replay), or no readouts.
     """
 
     now: float
@@ -59,6 +64,7 @@ class Frame:
     notices: tuple[Notice, ...] = ()
     readouts: Mapping[str, float] | None = None
     picture: Picture | None = None
+    state: Snapshot | None = None
 
     @property
     def key(self) -> tuple[int, float, int]:

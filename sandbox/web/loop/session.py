@@ -222,12 +222,16 @@ class Session:
                 twin = secret.twin(sim) if secret is not None else None
                 drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
+        state: Snapshot | None = None  # what the panels read besides the readouts
         if read:
             if values is not None:  # while recording, tables step with the physics
                 shown = values
-            elif snap is not None and live is not None:
+            elif live is not None:
                 with sim.lock:
+                    if snap is None:  # nothing drawn this tick: the drawn state all the same
+                        snap = drawn_snapshot(ctl, FORCES)
                     shown = live.shown_readouts(() if every else names, snapshot=snap)
+                state = snap
             else:
                 shown = shown_readouts(ctl, () if every else names, None)
         if live is not None and recording:
@@ -246,6 +250,7 @@ class Session:
             notices=tuple(notices),
             readouts=shown if wanted is not None else None,
             picture=drawing,
+            state=state if wanted is not None else None,
         )
 
     def _turn(self, now: float) -> bool:

@@ -321,13 +321,17 @@ class ControlPanel:
         read = _reader(sim, name)
         self.mirrors[p.name] = Mirror(box, lambda: engineering(float(read())), busy=self._busy)
 
-    def refresh(self) -> None:
-        """Status line, play/pause label, and every control on the value in force."""
+    def refresh(self, time: float | None = None) -> None:
+        """Status line, play/pause label, and every control on the value in force.
+
+        Args:
+            time: Simulated time of the instant the panels show (the drawn frame's);
+                None: the physics state's.
+        """
         ctl = self.controller
         state = "divergée" if ctl.diverged else ("en cours" if ctl.playing else "en pause")
-        status = (
-            f"t = {_seconds(ctl.sim.data.time)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
-        )
+        shown = ctl.sim.data.time if time is None else time
+        status = f"t = {_seconds(shown)} s · vitesse ×{number(ctl.speed, 3)} · **{state}**"
         if ctl.playing and not ctl.diverged and ctl.slowed():
             status += " · plus lent que le temps réel (pas de temps trop petit pour ce poste)"
         recorder = ctl.recorder

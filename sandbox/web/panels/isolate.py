@@ -11,6 +11,7 @@ import viser
 
 from sandbox.physics import isolate
 from sandbox.physics.readonly import ReadOnlySimulation
+from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import MAX_SHOWN, plain, table_row
 from sandbox.web.panels.controls import set_value
@@ -76,8 +77,9 @@ class IsolatePanel:
         set_value(self.picker, self._good)
         return self.choices[self._good]
 
-    def refresh(self, sim: ReadOnlySimulation) -> None:
-        """Recompute at the current state (the caller holds the panel rate)."""
+    def refresh(self, sim: ReadOnlySimulation, state: Snapshot | None = None) -> None:
+        """Recompute at ``state``, the instant the tables show (its forces prepared; None:
+        the physics state); the caller holds the panel rate."""
         if self.text is None:
             return
         model = sim.model
@@ -86,9 +88,10 @@ class IsolatePanel:
             body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
             if body < 0:
                 return
-            sim.snapshot(("sup_R_x", "dyn_R_x"))
+            if state is None or state.model is not model:
+                state = sim.snapshot(("sup_R_x", "dyn_R_x"))
             at_o = self.point.value == POINT_O
-            pfd = isolate.balance(model, sim.data, body, np.zeros(3) if at_o else None)
+            pfd = isolate.balance(model, state.data, body, np.zeros(3) if at_o else None)
         text = isolate_markdown(
             pfd,
             label=self._label,

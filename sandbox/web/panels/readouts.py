@@ -11,6 +11,7 @@ import viser
 from sandbox.physics.picture import Picture
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.readouts import GENERIC_NAMES
+from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import set_value
@@ -156,11 +157,15 @@ class ReadoutPanel:
                     return np.asarray(origin, dtype=float), short_name(arrow.label)
         return np.zeros(3), "O"
 
-    def chosen_basis(self, sim: ReadOnlySimulation) -> tuple[np.ndarray, str, tuple[str, ...]]:
-        """Basis matrix (columns = unit vectors in world), its name and axis names."""
+    def chosen_basis(
+        self, sim: ReadOnlySimulation, data: mujoco.MjData | None = None
+    ) -> tuple[np.ndarray, str, tuple[str, ...]]:
+        """Basis matrix (columns = unit vectors in world), its name and axis names, from
+        ``data`` (the state the values were read from; default: the physics state)."""
         if self.basis.value != BASIS_0 and 0 < self.body < sim.model.nbody:
+            state = sim.data if data is None else data
             return (
-                sim.data.xmat[self.body].reshape(3, 3).copy(),
+                state.xmat[self.body].reshape(3, 3).copy(),
                 "B1",
                 ("x<sub>1</sub>", "y<sub>1</sub>", "z<sub>1</sub>"),
             )
@@ -224,9 +229,15 @@ class ReadoutPanel:
         self.components.append(row)
 
     def refresh(
-        self, sim: ReadOnlySimulation, values: Mapping[str, float], folder: str | None = None
+        self,
+        sim: ReadOnlySimulation,
+        values: Mapping[str, float],
+        folder: str | None = None,
+        *,
+        state: Snapshot | None = None,
     ) -> None:
-        """Rewrite the table of ``folder`` (every table when None) from ``values``."""
+        """Rewrite the table of ``folder`` (every table when None) from ``values``, read
+        from ``state`` (None: the physics state), which also gives a solid's basis."""
         if self.scene_text is not None and folder in (None, SCENE_FOLDER):
             rows, reference = self.scene_rows, self.reference(sim)
             if self.withheld:  # a challenge runs: neither the readouts nor the course's values
@@ -235,7 +246,7 @@ class ReadoutPanel:
             _set(self.scene_text, tables.scene_markdown(rows, values, reference))
         if folder in (None, TORSORS_FOLDER):
             point, point_name = self.chosen_point()
-            basis, basis_name, axes = self.chosen_basis(sim)
+            basis, basis_name, axes = self.chosen_basis(sim, state.data if state else None)
             _set(
                 self.torsor_text,
                 tables.torsors_markdown(

@@ -110,6 +110,8 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         labels = {n: key[n] for n in names}
         units = dict(zip(rec.names, rec.header.get("units", []), strict=False))
         zeros = {n: spec.zero_for(units.get(n, "")) if spec else 0.0 for n in names}
+        known = set(sim.readout_names())  # arrows whose label writes a readout
+        readings = [a.name for a in arrows.arrows if a.name in known] if arrows else []
         # Beside the mechanism, not over it: one extent to the left of its centre as the
         # camera sees it.
         sight = np.asarray(look_at, dtype=float) - np.asarray(position, dtype=float)
@@ -133,11 +135,13 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
                     sim.set_value(name, value)
             sim.restore(rec.states[i])
             renderer.sync(sim.model, sim.data)
+            # one instant: the overlay's values, the arrows and their labels all read
+            # from the state of this frame (a recorded row may be up to 0,1 s older)
+            shown = {**sim.readouts([*names, *readings]), "time": float(rec.times[i])}
             if arrows is not None:
                 arrows.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
-                arrows.relabel()
+                arrows.relabel(shown)
             t = float(clock[i])
-            shown = rec.readouts_of_frame(i) or {"time": float(rec.times[i])}
             overlay.text = overlay_text(rec, shown, names, labels, zeros)
             if last_t is not None:
                 serializer.insert_sleep(max(0.0, t - last_t))

@@ -240,8 +240,9 @@ class ReplayPanel:
             request = Request("seek", 0.0)
         self.controller.submit(request)
 
-    def refresh(self) -> None:
-        """Follow the timeline (the scrubber moves while playing)."""
+    def refresh(self, time: float | None = None) -> None:
+        """Follow the timeline (the scrubber moves while playing); ``time`` is unused (a
+        replay shows its recorded rows, one instant each)."""
         ctl = self.controller
         t = float(ctl.rec.times[ctl.index])
         pos = float(ctl.timeline[ctl.index])

@@ -92,6 +92,9 @@ class BroadcastView:
         self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
         spec = as_scene(sim.scene)
         self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
+        known = set(sim.readout_names())  # the labels write these at the summary's instant
+        arrows = self.arrows.arrows if self.arrows is not None else ()
+        self.asked = [*self.names, *(a.name for a in arrows if a.name in known)]
         infos = {i.name: i for i in sim.readout_infos()}
         self.units = {n: i.unit for n, i in infos.items()}  # contract units
         zero = dict(spec.zero) if spec is not None else {}
@@ -112,7 +115,7 @@ class BroadcastView:
         if now - self._summary_at < 1.0 / SUMMARY_RATE or not self.server.get_clients():
             return None
         self._summary_at = now
-        return self.names
+        return self.asked
 
     def render(self, frame: Frame) -> None:
         """The picture (once for every follower: the broadcast scene), and the followers'
@@ -124,7 +127,7 @@ class BroadcastView:
             if frame.readouts is not None or frame.diverged:
                 self._summarise(frame)
                 if self.arrows is not None:
-                    self.arrows.relabel()
+                    self.arrows.relabel(frame.readouts)
 
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller

@@ -6,7 +6,7 @@ DejaVu Sans, shipped with it).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -94,9 +94,11 @@ def label_arrows(
     width: int,
     height: int,
     zeros: dict[str, float],
+    readouts: Mapping[str, float] | None = None,
 ) -> None:
     """Each arrow's label ("Palier A : 54,4 N") beside its point of application, the
-    labels of one point stacked, in the arrow's colour."""
+    labels of one point stacked, in the arrow's colour; an arrow that is a readout writes
+    the readout's value in ``readouts`` (the overlay's instant), as the page does."""
     stacks: dict[tuple[int, int], int] = {}
     for arrow, origin, magnitude, unit in drawn:
         ((x, y),) = project(scene, origin[None, :], width, height)
@@ -105,7 +107,8 @@ def label_arrows(
         key = (round(x / 40), round(y / 40))
         row = stacks.get(key, 0)
         stacks[key] = row + 1
-        words = caption(arrow, magnitude, unit, zeros)
+        reading = readouts.get(arrow.name) if readouts is not None else None
+        words = caption(arrow, magnitude, unit, zeros, reading=reading)
         at = (min(x + 12, width - 8 * text.small.size), y + 4 + row * 1.4 * text.small.size)
         r, g, b = (int(c * 0.6) for c in arrow.color)  # darker: readable on white
         color = (r, g, b)

@@ -78,6 +78,7 @@ def render_video(
     words = {n: i.label or n for n, i in infos.items()}
     labels = overlay_labels(sim)  # the page's overlay words
     names = [n for n in labels if n in infos]
+    readings = [a.name for a in (spec.page.arrows if spec else ()) if a.name in infos]
     units = {n: i.unit for n, i in infos.items()}
     zeros = {n: spec.zero_for(units.get(n, "")) if spec else 0.0 for n in infos}
     by_unit = dict(spec.zero) if spec is not None else {}
@@ -147,8 +148,8 @@ def render_video(
             frame = Image.new("RGB", (width, height), BACKGROUND)
             frame.paste(Image.fromarray(renderer.render()), (0, 0))
             draw = ImageDraw.Draw(frame, "RGBA")
-            label_arrows(draw, text, scene, drawn, width, view_h, by_unit)
-            values = sim.readouts(names + ["time"], data=data)
+            values = sim.readouts(names + readings + ["time"], data=data)
+            label_arrows(draw, text, scene, drawn, width, view_h, by_unit, values)
             lines = [f"t = {with_unit(time_words(float(t)), 's')}"]
             lines += overlay_lines(names, values, labels, units, zeros)
             # top left: a player's controls cover the bottom of a video

@@ -45,13 +45,23 @@ def arrow_points(arrow: Arrow, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarr
     return origin, origin + arrow.scale * vector, float(np.linalg.norm(vector))
 
 
-def caption(arrow: Arrow, magnitude: float, unit: str, zero: Mapping[str, float]) -> str:
-    """An arrow's label: its words, magnitude and unit ("Palier A : 0,91 N"); its words
-    alone for an arrow that shows a direction only. ``zero``: round-off by unit."""
+def caption(
+    arrow: Arrow,
+    magnitude: float,
+    unit: str,
+    zero: Mapping[str, float],
+    *,
+    reading: float | None = None,
+) -> str:
+    """An arrow's label: its words, value and unit ("Palier A : 0,91 N"); its words
+    alone for an arrow that shows a direction only. The value is ``reading``, the scene
+    readout of the arrow's name at the same instant, when given (the pilon's sign, as the
+    tables write it), else the arrow's magnitude. ``zero``: round-off by unit."""
     if not arrow.magnitude:
         return arrow.label
+    value = magnitude if reading is None or not math.isfinite(reading) else reading
     # written as every view writes it: a speed in tr/min as the tables write it
-    return f"{arrow.label} : {written(arrow.name, magnitude, unit, zero=zero.get(unit, 0.0))}"
+    return f"{arrow.label} : {written(arrow.name, value, unit, zero=zero.get(unit, 0.0))}"
 
 
 def auto_factor(current: float, longest: float, size: float) -> float:

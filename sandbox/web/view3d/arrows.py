@@ -10,13 +10,12 @@ the view every frame. The labels of the arrows sharing a point ride on one frame
 that point (one message a frame when the point moves, none when it stays), stacked beside
 it by :mod:`sandbox.web.view3d.label_layout` in the browser's camera, with a leader line in the
 arrow's colour when they stand off. Their text and their place change together, at most
-:data:`TEXT_RATE` times a second: values stay readable while the arrows turn every frame.
+the panels' refresh, with the values the tables and the overlay show at that instant.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -54,9 +53,6 @@ MOVE = 2e-4
 """Smallest move worth a message, as a fraction of the mechanism's size (a fifth of a
 pixel when the mechanism spans a 1000-pixel view): a still arrow or label sends nothing."""
 
-TEXT_RATE = 4.0
-"""Most changes a second of a label's text and place [Hz]: a value that changes every
-frame (a force turning at 3000 tr/min) is still read."""
 
 FONT_PX = 16
 """Text size of the page [px] until the view says otherwise ("Taille du texte")."""
@@ -86,8 +82,8 @@ class ArrowLayer:
     Each drawn frame sends one message for every arrow that moved (the node's points) and
     one per point of application that moved more than :data:`MOVE` (its labels ride on
     it); which arrows show (round-off, a lesson's choice) changes the points and colours
-    together. :meth:`relabel` writes the values and places the labels, at most
-    :data:`TEXT_RATE` times a second once :attr:`clock` is set.
+    together. :meth:`relabel` writes the values (the readouts of the panel's instant, the
+    same numbers as the overlay's) and places the labels.
 
     Args:
         scene: A viser ``SceneApi``.
@@ -184,12 +180,10 @@ class ArrowLayer:
         self._leader_sent: list[np.ndarray | None] = [None] * len(self.groups)
         self._placed: list[Placement | None] = [None] * len(self.groups)
         self._reserved = [0.0] * n  # widest text of each label so far [px]
-        self._text_at = -math.inf
         self.camera: Camera | Any = None  # a viser CameraHandle, or a fixed Camera
         self.laid_out: Camera | None = None  # the camera of the last layout
         self.font: Callable[[], float] | None = None  # the page's text size [px]
         self.marks: Marks | None = None
-        self.clock: Callable[[], float] | None = None  # set: text at TEXT_RATE at most
         self.messages = 0  # messages queued so far (the counted guard of the tests)
         self.text_messages = 0  # label texts written so far
         self.dirty = False  # a setting changed since the last draw: draw again
@@ -203,7 +197,6 @@ class ArrowLayer:
         *,
         font: Callable[[], float] | None = None,
         marks: Marks | None = None,
-        clock: Callable[[], float] | None = time.monotonic,
     ) -> None:
         """Place the labels in a browser's view from now on.
 
@@ -212,9 +205,8 @@ class ArrowLayer:
                 :class:`~sandbox.web.view3d.label_layout.Camera`.
             font: The page's text size [px] ("Taille du texte"), which the labels follow.
             marks: Other labels of the view, kept clear of and sized alike.
-            clock: Seconds, for :data:`TEXT_RATE` (None: every :meth:`relabel` writes).
         """
-        self.camera, self.font, self.marks, self.clock = camera, font, marks, clock
+        self.camera, self.font, self.marks = camera, font, marks
 
     @property
     def font_scale(self) -> float:
@@ -344,23 +336,23 @@ class ArrowLayer:
                 self.messages += 1
         self._seen |= show
 
-    def caption(self, k: int) -> str:
-        """The label of arrow ``k``: its words, magnitude and unit ("Palier A : 0,91 N")."""
-        return caption(self.arrows[k], self.magnitudes[k], self.units[k], self.zero)
+    def caption(self, k: int, readouts: Mapping[str, float] | None = None) -> str:
+        """The label of arrow ``k``: its words, value and unit ("Palier A : 0,91 N"): the
+        readout of its name in ``readouts`` when there is one (the pilon's sign, as the
+        tables write it), else its magnitude."""
+        arrow = self.arrows[k]
+        reading = readouts.get(arrow.name) if readouts is not None else None
+        return caption(arrow, self.magnitudes[k], self.units[k], self.zero, reading=reading)
 
-    def relabel(self) -> None:
-        """Write the current magnitudes in the labels and place them (called at the panel
-        rate; with a :attr:`clock`, done at most :data:`TEXT_RATE` times a second)."""
-        if self.clock is not None:
-            now = self.clock()
-            if now - self._text_at < 1.0 / TEXT_RATE:
-                return
-            self._text_at = now
+    def relabel(self, readouts: Mapping[str, float] | None = None) -> None:
+        """Write the labels and place them, at the panels' refresh: the values of the
+        frame the tables and the overlay show (``readouts``, read from the state the
+        arrows were drawn at), so that one screen shows one instant."""
         self._follow_font()
         seen = self._seen | np.asarray(self.shown, dtype=bool)
         self._seen = np.zeros_like(seen)
         for k, label in enumerate(self.labels):
-            text = self.caption(k)
+            text = self.caption(k, readouts)
             if label.text != text:
                 label.text = text
                 self.messages += 1

@@ -84,7 +84,7 @@ two lines at most)."""
 class Controls(Protocol):
     """The top panel of a view: the live :class:`ControlPanel` or a replay's timeline."""
 
-    def refresh(self) -> None: ...
+    def refresh(self, time: float | None = None) -> None: ...
     def sync(self) -> None: ...
 
 
@@ -163,6 +163,9 @@ class WebView(Generic[D]):
             scene = as_scene(sim.scene)
             if scene is not None and scene.page.trail is not None:
                 self.trail = Trail(client.scene, extent=float(model.stat.extent))
+        known = set(sim.readout_names())
+        arrows = self.arrows.arrows if self.arrows is not None else ()
+        self._arrow_readouts = {a.name for a in arrows if a.name in known}
         self.controls: Controls
         self.lesson: LessonPanel | None = None
         self.challenge: ChallengePanel | None = None
@@ -229,7 +232,6 @@ class WebView(Generic[D]):
                 client.camera,
                 font=lambda: self.projector.font,
                 marks=self.renderer,
-                clock=lambda: self._last_panel,  # the session's clock, at the panel refresh
             )
         self._picture: Picture | None = None  # the last one drawn
         self._held_since: float | None = None  # first frame not drawn for the sender
@@ -353,6 +355,7 @@ class WebView(Generic[D]):
             return EVERY
         names = {"time", *self.readouts.plot_names()}
         names.update(self.projector.names)
+        names.update(self._arrow_readouts)  # the labels write them, at the same instant
         names.update(self.readouts.names(self.shown))
         return names
 
@@ -384,7 +387,8 @@ class WebView(Generic[D]):
     def _refresh_panels(self, frame: Frame) -> None:
         controller, now = self.controller, frame.now
         sim = controller.sim
-        self.controls.refresh()
+        # the status line's t is the instant the tables show (the drawn state's)
+        self.controls.refresh(None if frame.state is None else float(frame.state.data.time))
         if self.video is not None:
             self.video.refresh()
         if self._showing(HYPOTHESES_FOLDER):
@@ -399,7 +403,12 @@ class WebView(Generic[D]):
         values = frame.readouts
         self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
         if self.shown != PLOTS_FOLDER:
-            self.readouts.refresh(sim, values, None if self.shown == ALL_FOLDERS else self.shown)
+            self.readouts.refresh(
+                sim,
+                values,
+                None if self.shown == ALL_FOLDERS else self.shown,
+                state=frame.state,
+            )
         if self.lesson is not None:
             self.lesson.refresh(values)
         if self._showing(CYCLE_FOLDER):
@@ -412,11 +421,11 @@ class WebView(Generic[D]):
         if self.trail is not None and drawing is not None and drawing.trail is not None:
             self.trail.add(drawing.time, drawing.trail)
         if self._showing(ISOLATE_FOLDER):
-            self.isolate.refresh(sim)
+            self.isolate.refresh(sim, frame.state)  # the instant the tables show
         if isinstance(controller, Controller) and self._showing(ACCURACY_FOLDER):
             self.accuracy.refresh(sim, controller.cost, now)  # a replay measures no cost
         if self.arrows is not None:
-            self.arrows.relabel()
+            self.arrows.relabel(values)  # the instant the tables and the overlay show
 
     def notify(self, notice: Notice) -> None:
         """A toast for every notice; refused values put the controls back; a finished

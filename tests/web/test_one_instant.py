@@ -1,0 +1,148 @@
+"""One screen, one instant, one name (issue 36): what one frame shows in a browser — the
+scene's table, the projector overlay, the 3D labels, « Isoler un solide » — is read from
+one state and written by one presentation; the follow summary writes it the same way.
+
+A real viser server and session per scene, its frames run by the test with a fake clock
+(as tests/web/test_frame_cost.py does).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import re
+
+import pytest
+from conftest import wait_for
+from test_frame_cost import Clock, served  # noqa: F401  (the fixture)
+
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes import SCENES
+from sandbox.web.loop import Request
+from sandbox.web.loop import frame as frame_module
+from sandbox.web.views.browser import ALL_FOLDERS
+from sandbox.written import time_words, written
+
+SPAN = re.compile(r'<span data-readout="([^"]+)" data-value="([^"]+)">([^<]*)</span>')
+
+
+def _panel_frame(session) -> frame_module.Frame:
+    """Run frames until one brings readouts and a picture (a panel refresh while the
+    mechanism moves), every folder shown; returns that frame, its panels refreshed."""
+    session.view._pending_folder = ALL_FOLDERS
+    ctl = session.controller
+    clock = Clock()
+    ctl.clock = clock
+    ctl.submit(Request("play"))
+    seen: list[frame_module.Frame] = []
+    render = session.view.render
+    session.view.render = lambda frame: (seen.append(frame), render(frame))
+    for _ in range(240):
+        assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+        frame = seen[-1]
+        if frame.readouts is not None and frame.picture is not None and len(seen) > 30:
+            return frame
+    raise AssertionError("no panel refresh with a picture in 4 s of frames")
+
+
+@pytest.mark.slow  # a server per scene: ~1 s each
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_the_table_the_overlay_and_the_labels_show_one_instant_written_one_way(
+    scene,
+    served,  # noqa: F811  (the fixture imported above)
+    monkeypatch,
+):
+    from sandbox.physics import isolate
+
+    read: list[object] = []  # the MjData « Isoler un solide » reads
+    real = isolate.balance
+    monkeypatch.setattr(isolate, "balance", lambda m, d, *a: (read.append(d), real(m, d, *a))[1])
+    session = served(scene)
+    frame = _panel_frame(session)
+    view = session.view
+    values = frame.readouts
+    assert values is not None and frame.state is not None
+    # the table: the exact value of each readout (data-value), and its written text
+    table = {name: (float(v), html.unescape(text))
+             for name, v, text in SPAN.findall(view.readouts.scene_text.content)}  # fmt: skip
+    assert table, "the scene's table is shown"
+    for name, (exact, _) in table.items():
+        assert exact == pytest.approx(values[name], rel=1e-9, abs=1e-300), name
+    infos = {i.name: i for i in session.controller.sim.readout_infos()}
+    spec = SCENES[scene]
+    zero = {n: spec.zero_for(i.unit) for n, i in infos.items()}
+    # the overlay: the same characters as the table for every readout both show
+    overlay = html.unescape(re.sub(r"<[^>]+>", "\n", view.projector.overlay.content))
+    shown = [line.split(" = ", 1)[1] for line in overlay.splitlines() if " = " in line]
+    assert len(shown) == len(view.projector.names), overlay
+    for name, line in zip(view.projector.names, shown, strict=True):
+        assert line == str(written(name, values[name], infos[name].unit, zero=zero[name]))
+        if name in table:
+            assert line.startswith(table[name][1]), (name, line, table[name])
+    # the 3D labels: an arrow that is a readout writes its value at that instant
+    arrows = view.arrows
+    if arrows is not None:
+        for k, arrow in enumerate(arrows.arrows):
+            if arrow.name in infos and arrow.magnitude:
+                value = written(arrow.name, values[arrow.name], arrow.unit, zero=zero[arrow.name])
+                assert arrows.labels[k].text == f"{arrow.label} : {value}", arrow.name
+    # « Isoler un solide » reads the state the tables read, not the physics ahead of it
+    assert read and read[-1] is frame.state.data
+    # the status line's t is that instant's time too
+    status = view.controls.status.content
+    assert status.startswith(f"t = {time_words(float(frame.state.data.time))} s"), status
+
+
+@pytest.mark.slow  # a server: ~1 s
+def test_in_slow_motion_the_status_line_reads_the_drawn_instant_not_the_physics(
+    served,  # noqa: F811  (the fixture imported above)
+):
+    """At ×0,05 a rotor stepped every 10 ms is drawn between its steps: the status
+    line's t is the instant the tables show, not the physics step ahead of it."""
+    session = served("rotor")
+    ctl = session.controller
+    ctl.submit(Request("speed", 0.05))
+    frames = 0
+    while True:
+        frame = _panel_frame(session)
+        assert frame.state is not None
+        drawn, physics = float(frame.state.data.time), float(ctl.sim.data.time)
+        frames += 1
+        if abs(drawn - physics) > 1e-4 or frames > 20:
+            break
+    assert drawn != pytest.approx(physics, abs=1e-4), "the drawn instant is between steps"
+    status = session.view.controls.status.content
+    assert status.startswith(f"t = {time_words(drawn)} s"), (status, drawn, physics)
+
+
+def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
+    """In --follow, the students' table read the crank angle θ as 973 638°, then
+    1,452×10⁶° after a minute at 3000 tr/min: it wrote the readouts its own way. It is
+    written as the page writes it: in [0, 360°)."""
+    import viser
+    from conftest import free_port
+
+    from sandbox.web.loop import Controller
+    from sandbox.web.serving.follow import BroadcastView
+
+    sim = Simulation("compressor")
+    sim.advance(60.0)
+    server = viser.ViserServer(port=free_port(), verbose=False)
+    try:
+        view = BroadcastView(server, Controller(sim))
+        values = sim.readouts(view.asked)
+        frame = frame_module.Frame(
+            now=0.0, time=float(sim.data.time), generation=0, model_id=id(sim.model),
+            playing=True, diverged=None, readouts=values,
+        )  # fmt: skip
+        view._summarise(frame)
+    finally:
+        server.stop()
+    assert values["theta"] > 16000.0  # unwrapped: 50 turns a second for a minute
+    row = next(line for line in view.summary.splitlines() if "θ" in line)
+    degrees = float(row.split("|")[2].strip().removesuffix("°").replace(",", "."))
+    assert 0.0 <= degrees < 360.0
+    assert degrees == pytest.approx(math.degrees(values["theta"]) % 360.0, abs=0.01)
+    assert "t = 60,00\u00a0s" in view.summary
