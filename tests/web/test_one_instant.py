@@ -146,3 +146,47 @@ def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
     assert 0.0 <= degrees < 360.0
     assert degrees == pytest.approx(math.degrees(values["theta"]) % 360.0, abs=0.01)
     assert "t = 60,00\u00a0s" in view.summary
+
+
+@pytest.mark.slow  # a viser server per scene: ~0.5 s each
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(scene):
+    """In --follow, the students' summary and the shared 3D labels write the very values
+    of the frame they come with, as the page's table writes them."""
+    import viser
+    from conftest import free_port
+
+    from sandbox.web.loop import Controller
+    from sandbox.web.serving.follow import BroadcastView
+
+    sim = Simulation(scene)
+    sim.advance(0.37)
+    server = viser.ViserServer(port=free_port(), verbose=False)
+    try:
+        view = BroadcastView(server, Controller(sim))
+        values = sim.readouts(view.asked)
+        frame = frame_module.Frame(
+            now=0.0, time=float(sim.data.time), generation=0, model_id=id(sim.model),
+            playing=True, diverged=None, readouts=values,
+        )  # fmt: skip
+        view._summarise(frame)
+        if view.arrows is not None:
+            view.arrows.relabel(values)
+    finally:
+        server.stop()
+    infos = {i.name: i for i in sim.readout_infos()}
+    spec = SCENES[scene]
+    rows = [line.split("|") for line in view.summary.splitlines() if line.startswith("|")]
+    shown = {cells[1].strip(): cells[2].strip() for cells in rows[2:]}
+    assert len(shown) == len(view.names) > 0
+    for name in view.names:
+        info = infos[name]
+        expected = str(written(name, values[name], info.unit, zero=spec.zero_for(info.unit)))
+        assert shown[view.labels[name]] == expected, name
+    arrows = view.arrows
+    if arrows is not None:
+        for k, arrow in enumerate(arrows.arrows):
+            if arrow.name in infos and arrow.magnitude:
+                unit = arrow.unit
+                value = written(arrow.name, values[arrow.name], unit, zero=spec.zero_for(unit))
+                assert arrows.labels[k].text == f"{arrow.label} : {value}", arrow.name

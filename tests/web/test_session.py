@@ -431,6 +431,26 @@ def test_a_view_that_wants_nothing_costs_no_readout(monkeypatch):
     assert view.frames == 5 and not view.notices
 
 
+def test_a_browser_holding_frames_keeps_its_panels_on_its_last_pictures_instant():
+    """A slow link: while the browser's sender still holds frames, its view draws no new
+    picture, so its panels are not refreshed either (they would show a later instant
+    than the 3D view beside them); they refresh with the next picture."""
+    ctl = Controller(Simulation("rotor"), clock=Clock())
+    view = Wanting({"bearing_A", "time"})
+    session = Session(ctl, view)
+    ctl.submit(Request("play"))
+    view.holding = True  # not drawing: its sender still holds frames
+    for _ in range(6):
+        ctl.clock.now += 1 / 60
+        session.run_once()
+    assert view.seen and all(f.readouts is None and f.state is None for f in view.seen)
+    assert session.held == 6
+    view.holding = False
+    ctl.clock.now += 1 / 60
+    session.run_once()
+    assert view.seen[-1].readouts is not None
+
+
 def test_one_scheduler_serves_many_sessions_in_turn():
     clock = Clock()
     scheduler = Scheduler(clock=clock, threaded=False)

@@ -194,7 +194,13 @@ class Session:
         notices: list[Notice] = []
         if self.drive:
             notices = live.frame(now, record=False) if live is not None else ctl.frame(now)
-        wanted = self.view.wants(now)
+        draws = self.view.draws
+        holding = not draws and bool(getattr(self.view, "holding", False))
+        if holding:
+            self.held += 1  # the governor counts these: the sending, not the loop, is short
+        # a browser still holding frames keeps its last picture: its panels keep that
+        # picture's instant too (and its link is spared their messages)
+        wanted = None if holding else self.view.wants(now)
         every = wanted is not None and "*" in wanted
         names = set() if wanted is None or every else set(wanted)
         recording = self.drive and live is not None and live.readouts_due()
@@ -210,9 +216,6 @@ class Session:
         snap: Snapshot | None = None
         secret: Secret | None = live.secret if live is not None else None  # a replay has none
         key = (id(sim.model), drawn_at, generation)
-        draws = self.view.draws
-        if not draws and getattr(self.view, "holding", False):
-            self.held += 1  # the governor counts these: the sending, not the loop, is short
         if draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
             arrows = scene.page.arrows if scene is not None else ()
