@@ -1,4 +1,5 @@
-"""design.md's layer rules, checked on the source with ``ast`` (no import is executed).
+"""The layer rules of docs/reference.md ("Development", "Layout"), checked on the source
+with ``ast`` (no import is executed).
 
 Layers, lowest first; a module may import its own layer and the layers below, never
 one above (module-level, function-level and ``TYPE_CHECKING`` imports alike, and
@@ -69,7 +70,7 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "mechanics": ("mujoco", "viser"),
     "physics": ("viser",),
 }
-"""Third-party packages a layer never imports (design.md's rules)."""
+"""Third-party packages a layer never imports (docs/reference.md, "Layout")."""
 
 
 @dataclass(frozen=True)

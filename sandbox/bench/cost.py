@@ -86,9 +86,6 @@ FRAME_RATE = 60.0
 """Frames per second of a web session: poses and the arrows' snapshot (at most)."""
 PANEL_RATE = 10.0
 """Readout rows per second of a web session (tables, plots, lesson checks)."""
-ARROW_READOUTS = ("sup_R_x", "dyn_R_x")
-"""Readouts brought up to date for the arrows at every frame (the web app's
-``physics.picture.FORCES``): one forward pass and the torsors the arrows use."""
 GOAL = 20.0
 """Real-time factor every session's default must reach on one core (tested)."""
 TARGET = 60.0
@@ -173,7 +170,7 @@ def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
         best = min(best, cpu / (steps * dt))
 
     def snapshot() -> None:
-        snap = sim.snapshot(ARROW_READOUTS)
+        snap = sim.snapshot((), forces=True)  # as a drawn frame's arrows
         for arrow in scene.page.arrows:
             arrow.fn(snap)
 

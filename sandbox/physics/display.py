@@ -52,14 +52,18 @@ class DisplayState:
             return 0.0
         return gap
 
-    def data(self, time: float, names: Iterable[str] = ()) -> mujoco.MjData:
+    def data(
+        self, time: float, names: Iterable[str] = (), *, forces: bool = False
+    ) -> mujoco.MjData:
         """The state at ``time``: a copy of the physics state carried forward by
         :meth:`ahead` (positions and bodies' poses up to date).
 
         Args:
             time: Display time [s].
-            names: Readouts the caller evaluates on it (forces need ``mj_forward``);
+            names: Readouts the caller evaluates on it (they need ``mj_forward``);
                 empty: positions only (``mj_kinematics``).
+            forces: The caller reads forces on it (arrows, scene readouts): the
+                frame's actions and the dynamic torsor brought up to date.
         """
         sim = self.sim
         model, physics = sim.model, sim.data
@@ -72,6 +76,7 @@ class DisplayState:
             float(physics.time),
             gap,
             names,
+            forces,
             physics.qpos.tobytes(),
             physics.qvel.tobytes(),
             physics.ctrl.tobytes(),
@@ -91,25 +96,26 @@ class DisplayState:
         mujoco.mj_getState(model, physics, self._state, spec)
         mujoco.mj_setState(model, shown, self._state, spec)
         at = float(physics.time) + gap
-        if sim.put_at(shown, at, forces=bool(names)):
+        if sim.put_at(shown, at, forces=bool(names) or forces):
             pass  # an imposed motion: the exact state at that time, nothing carried forward
         else:
             if gap > 0:
                 mujoco.mj_integratePos(model, shown.qpos, shown.qvel, gap)
                 close_loops(model, shown)
             shown.time = at
-            if names:
-                generic.prepare(model, shown, names)
+            if names or forces:
+                generic.prepare(model, shown, names, forces=forces)
             else:
                 mujoco.mj_kinematics(model, shown)
         self._key = key
         return shown
 
-    def snapshot(self, time: float, names: Iterable[str] = ()) -> Snapshot:
-        """A snapshot of the state at ``time`` for the readouts ``names`` (arrows)."""
+    def snapshot(self, time: float, names: Iterable[str] = (), *, forces: bool = False) -> Snapshot:
+        """A snapshot of the state at ``time`` for the readouts ``names`` and, when
+        ``forces`` is set, the forces (arrows)."""
         names = tuple(names)
         sim = self.sim
-        data = self.data(time, names or ("time",))
+        data = self.data(time, names or ("time",), forces=forces)
         return Snapshot(sim.model, data, sim.values, imposed=sim.imposed)
 
 

@@ -165,12 +165,12 @@ class MotionChoice:
             data.qvel.tobytes(), data.qacc_warmstart.tobytes(),
         )  # fmt: skip
 
-    def _prepare(self, data: mujoco.MjData, names: Iterable[str]) -> None:
+    def _prepare(self, data: mujoco.MjData, names: Iterable[str], *, forces: bool = False) -> None:
         """Bring ``data``'s derived quantities up to date for the readouts ``names``: a
         forward pass of the free simulation, or the imposed motion's inverse dynamics
         (from the state's own acceleration; skipped when it is the state just computed)."""
         if self._imposed is None:
-            generic.prepare(self.model, data, list(names))
+            generic.prepare(self.model, data, list(names), forces=forces)
             return
         key = self._key(data)
         if key != self._fresh:

@@ -19,10 +19,6 @@ import numpy as np
 
 from sandbox.physics.snapshot import Snapshot
 
-FORCES = ("sup_R_x", "dyn_R_x")
-"""Readouts brought up to date before the arrows are evaluated: one forward pass and
-``mj_rnePostConstraint`` (the frame's actions, the dynamic torsor)."""
-
 
 class ArrowSource(Protocol):
     """What a picture needs of an arrow (a scene's :class:`~sandbox.scenes.page.Arrow`):
@@ -187,7 +183,7 @@ def picture(
     trail: Callable[[Snapshot], Any] | None = None,
     shown: mujoco.MjModel | None = None,
 ) -> Picture:
-    """Draw ``snapshot``: its groups' poses, ``arrows`` (after :data:`FORCES` were
+    """Draw ``snapshot``: its groups' poses, ``arrows`` (after its forces were
     prepared when an arrow needs forces) and the point ``trail`` follows.
 
     Args:

@@ -78,7 +78,7 @@ class ReadOnlySimulation(Protocol):
     def readout_names(self) -> list[str]:
         """Names of the readouts, in column order."""
 
-    def snapshot(self, names: Iterable[str] = ...) -> Snapshot:
+    def snapshot(self, names: Iterable[str] = ..., *, forces: bool = ...) -> Snapshot:
         """Derived quantities for ``names`` brought up to date, the motion unchanged."""
 
     def reference(self) -> dict[str, float]:

@@ -184,10 +184,18 @@ def torsor(
     return value
 
 
-def prepare(model: mujoco.MjModel, data: mujoco.MjData, names: Iterable[str]) -> None:
-    """Bring ``data`` up to date at its current state for the readouts ``names``."""
+def prepare(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    names: Iterable[str] = (),
+    *,
+    forces: bool = False,
+) -> None:
+    """Bring ``data`` up to date at its current state for the readouts ``names``, and
+    for the forces (the frame's actions, the dynamic torsor: ``mj_rnePostConstraint``)
+    when ``forces`` is set or a name needs them."""
     mujoco.mj_forward(model, data)
-    if any(n.startswith(_NEEDS_RNE) for n in names):
+    if forces or any(n.startswith(_NEEDS_RNE) for n in names):
         mujoco.mj_rnePostConstraint(model, data)
 
 

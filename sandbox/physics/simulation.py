@@ -405,17 +405,21 @@ class Simulation(MotionChoice):
             table = tables[imposed] = (tuple(infos), tuple(i.name for i in infos), fns)
         return table
 
-    def snapshot(self, names: Iterable[str] = generic.GENERIC_NAMES) -> Snapshot:
-        """Bring derived quantities up to date for ``names`` and wrap them in a snapshot.
+    def snapshot(
+        self, names: Iterable[str] = generic.GENERIC_NAMES, *, forces: bool = False
+    ) -> Snapshot:
+        """Bring derived quantities up to date for ``names`` (and the forces, when
+        ``forces`` is set: what arrows and scene readouts read) and wrap them in a
+        snapshot.
 
         The solver warm start is restored afterwards, so reading never changes the
         trajectory (a replay re-simulates bit for bit whatever the display rate).
         """
         if self._imposed is not None:
-            self._prepare(self.data, names)
+            self._prepare(self.data, names, forces=forces)
             return Snapshot(self.model, self.data, self.values, imposed=self._imposed)
         warm = self.data.qacc_warmstart.copy()
-        generic.prepare(self.model, self.data, list(names))
+        generic.prepare(self.model, self.data, list(names), forces=forces)
         self.data.qacc_warmstart[:] = warm
         return Snapshot(self.model, self.data, self.values)
 
@@ -434,7 +438,7 @@ class Simulation(MotionChoice):
                 (the web page's display state, between two physics steps); its derived
                 quantities are brought up to date here.
             snapshot: A state already brought up to date for these readouts (and for
-                forces, ``sup_R_x`` and ``dyn_R_x``, when scene readouts are asked): read
+                the forces, ``forces=True``, when scene readouts are asked): read
                 as it is, sharing its cached torsors with whatever else read it (a drawn
                 frame's arrows).
 
@@ -451,14 +455,13 @@ class Simulation(MotionChoice):
             )
         with self.lock:
             needs = [n for n in wanted if n in known]
-            if len(needs) < len(wanted):
-                needs += ["dyn_R_x", "sup_R_x"]  # scene readouts may use any torsor
+            forces = len(needs) < len(wanted)  # scene readouts may use any torsor
             if snapshot is not None:
                 snap = snapshot
             elif data is None:
-                snap = self.snapshot(needs)
+                snap = self.snapshot(needs, forces=forces)
             else:
-                self._prepare(data, needs)
+                self._prepare(data, needs, forces=forces)
                 snap = Snapshot(self.model, data, self.values, imposed=self._imposed)
             out = generic.compute(
                 self.model, snap.data, [n for n in wanted if n not in scene_fns], snap.cache

@@ -203,7 +203,7 @@ def test_hanging_pendulum_at_rest_is_held_by_its_weight():
     model = mujoco.MjModel.from_xml_string(CHAIN.format(damping=""))
     data = mujoco.MjData(model)
     data.qpos[:] = [np.pi / 2 - np.arctan2(0.1, 0.3), 0, 1, 0, 0, 0][: model.nq]
-    R.prepare(model, data, ["sup_R_x"])
+    R.prepare(model, data, forces=True)
     total = model.body_subtreemass[1]
     r, _ = support_torsor(model, data)
     d_r, _ = dynamic_torsor(model, data)
@@ -218,6 +218,8 @@ def test_compute_asks_only_what_is_needed_and_names_valid_ones(monkeypatch):
     assert calls == []
     R.prepare(model, data, ["sup_M_z"])
     assert calls == [1]
+    R.prepare(model, data, forces=True)  # asked by intent (arrows, scene readouts)
+    assert calls == [1, 1]
     with pytest.raises(KeyError, match="valid: time, T"):
         R.compute(model, data, ["energy"])
     assert list(R.compute(model, data, ["T", "time"])) == ["T", "time"]
@@ -276,3 +278,26 @@ def test_armature_counts_as_motor_rotor_energy(tmp_path):
     drive = 0.7 - 0.05 * float(sim.data.qacc[0])
     r = sim.readouts(names)
     assert r["dyn_M_z"] == pytest.approx(r["sup_M_z"] + drive, rel=1e-6)
+
+
+def test_forces_are_asked_for_by_intent_never_by_a_dummy_readout_name():
+    """Issue 37: callers once passed ``("sup_R_x", "dyn_R_x")`` to get the forces
+    prepared; they say ``forces=True``. No call to snapshot, prepare, data or drawn in
+    the package names a torsor component it does not read."""
+    import ast
+    from pathlib import Path
+
+    package = Path(R.__file__).resolve().parents[1]
+    found = []
+    for path in package.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call) or not isinstance(node.func, ast.Attribute):
+                continue
+            if node.func.attr not in {"snapshot", "prepare", "data", "drawn"}:
+                continue
+            for arg in node.args:
+                for leaf in ast.walk(arg):
+                    text = leaf.value if isinstance(leaf, ast.Constant) else None
+                    if isinstance(text, str) and text.startswith(("sup_", "dyn_")):
+                        found.append(f"{path.relative_to(package)}:{node.lineno}")
+    assert not found, found

@@ -137,9 +137,6 @@ class Recorder:
         return Label(text=text, **kwargs)
 
 
-FORCES = ("sup_R_x", "dyn_R_x")
-
-
 def _layer(scene, name: str = "compressor") -> tuple[Simulation, ArrowLayer]:
     sim = Simulation(name)
     spec = as_scene(sim.scene)
@@ -164,12 +161,12 @@ def test_labels_write_the_instant_the_overlay_shows_and_send_nothing_between():
     assert spec is not None
     units = {i.name: i.unit for i in sim.readout_infos()}
     sim.advance(0.05)
-    layer.update(sim.snapshot(FORCES))  # the first drawing places every label
+    layer.update(sim.snapshot((), forces=True))  # the first drawing places every label
     layer.relabel(sim.readouts(["pilon", "tamis"]))
     frames, messages, checked = 0, [], 0
     while frames < 120:
         sim.advance(1 / 60)
-        snap = sim.snapshot(FORCES)
+        snap = sim.snapshot((), forces=True)
         before = layer.messages
         layer.update(snap)
         frames += 1
@@ -194,7 +191,7 @@ def test_every_relabel_writes():
     sim, layer = _layer(scene)
     for _ in range(5):
         sim.advance(0.0037)
-        layer.update(sim.snapshot(FORCES))
+        layer.update(sim.snapshot((), forces=True))
         layer.relabel()
     assert len(scene.texts) >= 8
 
@@ -204,7 +201,7 @@ def test_labels_follow_the_page_text_size():
     sim, layer = _layer(scene)
     font = [16]
     layer.watch(CAMERA, font=lambda: font[0])
-    layer.update(sim.snapshot(FORCES))
+    layer.update(sim.snapshot((), forces=True))
     layer.relabel()
     small = layer.labels[0].font_screen_scale
     font[0] = 24

@@ -117,50 +117,15 @@ def test_in_slow_motion_the_status_line_reads_the_drawn_instant_not_the_physics(
     assert status.startswith(f"t = {time_words(drawn)} s"), (status, drawn, physics)
 
 
-def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
-    """In --follow, the students' table read the crank angle θ as 973 638°, then
-    1,452×10⁶° after a minute at 3000 tr/min: it wrote the readouts its own way. It is
-    written as the page writes it: in [0, 360°)."""
+def _follow_frame(sim: Simulation):
+    """The --follow broadcast of ``sim``'s present state: its view after one frame (the
+    summary written, the shared labels relabelled) and that frame's readouts."""
     import viser
     from conftest import free_port
 
     from sandbox.web.loop import Controller
     from sandbox.web.serving.follow import BroadcastView
 
-    sim = Simulation("compressor")
-    sim.advance(60.0)
-    server = viser.ViserServer(port=free_port(), verbose=False)
-    try:
-        view = BroadcastView(server, Controller(sim))
-        values = sim.readouts(view.asked)
-        frame = frame_module.Frame(
-            now=0.0, time=float(sim.data.time), generation=0, model_id=id(sim.model),
-            playing=True, diverged=None, readouts=values,
-        )  # fmt: skip
-        view._summarise(frame)
-    finally:
-        server.stop()
-    assert values["theta"] > 16000.0  # unwrapped: 50 turns a second for a minute
-    row = next(line for line in view.summary.splitlines() if "θ" in line)
-    degrees = float(row.split("|")[2].strip().removesuffix("°").replace(",", "."))
-    assert 0.0 <= degrees < 360.0
-    assert degrees == pytest.approx(math.degrees(values["theta"]) % 360.0, abs=0.01)
-    assert "t = 60,00\u00a0s" in view.summary
-
-
-@pytest.mark.slow  # a viser server per scene: ~0.5 s each
-@pytest.mark.parametrize("scene", sorted(SCENES))
-def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(scene):
-    """In --follow, the students' summary and the shared 3D labels write the very values
-    of the frame they come with, as the page's table writes them."""
-    import viser
-    from conftest import free_port
-
-    from sandbox.web.loop import Controller
-    from sandbox.web.serving.follow import BroadcastView
-
-    sim = Simulation(scene)
-    sim.advance(0.37)
     server = viser.ViserServer(port=free_port(), verbose=False)
     try:
         view = BroadcastView(server, Controller(sim))
@@ -174,6 +139,32 @@ def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(sce
             view.arrows.relabel(values)
     finally:
         server.stop()
+    return view, values
+
+
+def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
+    """In --follow, the students' table read the crank angle θ as 973 638°, then
+    1,452×10⁶° after a minute at 3000 tr/min: it wrote the readouts its own way. It is
+    written as the page writes it: in [0, 360°)."""
+    sim = Simulation("compressor")
+    sim.advance(60.0)
+    view, values = _follow_frame(sim)
+    assert values["theta"] > 16000.0  # unwrapped: 50 turns a second for a minute
+    row = next(line for line in view.summary.splitlines() if "θ" in line)
+    degrees = float(row.split("|")[2].strip().removesuffix("°").replace(",", "."))
+    assert 0.0 <= degrees < 360.0
+    assert degrees == pytest.approx(math.degrees(values["theta"]) % 360.0, abs=0.01)
+    assert "t = 60,00\u00a0s" in view.summary
+
+
+@pytest.mark.slow  # a viser server per scene: ~0.5 s each
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(scene):
+    """In --follow, the students' summary and the shared 3D labels write the very values
+    of the frame they come with, as the page's table writes them."""
+    sim = Simulation(scene)
+    sim.advance(0.37)
+    view, values = _follow_frame(sim)
     infos = {i.name: i for i in sim.readout_infos()}
     spec = SCENES[scene]
     rows = [line.split("|") for line in view.summary.splitlines() if line.startswith("|")]

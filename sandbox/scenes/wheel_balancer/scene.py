@@ -38,7 +38,7 @@ def vibrations(values: Values, *, settle: float = 1.0) -> np.ndarray:
     simulation at ``values`` (shape (2,))."""
     sim = Simulation(Source.of_scene(SCENE), values=dict(values))
     sim.advance(settle)
-    snap = sim.snapshot(["sup_R_x"])
+    snap = sim.snapshot((), forces=True)
     return np.array([accelerometer(snap, "sensor_A"), accelerometer(snap, "sensor_B")])
 
 

@@ -37,11 +37,15 @@ from typing import TYPE_CHECKING, Any, cast
 
 from viser import ClientHandle
 
+from sandbox.web.client import viser_internals
 from sandbox.web.client.patches import install_once
 
 if TYPE_CHECKING:
-    from viser._gui_api import GuiApi
-    from viser._messages import FileTransferPart, FileTransferStartUpload
+    from sandbox.web.client.viser_internals import (
+        FileTransferPart,
+        FileTransferStartUpload,
+        GuiApi,
+    )
 
 log = logging.getLogger(__name__)
 
@@ -76,20 +80,6 @@ class _Ledger:
 _ledgers: weakref.WeakKeyDictionary[ClientHandle, _Ledger] = weakref.WeakKeyDictionary()
 
 
-def _has_internals() -> bool:
-    """True when this viser has the upload handlers and the state used here."""
-    # viser's private modules, absent from some releases: this is the check itself
-    from viser._gui_api import GuiApi
-    from viser._gui_handles import GuiUploadButtonHandle  # noqa: F401
-
-    names = (
-        "_handle_file_transfer_start",
-        "_handle_file_transfer_part",
-        "_drop_uploads_from_client",
-    )
-    return all(hasattr(GuiApi, name) for name in names)
-
-
 def install() -> bool:
     """Wrap viser's upload handlers, once per process; True when they are wrapped.
 
@@ -98,39 +88,35 @@ def install() -> bool:
     """
     return install_once(
         __name__,
-        _has_internals,
+        viser_internals.has_upload_handlers,
         "this viser lacks the upload internals: uploads are not capped",
         _wrap_handlers,
     )
 
 
 def _wrap_handlers() -> None:
-    # viser's private module, absent from some releases: loaded once _has_internals() said yes
-    from viser._gui_api import GuiApi
+    def wrap(start: Callable[..., None], part: Callable[..., None]) -> tuple[Any, Any]:
+        def guarded_start(api: GuiApi, client_id: Any, message: FileTransferStartUpload) -> None:
+            owner = _take_start(api, message)
+            if owner is not None:
+                start(owner, client_id, message)
+                state = viser_internals.upload_states(owner).get(message.transfer_uuid)
+                if state is not None:
+                    cast(dict[str, Any], state)[_SOURCE] = message.source_component_uuid
 
-    start, part = GuiApi._handle_file_transfer_start, GuiApi._handle_file_transfer_part
+        def guarded_part(api: GuiApi, client_id: Any, message: FileTransferPart) -> None:
+            owner = _take_part(api, message)
+            if owner is not None:
+                part(owner, client_id, message)
 
-    def guarded_start(api: GuiApi, client_id: Any, message: FileTransferStartUpload) -> None:
-        owner = _take_start(api, message)
-        if owner is not None:
-            start(owner, client_id, message)
-            state = owner._current_file_upload_states.get(message.transfer_uuid)
-            if state is not None:
-                cast(dict[str, Any], state)[_SOURCE] = message.source_component_uuid
+        return guarded_start, guarded_part
 
-    def guarded_part(api: GuiApi, client_id: Any, message: FileTransferPart) -> None:
-        owner = _take_part(api, message)
-        if owner is not None:
-            part(owner, client_id, message)
-
-    # a function (self first) in place of a method: mypy sees two different signatures
-    GuiApi._handle_file_transfer_start = guarded_start  # type: ignore[method-assign,assignment]
-    GuiApi._handle_file_transfer_part = guarded_part  # type: ignore[method-assign,assignment]
+    viser_internals.wrap_upload_handlers(wrap)
 
 
 def _apis(client: ClientHandle) -> tuple[GuiApi, GuiApi]:
     """The GUIs a browser sees: its own and the server's shared one."""
-    return client.gui, client._viser_server.gui
+    return client.gui, viser_internals.server_of(client).gui
 
 
 def _browser(api: GuiApi) -> tuple[ClientHandle, _Ledger] | None:
@@ -152,9 +138,6 @@ def _browser(api: GuiApi) -> tuple[ClientHandle, _Ledger] | None:
 def _take_start(api: GuiApi, message: FileTransferStartUpload) -> GuiApi | None:
     """The GUI of the upload button ``message`` announces a file for, when the file is
     taken; None when it is refused (or ``api`` is not the browser's own GUI)."""
-    # viser's private module, absent from some releases: loaded once _has_internals() said yes
-    from viser._gui_handles import GuiUploadButtonHandle
-
     found = _browser(api)
     if found is None:
         return None
@@ -162,8 +145,8 @@ def _take_start(api: GuiApi, message: FileTransferStartUpload) -> GuiApi | None:
     uuid, tid = message.source_component_uuid, message.transfer_uuid
     owner = button = None
     for gui in _apis(client):
-        handle = gui._gui_input_handle_from_uuid.get(uuid)
-        if isinstance(handle, GuiUploadButtonHandle) and not handle._impl.removed:
+        handle = viser_internals.upload_button(gui, uuid)
+        if handle is not None:
             owner, button = gui, handle
     if owner is None or button is None:
         _hostile(client, ledger, f"upload to {str(uuid)[:40]!r}, no upload button")
@@ -207,7 +190,7 @@ def _take_part(api: GuiApi, message: FileTransferPart) -> GuiApi | None:
     tid, index = message.transfer_uuid, message.part_index
     size = len(message.content) if isinstance(message.content, bytes) else -1
     for owner in _apis(client):
-        state = owner._current_file_upload_states.get(tid)
+        state = viser_internals.upload_states(owner).get(tid)
         if state is not None and state["client_id"] == client.client_id:
             break
     else:
@@ -233,7 +216,7 @@ def _in_progress(client: ClientHandle) -> dict[str, int]:
     return {
         tid: state["total_bytes"]
         for gui in _apis(client)
-        for tid, state in gui._current_file_upload_states.items()
+        for tid, state in viser_internals.upload_states(gui).items()
         if state["client_id"] == client.client_id
     }
 
@@ -250,16 +233,15 @@ def _hostile(client: ClientHandle, ledger: _Ledger, reason: str) -> None:
     what led here, and a closing handshake would go on reading the flood."""
     ledger.closed = True
     for gui in _apis(client):
-        gui._drop_uploads_from_client(cast(Any, client.client_id))
+        viser_internals.drop_uploads(gui, client.client_id)
     _note(client, ledger, f"{reason}: connection closed")
-    server = client._viser_server
-    live = getattr(server._websock_server, "_live_connections", {})
-    connection = live.get(client.client_id)
+    server = viser_internals.server_of(client)
+    connection = viser_internals.live_connection(server, client.client_id)
     transport = getattr(connection, "transport", None)
     if transport is None:  # pragma: no cover - its messages are dropped all the same
         return
     transport.abort()
-    _trim_soon(server._event_loop)
+    _trim_soon(viser_internals.event_loop(server))
 
 
 def _libc_trim() -> Callable[[int], int] | None:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import asyncio
 from typing import Any
 
+from sandbox.web.client import viser_internals
 from sandbox.web.client.patches import install_once
 
 
@@ -43,37 +44,27 @@ class LoopEvent(asyncio.Event):
         super().set()
 
 
-def _has_internals() -> bool:
-    # viser's private module, absent from some releases: this is the check itself
-    from viser.infra._async_message_buffer import AsyncMessageBuffer
-
-    fields = getattr(AsyncMessageBuffer, "__dataclass_fields__", {})
-    return "message_event" in fields and "event_loop" in fields
-
-
 def install() -> bool:
     """Give the buffers viser creates from now on a :class:`LoopEvent` as their message
     event, once per process; True when done (a viser without the internals used here is
     left as it is, with one warning)."""
     return install_once(
         __name__,
-        _has_internals,
+        viser_internals.has_message_event,
         "this viser's message buffer differs: its events stay as they are",
         _bind_new_events,
     )
 
 
 def _bind_new_events() -> None:
-    # viser's private module, absent from some releases: loaded once _has_internals() said yes
-    from viser.infra._async_message_buffer import AsyncMessageBuffer
+    buffers = viser_internals.message_buffer_class()
+    made = buffers.__init__
 
-    made = AsyncMessageBuffer.__init__
-
-    def init(buffer: AsyncMessageBuffer, *args: Any, **kwargs: Any) -> None:
+    def init(buffer: Any, *args: Any, **kwargs: Any) -> None:
         made(buffer, *args, **kwargs)
         event = buffer.message_event
         if type(event) is asyncio.Event:  # brand new: nobody waits on it yet
             event.__class__ = LoopEvent
             event.home = buffer.event_loop  # type: ignore[attr-defined]
 
-    AsyncMessageBuffer.__init__ = init  # type: ignore[method-assign,assignment]
+    buffers.__init__ = init

@@ -5,8 +5,8 @@ type hints and compare it with ``np.allclose``: about 40 µs each, and a drawn f
 to make dozens. The views keep their own last-sent values and call these functions only
 for real changes, so here viser's own messages are queued directly (about 8 µs each) and
 the handle's cached value is kept in step, so that a later public setter still compares
-with what the browser shows. The internals used are checked once (:data:`FAST`); a viser
-without them gets the public setters.
+with what the browser shows. The internals used (in :mod:`.viser_internals`) are checked
+once (:data:`FAST`); a viser without them gets the public setters.
 
 Importing this module also caps what browsers may upload (:func:`uploads.install`) and
 keeps viser's "a message is waiting" events in their loop (:func:`wakeups.install`): every
@@ -18,37 +18,17 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from viser import _messages
 
-from sandbox.web.client import uploads, wakeups
+from sandbox.web.client import uploads, viser_internals, wakeups
 from sandbox.web.client.patches import internals_present
 
 uploads.install()  # before any viser GUI exists: viser binds its handlers then
 wakeups.install()  # before any message buffer exists: each gets its event then
 
 
-def _has_internals() -> bool:
-    """True when this viser has the message types and handle internals used here."""
-    needed = ("SetPositionMessage", "SetOrientationMessage", "SceneNodeUpdateMessage")
-    if not all(hasattr(_messages, name) for name in needed):
-        return False
-    # viser's private modules, absent from some releases: this is the check itself
-    from viser._scene_api import SceneApi
-    from viser._scene_handles import _SceneNodeHandleState
-
-    fields = getattr(_SceneNodeHandleState, "__dataclass_fields__", {})
-    return hasattr(SceneApi, "_queue_scene_message") and {
-        "name",
-        "api",
-        "wxyz",
-        "position",
-        "props",
-        "removed",
-    } <= set(fields)
-
-
 FAST = internals_present(
-    _has_internals, "this viser lacks the internals of the fast path: poses use its setters"
+    viser_internals.has_fast_poses,
+    "this viser lacks the internals of the fast path: poses use its setters",
 )
 """viser's internals are there: messages are queued directly."""
 
@@ -56,7 +36,7 @@ FAST = internals_present(
 def _state(node: Any) -> Any:
     """The node's internal state; None for a node without one (a stand-in of the tests),
     which then gets the public setters."""
-    return getattr(node, "_impl", None) if FAST else None
+    return viser_internals.node_state(node) if FAST else None
 
 
 def set_position(node: Any, xyz: np.ndarray) -> None:
@@ -69,7 +49,9 @@ def set_position(node: Any, xyz: np.ndarray) -> None:
         return
     value = (float(xyz[0]), float(xyz[1]), float(xyz[2]))
     impl.position[:] = value
-    impl.api._queue_scene_message(_messages.SetPositionMessage(impl.name, value))
+    viser_internals.queue_scene_message(
+        impl, viser_internals.messages.SetPositionMessage(impl.name, value)
+    )
 
 
 def set_orientation(node: Any, wxyz: np.ndarray) -> None:
@@ -82,7 +64,9 @@ def set_orientation(node: Any, wxyz: np.ndarray) -> None:
         return
     value = (float(wxyz[0]), float(wxyz[1]), float(wxyz[2]), float(wxyz[3]))
     impl.wxyz[:] = value
-    impl.api._queue_scene_message(_messages.SetOrientationMessage(impl.name, value))
+    viser_internals.queue_scene_message(
+        impl, viser_internals.messages.SetOrientationMessage(impl.name, value)
+    )
 
 
 def set_props(node: Any, **props: Any) -> None:
@@ -99,18 +83,13 @@ def set_props(node: Any, **props: Any) -> None:
         kept = value.copy() if isinstance(value, np.ndarray) else value
         setattr(impl.props, name, kept)
         queued[name] = value.copy() if isinstance(value, np.ndarray) else value
-    impl.api._queue_scene_message(_messages.SceneNodeUpdateMessage(impl.name, queued))
+    viser_internals.queue_scene_message(
+        impl, viser_internals.messages.SceneNodeUpdateMessage(impl.name, queued)
+    )
 
 
 def sent_marks(client: Any) -> tuple[int, int] | None:
     """(last message queued for a browser, last one its sender has taken), as viser's
     message ids; None when this viser does not tell. A view compares the mark of a frame
     it queued with the second number to know whether that frame went out."""
-    try:
-        connection = client._websock_connection
-        buffer = connection.get_message_buffer()
-        cursor = buffer.generator_cursors.get(connection.client_id)
-        queued = buffer.message_counter - 1
-    except AttributeError:
-        return None
-    return None if cursor is None else (int(queued), int(cursor))
+    return viser_internals.sent_marks(client)

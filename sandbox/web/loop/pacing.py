@@ -140,14 +140,15 @@ class Pacing:
             return self.sim.readouts(wanted)
         return self.sim.readouts(wanted, data=self.display.data(at))
 
-    def drawn(self, names: Collection[str] = ()) -> Snapshot:
+    def drawn(self, names: Collection[str] = (), *, forces: bool = False) -> Snapshot:
         """The state to draw: the physics carried forward to :attr:`drawn_time` (never
         the physics ``MjData`` itself, which it leaves untouched).
 
         Args:
-            names: Readouts evaluated on it (the arrows' forces); empty: poses only.
+            names: Readouts evaluated on it; empty: poses only.
+            forces: The arrows' and scene readouts' forces are read on it.
         """
-        return self.display.snapshot(self.drawn_time, names)
+        return self.display.snapshot(self.drawn_time, names, forces=forces)
 
     def advance(self, now: float | None = None) -> list[Notice]:
         """Step so that simulated time follows wall time × speed (in C, one call).

@@ -13,7 +13,7 @@ import threading
 from collections.abc import Callable, Collection, Mapping
 
 from sandbox.errors import SandboxError
-from sandbox.physics.picture import FORCES, Picture, picture
+from sandbox.physics.picture import Picture, picture
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.loop.controller import Controller
@@ -221,7 +221,7 @@ class Session:
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None
             with sim.lock:
-                snap = drawn_snapshot(ctl, FORCES if arrows or (read and values is None) else ())
+                snap = drawn_snapshot(ctl, forces=bool(arrows) or (read and values is None))
                 twin = secret.twin(sim) if secret is not None else None
                 drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
@@ -232,7 +232,7 @@ class Session:
             elif live is not None:
                 with sim.lock:
                     if snap is None:  # nothing drawn this tick: the drawn state all the same
-                        snap = drawn_snapshot(ctl, FORCES)
+                        snap = drawn_snapshot(ctl, forces=True)
                     shown = live.shown_readouts(() if every else names, snapshot=snap)
                 state = snap
             else:
@@ -295,10 +295,13 @@ def drawn_time(ctl: Controller | ReplaySource) -> float:
     return ctl.drawn_time if isinstance(ctl, Controller) else float(ctl.sim.data.time)
 
 
-def drawn_snapshot(ctl: Controller | ReplaySource, names: Collection[str] = ()) -> Snapshot:
+def drawn_snapshot(ctl: Controller | ReplaySource, *, forces: bool = False) -> Snapshot:
     """The state a view draws: a live controller's display state (:meth:`Controller.drawn`,
-    between physics steps), else its simulation's own state (a replay)."""
-    return ctl.drawn(names) if isinstance(ctl, Controller) else ctl.sim.snapshot(names)
+    between physics steps), else its simulation's own state (a replay); its forces
+    brought up to date when ``forces`` is set (arrows, scene readouts)."""
+    if isinstance(ctl, Controller):
+        return ctl.drawn(forces=forces)
+    return ctl.sim.snapshot((), forces=forces)
 
 
 def shown_readouts(

@@ -37,6 +37,7 @@ import re
 from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
+from sandbox.web.client import viser_internals
 from sandbox.web.panels.controls import ADVANCED_FOLDER, NUMERICS_FOLDER
 from sandbox.web.panels.display import FOLDER as DISPLAY_FOLDER
 from sandbox.web.panels.setup_link import MAX_CHARS, slug
@@ -278,11 +279,7 @@ def request_query(server: viser.ViserServer, client_id: int) -> tuple[str, str, 
     """The query of the browser's websocket handshake, its ``Host`` header and its path
     ("" when unknown). viser keeps each live connection's handshake; its attributes are
     private: a later viser may rename them (the link is then ignored, never trusted)."""
-    try:
-        connection = server._websock_server._live_connections.get(client_id)
-        request = connection.request if connection is not None else None
-    except AttributeError:
-        return "", "", ""
+    request = viser_internals.handshake(server, client_id)
     if request is None:
         return "", "", ""
     host = request.headers.get("Host", "")

@@ -78,7 +78,7 @@ class CyclePanel:
             return
         self._at = now
         with sim.lock:
-            cycle = self.fn(sim.snapshot(("sup_R_x",)))
+            cycle = self.fn(sim.snapshot((), forces=True))
         if cycle is self._shown or len(cycle.get("angle_deg", ())) < 2:
             return
         self._shown = cycle

@@ -89,7 +89,7 @@ class IsolatePanel:
             if body < 0:
                 return
             if state is None or state.model is not model:
-                state = sim.snapshot(("sup_R_x", "dyn_R_x"))
+                state = sim.snapshot((), forces=True)
             at_o = self.point.value == POINT_O
             pfd = isolate.balance(model, state.data, body, np.zeros(3) if at_o else None)
         text = isolate_markdown(

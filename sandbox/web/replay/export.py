@@ -139,7 +139,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
             # from the state of this frame (a recorded row may be up to 0,1 s older)
             shown = {**sim.readouts([*names, *readings]), "time": float(rec.times[i])}
             if arrows is not None:
-                arrows.update(sim.snapshot(("sup_R_x", "dyn_R_x")))
+                arrows.update(sim.snapshot((), forces=True))
                 arrows.relabel(shown)
             t = float(clock[i])
             overlay.text = overlay_text(rec, shown, names, labels, zeros)

@@ -14,6 +14,7 @@ from typing import Any
 from sandbox.cores import default_workers
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
+from sandbox.web.client import viser_internals
 from sandbox.web.panels.board import teacher_path
 from sandbox.web.serving.server import bracket, check_port, run_forever
 from sandbox.web.serving.startup import banner, start
@@ -38,6 +39,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     count = default_workers() if workers is None else workers
     if count < 1:
         raise BadOption(f"--workers must be 1 or more, got {count!r}")
+    viser_internals.warn_at_start()  # an untested viser: one line, then served all the same
     if count == 1:
         run_forever(start(target, **options))
         return

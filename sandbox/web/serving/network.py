@@ -48,6 +48,7 @@ import websockets.asyncio.server as ws_server
 from websockets.exceptions import ConnectionClosed
 
 from sandbox.errors import BadOption
+from sandbox.web.client import viser_internals
 from sandbox.web.serving.addresses import Served, netloc, origin_refusal
 
 if TYPE_CHECKING:
@@ -311,9 +312,5 @@ def request_path(server: viser.ViserServer, client_id: int) -> str:
     viser keeps the handshake of each live connection; this is the only place the
     page's address reaches the server (the teacher's link is a path).
     """
-    try:  # viser's private attributes: a later viser may rename them
-        connection = server._websock_server._live_connections.get(client_id)
-    except AttributeError:
-        return ""
-    request = connection.request if connection is not None else None
+    request = viser_internals.handshake(server, client_id)
     return "" if request is None else request.path.partition("?")[0].rstrip("/")

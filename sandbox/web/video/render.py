@@ -137,7 +137,7 @@ def render_video(
                 renderer.close()
                 model = sim.model
                 renderer = offscreen_renderer(model, view_h, width)
-            data = display.data(float(t), ("sup_R_x", "dyn_R_x") if arrows else ())
+            data = display.data(float(t), forces=bool(arrows))
             renderer.update_scene(data)
             scene = renderer.scene
             aim(scene, position, look_at, np.asarray(up, float))

@@ -30,6 +30,7 @@ from typing import Any
 import viser
 
 from sandbox.scenes.base import as_scene
+from sandbox.web.client import viser_internals
 from sandbox.web.client.fields import on_user, param_label, set_value
 from sandbox.web.client.text import plain
 from sandbox.web.loop import Controller, Request
@@ -348,12 +349,7 @@ def _show_lesson(view: WebView[Any]) -> None:
     lesson = view.lesson
     if lesson is None:
         return
-    try:
-        gui = lesson.gui
-        tab = gui._resolve_container_handle(lesson.folder._impl.parent_container_id)
-        column = getattr(tab, "_parent", None)
-    except (AttributeError, KeyError):
-        return
+    column = viser_internals.panel_of(lesson.gui, lesson.folder)
     if isinstance(column, viser.PanelHandle):
         column.expand()
         point_camera(view.client, view.controller.sim, narrow=True)
