@@ -21,6 +21,7 @@ from typing import Any
 
 import msgspec
 import pytest
+from conftest import wait_for
 
 from sandbox.web.client import uploads
 
@@ -193,7 +194,13 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Served]:
         s = Served(proc, port, log)
         for _ in range(2):  # warm up: the first sessions' allocations are not the flood's
             s.visit()
-        time.sleep(1.0)
+        sizes = [_rss(proc.pid)]  # then its size settles (three reads within 1 MiB)
+
+        def settled() -> bool:
+            sizes.append(_rss(proc.pid))
+            return len(sizes) >= 3 and max(sizes[-3:]) - min(sizes[-3:]) < MIB
+
+        wait_for(settled, timeout=10, poll=0.2)
         yield s
     finally:
         proc.terminate()
@@ -223,10 +230,9 @@ def test_an_upload_flood_closes_that_connection_and_memory_returns_to_idle(serve
         await b.read(ws, lambda: b.closed, timeout=3.0)
 
     browsers = [served.visit(flood) for _ in range(FLOOD_VISITS)]
-    time.sleep(uploads.TRIM_DELAY + 1.0)
-    end = time.monotonic() + 5.0  # a loaded machine may free later
-    while time.monotonic() < end and _rss(served.proc.pid) - before >= RSS_BOUND:
-        time.sleep(0.2)
+    # the memory is given back TRIM_DELAY after the connections closed (a loaded machine
+    # may free later)
+    wait_for(lambda: _rss(served.proc.pid) - before < RSS_BOUND, uploads.TRIM_DELAY + 6, 0.2)
     after = _rss(served.proc.pid)
     assert after - before < RSS_BOUND, f"{before / MIB:.0f} -> {after / MIB:.0f} MiB"
     assert all(b.closed for b in browsers)

@@ -135,19 +135,21 @@ def test_a_student_walks_the_balancing_lesson_to_success(open_page):
     try:
         page = _open(open_page, app)
         page.get_by_text("Équilibrage statique puis dynamique", exact=False).first.wait_for()
-        for _ in range(3):
+        for step in (2, 3, 4):
             page.get_by_text("Suivant ▶").click()
-            time.sleep(0.5)
-        page.get_by_text("étape 4/4", exact=False).first.wait_for(timeout=10_000)
+            page.get_by_text(f"étape {step}/4", exact=False).first.wait_for(timeout=10_000)
         session = next(iter(app.sessions.values()))
         assert wait_for(lambda: session.controller.sim.values["mass1_g"] == 0.0)
         time.sleep(0.5)  # the step records the unbalanced forces as its start values
         solution = balancing_solution(session.controller.sim.values)
+        values = session.controller.sim.values
         for name in ("mass1_g", "angle1_deg", "mass2_g", "angle2_deg"):
             box = _slider_input(page, _label(name))
             box.fill(f"{solution[name]:.3f}")
             box.press("Enter")
-            time.sleep(0.3)
+            # applied, on the slider's step (0,1)
+            close = lambda n=name: abs(values[n] - solution[n]) <= 0.051  # noqa: E731
+            assert wait_for(close, timeout=10), (name, values[name], solution[name])
         page.get_by_text("Réussi", exact=False).first.wait_for(timeout=20_000)
     finally:
         app.stop()

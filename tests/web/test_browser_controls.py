@@ -123,8 +123,10 @@ def test_a_refused_value_and_a_reset_leave_the_controls_on_the_values_in_force(
     assert wait_for(lambda: _shown(page, TIMESTEP_LABEL) == pytest.approx(before), timeout=5)
     _type(page, "mass1_g", 50.0)
     assert wait_for(lambda: sim.values["mass1_g"] == 50.0, timeout=10)
+    ctl = next(iter(balancing.sessions.values())).controller
+    reset = ctl.generation
     page.get_by_role("button", name="Réinitialiser").first.click()
-    time.sleep(0.5)
+    assert wait_for(lambda: ctl.generation > reset, timeout=10)  # the reset is applied
     assert wait_for(lambda: not _reads(page, dict(sim.values)), timeout=5)
 
 

@@ -136,7 +136,7 @@ def device(browser) -> Iterator[Callable[..., object]]:
         page.add_style_tag(content=".mantine-Notifications-root{display:none !important}")
         if touch:
             page.locator(f"#{STRIP_ID} span").first.wait_for(timeout=30_000)
-        time.sleep(1.0)  # the canvas takes its size and draws a frame
+        _settled(page)  # the canvas takes its size
         return page
 
     try:
@@ -144,6 +144,25 @@ def device(browser) -> Iterator[Callable[..., object]]:
     finally:
         for context in contexts:
             context.close()
+
+
+CANVAS = """() => { const c = document.querySelector("canvas"); if (!c) return null;
+  const r = c.getBoundingClientRect(); return [c.width, c.height, r.width, r.height]; }"""
+CHART = """() => { const u = document.querySelector("[data-sandbox=sheet] .uplot");
+  return u ? u.getBoundingClientRect().width : null; }"""
+
+
+def _settled(page, script: str = CANVAS, polls: int = 3) -> None:
+    """Wait until ``script`` reads the same value ``polls`` times in a row, 0,1 s apart
+    (the canvas or a chart has taken its size), rather than sleeping a fixed time."""
+    seen: list[object] = []
+
+    def same() -> bool:
+        seen.append(page.evaluate(script))
+        recent = seen[-polls:]
+        return len(recent) == polls and recent[0] is not None and recent.count(recent[0]) == polls
+
+    assert wait_for(same, timeout=15, poll=0.1), seen[-polls:]
 
 
 def _geometry(page) -> dict:
@@ -297,7 +316,7 @@ def test_vertical_swipe_over_sliders_scrolls_and_changes_no_value(served, device
             )
             break
     assert swiped == 3
-    time.sleep(0.5)
+    _settled(page, SLIDERS)  # whatever the swipes did has landed
     assert {s["label"]: s["value"] for s in page.evaluate(SLIDERS)} == before
     assert session.controller.sim.values == sim_values
     # the sliders still answer: a tap on a track sets its value, a thumb drags
@@ -321,7 +340,7 @@ def test_folding_the_sheet_keeps_the_readouts_and_the_mechanism_whole(served, de
     before = _geometry(page)
     page.locator("[data-sandbox=sheet]").get_by_text("Dynamique des solides", exact=True).tap()
     assert wait_for(lambda: _geometry(page)["sheet"]["h"] < 100)
-    time.sleep(1.0)  # the canvas takes its new size
+    _settled(page)  # the canvas takes its new size
     g = _geometry(page)
     _assert_strip_shows_the_readouts(g)
     assert g["view"]["h"] > before["view"]["h"] + 150
@@ -341,7 +360,7 @@ def test_the_lesson_comes_first_in_the_sheet_and_fits_the_phone(served, device):
     assert above["y"] + above["height"] <= below["y"] and above["height"] >= TOUCH_PX
     header.tap()
     sheet.locator(".uplot").first.wait_for(timeout=30_000)  # the step's goal, a chart
-    time.sleep(1.0)  # the chart takes its width
+    _settled(page, CHART)  # the chart takes its width
     _assert_no_horizontal_scroll(page)
 
 

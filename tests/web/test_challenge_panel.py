@@ -173,6 +173,14 @@ def _never_sent(
         assert all(enc not in seen for enc in encodings(x)), x
 
 
+FRAMES: dict[int, list[int]] = {}  # frames rendered by each session _started watches
+
+
+def renders_of(session) -> int:
+    """Frames ``session``'s view rendered since :func:`_started` began counting."""
+    return FRAMES[id(session)][0]
+
+
 def _started(app, student: Recorder, name: str):
     """``name`` started for the one student of ``app``, every folder their page may still
     show opened: (their session, what their browser received since the start)."""
@@ -186,13 +194,16 @@ def _started(app, student: Recorder, name: str):
     # The frame that applies the pause still draws its tables after ``playing`` turns
     # False: the marker waits for two more frames drawn (the second one started after).
     renders = [0]
+    panels = [0]  # frames that refreshed the panels
     render = session.view.render
 
     def counted(frame):
         render(frame)
         renders[0] += 1
+        panels[0] += frame.readouts is not None
 
     session.view.render = counted
+    FRAMES[id(session)] = renders
     session.controller.submit(Request("pause"))
     assert wait_for(lambda: not session.controller.playing, 30)
     paused_at = renders[0]
@@ -203,8 +214,15 @@ def _started(app, student: Recorder, name: str):
     before = len(student.inner)
     app.classroom.announce(Run(f"run-{name}", name, time.time()))
     assert wait_for(lambda: session.controller.secret is not None, 10)
-    session.view._pending_folder = "Tous les panneaux"
-    time.sleep(3.0)
+    session.view.show_folder("Tous les panneaux")
+    assert wait_for(lambda: session.view.shown == "Tous les panneaux", 10)
+    # every folder refreshed 20 times (2 s of the page) with the secret in force, then
+    # a marker: what those refreshes sent has reached the student
+    shown_at = panels[0]
+    assert wait_for(lambda: panels[0] >= shown_at + 20, 60)
+    marker = app.server.get_clients()[cid].gui.add_markdown("all-panels-marker")
+    assert wait_for(lambda: student.saw(b"all-panels-marker"), 60)
+    marker.remove()
     return session, student.since(before), student.words_since(before)
 
 
@@ -230,7 +248,11 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
         # a crafted message setting the hidden slider, and a recording, are refused
         student.ws.send(gui_message(slider._impl.uuid, 20.0))
         ctl.submit(Request("record"))
-        time.sleep(0.5)
+        # the refusal of the recording is applied by the loop; the crafted message came
+        # first on the student's websocket, so a frame drawn after the refusal has seen it
+        assert wait_for(lambda: ctl.refusals >= 1 and ctl.requests.empty(), 10)
+        refused_at = renders_of(session)
+        assert wait_for(lambda: renders_of(session) >= refused_at + 2, 10)
         assert ctl.sim.values["defect_mass_g"] == SECRET["defect_mass_g"]
         assert ctl.recorder is None and ctl.refusals >= 1
     finally:
@@ -274,8 +296,11 @@ def test_tries_are_counted_on_the_board_and_the_end_shows_the_solution(rotor_cla
             values = {**ctl.sim.values}
         for name, value in CHALLENGES["rotor_balance"].solution(values).items():
             ctl.submit(Request("set_value", round(value, 1), name=name))  # the sliders' steps
-        assert wait_for(lambda: ctl.requests.empty(), 5)
-        time.sleep(0.3)
+        wanted = CHALLENGES["rotor_balance"].solution(values)
+        assert wait_for(
+            lambda: all(ctl.sim.values[k] == pytest.approx(round(v, 1)) for k, v in wanted.items()),
+            5,
+        )
         panel._clicked(None)
         assert panel.feedback.content.startswith("**Réussi**"), panel.feedback.content
         (row,) = app.classroom.rows()

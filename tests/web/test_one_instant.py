@@ -29,7 +29,7 @@ SPAN = re.compile(r'<span data-readout="([^"]+)" data-value="([^"]+)">([^<]*)</s
 def _panel_frame(session) -> frame_module.Frame:
     """Run frames until one brings readouts and a picture (a panel refresh while the
     mechanism moves), every folder shown; returns that frame, its panels refreshed."""
-    session.view._pending_folder = ALL_FOLDERS
+    session.view.show_folder(ALL_FOLDERS)
     ctl = session.controller
     clock = Clock()
     ctl.clock = clock

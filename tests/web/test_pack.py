@@ -5,7 +5,6 @@ treated as untrusted."""
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -84,22 +83,28 @@ def test_the_lesson_plays_offline_with_its_steps_and_plot(pack, browser):
         assert steps[0] in on.inner_text()
         start = page.evaluate("() => window.__cursor")
         page.evaluate("() => { const v = document.getElementById('v'); v.muted = true; v.play(); }")
-        time.sleep(1.2)
-        moved = page.evaluate("() => [document.getElementById('v').currentTime, window.__cursor]")
-        assert moved[0] > 0.3 and moved[1] > start + 50  # the cursor follows the video
+        # the video plays 0,3 s and more, and the cursor follows it
+        page.wait_for_function(
+            "() => document.getElementById('v').currentTime > 0.3"
+            f" && window.__cursor > {start + 50}",
+            timeout=10_000,
+        )
         page.evaluate("() => document.getElementById('v').pause()")
         # a click on the plot near its right end seeks the video there (step 3's chapter)
-        box = page.locator("#plot").bounding_box()
+        plot = page.locator("#plot")
+        box = plot.bounding_box()
         assert box is not None
-        page.mouse.click(box["x"] + box["width"] - 20, box["y"] + box["height"] / 2)
-        page.wait_for_timeout(300)
-        assert page.evaluate("() => document.getElementById('v').currentTime") > 1.2
+        plot.click(position={"x": box["width"] - 20, "y": box["height"] / 2})  # scrolled to
+        page.wait_for_function("() => document.getElementById('v').currentTime > 1.2")
         assert steps[2] in on.inner_text()
         # a chapter's click seeks back to its start
         page.get_by_text(steps[1], exact=True).first.click()
-        page.wait_for_timeout(300)
-        t = page.evaluate("() => document.getElementById('v').currentTime")
-        assert 0.45 < t < 0.6 and steps[1] in on.inner_text()
+        seek = (
+            "() => { const t = document.getElementById('v').currentTime;"
+            " return t > 0.45 && t < 0.6; }"
+        )
+        page.wait_for_function(seek)
+        assert steps[1] in on.inner_text()
         page.select_option("#speed", "0.5")
         assert page.evaluate("() => document.getElementById('v').playbackRate") == 0.5
     finally:

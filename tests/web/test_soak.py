@@ -15,6 +15,7 @@ import threading
 import time
 
 import pytest
+from conftest import wait_for
 
 from sandbox.bench import classroom
 from sandbox.web.serving import app as web_app
@@ -56,8 +57,8 @@ def test_sessions_draw_without_failing_while_browsers_come_and_go(scene, caplog)
         # they were drawn for: most visits saw frames (how many depends on the machine's
         # speed, since each visit first waits for its page to be built)
         assert sum(f > 0 for f in frames) > len(frames) // 2, frames
-        time.sleep(1.5)  # the sessions of the last browsers notice they left
-        assert app.reap() == 0
+        # the sessions of the last browsers notice they left
+        assert wait_for(lambda: app.reap() == 0, timeout=10)
     finally:
         app.stop()
     failures = [

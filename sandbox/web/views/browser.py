@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
 from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web.client import wire
+from sandbox.web.client.fields import set_value
 from sandbox.web.loop import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.accuracy import AccuracyPanel
@@ -273,6 +274,13 @@ class WebView(Generic[D]):
         def _(event: viser.GuiEvent[viser.GuiDropdownHandle[str]]) -> None:
             if event.client is not None:
                 self._pending_folder = str(event.target.value)
+
+    def show_folder(self, label: str) -> None:
+        """Show the folder ``label`` of « Panneau affiché » (or every one) as if the user
+        picked it: the picker says so, and the view applies it at its next frame (a
+        folder a challenge closed is refused then)."""
+        set_value(self.picker, label)
+        self._pending_folder = label
 
     def _apply_folder(self) -> None:
         choice, self._pending_folder = self._pending_folder, None

@@ -363,5 +363,4 @@ def _show_lesson(view: WebView[Any]) -> None:
 def _show_panel(view: WebView[Any], label: str) -> None:
     """Choose ``label`` in "Panneau affiché" as the user would (the view applies it at its
     next frame)."""
-    set_value(view.picker, label)
-    view._pending_folder = label
+    view.show_folder(label)
