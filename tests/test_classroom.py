@@ -628,6 +628,7 @@ def test_each_reader_thread_unpacks_with_its_own_decompressor():
 
 
 @pytest.mark.slow  # a real server, 30 browsers and a core kept busy: about 25 s
+@pytest.mark.solo  # its frame rates are measured: nothing else runs beside it in CI
 def test_thirty_browsers_beside_a_busy_core_keep_real_time_and_even_frames() -> None:
     """Issue 35: another program keeps one core busy (the laptop driving a projector and
     a video call): every session keeps simulated/real >= 0.98, the frame rates within a
