@@ -164,3 +164,39 @@ def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_f
     views = [v for v in app._views.values() if v.study is not None and v.study.received]
     assert len(views) == 1 and views[0].study.job is app.study
     assert sum(1 for r in app.study.rows if r is not None) == 13
+
+
+@pytest.mark.slow  # a server and a websocket student: ~5 s
+def test_a_student_on_their_own_copy_gets_the_share_link_and_the_join_address():
+    """Follow mode built its students' own pages by a second factory of its own, without
+    « Partager » and « Rejoindre »: a student who left the teacher's simulation could
+    neither share their setup nor read the address for a neighbour. One factory builds
+    that page in every mode."""
+    from conftest import free_port
+    from test_challenge_panel import Recorder
+
+    from sandbox.web.page.link import SHARE_FOLDER
+    from sandbox.web.serving.app import start
+
+    public = "http://salle-12.lycee.example:8080"
+    app = start(
+        "rotor", port=free_port(), open_message=False, follow=True, token="t-j", public_url=public
+    )
+    student = Recorder(app.url.replace("http", "ws"))
+    try:
+        assert wait_for(lambda: app.counts()[1] == 1, 30)
+        (cid,) = [c for c, mode in app.modes.items() if mode == "follower"]
+        before = len(student.inner)
+        app.switch(app.server.get_clients()[cid], own=True)
+        assert wait_for(lambda: app.counts()[2] == 1, 30)
+        view = next(s for c, s in app.sessions.items() if c == cid).view
+        assert view.join is not None and public in view.join.html.content
+
+        def sent(text: bytes) -> bool:  # to this student, since they left the teacher's
+            return any(text in m for m in student.inner[before:])
+
+        assert wait_for(lambda: sent(SHARE_FOLDER.encode()), 30)
+        assert wait_for(lambda: sent(b"salle-12.lycee.example"), 30)
+    finally:
+        student.close()
+        app.stop()

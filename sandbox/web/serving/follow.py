@@ -39,6 +39,7 @@ from sandbox.web.panels.study_chart import StudyChart
 from sandbox.web.panels.tables import fmt
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
+from sandbox.web.serving.own_page import own_view
 from sandbox.web.serving.server import App, SimOptions
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import point_camera
@@ -349,7 +350,10 @@ class FollowApp(App):
                 FOLLOW, hint="Revenir à la simulation projetée par le professeur"
             )
         back.on_click(lambda _: self.switch(client, own=False))
-        view = WebView(client, controller, lesson=self.lesson)
+        # the same page as a class's student: « Partager » and « Rejoindre » included
+        view = own_view(
+            self.server, client, controller, lesson=self.lesson, join_urls=self.join_urls
+        )
         self._views[cid] = view
         if self.study is not None and view.study is not None:
             view.study.receive(self.study)

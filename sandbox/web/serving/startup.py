@@ -20,9 +20,8 @@ from sandbox.web.serving import addresses, network
 from sandbox.web.serving.class_app import ClassApp
 from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.follow import FollowApp
+from sandbox.web.serving.own_page import own_view
 from sandbox.web.serving.server import MAX_SESSIONS, SimOptions, open_server
-from sandbox.web.views import share as share_panel
-from sandbox.web.views.browser import WebView
 
 log = logging.getLogger(__name__)
 
@@ -109,8 +108,7 @@ def start(
 
         def session(client: viser.ClientHandle) -> Session:
             controller = Controller(Simulation(target, **options))
-            view = WebView(client, controller, lesson=opened, join_urls=urls)
-            share_panel.attach(server, client, view, lesson=opened)  # "Partager", a link
+            view = own_view(server, client, controller, lesson=opened, join_urls=urls)
             return Session(controller, view)
 
         app = ClassApp(
