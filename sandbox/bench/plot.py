@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from sandbox.bench.results import Run, SceneResult
-from sandbox.physics.model import INTEGRATOR_WORDS
+from sandbox.physics.model import integrator_words
 from sandbox.scenes import get_scene
 
 if TYPE_CHECKING:
@@ -56,11 +56,6 @@ def decimal(value: float) -> str:
         text = f"{mantissa}×10{str(int(power)).translate(_SUPERSCRIPT)}"
         text = text.removeprefix("1×")
     return text.replace(".", ",").replace("-", "−")
-
-
-def integrator_words(name: str) -> str:
-    """An integrator in words ("Runge-Kutta 4"), an unknown one as it is."""
-    return INTEGRATOR_WORDS.get(name, name)
 
 
 def duration(seconds: float) -> str:

@@ -46,6 +46,12 @@ INTEGRATOR_WORDS: dict[str, str] = {
 """The integrators in words, as the web page and its charts name them."""
 
 
+def integrator_words(name: str) -> str:
+    """An integrator in the words of the page, the charts and the lessons ("Runge-Kutta
+    4"); an unknown one as it is (its CLI name is a contract, not a word for the page)."""
+    return INTEGRATOR_WORDS.get(name, name)
+
+
 def integrator_name(model: mujoco.MjModel) -> str:
     """Name of the integrator the model uses."""
     code = int(model.opt.integrator)

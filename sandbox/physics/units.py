@@ -60,13 +60,3 @@ FLAGS: frozenset[str] = frozenset({"contact", "on_plane", "gimbal_lock"})
 def flag_words(value: float) -> str:
     """A flag readout as the page writes it: « oui » above one half, else « non »."""
     return "oui" if value > 0.5 else "non"
-
-
-def shown_value(name: str, unit: str, value: float) -> float:
-    """``value`` of readout ``name`` (contract ``unit``) in the unit the page shows
-    (:func:`shown_scale`); a turn counter (:data:`TURN_ANGLES`) modulo 360°."""
-    factor = shown_scale(name, unit)[1]
-    shown = value * factor
-    if name in TURN_ANGLES and unit == "rad" and math.isfinite(shown):
-        shown %= 360.0
-    return shown

@@ -223,12 +223,8 @@ class Effects:
     def hypotheses(self) -> tuple[str, ...]:
         """The modelling hypotheses in the course's words (French), one line each."""
         lines = []
-        lines.append("Pesanteur prise en compte" if self.gravity else "Poids négligé")
-        lines.append(
-            "Contacts simulés (lois de Coulomb)"
-            if self.contacts
-            else "Pas de contact entre solides"
-        )
+        lines.append("Pesanteur prise en compte" if self.gravity else WEIGHT_NEGLECTED)
+        lines.append("Contacts simulés (lois de Coulomb)" if self.contacts else NO_CONTACT)
         if self.equality:
             lines.append("Fermeture de chaîne par contrainte d'égalité raide")
         lines.append(
@@ -240,8 +236,32 @@ class Effects:
             lines.append("Frottement sec dans les liaisons")
         if self.springs:
             lines.append("Ressorts dans les liaisons")
-        lines.append("Référentiel terrestre supposé galiléen")
+        lines.append(GALILEAN)
         return tuple(lines)
+
+
+WEIGHT_NEGLECTED = "Poids négligé"
+NO_CONTACT = "Pas de contact entre solides"
+GALILEAN = "Référentiel terrestre supposé galiléen"
+
+
+def file_hypotheses(model: mujoco.MjModel) -> tuple[str, ...]:
+    """The modelling hypotheses of a user's MJCF file (its own options kept), in the same
+    words as a scene's (:meth:`Effects.hypotheses`)."""
+    flags = int(model.opt.disableflags)
+    off = mujoco.mjtDisableBit
+    g = float(np.linalg.norm(model.opt.gravity))
+    weightless = bool(flags & off.mjDSBL_GRAVITY) or g == 0
+    return (
+        "Fichier MJCF : options du fichier conservées",
+        WEIGHT_NEGLECTED
+        if weightless
+        else f"Pesanteur prise en compte (g = {french.number(g, 3)} m/s²)",
+        NO_CONTACT
+        if flags & off.mjDSBL_CONTACT
+        else "Contacts simulés si les géométries se touchent",
+        GALILEAN,
+    )
 
 
 @dataclass(frozen=True)

@@ -27,9 +27,10 @@ import numpy as np
 import pytest
 
 import sandbox.scenes  # noqa: F401  (the registry: Simulation("rotor"))
+from sandbox.physics.model import integrator_words
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.web.client.fields import integrator_label, param_label
+from sandbox.web.client.fields import param_label
 from sandbox.web.loop import Controller, Scheduler, Session
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import TIMESTEP_LABEL
@@ -314,7 +315,7 @@ def test_an_unknown_integrator_is_refused_once(page, quiet, value):
     _, body = refused_once(page)
     assert body.startswith("Intégrateur « ") and "choisissez parmi euler, implicit" in body
     assert page.ctl.sim.integrator == "implicitfast"
-    assert dropdown.value == integrator_label("implicitfast")
+    assert dropdown.value == integrator_words("implicitfast")
 
 
 @pytest.mark.parametrize("value", [-5.0, 201.0, *NOT_NUMBERS], ids=repr)
@@ -658,7 +659,7 @@ def test_crafted_values_over_the_wire_are_refused_once_each(server, caplog):
         ) * 2:
             await ws.send(raw)
         put_back = [
-            (integrator, {"value": integrator_label("implicitfast")}),
+            (integrator, {"value": integrator_words("implicitfast")}),
             (speed, {"value": 1.0}),
         ]
         # both refused controls put back (a loaded CI machine may take more than a
@@ -677,7 +678,7 @@ def test_crafted_values_over_the_wire_are_refused_once_each(server, caplog):
         ),
         ("Valeur refusée", "Vitesse ×nan refusée : choisissez entre ×0,01 et ×4."),
     ]
-    assert (integrator, {"value": integrator_label("implicitfast")}) in b.updates
+    assert (integrator, {"value": integrator_words("implicitfast")}) in b.updates
     assert (speed, {"value": 1.0}) in b.updates
     # The 1 MB name never becomes the solid: whether viser drops it before the session
     # sees it (no update, no toast) or the page is put back, the solid shown stays the

@@ -7,12 +7,12 @@ import math
 
 import pytest
 
+from sandbox.physics.model import integrator_words
 from sandbox.scenes.base import Param
 from sandbox.web.client.fields import (
     GRACE,
     Mirror,
     engineering,
-    integrator_label,
     integrator_name,
     param_hint,
     param_label,
@@ -147,7 +147,7 @@ def test_labels_in_words_with_the_display_unit_and_a_french_tooltip():
 
 def test_integrators_in_words_and_back():
     for name in ("euler", "implicit", "implicitfast", "rk4", "discrete"):
-        assert integrator_name(integrator_label(name)) == name
+        assert integrator_name(integrator_words(name)) == name
     assert integrator_name("leapfrog") == "leapfrog"  # refused later, in French
 
 

@@ -24,20 +24,9 @@ from sandbox.physics.model import INTEGRATOR_WORDS
 from sandbox.scenes.base import Param
 from sandbox.web.client.text import number
 
-DISPLAY_UNITS = {"rpm": "tr/min", "deg": "°", "N·m·s/rad": "N·m·s/rad"}
-"""Units written differently on the page than in the contract (CLI, CSV)."""
-
 GRACE = 0.4
 """Seconds a control the user just changed may differ from the value in force (their
 request is on its way to the simulation loop)."""
-
-INTEGRATOR_LABELS = INTEGRATOR_WORDS
-"""The integrators in words (the dropdown sends back the contract name)."""
-
-
-def display_unit(unit: str) -> str:
-    """``unit`` as the page writes it (``rpm`` -> ``tr/min``, ``deg`` -> ``°``)."""
-    return DISPLAY_UNITS.get(unit, unit)
 
 
 def param_unit(p: Param) -> str:
@@ -75,15 +64,10 @@ def choices(p: Param) -> tuple[str, ...]:
     return tuple(str(c) for c in p.choices)
 
 
-def integrator_label(name: str) -> str:
-    """An integrator's name in words (an unknown one as it is)."""
-    return INTEGRATOR_LABELS.get(name, name)
-
-
 def integrator_name(label: object) -> object:
     """The contract name behind a dropdown label (anything else passes unchanged: the
     session refuses it, in French)."""
-    for name, words in INTEGRATOR_LABELS.items():
+    for name, words in INTEGRATOR_WORDS.items():
         if label == words:
             return name
     return label

@@ -10,21 +10,18 @@ from __future__ import annotations
 from collections.abc import Callable, Collection, Mapping, Sequence
 from typing import Any
 
-import mujoco
-import numpy as np
 import viser
 
 from sandbox.physics.imposed import IMPOSED, MOTION_WORDS
 from sandbox.physics.limits import MIN_TIMESTEP
-from sandbox.physics.model import INTEGRATORS
+from sandbox.physics.model import INTEGRATORS, integrator_words
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import Param, as_scene
+from sandbox.scenes.base import Param, as_scene, file_hypotheses
 from sandbox.web.client.fields import (
     Mirror,
     advanced,
     choices,
     engineering,
-    integrator_label,
     integrator_name,
     on_user,
     param_hint,
@@ -120,22 +117,7 @@ def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
         if sim.motion == IMPOSED:
             effects = (IMPOSED_HYPOTHESIS, *(h for h in effects if h != CLOSURE_HYPOTHESIS))
         return (*effects, *parameter_hypotheses(scene.params, sim.values))
-    flags = int(sim.model.opt.disableflags)
-    dsbl = mujoco.mjtDisableBit
-    g = float(np.linalg.norm(sim.model.opt.gravity))
-    lines = ["Fichier MJCF : options du fichier conservées"]
-    lines.append(
-        "Poids négligé"
-        if flags & dsbl.mjDSBL_GRAVITY or g == 0
-        else f"Pesanteur prise en compte (g = {number(g, 3)} m/s²)"
-    )
-    lines.append(
-        "Pas de contact entre solides"
-        if flags & dsbl.mjDSBL_CONTACT
-        else "Contacts simulés si les géométries se touchent"
-    )
-    lines.append("Référentiel terrestre supposé galiléen")
-    return tuple(lines)
+    return file_hypotheses(sim.model)
 
 
 def _seconds(t: float) -> str:
@@ -206,11 +188,11 @@ class ControlPanel:
                         hint=MOTION_HINT,
                     )
                     on_user(self.motion, lambda v: submit(Request("motion", _motion_name(v))))
-                labels = tuple(integrator_label(n) for n in INTEGRATORS)
+                labels = tuple(integrator_words(n) for n in INTEGRATORS)
                 self.integrator = gui.add_dropdown(
                     INTEGRATOR_LABEL,
                     labels,
-                    initial_value=integrator_label(_known(sim.integrator)),
+                    initial_value=integrator_words(_known(sim.integrator)),
                     hint=INTEGRATOR_HINT,
                 )
                 on_user(
@@ -228,7 +210,7 @@ class ControlPanel:
         self.mirrors: dict[str, Mirror] = {
             "<speed>": Mirror(self.speed, lambda: controller.speed, busy=busy),
             "<integrator>": Mirror(
-                self.integrator, lambda: integrator_label(_known(sim.integrator)), busy=busy
+                self.integrator, lambda: integrator_words(_known(sim.integrator)), busy=busy
             ),
             "<dt>": Mirror(self.timestep, lambda: sim.timestep, busy=busy),
         }

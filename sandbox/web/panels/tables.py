@@ -21,8 +21,8 @@ import numpy as np
 
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
+from sandbox.physics.model import integrator_words
 from sandbox.physics.units import shown_scale
-from sandbox.web.client.fields import INTEGRATOR_LABELS
 from sandbox.web.client.text import html_text, number, table_row
 from sandbox.written import written
 
@@ -285,12 +285,6 @@ def _row(row: Row | Sequence[str]) -> Row:
         return row
     name, unit, doc = row
     return Row(name, unit, doc)
-
-
-def integrator_words(name: str) -> str:
-    """An integrator in the words of the page's dropdown, e.g. "Runge-Kutta 4" (its CLI name
-    is a contract of the command line, not a word for the page)."""
-    return INTEGRATOR_LABELS.get(name, name)
 
 
 def scene_markdown(
