@@ -23,6 +23,7 @@ from sandbox.web.loop.requests import (
     Record,
     Request,
     Reset,
+    Seek,
     SetValue,
     Speed,
     Steps,
@@ -101,7 +102,7 @@ def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
         (Request("stop_record"), StopRecord()),
         (Request("button", "Lancer"), Button("Lancer")),
         (Request("launch_missiles"), Unknown("launch_missiles")),
-        (Request("seek", 1.0), Unknown("seek")),  # a replay's, not the live loop's
+        (Request("seek", 1.0), Seek(1.0)),  # a replay's scrubber (the live loop refuses it)
         (Request(["not", "a", "kind"]), Unknown(["not", "a", "kind"])),  # type: ignore[arg-type]
     ],
 )

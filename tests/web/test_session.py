@@ -91,6 +91,7 @@ def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
         (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,01 et ×4."),
         (Request("motion", "<i>fly</i>"), "Mouvement « <i>fly</i> » inconnu : imposé ou libre."),
         (Request("launch_missiles"), "Commande inconnue « launch_missiles »."),
+        (Request("seek", 1.0), "Une simulation en direct n'a pas de ligne de temps"),
     ],
 )
 def test_bad_requests_are_refused_with_a_message(ctl, request_, needle):

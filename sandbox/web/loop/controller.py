@@ -40,6 +40,7 @@ from sandbox.web.loop.requests import (
     Record,
     Request,
     Reset,
+    Seek,
     SetValue,
     Speed,
     Steps,
@@ -328,6 +329,10 @@ class Controller(Pacing):
             case Motion(value):
                 sim.set_motion(value)
                 return None
+            case Seek():  # a replay's scrubber: a live simulation has no timeline
+                raise Refused(
+                    "Une simulation en direct n'a pas de ligne de temps : rien n'a changé."
+                )
             case Button(value):  # a label no button has (only a crafted message sends it)
                 raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
             case Unknown(kind):

@@ -111,6 +111,18 @@ class Speed:
 
 
 @dataclass(frozen=True)
+class Seek:
+    """Go to a time of a recording's timeline (a replay's scrubber; a live session
+    refuses it).
+
+    Attributes:
+        seconds: The time on the timeline [s], unvalidated.
+    """
+
+    seconds: object
+
+
+@dataclass(frozen=True)
 class SetValue:
     """A new value of a scene parameter.
 
@@ -208,6 +220,7 @@ Command: TypeAlias = (
     | Steps
     | Advance
     | Speed
+    | Seek
     | SetValue
     | Integrator
     | Timestep
@@ -228,6 +241,7 @@ COMMANDS: Mapping[str, Callable[[Request], Command]] = {
     "step": lambda r: Steps(r.value),
     "advance": lambda r: Advance(r.value, r.name),
     "speed": lambda r: Speed(r.value),
+    "seek": lambda r: Seek(r.value),
     "set_value": lambda r: SetValue(r.name, r.value),
     "integrator": lambda r: Integrator(r.value),
     "timestep": lambda r: Timestep(r.value),

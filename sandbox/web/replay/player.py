@@ -37,6 +37,8 @@ from sandbox.web.loop import (
     shown_value,
     step_count,
 )
+from sandbox.web.loop.requests import Pause, Play, Seek, Speed, Steps, Toggle
+from sandbox.web.loop.requests import command as typed
 from sandbox.web.panels.controls import bounds, command, speed_slider
 from sandbox.web.serving.server import App, open_server, run_forever
 from sandbox.web.views.browser import WebView
@@ -105,24 +107,28 @@ class ReplayController:
         return notices
 
     def _apply(self, request: Request) -> None:
-        kind, value = request.kind, request.value
-        if kind in ("play", "pause", "toggle"):
-            self.playing = {"play": True, "pause": False}.get(kind, not self.playing)
-            if self.playing and self.index >= len(self.rec.times) - 1:
-                self._seek_index(0)
-        elif kind == "step":
-            back = isinstance(value, int | float) and not isinstance(value, bool) and value < 0
-            count = step_count(-value if back else value)
-            self.playing = False
-            self._seek_index(self.index - count if back else self.index + count)
-        elif kind == "seek":
-            self._seek_index(self._index_at(as_number(value, "Temps")))
-        elif kind == "speed":
-            self.speed = check_speed(value)
-        else:
-            raise Refused(
-                f"Une relecture ne peut pas « {shown_value(kind)} » : utilisez la ligne de temps."
-            )
+        """Do what ``request`` asks, read as a typed request as the live controller reads
+        it (:func:`~sandbox.web.loop.requests.command`); what only a live simulation does
+        is refused."""
+        match typed(request):
+            case Play() | Pause() | Toggle() as cmd:
+                self.playing = {Play: True, Pause: False}.get(type(cmd), not self.playing)
+                if self.playing and self.index >= len(self.rec.times) - 1:
+                    self._seek_index(0)
+            case Steps(value):
+                back = isinstance(value, int | float) and not isinstance(value, bool) and value < 0
+                count = step_count(-value if back else value)  # type: ignore[operator]
+                self.playing = False
+                self._seek_index(self.index - count if back else self.index + count)
+            case Seek(value):
+                self._seek_index(self._index_at(as_number(value, "Temps")))
+            case Speed(value):
+                self.speed = check_speed(value)
+            case _:
+                raise Refused(
+                    f"Une relecture ne peut pas « {shown_value(request.kind)} » : utilisez la "
+                    "ligne de temps."
+                )
 
     # -- timeline ------------------------------------------------------------------------
     def _index_at(self, t: float) -> int:
