@@ -11,7 +11,7 @@ from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import load
 from sandbox.web.loop import Controller, Scheduler, Session, check_timestep
-from sandbox.web.loop.frame import ReplaySource
+from sandbox.web.loop.frame import Source
 from sandbox.web.loop.requests import (
     Advance,
     Button,
@@ -34,7 +34,6 @@ from sandbox.web.loop.requests import (
     command,
 )
 from sandbox.web.loop.scheduler import Turns
-from sandbox.web.loop.session import drawn_snapshot, drawn_time, readouts, shown_readouts
 from sandbox.web.replay.player import ReplayController
 
 
@@ -110,7 +109,10 @@ def test_a_request_reads_as_its_typed_request(request_, typed):
     assert command(request_) == typed
 
 
-def test_a_live_controller_and_a_replay_are_read_each_their_own_way(tmp_path):
+def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
+    """A session asks the same of both sources (frame.Source): the live one draws
+    between its physics steps and records; a replay draws its recorded frame, shows its
+    recorded row, records nothing and has no secret."""
     ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
     ctl.submit(Request("pause"))
     ctl.submit(Request("advance", 0.0011, name="s"))  # drawn between two physics steps
@@ -119,18 +121,20 @@ def test_a_live_controller_and_a_replay_are_read_each_their_own_way(tmp_path):
         ctl.frame()
     ctl.submit(Request("stop_record"))
     path = next(n.text for n in ctl.frame() if n.level == "file")
-    assert drawn_time(ctl) == ctl.drawn_time
-    assert drawn_snapshot(ctl).data.time == pytest.approx(ctl.drawn_time)
-    names = ["omega", "T"]
-    assert readouts(ctl, names) == ctl.readouts(names)
-    assert shown_readouts(ctl, names, None) == ctl.shown_readouts(names)
-    assert shown_readouts(ctl, names, {"omega": 1.0}) == {"omega": 1.0}
+    live: Source = ctl
+    assert live.drawn(forces=True).data.time == pytest.approx(ctl.drawn_time)
+    assert live.drawn_time != float(ctl.sim.data.time)  # between two physics steps
 
-    replay: ReplaySource = ReplayController(load(path))
-    assert drawn_time(replay) == float(replay.sim.data.time)
-    assert drawn_snapshot(replay).data.time == replay.sim.data.time
-    assert readouts(replay, names) == replay.values()
-    assert shown_readouts(replay, names, None) == replay.values()
+    replay: Source = ReplayController(load(path))
+    names = ["omega", "T"]
+    assert replay.drawn_time == float(replay.sim.data.time)
+    assert replay.drawn(forces=True).data.time == replay.sim.data.time
+    row = ReplayController(load(path)).values()
+    assert replay.readouts(names) == replay.shown_readouts(names) == row
+    assert not replay.readouts_due() and replay.secret is None and replay.step_cpu_total == 0
+    replay.record()  # nothing happens
+    assert replay.stop_recording() is None
+    assert replay.frame(record=False) == []
 
 
 def test_what_a_panel_may_do_goes_through_the_session_state():

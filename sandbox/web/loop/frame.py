@@ -1,7 +1,7 @@
 """What one display tick shows: the :class:`Frame` built once per tick, the :class:`Notice`
 messages for the user, the :class:`View` protocol of a display (the viser panels, or
-anything with the same methods) the loop hands them to, and the :class:`ReplaySource`
-protocol of a session's source that only plays a recording back.
+anything with the same methods) the loop hands them to, and the :class:`Source` protocol
+of what a session shows (a live controller, or a replay).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from typing import Protocol
 from sandbox.physics.picture import Picture
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
+from sandbox.web.loop.secret import Secret
 
 FPS = 60.0
 """Frame rate of pose updates sent to the browser [Hz]."""
@@ -91,11 +92,12 @@ class View(Protocol):
         """Show a message to the user."""
 
 
-class ReplaySource(Protocol):
-    """What a session reads from a source that is not a live
-    :class:`~sandbox.web.loop.controller.Controller`: a replay's, which moves along its
-    recording (:class:`~sandbox.web.replay.player.ReplayController`). It draws its simulation's
-    own state, records nothing and has no challenge."""
+class Source(Protocol):
+    """What a session reads from the source it shows, whichever it is: a live
+    :class:`~sandbox.web.loop.controller.Controller`, or a replay moving along its
+    recording (:class:`~sandbox.web.replay.player.ReplayController`, which draws its
+    simulation's own state, records nothing, measures no cost and has no challenge).
+    The session asks the same of both: no ``isinstance`` on the source."""
 
     @property
     def sim(self) -> Simulation:
@@ -107,7 +109,7 @@ class ReplaySource(Protocol):
 
     @property
     def playing(self) -> bool:
-        """True while the replay runs."""
+        """True while it runs."""
 
     @property
     def diverged(self) -> str | None:
@@ -121,8 +123,39 @@ class ReplaySource(Protocol):
     def cleanups(self) -> list[Callable[[], None]]:
         """Run when its session ends."""
 
-    def frame(self, now: float | None = None) -> list[Notice]:
-        """Apply the requests and move along the recording; returns the messages."""
+    @property
+    def secret(self) -> Secret | None:
+        """A challenge's secret in force (never for a replay)."""
 
-    def values(self) -> Mapping[str, float]:
-        """The readouts of the state shown, all at once."""
+    @property
+    def drawn_time(self) -> float:
+        """Simulated time drawn [s] (between physics steps for a live source)."""
+
+    @property
+    def step_cpu_total(self) -> float:
+        """CPU seconds spent stepping so far (0 for a replay)."""
+
+    def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
+        """Apply the requests and move on (step, or along the recording); returns the
+        messages. ``record``: write the recording's row now (the session records itself
+        after reading the state once)."""
+
+    def drawn(self, names: Collection[str] = (), *, forces: bool = False) -> Snapshot:
+        """The state to draw, its forces brought up to date when ``forces`` is set."""
+
+    def shown_readouts(
+        self, names: Collection[str], *, snapshot: Snapshot | None = None
+    ) -> Mapping[str, float]:
+        """The readouts a view shows (of ``snapshot`` when given)."""
+
+    def readouts(self, names: Collection[str]) -> Mapping[str, float]:
+        """The readouts of the physics state (a recording's row)."""
+
+    def readouts_due(self) -> bool:
+        """True when a recording row is due at this tick."""
+
+    def record(self, values: Mapping[str, float] | None = None) -> None:
+        """Write the recording's row (``values``: already computed) when one is due."""
+
+    def stop_recording(self) -> object:
+        """Close the recording in progress (nothing for a replay)."""

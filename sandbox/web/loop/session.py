@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable, Collection, Mapping
+from collections.abc import Callable, Mapping
 
 from sandbox.errors import SandboxError
 from sandbox.physics.picture import Picture, picture
 from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
-from sandbox.web.loop.controller import Controller
-from sandbox.web.loop.frame import FPS, Frame, Notice, ReplaySource, View
+from sandbox.web.loop.frame import FPS, Frame, Notice, Source, View
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.loop.secret import Secret
@@ -36,7 +35,8 @@ class Session:
     """A browser's own simulation, whose frames the process's :class:`Scheduler` runs.
 
     Args:
-        controller: The session's controller (owns the simulation).
+        controller: What the session shows: a live controller (owns the simulation) or a
+            replay (:class:`~sandbox.web.loop.frame.Source`).
         view: Display called at up to ``fps`` frames per second.
         fps: Frame rate [Hz].
         alive: Returns False once the session's browser has gone (checked every
@@ -49,7 +49,7 @@ class Session:
 
     def __init__(
         self,
-        controller: Controller,
+        controller: Source,
         view: View,
         *,
         fps: float = FPS,
@@ -57,8 +57,7 @@ class Session:
         scheduler: Scheduler | None = None,
         drive: bool = True,
     ) -> None:
-        # a replay passes its own (a ReplaySource): what is read of it is typed as such
-        self.controller: Controller | ReplaySource = controller
+        self.controller: Source = controller
         self.drive = drive
         self.view = view
         self.period = 1.0 / fps
@@ -101,7 +100,7 @@ class Session:
                 return
             self._recording_closed = True
         ctl = self.controller
-        if isinstance(ctl, Controller) and self.drive:
+        if self.drive:
             with ctl.sim.lock:
                 ctl.stop_recording()
 
@@ -109,10 +108,7 @@ class Session:
     def stepping_cpu(self) -> float:
         """CPU seconds this session spent stepping its simulation so far (0 for a view
         of a simulation another session steps, or a replay)."""
-        ctl = self.controller
-        if not self.drive or not isinstance(ctl, Controller):
-            return 0.0
-        return ctl.step_cpu_total
+        return self.controller.step_cpu_total if self.drive else 0.0
 
     @property
     def stopping(self) -> bool:
@@ -190,10 +186,9 @@ class Session:
         this tick from one state: the picture when the drawn state changed and the view
         draws, the readouts it asks for (sharing the picture's forces), and record."""
         ctl = self.controller
-        live = ctl if isinstance(ctl, Controller) else None  # a replay's is not
         notices: list[Notice] = []
         if self.drive:
-            notices = live.frame(now, record=False) if live is not None else ctl.frame(now)
+            notices = ctl.frame(now, record=False)  # recorded below, once the state is read
         draws = self.view.draws
         holding = not draws and bool(getattr(self.view, "holding", False))
         if holding:
@@ -203,25 +198,25 @@ class Session:
         wanted = None if holding else self.view.wants(now)
         every = wanted is not None and "*" in wanted
         names = set() if wanted is None or every else set(wanted)
-        recording = self.drive and live is not None and live.readouts_due()
+        recording = self.drive and ctl.readouts_due()
         values: Mapping[str, float] | None = None  # the physics state's, for the recorder
         shown: Mapping[str, float] | None = None  # the drawn state's, for the view
         read = (every or bool(names)) and not ctl.diverged
         if recording and not ctl.diverged:
-            values = readouts(ctl, ())
+            values = ctl.readouts(())
         sim = ctl.sim
-        drawn_at = drawn_time(ctl)
+        drawn_at = ctl.drawn_time
         generation = int(ctl.generation)
         drawing: Picture | None = None
         snap: Snapshot | None = None
-        secret: Secret | None = live.secret if live is not None else None  # a replay has none
+        secret: Secret | None = ctl.secret  # a replay has none
         key = (id(sim.model), drawn_at, generation)
         if draws and not ctl.diverged and key != self._pictured:
             scene = as_scene(sim.scene)
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None
             with sim.lock:
-                snap = drawn_snapshot(ctl, forces=bool(arrows) or (read and values is None))
+                snap = ctl.drawn(forces=bool(arrows) or (read and values is None))
                 twin = secret.twin(sim) if secret is not None else None
                 drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
@@ -229,18 +224,14 @@ class Session:
         if read:
             if values is not None:  # while recording, tables step with the physics
                 shown = values
-            elif live is not None:
+            else:
                 with sim.lock:
                     if snap is None:  # nothing drawn this tick: the drawn state all the same
-                        snap = drawn_snapshot(ctl, forces=True)
-                    shown = live.shown_readouts(() if every else names, snapshot=snap)
+                        snap = ctl.drawn(forces=True)
+                    shown = ctl.shown_readouts(() if every else names, snapshot=snap)
                 state = snap
-            else:
-                shown = shown_readouts(ctl, () if every else names, None)
-        if live is not None and recording:
-            live.record(values)
-        elif live is not None and self.drive:
-            live.record()
+        if self.drive:
+            ctl.record(values if recording else None)
         if secret is not None and shown is not None:
             shown = secret.hide(shown)
         return Frame(
@@ -287,35 +278,3 @@ class Session:
         except Exception:  # a failing probe must not keep a dead session running
             log.exception("session liveness check failed")
             return False
-
-
-def drawn_time(ctl: Controller | ReplaySource) -> float:
-    """Simulated time drawn [s]: a live controller's (:attr:`Controller.drawn_time`,
-    between physics steps), else its simulation's own time (a replay)."""
-    return ctl.drawn_time if isinstance(ctl, Controller) else float(ctl.sim.data.time)
-
-
-def drawn_snapshot(ctl: Controller | ReplaySource, *, forces: bool = False) -> Snapshot:
-    """The state a view draws: a live controller's display state (:meth:`Controller.drawn`,
-    between physics steps), else its simulation's own state (a replay); its forces
-    brought up to date when ``forces`` is set (arrows, scene readouts)."""
-    if isinstance(ctl, Controller):
-        return ctl.drawn(forces=forces)
-    return ctl.sim.snapshot((), forces=forces)
-
-
-def shown_readouts(
-    ctl: Controller | ReplaySource, names: Collection[str], physics: Mapping[str, float] | None
-) -> Mapping[str, float]:
-    """The readouts a view shows: those of the drawn state when the controller draws
-    between physics steps (:meth:`Controller.shown_readouts`); while recording, the
-    recorder's row of the physics state (``physics``: one computation a tick serves
-    both, so tables step with the physics while a recording runs)."""
-    if physics is not None:
-        return physics
-    return ctl.shown_readouts(names) if isinstance(ctl, Controller) else readouts(ctl, names)
-
-
-def readouts(ctl: Controller | ReplaySource, names: Collection[str]) -> Mapping[str, float]:
-    """The controller's readouts (a replay's come from its recording, all at once)."""
-    return ctl.readouts(names) if isinstance(ctl, Controller) else ctl.values()

@@ -12,13 +12,14 @@ import math
 import queue
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
 import numpy as np
 import viser
 
 from sandbox.errors import SandboxError
+from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import ModelChoice, open_replay, set_values
 from sandbox.scenes.base import as_scene
@@ -39,6 +40,7 @@ from sandbox.web.loop import (
 )
 from sandbox.web.loop.requests import Pause, Play, Seek, Speed, Steps, Toggle
 from sandbox.web.loop.requests import command as typed
+from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.controls import bounds, command, speed_slider
 from sandbox.web.serving.server import App, open_server, run_forever
 from sandbox.web.views.browser import WebView
@@ -73,13 +75,47 @@ class ReplayController:
         self.cleanups: list[Callable[[], None]] = []  # run when its session ends
         self._show(0)
 
+    # -- what a session reads (sandbox.web.loop.frame.Source) ---------------------------
+    secret: Secret | None = None  # a replay has no challenge
+    step_cpu_total = 0.0  # nor stepping cost
+
+    @property
+    def drawn_time(self) -> float:
+        """Simulated time drawn [s]: the recorded frame's."""
+        return float(self.sim.data.time)
+
+    def drawn(self, names: Collection[str] = (), *, forces: bool = False) -> Snapshot:
+        """The recorded frame's state, its forces brought up to date when asked."""
+        return self.sim.snapshot(names, forces=forces)
+
+    def shown_readouts(
+        self, names: Collection[str], *, snapshot: Snapshot | None = None
+    ) -> dict[str, float]:
+        """The recorded row of the frame shown (all of it, whatever is asked)."""
+        return self.values()
+
+    def readouts(self, names: Collection[str]) -> dict[str, float]:
+        """The recorded row of the frame shown."""
+        return self.values()
+
+    def readouts_due(self) -> bool:
+        """A replay records nothing."""
+        return False
+
+    def record(self, values: Mapping[str, float] | None = None) -> None:
+        """A replay records nothing."""
+
+    def stop_recording(self) -> None:
+        """A replay records nothing."""
+
     # -- requests ------------------------------------------------------------------------
     def submit(self, request: Request) -> None:
         """Queue a request (``play``, ``pause``, ``toggle``, ``step``, ``seek``, ``speed``)."""
         self.requests.put(request)
 
-    def frame(self, now: float | None = None) -> list[Notice]:
-        """Apply requests, move along the timeline, load the frame's state."""
+    def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
+        """Apply requests, move along the timeline, load the frame's state (``record``:
+        unused, a replay records nothing)."""
         now = self.clock() if now is None else now
         notices: list[Notice] = []
         for request in merged(list(pending(self.requests))):
@@ -291,7 +327,7 @@ def start_replay(
     def session(client: viser.ClientHandle) -> Session:
         ctl = ReplayController(rec)
         view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)
-        return Session(ctl, view)  # type: ignore[arg-type]
+        return Session(ctl, view)
 
     app = App(server, host, session)
     if open_message:
