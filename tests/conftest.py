@@ -180,6 +180,20 @@ def wait_for(predicate: Callable[[], object], timeout: float = 20.0, poll: float
     return bool(predicate())
 
 
+def settled(read: Callable[[], object], polls: int = 3, timeout: float = 15.0) -> bool:
+    """Poll ``read`` every 0,1 s until it returns the same value ``polls`` times in a row
+    (a page's layout or text has stopped changing), rather than sleeping a fixed time;
+    False if it still changes after ``timeout`` seconds."""
+    seen: list[object] = []
+
+    def same() -> bool:
+        seen.append(read())
+        recent = seen[-polls:]
+        return len(recent) == polls and recent[0] is not None and recent.count(recent[0]) == polls
+
+    return wait_for(same, timeout=timeout, poll=0.1)
+
+
 def choose(page, label: str, option: str) -> None:
     """Pick ``option`` in the page's dropdown labelled ``label`` (Playwright page)."""
     row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last

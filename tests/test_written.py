@@ -57,3 +57,17 @@ def test_a_time_is_written_to_the_hundredth(t, words):
 def test_the_unit_follows_french_typography():
     assert with_unit("29", "°") == "29°" and with_unit("3", "N") == "3\u00a0N"
     assert with_unit("0,5", "") == "0,5"
+
+
+def test_the_compressors_dead_centre_reads_zero_not_round_off():
+    """Seen by a teacher at θ = 270° while the compressor ran: « Effet de tamis =
+    −2,622×10⁻⁷ N » beside a 269,8 N pilon and « Couple nécessaire = −1,969×10⁻⁹ N·m »:
+    the inverse dynamics' round-off, written as a number. They read 0; the pilon keeps
+    its four digits."""
+    from sandbox.scenes import SCENES
+
+    scene = SCENES["compressor"]
+    assert str(written("tamis", -2.622e-7, "N", zero=scene.zero_for("N"))) == "0\u00a0N"
+    torque = written("motor_torque", -1.969e-9, "N·m", zero=scene.zero_for("N·m"))
+    assert str(torque) == "0\u00a0N·m"
+    assert str(written("pilon", -269.78, "N", zero=scene.zero_for("N"))) == "−269,8\u00a0N"

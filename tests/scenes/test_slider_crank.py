@@ -44,9 +44,9 @@ def test_the_machines_at_constant_speed_share_the_round_off_table(name, own):
     zero = dict(SCENES[name].zero)
     assert zero == {**ROUND_OFF, **own}
     assert ROUND_OFF == {
-        "N": 1e-9,
-        "N·m": 1e-10,
-        "W": 1e-9,
+        "N": 5e-7,
+        "N·m": 5e-9,
+        "W": 1e-6,
         "J": 1e-12,
         "kg·m/s": 1e-12,
         "kg·m²/s": 1e-12,

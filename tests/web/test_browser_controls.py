@@ -6,10 +6,9 @@ no code name, English word or emoji in the control folders."""
 from __future__ import annotations
 
 import re
-import time
 
 import pytest
-from conftest import free_port, wait_for
+from conftest import free_port, settled, wait_for
 
 from sandbox.lessons import catalogue
 from sandbox.scenes import SCENES
@@ -139,7 +138,12 @@ def test_projector_layout_fits_1280x720_with_16px_text(projector_page, balancing
     page = projector_page.new_page()
     page.goto(balancing.url)
     page.get_by_text("étape 1/4", exact=False).first.wait_for(timeout=30_000)
-    time.sleep(1.0)
+    # the panel is laid out: its controls stop moving
+    boxes = (
+        "() => [...document.querySelectorAll('button, input')]"
+        ".map(e => e.getBoundingClientRect().y)"
+    )
+    assert settled(lambda: page.evaluate(boxes))
     # the simulation controls: time buttons, speed, recording, every parameter
     must_see = [
         page.get_by_role("button", name="Pause").first,
@@ -192,9 +196,14 @@ def test_control_folders_speak_french_without_code_names_or_emoji(projector_page
         page = projector_page.new_page()
         page.goto(app.url)
         page.get_by_text("Simulation", exact=True).first.wait_for(timeout=30_000)
-        time.sleep(1.5)
         folders = page.locator(".mantine-ScrollArea-viewport")  # the control panels
-        text = "\n".join(folders.nth(i).inner_text() for i in range(folders.count()))
+
+        def panels_text() -> str:
+            return "\n".join(folders.nth(i).inner_text() for i in range(folders.count()))
+
+        # every folder built and filled (its words stop changing; the numbers run on)
+        assert settled(lambda: re.sub(r"[\d,.−-]+", "", panels_text()))
+        text = panels_text()
         words = set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", text))
         assert not words & _code_names(), sorted(words & _code_names())
         assert not words & set(ENGLISH), sorted(words & set(ENGLISH))

@@ -11,7 +11,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 import pytest
-from conftest import choose, free_port, wait_for
+from conftest import choose, free_port, settled, wait_for
 from PIL import Image
 
 from sandbox.web.page.layout import STRIP_ID, TOUCH_PX
@@ -152,17 +152,10 @@ CHART = """() => { const u = document.querySelector("[data-sandbox=sheet] .uplot
   return u ? u.getBoundingClientRect().width : null; }"""
 
 
-def _settled(page, script: str = CANVAS, polls: int = 3) -> None:
-    """Wait until ``script`` reads the same value ``polls`` times in a row, 0,1 s apart
-    (the canvas or a chart has taken its size), rather than sleeping a fixed time."""
-    seen: list[object] = []
-
-    def same() -> bool:
-        seen.append(page.evaluate(script))
-        recent = seen[-polls:]
-        return len(recent) == polls and recent[0] is not None and recent.count(recent[0]) == polls
-
-    assert wait_for(same, timeout=15, poll=0.1), seen[-polls:]
+def _settled(page, script: str = CANVAS) -> None:
+    """Wait until ``script`` reads the same value three times, 0,1 s apart (the canvas
+    or a chart has taken its size)."""
+    assert settled(lambda: page.evaluate(script)), page.evaluate(script)
 
 
 def _geometry(page) -> dict:

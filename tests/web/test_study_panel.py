@@ -168,3 +168,19 @@ def test_a_period_is_charted_in_seconds(tmp_path):
     assert panel.chart is not None
     _, dots, course = panel.chart.chart.data
     assert np.allclose(dots, course, rtol=1e-5) and 3 < dots.min() < dots.max() < 6  # s
+
+
+def test_the_bounds_show_the_decimals_of_the_parameter_they_vary(tmp_path):
+    """The compressor's preset varies the rod length L from 0,04 to 0,2 m, but the bound
+    fields were made for a speed (step 50 tr/min): they showed « De 0 » « À 0 ». They
+    take the decimals of the parameter's step (0,0005 m: four)."""
+    page = Page("compressor", tmp_path)
+    panel = _panel(page)
+    assert (panel.start.value, panel.stop.value) == (0.04, 0.2)
+    assert panel.start.step == panel.stop.step == 0.0005
+    assert panel.start.precision == panel.stop.precision == 4
+    # another parameter picked by hand: its own step and decimals
+    page.show(FOLDER)
+    page.send(page.find("dropdown", "Paramètre varié"), "Vitesse du vilebrequin ω [tr/min]")
+    page.tick(0.3)
+    assert panel.start.step == 50.0 and panel.start.precision == 0

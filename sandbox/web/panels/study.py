@@ -11,8 +11,10 @@ study that shows one of the course's laws.
 
 from __future__ import annotations
 
+import decimal
 import math
 import threading
+from collections.abc import Sequence
 from typing import Any
 
 import viser
@@ -43,6 +45,18 @@ def _step(p: Param) -> float:
     """The step of a bound's field: the parameter's slider step, else a thousandth of its
     range (the field shows as many decimals as its step has)."""
     return float(p.step) if p.step else (p.max - p.min) / 1000.0 or 0.001
+
+
+def _set_step(fields: Sequence[viser.GuiNumberHandle[float]], p: Param) -> None:
+    """Give the bound ``fields`` parameter ``p``'s step, and the decimals it needs: a
+    field keeps the decimals of the step it was made with (a speed's 50 tr/min showed a
+    rod length of 0,04 m as « 0 »)."""
+    step = _step(p)
+    exponent = decimal.Decimal(repr(step)).normalize().as_tuple().exponent
+    digits = max(0, -exponent) if isinstance(exponent, int) else 3
+    for field in fields:
+        field.step = step
+        field.precision = digits
 
 
 class StudyPanel:
@@ -155,14 +169,14 @@ class StudyPanel:
         name, start, stop, count = preset.vary
         self._bounds_of[self.vary.label] = name
         self.vary.value = param_label(self.params[name])  # type: ignore[misc]
-        self.start.step = self.stop.step = _step(self.params[name])
+        _set_step((self.start, self.stop), self.params[name])
         self.start.value, self.stop.value = start, stop  # type: ignore[misc]
         self.count.value = count  # type: ignore[misc]
         if preset.family is not None:
             f, a, b, n = preset.family
             self._bounds_of[self.family.label] = f
             self.family.value = param_label(self.params[f])  # type: ignore[misc]
-            self.family_start.step = self.family_stop.step = _step(self.params[f])
+            _set_step((self.family_start, self.family_stop), self.params[f])
             self.family_start.value, self.family_stop.value = a, b  # type: ignore[misc]
             self.family_count.value = n  # type: ignore[misc]
         else:
@@ -355,8 +369,8 @@ class StudyPanel:
                 if chosen is not None and chosen != self._bounds_of.get(pick.label):
                     self._bounds_of[pick.label] = chosen  # a new parameter: its own range
                     q = self.params[chosen]
+                    _set_step(fields, q)
                     for field, value in zip(fields, (q.min, q.max), strict=True):
-                        field.step = _step(q)
                         field.value = float(value)  # type: ignore[misc]
             self.preset_used = None  # the form no longer is the preset's
             self.picker.free()
