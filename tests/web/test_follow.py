@@ -200,3 +200,12 @@ def test_a_student_on_their_own_copy_gets_the_share_link_and_the_join_address():
     finally:
         student.close()
         app.stop()
+
+
+def test_the_teachers_count_line_agrees_in_number():
+    """A teacher's trial read « 1 suivent la projection »."""
+    from sandbox.web.serving.follow import counts_text
+
+    assert counts_text(1, 0) == "Élèves : 1 suit la projection, 0 en autonomie."
+    assert counts_text(0, 2) == "Élèves : 0 suit la projection, 2 en autonomie."
+    assert counts_text(12, 3) == "Élèves : 12 suivent la projection, 3 en autonomie."

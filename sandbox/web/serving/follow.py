@@ -164,6 +164,13 @@ class BroadcastView:
                 log.debug("teacher page gone", exc_info=True)
 
 
+def counts_text(followers: int, own: int) -> str:
+    """The teacher's line of who follows: « Élèves : 1 suit la projection, 2 en
+    autonomie. » (the verb agrees: 0 and 1 suit, 2 suivent)."""
+    verb = "suit" if followers < 2 else "suivent"
+    return f"Élèves : {followers} {verb} la projection, {own} en autonomie."
+
+
 class FollowerView:
     """A student watching the shared simulation: the broadcast 3D view, the key
     readouts, and the way out to a simulation of their own."""
@@ -475,6 +482,6 @@ class _TeacherSession(Session):
     def run_once(self, now: float | None = None) -> None:
         super().run_once(now)
         teachers, followers, own = self.app.counts()
-        text = f"Élèves : {followers} suivent la projection, {own} en autonomie."
+        text = counts_text(followers, own)
         if text != self._shown:
             self._shown = self.counts.content = text
