@@ -199,6 +199,10 @@ def chosen_words(run: Run, tolerance: str, key: str) -> str:
     )
 
 
+FOLDER = "Précision et coût"
+"""The folder's title (in « Panneau affiché »)."""
+
+
 class AccuracyPanel:
     """What accuracy costs in one session.
 
@@ -237,7 +241,7 @@ class AccuracyPanel:
         self.choose = choose
         self.ask: viser.GuiDropdownHandle[str] | None = None
         self.chosen: viser.GuiMarkdownHandle | None = None
-        with gui.add_folder("Précision et coût") as self.folder:
+        with gui.add_folder(FOLDER) as self.folder:
             if choose is not None and self.results is not None:
                 self.ask = gui.add_dropdown(
                     ASK,

@@ -138,6 +138,10 @@ def speed_slider(gui: viser.GuiApi, hint: str) -> viser.GuiSliderHandle[float]:
     )
 
 
+HYPOTHESES_FOLDER = "Hypothèses de modélisation"
+"""The title of the folder of the modelling hypotheses."""
+
+
 class ControlPanel:
     """Folders "Simulation" and "Paramètres", plus the divergence alert.
 
@@ -408,7 +412,7 @@ class HypothesesPanel:
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         self.sim = sim
-        with gui.add_folder("Hypothèses de modélisation") as self.folder:
+        with gui.add_folder(HYPOTHESES_FOLDER) as self.folder:
             self.text = gui.add_markdown(self._content())
 
     def _content(self) -> str:

@@ -29,6 +29,10 @@ TITLES = {
 COLORS = {"pilon": "rgb(220,60,60)", "tamis": "rgb(60,140,220)", "motor_torque": "rgb(90,90,90)"}
 
 
+FOLDER = "Sur un tour"
+"""The folder's title (in « Panneau affiché »)."""
+
+
 class CyclePanel:
     """Charts of ``scene.cycle`` (nothing when the scene has no cycle).
 
@@ -47,7 +51,7 @@ class CyclePanel:
         if self.fn is None:
             return
         labels = {i.name: i.label or i.name for i in sim.readout_infos()}
-        with gui.add_folder("Sur un tour") as self.folder:
+        with gui.add_folder(FOLDER) as self.folder:
             for names, unit in GROUPS:
                 series: list[uplot.Series] = [{"label": "θ [°]"}]
                 for n in names:

@@ -17,6 +17,9 @@ from sandbox.web.client.text import MAX_SHOWN, plain, table_row
 from sandbox.web.panels.controls import set_value
 from sandbox.web.panels.tables import fmt
 
+FOLDER = "Isoler un solide"
+"""The folder's title (in « Panneau affiché »)."""
+
 
 class IsolatePanel:
     """Pick a solid; see {D} at its centre of mass and the actions on it (B0 components).
@@ -44,7 +47,7 @@ class IsolatePanel:
         self.refused: str | None = None  # the last value refused (shown in the panel)
         if not self.choices:
             return
-        with gui.add_folder("Isoler un solide") as self.folder:
+        with gui.add_folder(FOLDER) as self.folder:
             self.picker = gui.add_dropdown("Solide", tuple(self.choices))
             self.point = gui.add_dropdown(
                 "Point de réduction",

@@ -16,11 +16,14 @@ from sandbox.web.client import wire
 from sandbox.web.client.fields import set_value
 from sandbox.web.loop import EVERY, Controller, Frame, Notice, Request
 from sandbox.web.loop.secret import Secret
+from sandbox.web.panels.accuracy import FOLDER as ACCURACY_FOLDER
 from sandbox.web.panels.accuracy import AccuracyPanel
 from sandbox.web.panels.challenge import ChallengePanel
-from sandbox.web.panels.controls import ControlPanel, HypothesesPanel
+from sandbox.web.panels.controls import HYPOTHESES_FOLDER, ControlPanel, HypothesesPanel
+from sandbox.web.panels.cycle import FOLDER as CYCLE_FOLDER
 from sandbox.web.panels.cycle import CyclePanel
 from sandbox.web.panels.display import DisplayPanel
+from sandbox.web.panels.isolate import FOLDER as ISOLATE_FOLDER
 from sandbox.web.panels.isolate import IsolatePanel
 from sandbox.web.panels.join import JoinPanel
 from sandbox.web.panels.lesson import LessonPanel
@@ -55,10 +58,6 @@ PANEL_RATE = 10.0
 """Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
 
 ALL_FOLDERS = "Tous les panneaux"
-CYCLE_FOLDER = "Sur un tour"
-ISOLATE_FOLDER = "Isoler un solide"
-ACCURACY_FOLDER = "Précision et coût"
-HYPOTHESES_FOLDER = "Hypothèses de modélisation"
 SECRET_SAFE = (SCENE_FOLDER, PLOTS_FOLDER, TORSORS_FOLDER, ENERGY_FOLDER, HYPOTHESES_FOLDER)
 """Folders a page keeps while a challenge runs: they show only the frame's readouts
 (withheld ones removed). The others read the simulation itself (isolating a solid, the
