@@ -16,6 +16,7 @@ the panels' refresh, with the values the tables and the overlay show at that ins
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -52,6 +53,10 @@ if TYPE_CHECKING:
 MOVE = 2e-4
 """Smallest move worth a message, as a fraction of the mechanism's size (a fifth of a
 pixel when the mechanism spans a 1000-pixel view): a still arrow or label sends nothing."""
+LAYOUT_RATE = 4.0
+"""Placements of the labels per second at most [Hz] while their texts change with the
+panels (10 Hz): a place is computed again at once when a label appears, hides or gets
+wider than its room; its point's moves are followed by the label riding on it."""
 
 
 FONT_PX = 16
@@ -180,6 +185,7 @@ class ArrowLayer:
         self._leader_sent: list[np.ndarray | None] = [None] * len(self.groups)
         self._placed: list[Placement | None] = [None] * len(self.groups)
         self._reserved = [0.0] * n  # widest text of each label so far [px]
+        self._laid_at = -math.inf  # when the labels were last placed (time.monotonic)
         self.camera: Camera | Any = None  # a viser CameraHandle, or a fixed Camera
         self.laid_out: Camera | None = None  # the camera of the last layout
         self.font: Callable[[], float] | None = None  # the page's text size [px]
@@ -351,16 +357,23 @@ class ArrowLayer:
         self._follow_font()
         seen = self._seen | np.asarray(self.shown, dtype=bool)
         self._seen = np.zeros_like(seen)
+        em = PX_PER_SCALE * self.font_scale
+        moved = self.laid_out is None  # the room of a label changes: placed again now
         for k, label in enumerate(self.labels):
             text = self.caption(k, readouts)
             if label.text != text:
                 label.text = text
                 self.messages += 1
                 self.text_messages += 1
+                moved = moved or label_size(text, em)[0] > self._reserved[k]
             if label.visible != bool(seen[k]):
                 label.visible = bool(seen[k])
                 self.messages += 1
-        self.layout()
+                moved = True
+        now = time.monotonic()
+        if moved or now - self._laid_at >= 1.0 / LAYOUT_RATE:
+            self._laid_at = now
+            self.layout()
 
     def _follow_font(self) -> None:
         """The labels at the page's text size, when it changed."""
