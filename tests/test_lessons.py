@@ -26,6 +26,7 @@ from sandbox.lessons import (
 )
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
+from sandbox.web.loop.requests import SetValue
 
 ALL = sorted(lessons())
 
@@ -318,9 +319,7 @@ def test_the_panel_walks_a_lesson_with_presets_questions_and_success(monkeypatch
     controller = FakeController({"mass1_g": 0.0})
     panel = LessonPanel(gui, controller, lesson="good")  # type: ignore[arg-type]
     panel.refresh({"bearing_A": 1.0})
-    assert [(r.kind, r.name, r.value) for r in controller.submitted] == [
-        ("set_value", "mass1_g", 10.0)
-    ]
+    assert controller.submitted == [SetValue("mass1_g", 10.0)]
     assert controller.lesson == "good" and "étape 1/1" in panel.header.content
     assert panel.status.content == ""  # the goal block says where the student is
     assert "Objectif — En cours" in panel.goal.content

@@ -17,7 +17,7 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_simulation, planned_steps, resimulate
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Pause, Play, Seek, Speed, Steps
 from sandbox.web.replay.export import export_static
 from sandbox.web.replay.player import ReplayController
 
@@ -110,27 +110,27 @@ def test_player_seeks_steps_and_shows_recorded_readouts(recording):
     rec = load(recording)
     clock = [0.0]
     ctl = ReplayController(rec, clock=lambda: clock[0])
-    ctl.submit(Request("seek", float(rec.timeline[60])))
+    ctl.submit(Seek(float(rec.timeline[60])))
     ctl.frame()
     assert ctl.index == 60
     assert np.array_equal(ctl.sim.data.qpos, rec.states[60][1 : 1 + ctl.sim.model.nq])
     assert ctl.sim.values["mass1_g"] == 40 and ctl.sim.values["speed_rpm"] == 2000
     shown = ctl.values()
     assert shown["bearing_A"] == rec.readouts[60][rec.names.index("bearing_A")]
-    ctl.submit(Request("pause"))
-    ctl.submit(Request("step", -1))
+    ctl.submit(Pause())
+    ctl.submit(Steps(-1))
     ctl.frame()
     assert ctl.index == 59 and not ctl.playing
-    ctl.submit(Request("seek", 0.0))
+    ctl.submit(Seek(0.0))
     ctl.frame()
     assert ctl.sim.values["mass1_g"] == 0  # back before the change
-    ctl.submit(Request("speed", 4))
-    ctl.submit(Request("play"))
+    ctl.submit(Speed(4))
+    ctl.submit(Play())
     ctl.frame()
     clock[0] += 10.0
     ctl.frame()
     assert ctl.index == len(rec.times) - 1 and not ctl.playing  # stops at the end
-    ctl.submit(Request("speed", "fast"))
+    ctl.submit(Speed("fast"))
     assert ctl.frame()[0].level == "error"
 
 
@@ -197,7 +197,7 @@ def test_replaying_an_mjcf_recording_leaves_no_folder(mjcf_recording, tmp_path, 
     assert sim.label == "pendulum.xml" and _leftovers(tmp_path) == []
     assert resimulate(rec) == (0.0, 30) and _leftovers(tmp_path) == []
     ctl = ReplayController(rec)
-    ctl.submit(Request("seek", float(rec.timeline[20])))
+    ctl.submit(Seek(float(rec.timeline[20])))
     ctl.frame()
     assert ctl.index == 20 and _leftovers(tmp_path) == []
     for _ in range(3):

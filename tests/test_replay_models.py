@@ -16,7 +16,7 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_replay, verify
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Seek
 from sandbox.web.replay.player import ReplayController
 
 FLOOD = 20_000
@@ -137,11 +137,11 @@ def test_seeking_across_several_changes_rebuilds_once(tmp_path, builds):
     )
     rec = load(path)
     ctl = ReplayController(rec)
-    ctl.submit(Request("seek", float(rec.timeline[-1])))
+    ctl.submit(Seek(float(rec.timeline[-1])))
     ctl.frame()
     assert ctl.sim.values["mass2_g"] == 15.0
     builds.clear()
-    ctl.submit(Request("seek", 0.0))
+    ctl.submit(Seek(0.0))
     ctl.frame()
     assert ctl.index == 0 and len(builds) == 1  # mass1_g and mass2_g: one rebuild
     assert ctl.sim.values == rec.header["values"]

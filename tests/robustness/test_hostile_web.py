@@ -32,6 +32,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 from sandbox.web.client.fields import param_label
 from sandbox.web.loop import Controller, Scheduler, Session
+from sandbox.web.loop.requests import Button, Pause, Reset, Seek, Speed, Steps
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import TIMESTEP_LABEL
 from sandbox.web.replay.player import ReplayPanel
@@ -481,11 +482,11 @@ def test_scene_tables_escape_names_units_and_docs():
 
 @pytest.fixture(scope="module")
 def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    from sandbox.web.loop import Request
+    from sandbox.web.loop.requests import Record
 
     clock = Clock()
     ctl = Controller(Simulation("rotor"), clock=clock, record_dir=tmp_path_factory.mktemp("rec"))
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     for _ in range(30):
         clock.now += 1 / 60
         ctl.frame()
@@ -495,33 +496,36 @@ def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.parametrize(
-    "kind, value, needle",
+    "bad, needle",
     [
-        ("seek", math.nan, "Temps : un nombre fini est attendu, reçu « nan »."),
-        ("seek", "abc", "Temps : un nombre est attendu, reçu « abc »."),
-        ("seek", None, "Temps : un nombre est attendu, reçu « None »."),
-        ("seek", HUGE, "Temps : un nombre est attendu, reçu « " + "x" * 39 + "… »."),
-        ("step", 1e308, "Nombre de pas « 1e+308 » refusé : entre 1 et 1000."),
-        ("step", "x", "Nombre de pas « x » refusé : entre 1 et 1000."),
-        ("speed", "fast", "Vitesse ×fast refusée : choisissez entre ×0,01 et ×4."),
-        ("reset", None, "Une relecture ne peut pas « reset » : utilisez la ligne de temps."),
+        (Seek(math.nan), "Temps : un nombre fini est attendu, reçu « nan »."),
+        (Seek("abc"), "Temps : un nombre est attendu, reçu « abc »."),
+        (Seek(None), "Temps : un nombre est attendu, reçu « None »."),
+        (Seek(HUGE), "Temps : un nombre est attendu, reçu « " + "x" * 39 + "… »."),
+        (Steps(1e308), "Nombre de pas « 1e+308 » refusé : entre 1 et 1000."),
+        (Steps("x"), "Nombre de pas « x » refusé : entre 1 et 1000."),
+        (Speed("fast"), "Vitesse ×fast refusée : choisissez entre ×0,01 et ×4."),
+        (
+            Reset(),
+            "Une relecture n'a pas la commande « Réinitialiser » : utilisez la ligne de temps.",
+        ),
+        (Button("Lancer"), "Une relecture n'a pas la commande « Bouton » : utilisez la ligne"),
     ],
 )
-def test_a_replay_refuses_bad_timeline_requests_in_french(short_recording, kind, value, needle):
+def test_a_replay_refuses_bad_timeline_requests_in_french(short_recording, bad, needle):
     from sandbox.recording import load
-    from sandbox.web.loop import Request
     from sandbox.web.replay.player import ReplayController
 
     clock = Clock()
     ctl = ReplayController(load(short_recording), clock=clock)
-    ctl.submit(Request("seek", float(ctl.timeline[10])))
+    ctl.submit(Seek(float(ctl.timeline[10])))
     ctl.frame()
-    ctl.submit(Request("pause"))
+    ctl.submit(Pause())
     ctl.frame()
-    ctl.submit(Request(kind, value))
-    ctl.submit(Request(kind, value))
+    ctl.submit(bad)
+    ctl.submit(bad)
     notices = ctl.frame()
-    assert [(n.title, n.text) for n in notices] == [("Valeur refusée", needle)]
+    assert [(n.title, n.text[: len(needle)]) for n in notices] == [("Valeur refusée", needle)]
     assert ctl.index == 10 and ctl.speed == 1.0
 
 

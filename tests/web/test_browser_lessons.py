@@ -7,7 +7,7 @@ import re
 import pytest
 from conftest import free_port, wait_for
 
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import SetValue
 from sandbox.web.panels.polar import FOLDER, PolarPanel
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 5-15 s each
@@ -45,7 +45,7 @@ def test_the_balancing_goal_is_a_sentence_with_a_bar_that_fills(open_page):
         assert "static_unbalance" not in goal.inner_text()
         assert not EMOJI.search(page.locator("body").inner_text())
         for name, value in (("mass1_g", 32.0), ("angle1_deg", 180.0)):
-            session.controller.submit(Request("set_value", value, name=name))
+            session.controller.submit(SetValue(name, value))
         goal.get_by_text("Objectif — Réussi").wait_for(timeout=10_000)
         assert wait_for(lambda: bar.get_attribute("aria-valuenow") == "100", timeout=5)
         page.get_by_text("Réussi.", exact=False).first.wait_for(timeout=5_000)
@@ -74,7 +74,7 @@ def test_the_polar_diagram_is_drawn_for_the_rotor_and_follows_the_masses(open_pa
     text = page.locator(".sandbox-polar").first.inner_text()
     assert "Balourd statique" in text and "Balourd de couple" in text
     assert "0,0016 à 0°" in text  # the defect: 20 g at 80 mm
-    session.controller.submit(Request("set_value", 10.0, name="mass1_g"))
+    session.controller.submit(SetValue("mass1_g", 10.0))
     assert wait_for(lambda: session.controller.sim.values["mass1_g"] == 10.0)
     if getattr(view, "polar", None) is None:
         panel.refresh()
@@ -96,7 +96,7 @@ def test_the_engine_lesson_check_passes_in_the_page_with_the_drawn_state(open_pa
         page.get_by_text("étape 2/5", exact=False).first.wait_for(timeout=10_000)
         goal = page.locator(".sandbox-goal").first
         goal.get_by_text("Objectif — En cours").wait_for(timeout=10_000)
-        session.controller.submit(Request("set_value", 2.0, name="cylinders"))
+        session.controller.submit(SetValue("cylinders", 2.0))
         goal.get_by_text("Objectif — Réussi").wait_for(timeout=15_000)
         shown = session.controller.shown_readouts(["shaking_force_h1", "shaking_force_h2"])
         assert shown["shaking_force_h1"] < 1e-3 * shown["shaking_force_h2"]

@@ -9,7 +9,7 @@ from collections.abc import Iterator
 import pytest
 from conftest import choose, free_port, wait_for
 
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Reset
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]  # Chromium pages: 10-20 s each
 
@@ -58,7 +58,7 @@ def test_plots_keep_drawing_while_their_range_grows(open_page, served_cylinder):
     choose(page, "Panneau affiché", "Courbes")
     (session,) = served_cylinder.sessions.values()
     assert session.controller.playing  # the cylinder rolls from the start
-    session.controller.submit(Request("reset"))  # the descent from 0, with the plots shown
+    session.controller.submit(Reset())  # the descent from 0, with the plots shown
     assert wait_for(lambda: session.controller.sim.data.time < 1.0, timeout=10)
     ranges = set()
     checked = 0

@@ -21,7 +21,7 @@ from sandbox.bench.classroom.wire import messages
 from sandbox.challenges import CHALLENGES, Challenge
 from sandbox.physics.picture import geom_local_poses
 from sandbox.web.client.text import UNIT_SPACE, number
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Pause, Record, SetValue
 from sandbox.web.panels.board_rows import Run
 from sandbox.web.panels.challenge import FOLDER, solution_lines
 
@@ -204,7 +204,7 @@ def _started(app, student: Recorder, name: str):
 
     session.view.render = counted
     FRAMES[id(session)] = renders
-    session.controller.submit(Request("pause"))
+    session.controller.submit(Pause())
     assert wait_for(lambda: not session.controller.playing, 30)
     paused_at = renders[0]
     assert wait_for(lambda: renders[0] >= paused_at + 2, 30)
@@ -247,7 +247,7 @@ def test_a_student_s_secret_never_reaches_their_browser(rotor_class):
         assert "Isoler un solide" not in view.picker.options
         # a crafted message setting the hidden slider, and a recording, are refused
         student.ws.send(gui_message(slider._impl.uuid, 20.0))
-        ctl.submit(Request("record"))
+        ctl.submit(Record())
         # the refusal of the recording is applied by the loop; the crafted message came
         # first on the student's websocket, so a frame drawn after the refusal has seen it
         assert wait_for(lambda: ctl.refusals >= 1 and ctl.requests.empty(), 10)
@@ -295,7 +295,7 @@ def test_tries_are_counted_on_the_board_and_the_end_shows_the_solution(rotor_cla
         with ctl.sim.lock:
             values = {**ctl.sim.values}
         for name, value in CHALLENGES["rotor_balance"].solution(values).items():
-            ctl.submit(Request("set_value", round(value, 1), name=name))  # the sliders' steps
+            ctl.submit(SetValue(name, round(value, 1)))  # the sliders' steps
         wanted = CHALLENGES["rotor_balance"].solution(values)
         assert wait_for(
             lambda: all(ctl.sim.values[k] == pytest.approx(round(v, 1)) for k, v in wanted.items()),

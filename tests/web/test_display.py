@@ -17,10 +17,10 @@ from sandbox.scenes.base import as_scene
 from sandbox.web.loop import (
     SPEEDS,
     Controller,
-    Request,
     divergence_message,
     french_message,
 )
+from sandbox.web.loop.requests import Advance, Pause, Play, Reset, Speed
 
 
 class Clock:
@@ -57,7 +57,7 @@ def _turns_between_frames(ctl: Controller, frames: int, fps: float = 60.0) -> li
 @pytest.mark.parametrize("dt", [1e-6, 1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 2e-2, 5e-2, 0.1])
 def test_a_6000_rpm_rotor_at_one_hundredth_turns_at_most_30_degrees_a_frame(dt):
     ctl = _rotor(6000.0, dt)
-    ctl.submit(Request("speed", SPEEDS[0]))
+    ctl.submit(Speed(SPEEDS[0]))
     ctl.frame()
     angles = _turns_between_frames(ctl, 240)  # 4 s of wall time: 0.04 s simulated
     assert ctl.sim.data.time == pytest.approx(0.04, abs=dt + 1e-3)
@@ -69,7 +69,7 @@ def test_a_6000_rpm_rotor_at_one_hundredth_turns_at_most_30_degrees_a_frame(dt):
 
 def test_the_drawn_angle_is_the_exact_angle_at_the_display_time():
     ctl = _rotor(1500.0)  # dt = 10 ms: 90° a step
-    ctl.submit(Request("speed", 0.1))
+    ctl.submit(Speed(0.1))
     ctl.frame()
     for _ in range(37):
         ctl.clock.now += 1.0 / 60
@@ -86,7 +86,7 @@ def test_the_display_never_changes_the_physics():
     identical to a simulation stepped alone the same number of times."""
     drawn, blind = _rotor(3000.0, 1e-3), _rotor(3000.0, 1e-3)
     for ctl in (drawn, blind):
-        ctl.submit(Request("speed", 0.37))
+        ctl.submit(Speed(0.37))
         ctl.frame()
     for _ in range(90):
         for ctl in (drawn, blind):
@@ -103,7 +103,7 @@ def test_the_display_never_changes_the_physics():
 
 def test_forces_are_evaluated_at_the_drawn_state():
     ctl = _rotor(1500.0)
-    ctl.submit(Request("advance", 30.0, name="deg"))
+    ctl.submit(Advance(30.0, "deg"))
     ctl.frame()
     snap = ctl.drawn(("sup_R_x",))
     force = snap.support[0]
@@ -119,7 +119,7 @@ def test_a_step_of_an_angle_turns_the_main_joint_by_that_angle():
     assert main_joint(ctl.sim.model, ctl.sim.data) == 0
     before = ctl.drawn().data.qpos[0]
     for _ in range(13):
-        ctl.submit(Request("advance", "10", name="deg"))
+        ctl.submit(Advance("10", "deg"))
         assert ctl.frame() == []
     assert not ctl.playing
     after = ctl.drawn().data.qpos[0]
@@ -129,7 +129,7 @@ def test_a_step_of_an_angle_turns_the_main_joint_by_that_angle():
 
 def test_a_step_of_time_moves_the_display_time():
     ctl = _rotor(1500.0)
-    ctl.submit(Request("advance", 0.025, name="s"))
+    ctl.submit(Advance(0.025, "s"))
     ctl.frame()
     assert ctl.display_time == pytest.approx(0.025)
     assert ctl.sim.data.time == pytest.approx(0.02)
@@ -137,7 +137,7 @@ def test_a_step_of_time_moves_the_display_time():
         ctl.clock.now += 1 / 60
         ctl.frame()
     assert ctl.display_time == pytest.approx(0.025)
-    ctl.submit(Request("play"))
+    ctl.submit(Play())
     ctl.frame()
     ctl.clock.now += 0.2
     ctl.frame()
@@ -146,9 +146,9 @@ def test_a_step_of_time_moves_the_display_time():
 
 def test_reset_brings_the_display_back():
     ctl = _rotor(1500.0)
-    ctl.submit(Request("advance", 45, name="deg"))
+    ctl.submit(Advance(45, "deg"))
     ctl.frame()
-    ctl.submit(Request("reset"))
+    ctl.submit(Reset())
     ctl.frame()
     assert ctl.display_time == ctl.sim.data.time == 0.0
 
@@ -165,7 +165,7 @@ def test_reset_brings_the_display_back():
 )
 def test_bad_steps_are_refused_in_french(value, unit, needle):
     ctl = _rotor(1500.0, 1e-5)
-    ctl.submit(Request("advance", value, name=unit))
+    ctl.submit(Advance(value, unit))
     notices = ctl.frame()
     assert [n.level for n in notices] == ["error"] and needle in notices[0].text
     assert ctl.sim.data.time == 0.0 and ctl.display_time == 0.0
@@ -173,16 +173,16 @@ def test_bad_steps_are_refused_in_french(value, unit, needle):
 
 def test_an_angle_step_needs_something_turning():
     ctl = _rotor(0.0)
-    ctl.submit(Request("advance", 10, name="deg"))
+    ctl.submit(Advance(10, "deg"))
     (notice,) = ctl.frame()
     assert notice.text == "Aucune pièce ne tourne : choisissez un pas en temps (s)."
 
 
 def test_slow_motion_down_to_one_hundredth():
     ctl = _rotor(1500.0)
-    ctl.submit(Request("speed", "0,01".replace(",", ".")))
+    ctl.submit(Speed("0,01".replace(",", ".")))
     assert ctl.frame() == [] and ctl.speed == 0.01
-    ctl.submit(Request("speed", 0.005))
+    ctl.submit(Speed(0.005))
     (notice,) = ctl.frame()
     assert notice.text == "Vitesse ×0,005 refusée : choisissez entre ×0,01 et ×4."
     for _ in range(600):
@@ -317,14 +317,14 @@ def test_ralenti_and_pas_queue_requests(server):
     panel.slow.value = "×0,01"
     panel._on_slow(Event(panel.slow))
     assert ctl.frame() == [] and ctl.speed == 0.01
-    assert panel.step_request() == Request("advance", 10.0, name="deg")
+    assert panel.step_request() == Advance(10.0, "deg")
     ctl.submit(panel.step_request())
     ctl.frame()
     assert ctl.display_time == pytest.approx(math.radians(10) / (1500 * math.pi / 30))
     panel.step_unit.value = UNIT_TIME
     panel.step_value.value = 0.002
-    assert panel.step_request() == Request("advance", 0.002, name="s")
-    ctl.submit(Request("speed", 0.5))
+    assert panel.step_request() == Advance(0.002, "s")
+    ctl.submit(Speed(0.5))
     ctl.frame()
     panel.refresh()
     assert panel.slow.value == "×0,5"
@@ -376,7 +376,7 @@ def test_an_angle_step_turns_a_top_on_its_ball_joint():
     ctl = Controller(sim, clock=Clock())
     w = float(np.linalg.norm(sim.data.qvel[:3]))
     assert w > 1.0
-    ctl.submit(Request("advance", 90, name="deg"))
+    ctl.submit(Advance(90, "deg"))
     assert ctl.frame() == []
     assert ctl.display_time == pytest.approx(math.radians(90) / w)
 
@@ -387,7 +387,7 @@ def test_tables_read_the_drawn_state_so_d_in_b0_turns_smoothly_in_slow_motion():
     show), it turns with the drawing: a rotating vector of constant length whose angle
     is the drawn rotor's."""
     ctl = _rotor(1500.0)
-    ctl.submit(Request("speed", SPEEDS[0]))
+    ctl.submit(Speed(SPEEDS[0]))
     ctl.frame()
     names = ("dyn_R_y", "dyn_R_z")
     physics, shown = set(), []
@@ -403,7 +403,7 @@ def test_tables_read_the_drawn_state_so_d_in_b0_turns_smoothly_in_slow_motion():
     steps = [math.degrees(abs(np.angle(b / a))) for a, b in zip(shown, shown[1:], strict=False)]
     # 1500 rpm = 25 turns/s; ×0.01 at 60 frames/s: 1.5° a frame, every frame
     assert min(steps) > 0.5 and max(steps) < 3.0
-    ctl.submit(Request("pause"))
+    ctl.submit(Pause())
     ctl.frame()
     # paused between two steps: the tables keep what the picture shows
     still = ctl.shown_readouts(names)

@@ -26,8 +26,9 @@ from sandbox.physics.picture import body_groups
 from sandbox.scenes import SCENES
 from sandbox.scenes.revolutions import PerModel
 from sandbox.web.client import wire
-from sandbox.web.loop import Request, Session
+from sandbox.web.loop import Session
 from sandbox.web.loop import frame as session_module
+from sandbox.web.loop.requests import Pause, Play
 from sandbox.web.serving import app as web_app
 from sandbox.web.views.browser import IN_FLIGHT, MAX_HELD
 
@@ -105,7 +106,7 @@ def _count(session: Session, monkeypatch) -> Counts:
     ctl = session.controller
     clock = Clock()
     ctl.clock = clock
-    ctl.submit(Request("play"))  # scenes that open paused are counted while they move
+    ctl.submit(Play())  # scenes that open paused are counted while they move
     buffer = session.view.client._websock_connection.get_message_buffer()
     real_prepare, real_support = generic.prepare, generic.support_torsor
     real_readouts = type(ctl.sim).readouts
@@ -200,7 +201,7 @@ def test_a_still_scene_sends_nothing(served):
     clock = Clock()
     ctl.clock = clock
     buffer = session.view.client._websock_connection.get_message_buffer()
-    ctl.submit(Request("pause"))
+    ctl.submit(Pause())
     for _ in range(20):  # the pause, then the status line and buttons saying it
         assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
         clock.now += 1 / 60

@@ -18,7 +18,7 @@ from conftest import free_port, wait_for
 
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Pause, Reset
 from sandbox.web.view3d import label_layout
 from sandbox.web.view3d.arrows import ArrowLayer, read_camera
 from sandbox.web.view3d.label_layout import (
@@ -294,8 +294,8 @@ def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
         assert wait_for(lambda: len(app.sessions) == 1, timeout=30)
         (session,) = app.sessions.values()
         if scene in TRAVELLING:  # their opening view, held
-            session.controller.submit(Request("pause"))
-            session.controller.submit(Request("reset"))
+            session.controller.submit(Pause())
+            session.controller.submit(Reset())
         layer = session.view.arrows
         assert layer is not None
         assert wait_for(lambda: any(p is not None for p in layer._placed), timeout=30)
@@ -334,7 +334,7 @@ def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
             checked += check()
         marks = session.view.renderer.labels
         if marks and scene not in TRAVELLING:  # paused, the masses' labels show again
-            session.controller.submit(Request("pause"))
+            session.controller.submit(Pause())
             assert wait_for(lambda: all(m[1].visible for m in marks.values()), timeout=5)
             for _ in range(3):
                 time.sleep(0.3)

@@ -13,6 +13,7 @@ from sandbox.recording import load
 from sandbox.web.loop import Controller, Scheduler, Session, check_timestep
 from sandbox.web.loop.frame import Source
 from sandbox.web.loop.requests import (
+    WORDS,
     Advance,
     Button,
     Challenge,
@@ -21,7 +22,6 @@ from sandbox.web.loop.requests import (
     Pause,
     Play,
     Record,
-    Request,
     Reset,
     Seek,
     SetValue,
@@ -30,10 +30,11 @@ from sandbox.web.loop.requests import (
     StopRecord,
     Timestep,
     Toggle,
-    Unknown,
-    command,
+    merged,
+    words,
 )
 from sandbox.web.loop.scheduler import Turns
+from sandbox.web.panels.controls import COMMAND_KINDS, command
 from sandbox.web.replay.player import ReplayController
 
 
@@ -81,32 +82,62 @@ def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
     assert turns.stopping
 
 
+def test_repeated_settings_merge_to_the_last_value_at_its_place():
+    """Of several values of one slider (by name), of the speed, the timestep, the
+    integrator, the motion or a replay's position, only the last is applied; actions are
+    all kept, in order."""
+    queued = [
+        SetValue("speed_rpm", 100),
+        Play(),
+        SetValue("mass1_g", 40),
+        Speed(2),
+        SetValue("speed_rpm", 200),
+        Steps(),
+        Steps(),
+        Speed(0.5),
+        Integrator("RK4"),
+        Timestep(1e-4),
+        Motion("free"),
+        Seek(1.0),
+        Seek(2.0),
+        Integrator("Euler"),
+    ]
+    assert merged(queued) == [
+        Play(),
+        SetValue("mass1_g", 40),
+        SetValue("speed_rpm", 200),
+        Steps(),
+        Steps(),
+        Speed(0.5),
+        Timestep(1e-4),
+        Motion("free"),
+        Seek(2.0),
+        Integrator("Euler"),
+    ]
+
+
 @pytest.mark.parametrize(
-    ("request_", "typed"),
+    ("label", "typed"),
     [
-        (Request("play"), Play()),
-        (Request("pause"), Pause()),
-        (Request("toggle"), Toggle()),
-        (Request("reset"), Reset()),
-        (Request("step"), Steps(None)),
-        (Request("step", 3), Steps(3)),
-        (Request("advance", 0.02, name="s"), Advance(0.02, "s")),
-        (Request("speed", "2"), Speed("2")),
-        (Request("set_value", 40, name="mass1_g"), SetValue("mass1_g", 40)),
-        (Request("integrator", "RK4"), Integrator("RK4")),
-        (Request("timestep", 1e-4), Timestep(1e-4)),
-        (Request("motion", "imposed"), Motion("imposed")),
-        (Request("challenge", None), Challenge(None)),
-        (Request("record"), Record()),
-        (Request("stop_record"), StopRecord()),
-        (Request("button", "Lancer"), Button("Lancer")),
-        (Request("launch_missiles"), Unknown("launch_missiles")),
-        (Request("seek", 1.0), Seek(1.0)),  # a replay's scrubber (the live loop refuses it)
-        (Request(["not", "a", "kind"]), Unknown(["not", "a", "kind"])),  # type: ignore[arg-type]
+        ("Pause", Pause()),
+        ("Lecture", Play()),
+        ("Pas", Steps()),
+        ("Réinitialiser", Reset()),
+        ("launch_missiles", Button("launch_missiles")),
+        (["not", "a", "label"], Button(["not", "a", "label"])),
     ],
 )
-def test_a_request_reads_as_its_typed_request(request_, typed):
-    assert command(request_) == typed
+def test_a_button_label_reads_as_its_command(label, typed):
+    """A browser may send any label: an unknown one is a Button, which the loop refuses."""
+    assert command(COMMAND_KINDS, label) == typed
+
+
+def test_every_command_has_french_words_for_its_messages():
+    kinds = [Play(), Pause(), Toggle(), Reset(), Steps(), Advance(1, "s"), Speed(1)]
+    kinds += [Seek(0), SetValue("x", 1), Integrator("RK4"), Timestep(1e-3), Motion("free")]
+    kinds += [Challenge(None), Record(), StopRecord(), Button("x")]
+    assert len({type(k) for k in kinds}) == len(WORDS)
+    assert all(words(k) and "_" not in words(k) for k in kinds)
 
 
 def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
@@ -114,12 +145,12 @@ def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
     between its physics steps and records; a replay draws its recorded frame, shows its
     recorded row, records nothing and has no secret."""
     ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
-    ctl.submit(Request("pause"))
-    ctl.submit(Request("advance", 0.0011, name="s"))  # drawn between two physics steps
-    ctl.submit(Request("record"))
+    ctl.submit(Pause())
+    ctl.submit(Advance(0.0011, "s"))  # drawn between two physics steps
+    ctl.submit(Record())
     for _ in range(30):
         ctl.frame()
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     path = next(n.text for n in ctl.frame() if n.level == "file")
     live: Source = ctl
     assert live.drawn(forces=True).data.time == pytest.approx(ctl.drawn_time)
@@ -140,7 +171,7 @@ def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
 def test_what_a_panel_may_do_goes_through_the_session_state():
     ctl = Controller(Simulation("rotor"))
     assert not ctl.pending()
-    ctl.submit(Request("pause"))
+    ctl.submit(Pause())
     assert ctl.pending()  # queued for the loop, not applied by the panel
     closed: list[int] = []
     ctl.on_close(lambda: closed.append(1))

@@ -18,8 +18,8 @@ from test_frame_cost import Clock, served  # noqa: F401  (the fixture)
 
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.web.loop import Request
 from sandbox.web.loop import frame as frame_module
+from sandbox.web.loop.requests import Play, Speed
 from sandbox.web.views.browser import ALL_FOLDERS
 from sandbox.written import time_words, written
 
@@ -33,7 +33,7 @@ def _panel_frame(session) -> frame_module.Frame:
     ctl = session.controller
     clock = Clock()
     ctl.clock = clock
-    ctl.submit(Request("play"))
+    ctl.submit(Play())
     seen: list[frame_module.Frame] = []
     render = session.view.render
     session.view.render = lambda frame: (seen.append(frame), render(frame))
@@ -103,7 +103,7 @@ def test_in_slow_motion_the_status_line_reads_the_drawn_instant_not_the_physics(
     line's t is the instant the tables show, not the physics step ahead of it."""
     session = served("rotor")
     ctl = session.controller
-    ctl.submit(Request("speed", 0.05))
+    ctl.submit(Speed(0.05))
     frames = 0
     while True:
         frame = _panel_frame(session)

@@ -8,7 +8,8 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from sandbox.physics.simulation import Simulation
-from sandbox.web.loop import Controller, Notice, Request
+from sandbox.web.loop import Controller, Notice
+from sandbox.web.loop.requests import Record, StopRecord
 from sandbox.web.views.browser import WebView
 
 
@@ -45,9 +46,9 @@ def _frames(ctl: Controller, seconds: float) -> list[Notice]:
 def test_the_recording_pop_ups_name_the_file_only(tmp_path, caplog):
     folder = tmp_path / "secret-server-folder"
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=folder)
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     notices = _frames(ctl, 0.3)
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     notices += ctl.frame()
     (closed,) = [Path(n.text) for n in notices if n.level == "file"]
     page = Page()
@@ -69,7 +70,7 @@ def test_a_full_recording_names_the_next_file_only(tmp_path, monkeypatch):
 
     monkeypatch.setattr(limits, "MAX_RECORDS", 150)
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path / "secret")
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     notices = _frames(ctl, 3.0)
     full = next(n.text for n in notices if "Fichier plein" in n.text)
     name = full.rpartition(" dans ")[2]

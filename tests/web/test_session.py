@@ -6,8 +6,24 @@ import pytest
 
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
-from sandbox.web.loop import Controller, Notice, Request, Scheduler, Session
+from sandbox.web.loop import Controller, Notice, Scheduler, Session
 from sandbox.web.loop.pacing import MAX_FRAME_STEPS, MAX_LAG, SLOW_HOLD, STEP_BUDGET
+from sandbox.web.loop.requests import (
+    Advance,
+    Button,
+    Integrator,
+    Motion,
+    Pause,
+    Play,
+    Record,
+    Reset,
+    Seek,
+    SetValue,
+    Speed,
+    Steps,
+    StopRecord,
+    Timestep,
+)
 from sandbox.web.loop.session import NOTICE_QUIET
 
 
@@ -57,16 +73,16 @@ def test_simulated_time_follows_the_wall_clock(ctl):
 
 
 def test_speed_factor_and_pause(ctl):
-    ctl.submit(Request("speed", "2"))
+    ctl.submit(Speed("2"))
     ctl.frame()
     _run(ctl, 0.5)
     assert ctl.sim.data.time == pytest.approx(1.0, abs=3 * ctl.sim.timestep)
-    ctl.submit(Request("pause"))
+    ctl.submit(Pause())
     ctl.frame()
     _run(ctl, 0.5)
     assert ctl.sim.data.time == pytest.approx(1.0, abs=3 * ctl.sim.timestep)
     t = ctl.sim.data.time
-    ctl.submit(Request("step", 3))
+    ctl.submit(Steps(3))
     _run(ctl, 0.1)
     assert ctl.sim.data.time == pytest.approx(t + 3 * ctl.sim.timestep, abs=1e-9)
 
@@ -82,16 +98,16 @@ def test_a_stalled_loop_resyncs_instead_of_racing(ctl):
 @pytest.mark.parametrize(
     "request_, needle",
     [
-        (Request("set_value", "abc", name="mass1_g"), " : « abc » refusé, choisissez entre 0 "),
-        (Request("set_value", 1e6, name="mass1_g"), " : 1\u202f000\u202f000 g refusé, choisissez"),
-        (Request("set_value", 1, name="nope"), "Paramètre « nope » inconnu (parmi : "),
-        (Request("timestep", 0), "dt = 0 s refusé : choisissez un pas entre 1×10⁻⁶ s et"),
-        (Request("timestep", "nan"), "dt = nan s refusé"),
-        (Request("integrator", "leapfrog"), "Intégrateur « leapfrog » inconnu : choisissez parmi"),
-        (Request("speed", 100), "Vitesse ×100 refusée : choisissez entre ×0,01 et ×4."),
-        (Request("motion", "<i>fly</i>"), "Mouvement « <i>fly</i> » inconnu : imposé ou libre."),
-        (Request("launch_missiles"), "Commande inconnue « launch_missiles »."),
-        (Request("seek", 1.0), "Une simulation en direct n'a pas de ligne de temps"),
+        (SetValue("mass1_g", "abc"), " : « abc » refusé, choisissez entre 0 "),
+        (SetValue("mass1_g", 1e6), " : 1\u202f000\u202f000 g refusé, choisissez"),
+        (SetValue("nope", 1), "Paramètre « nope » inconnu (parmi : "),
+        (Timestep(0), "dt = 0 s refusé : choisissez un pas entre 1×10⁻⁶ s et"),
+        (Timestep("nan"), "dt = nan s refusé"),
+        (Integrator("leapfrog"), "Intégrateur « leapfrog » inconnu : choisissez parmi"),
+        (Speed(100), "Vitesse ×100 refusée : choisissez entre ×0,01 et ×4."),
+        (Motion("<i>fly</i>"), "Mouvement « <i>fly</i> » inconnu : imposé ou libre."),
+        (Button("launch_missiles"), "Bouton « launch_missiles » inconnu : rien n'a changé."),
+        (Seek(1.0), "Une simulation en direct n'a pas de ligne de temps"),
     ],
 )
 def test_bad_requests_are_refused_with_a_message(ctl, request_, needle):
@@ -110,15 +126,15 @@ def test_the_motion_is_imposed_or_simulated_on_request_without_a_jump(ctl):
     the angle goes on where it was, the session keeps running."""
     _run(ctl, 0.2)
     assert ctl.sim.motion == "free"
-    ctl.submit(Request("motion", "imposed"))
+    ctl.submit(Motion("imposed"))
     assert ctl.frame() == []
     assert ctl.sim.motion == "imposed"
     _run(ctl, 0.2)
     t = ctl.sim.data.time
     assert t > 0.35
-    ctl.submit(Request("motion", "free"))
-    ctl.submit(Request("motion", "imposed"))  # the last one wins
-    ctl.submit(Request("motion", "free"))
+    ctl.submit(Motion("free"))
+    ctl.submit(Motion("imposed"))  # the last one wins
+    ctl.submit(Motion("free"))
     assert ctl.frame() == [] and ctl.sim.motion == "free"
     _run(ctl, 0.2)
     assert ctl.sim.data.time > t
@@ -127,7 +143,7 @@ def test_the_motion_is_imposed_or_simulated_on_request_without_a_jump(ctl):
 def test_a_parameter_change_keeps_the_motion_going(ctl):
     _run(ctl, 0.3)
     t = ctl.sim.data.time
-    ctl.submit(Request("set_value", "40", name="mass1_g"))
+    ctl.submit(SetValue("mass1_g", "40"))
     assert ctl.frame() == []
     assert ctl.sim.values["mass1_g"] == 40.0
     assert ctl.sim.data.time >= t
@@ -140,13 +156,13 @@ def test_divergence_pauses_with_an_explanation_and_reset_recovers(diverging_xml)
     assert [n.level for n in notices] == ["diverged"]
     assert "pas de temps" in notices[0].text and "Réinitialiser" in notices[0].text
     assert not ctl.playing and ctl.diverged
-    ctl.submit(Request("play"))
+    ctl.submit(Play())
     assert ctl.frame()[0].level == "error"  # must reset first
-    ctl.submit(Request("timestep", 1e-5))  # ω dt = 0.3: stable
-    ctl.submit(Request("reset"))
+    ctl.submit(Timestep(1e-5))  # ω dt = 0.3: stable
+    ctl.submit(Reset())
     assert ctl.frame() == []
     assert ctl.diverged is None and ctl.sim.data.time == 0.0
-    ctl.submit(Request("play"))
+    ctl.submit(Play())
     assert _run(ctl, 0.2) == []
 
 
@@ -174,7 +190,7 @@ def test_session_survives_a_view_that_fails(caplog):
     view = Broken()
     ctl = Controller(Simulation("rotor"), clock=Clock())
     session, scheduler = _scheduled(ctl, view, fps=200)
-    session.controller.submit(Request("set_value", "x", name="mass1_g"))
+    session.controller.submit(SetValue("mass1_g", "x"))
     _tick(ctl, scheduler, 0.3, fps=200)
     assert session.running and view.frames == 60
     assert [n.title for n in view.notices] == ["Valeur refusée", "Erreur interne"]
@@ -206,7 +222,7 @@ def test_a_failure_on_every_frame_is_shown_and_logged_once(caplog):
 
 def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
     for dt in (1e-9, 1e-12, 5e-324, -0.01, 1.0, "1e-9", None, True):
-        ctl.submit(Request("timestep", dt))
+        ctl.submit(Timestep(dt))
     notices = ctl.frame()
     # merged: only the last value typed counts, refused once with the range
     assert len(notices) == 1
@@ -215,7 +231,7 @@ def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
         "1×10⁻⁶ s et 0,1 s."
     )
     assert ctl.sim.timestep == 0.01 and ctl.refusals == 1
-    ctl.submit(Request("timestep", 1e-9))
+    ctl.submit(Timestep(1e-9))
     (notice,) = ctl.frame()
     assert (
         notice.text
@@ -225,17 +241,17 @@ def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
 
 def test_the_timestep_range_is_the_scene_maximum():
     ctl = Controller(Simulation("rolling_cylinder"), clock=Clock())
-    ctl.submit(Request("timestep", 0.05))
+    ctl.submit(Timestep(0.05))
     (notice,) = ctl.frame()
     assert notice.text.endswith("entre 1×10⁻⁶ s et 0,02 s.")
-    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    ctl.submit(Timestep(MIN_TIMESTEP))
     assert ctl.frame() == [] and ctl.sim.timestep == MIN_TIMESTEP
 
 
 def test_a_tiny_allowed_timestep_runs_slower_than_real_time_within_the_budget(ctl):
     import time
 
-    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    ctl.submit(Timestep(MIN_TIMESTEP))
     ctl.frame()
     cpu = time.thread_time()
     for _ in range(30):
@@ -248,7 +264,7 @@ def test_a_tiny_allowed_timestep_runs_slower_than_real_time_within_the_budget(ct
     assert ctl.sim.data.time < 0.25
     assert spent < 30 * STEP_BUDGET * 3 + 0.1  # about the budget, never a whole core
     assert ctl.slowed()
-    ctl.submit(Request("timestep", 0.01))
+    ctl.submit(Timestep(0.01))
     for _ in range(round((SLOW_HOLD + 1) * 60)):
         ctl.clock.now += 1 / 60
         ctl.frame()
@@ -261,7 +277,7 @@ def test_the_slower_than_real_time_note_does_not_come_and_go(ctl):
     the buttons under it jumped by a line), and goes once real time is kept for good."""
 
     def frames(timestep: float, count: int) -> list[bool]:
-        ctl.submit(Request("timestep", timestep))
+        ctl.submit(Timestep(timestep))
         said = []
         for _ in range(count):
             ctl.clock.now += 1 / 60
@@ -290,16 +306,16 @@ def test_a_file_with_a_zero_timestep_pauses_once(tmp_path, ctl):
 
 def test_repeated_settings_are_merged_and_the_last_one_wins(ctl):
     for v in range(10, 60):
-        ctl.submit(Request("set_value", v, name="mass1_g"))
-    ctl.submit(Request("speed", 2))
-    ctl.submit(Request("speed", 0.5))
+        ctl.submit(SetValue("mass1_g", v))
+    ctl.submit(Speed(2))
+    ctl.submit(Speed(0.5))
     assert ctl.frame() == []
     assert ctl.sim.values["mass1_g"] == 59 and ctl.speed == 0.5
 
 
 def test_a_flood_of_commands_is_cut_with_one_message(ctl):
     for _ in range(500):
-        ctl.submit(Request("step"))
+        ctl.submit(Steps())
     notices = ctl.frame()
     assert [n.title for n in notices] == ["Trop de commandes"]
     assert notices[0].text == "436 commandes ignorées : une à la fois."
@@ -311,12 +327,12 @@ def test_recording_from_the_web_session_replays_identically(tmp_path):
     from sandbox.replay import resimulate
 
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     assert ctl.frame()[0].level == "info"
     _run(ctl, 0.5)
-    ctl.submit(Request("set_value", 30, name="mass2_g"))
+    ctl.submit(SetValue("mass2_g", 30))
     _run(ctl, 0.5)
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     notice = ctl.frame()[0]
     assert notice.level == "file"
     rec = load(notice.text)
@@ -349,7 +365,7 @@ def test_leaving_the_page_closes_the_recording(tmp_path):
 
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
     session, scheduler = _scheduled(ctl, Recorder(), fps=100)
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     _tick(ctl, scheduler, 0.4, fps=100)
     session.stop()  # what the app does when the browser disconnects
     (path,) = tmp_path.glob("*.sbx")
@@ -361,11 +377,11 @@ def test_a_recording_notes_the_lesson_and_its_steps(tmp_path):
 
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
     ctl.lesson = "equilibrage"
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     ctl.frame()
     ctl.recorder.event("lesson", step=2)  # what the lesson panel does on "Suivant"
     _run(ctl, 0.2)
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     rec = load(ctl.frame()[0].text)
     assert rec.header["lesson"] == "equilibrage"
     assert [e["step"] for e in rec.events if e["k"] == "lesson"] == [2]
@@ -405,7 +421,7 @@ def test_a_frame_computes_readouts_once_and_only_those_asked(tmp_path, monkeypat
     frame = view.seen[-1]
     assert set(frame.readouts) == {"bearing_A", "time"} and frame.readouts["bearing_A"] > 1.0
     # recording: one computation of every readout serves the recorder and the view
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     ctl.clock.now += 1 / 60
     session.run_once()
     full = 0
@@ -439,7 +455,7 @@ def test_a_browser_holding_frames_keeps_its_panels_on_its_last_pictures_instant(
     ctl = Controller(Simulation("rotor"), clock=Clock())
     view = Wanting({"bearing_A", "time"})
     session = Session(ctl, view)
-    ctl.submit(Request("play"))
+    ctl.submit(Play())
     view.holding = True  # not drawing: its sender still holds frames
     for _ in range(6):
         ctl.clock.now += 1 / 60
@@ -501,9 +517,9 @@ def test_a_replay_session_ends_cleanly(tmp_path):
     from sandbox.web.replay.player import ReplayController
 
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     _run(ctl, 0.5)
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     path = next(n.text for n in ctl.frame() if n.level == "file")
     clock = Clock()
     scheduler = Scheduler(clock=clock, threaded=False)
@@ -541,7 +557,7 @@ def test_a_session_whose_browser_left_stops_within_a_second_even_at_a_tiny_times
     clock = Clock()
     here = [True]
     ctl = Controller(Simulation("rotor"), clock=clock)
-    ctl.submit(Request("timestep", MIN_TIMESTEP))
+    ctl.submit(Timestep(MIN_TIMESTEP))
     scheduler = Scheduler(clock=clock, threaded=False)
     session = Session(ctl, Recorder(), alive=lambda: here[0], scheduler=scheduler)
     session.start()
@@ -562,9 +578,9 @@ def test_a_full_recording_goes_on_in_a_new_file_and_both_are_downloaded(tmp_path
 
     monkeypatch.setattr(limits, "MAX_RECORDS", 150)
     ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
-    ctl.submit(Request("record"))
+    ctl.submit(Record())
     notices = _run(ctl, 3.0)
-    ctl.submit(Request("stop_record"))
+    ctl.submit(StopRecord())
     notices += ctl.frame()
     files = [n.text for n in notices if n.level == "file"]
     assert len(files) >= 2 and len(set(files)) == len(files)
@@ -582,11 +598,11 @@ def test_a_long_step_is_spread_over_frames_within_the_budget(ctl):
     frame (the drawn state following), never in one go; then drawn at its exact end."""
     import time
 
-    ctl.submit(Request("timestep", MIN_TIMESTEP))
-    ctl.submit(Request("pause"))
+    ctl.submit(Timestep(MIN_TIMESTEP))
+    ctl.submit(Pause())
     ctl.frame()
     t0 = ctl.display_time
-    ctl.submit(Request("advance", 0.02, name="s"))
+    ctl.submit(Advance(0.02, "s"))
     frames, worst = 0, 0.0
     while True:
         ctl.clock.now += 1 / 60
@@ -607,24 +623,24 @@ def test_a_long_step_is_spread_over_frames_within_the_budget(ctl):
 
 
 def test_more_steps_while_one_runs_are_refused_not_queued(ctl):
-    ctl.submit(Request("timestep", MIN_TIMESTEP))
-    ctl.submit(Request("pause"))
+    ctl.submit(Timestep(MIN_TIMESTEP))
+    ctl.submit(Pause())
     ctl.frame()
     t0 = ctl.display_time
-    ctl.submit(Request("advance", 0.02, name="s"))
+    ctl.submit(Advance(0.02, "s"))
     ctl.frame()
     assert ctl.stepping
-    ctl.submit(Request("advance", 0.02, name="s"))
+    ctl.submit(Advance(0.02, "s"))
     (notice,) = ctl.frame()
     assert notice.title == "Valeur refusée" and "Attendez qu'il finisse" in notice.text
-    ctl.submit(Request("advance", 1e-5, name="s"))  # ten more timesteps fit: they wait
+    ctl.submit(Advance(1e-5, "s"))  # ten more timesteps fit: they wait
     assert ctl.frame() == []
     while ctl.stepping:
         ctl.clock.now += 1 / 60
         ctl.frame()
     assert ctl.sim.data.time == pytest.approx(t0 + 0.02 + 1e-5, abs=1e-12)
-    ctl.submit(Request("advance", 0.02, name="s"))
-    ctl.submit(Request("play"))  # playing takes over: the rest of the step is dropped
+    ctl.submit(Advance(0.02, "s"))
+    ctl.submit(Play())  # playing takes over: the rest of the step is dropped
     ctl.frame()
     assert ctl.playing and not ctl.stepping
 
@@ -654,14 +670,14 @@ def test_a_student_flooding_steps_leaves_the_others_their_frame_rate():
     try:
         clock.sleep(0.5)
         alone = rate(1.0)
-        flooder.controller.submit(Request("timestep", MIN_TIMESTEP))
+        flooder.controller.submit(Timestep(MIN_TIMESTEP))
         flooder.start()
         stop = threading.Event()
 
         def click() -> None:  # a crafted page clicks far faster than a hand
             while not stop.is_set():
                 for _ in range(5):
-                    flooder.controller.submit(Request("advance", 0.02, name="s"))
+                    flooder.controller.submit(Advance(0.02, "s"))
                 clock.sleep(0.05)
 
         clicker = threading.Thread(target=click)

@@ -28,7 +28,7 @@ from sandbox.web.loop.refusals import (
     shown_value,
     step_count,
 )
-from sandbox.web.loop.requests import Request, merged, pending
+from sandbox.web.loop.requests import Command, merged, pending
 from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.loop.session import Session
 
@@ -36,11 +36,11 @@ __all__ = [
     "EVERY",
     "FPS",
     "SPEEDS",
+    "Command",
     "Controller",
     "Frame",
     "Notice",
     "Refused",
-    "Request",
     "Scheduler",
     "Session",
     "View",

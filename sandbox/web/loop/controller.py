@@ -38,7 +38,6 @@ from sandbox.web.loop.requests import (
     Pause,
     Play,
     Record,
-    Request,
     Reset,
     Seek,
     SetValue,
@@ -47,10 +46,9 @@ from sandbox.web.loop.requests import (
     StopRecord,
     Timestep,
     Toggle,
-    Unknown,
-    command,
     merged,
     pending,
+    words,
 )
 from sandbox.web.loop.rewind import Rewind
 from sandbox.web.loop.secret import Secret
@@ -92,7 +90,7 @@ class Controller(Pacing):
         self._recorded_t = -math.inf
         self._readouts_t = -math.inf
         self.generation = 0  # bumped on reset: plots restart
-        self._backlog: list[Request] = []  # requests past a frame's REQUEST_BUDGET
+        self._backlog: list[Command] = []  # requests past a frame's REQUEST_BUDGET
         self.secret: Secret | None = None  # a challenge's, kept from the page
         self.cleanups: list[Callable[[], None]] = []  # run when its session ends
         self.rewind = Rewind()  # the last seconds, for « Exporter une vidéo »
@@ -233,7 +231,7 @@ class Controller(Pacing):
                 self._backlog = requests[i:]  # the next frame goes on with them
                 break
             try:
-                notice = self._apply(request)
+                notice = self._do(request)
             except Diverged as exc:
                 notice = self._diverge(exc)
             except SandboxError as exc:
@@ -241,21 +239,17 @@ class Controller(Pacing):
                 notice = Notice("error", "Valeur refusée", french_message(exc))
             except Exception as exc:  # a bug must not kill the session
                 self.refusals += 1
-                log.warning("request %s failed: %s: %s", request.kind, type(exc).__name__, exc)
+                log.warning("command %s failed: %s: %s", request, type(exc).__name__, exc)
                 notice = Notice(
                     "error",
                     "Erreur interne",
-                    f"La commande « {shown_value(request.kind)} » a échoué "
+                    f"La commande « {words(request)} » a échoué "
                     f"({type(exc).__name__}) ; rien n'a été modifié.",
                 )
             if notice is not None and notice not in notices:
                 notices.append(notice)
             self._resync(now)
         return notices
-
-    def _apply(self, request: Request) -> Notice | None:
-        """Do what ``request`` asks (read as a typed request, :func:`command`)."""
-        return self._do(command(request))
 
     def _do(self, cmd: Command) -> Notice | None:
         """Apply one typed request; a refusal raises (French), a message returns."""
@@ -335,8 +329,6 @@ class Controller(Pacing):
                 )
             case Button(value):  # a label no button has (only a crafted message sends it)
                 raise Refused(f"Bouton « {shown_value(value)} » inconnu : rien n'a changé.")
-            case Unknown(kind):
-                raise Refused(f"Commande inconnue « {shown_value(kind)} ».")
 
     def _play(self, want: bool) -> Notice | None:
         """Play (``want``) or pause; a diverged simulation must be reset first."""

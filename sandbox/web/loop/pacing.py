@@ -22,7 +22,7 @@ from sandbox.scenes.base import as_scene
 from sandbox.web.loop.frame import FPS, Notice
 from sandbox.web.loop.probe import Probe
 from sandbox.web.loop.refusals import Refused, divergence_message, french_message
-from sandbox.web.loop.requests import Request
+from sandbox.web.loop.requests import Command, Reset
 
 log = logging.getLogger(__name__)
 
@@ -83,7 +83,7 @@ class Pacing:
         self.step_sim = 0.0  # simulated seconds stepped, decayed alike
         self.step_count = 0.0  # timesteps run, decayed alike
         self.step_cpu_total = 0.0  # CPU seconds spent stepping so far (never decayed)
-        self.requests: queue.Queue[Request] = queue.Queue()
+        self.requests: queue.Queue[Command] = queue.Queue()
         scene = as_scene(sim.scene)
         self.playing = not (scene is not None and scene.page.start_paused)
         self.speed = 1.0
@@ -103,7 +103,7 @@ class Pacing:
         self._resync(clock())
 
     # -- called from GUI callbacks (any thread) ------------------------------------------
-    def submit(self, request: Request) -> None:
+    def submit(self, request: Command) -> None:
         """Queue a request; the loop thread applies it before its next frame."""
         self.requests.put(request)
 
@@ -211,7 +211,7 @@ class Pacing:
             self._ended_at = now
         elif now - self._ended_at >= RESTART_AFTER:
             self._ended_at = None
-            self.submit(Request("reset"))
+            self.submit(Reset())
 
     def _step(self, n: int) -> Notice | None:
         """Run ``n`` timesteps, counted against this frame's budget; a failure pauses and

@@ -1,58 +1,38 @@
-"""Requests: what a GUI callback asks of the simulation loop, queued by any thread and
+"""Commands: what a GUI callback asks of the simulation loop, queued by any thread and
 applied by the loop thread, repeated settings merged first.
 
-A :class:`Request` holds the page's words (a kind, a value, a name: strings and values
-from a browser, unvalidated, perhaps crafted); :func:`command` reads it as one of the
-small typed requests of :data:`Command`, which the controller dispatches with ``match``.
+Each is one small frozen dataclass of :data:`Command`, built by the control that sends
+it; its values come from a browser (unvalidated, perhaps crafted) and are checked where
+they are applied. The live controller and the replay player dispatch them with ``match``.
 """
 
 from __future__ import annotations
 
 import queue
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 
-@dataclass(frozen=True)
-class Request:
-    """Something a GUI callback asks of the simulation loop.
-
-    Attributes:
-        kind: ``set_value``, ``play``, ``pause``, ``toggle``, ``step`` (timesteps),
-            ``advance`` (a "Pas" in time or angle), ``reset``, ``speed``,
-            ``integrator``, ``timestep`` or ``motion`` ("imposed" or "free"); ``challenge`` (a
-            :class:`~sandbox.web.loop.secret.Secret`, or None to end it: built by the server,
-            no control sends it).
-        name: Parameter name for ``set_value``; ``s`` or ``deg`` for ``advance`` (the
-            unit of ``value``: seconds, or degrees of the main rotating joint).
-        value: The new value, unvalidated.
-
-    :func:`command` reads it as a typed request.
-    """
-
-    kind: str
-    value: Any = None
-    name: str = ""
-
-
-def pending(requests: queue.Queue[Request]) -> Iterator[Request]:
-    """The requests waiting in ``requests``, removed as they are yielded."""
+def pending(commands: queue.Queue[Command]) -> Iterator[Command]:
+    """The commands waiting in ``commands``, removed as they are yielded."""
     while True:
         try:
-            yield requests.get_nowait()
+            yield commands.get_nowait()
         except queue.Empty:
             return
 
 
-def merged(requests: list[Request]) -> list[Request]:
-    """``requests`` with repeated settings merged: of several values of one slider, of
-    the speed, the timestep or the integrator, only the last is kept (at its place)."""
-    settings = ("set_value", "speed", "timestep", "integrator", "motion", "seek")
-    last = {(r.kind, r.name): i for i, r in enumerate(requests) if r.kind in settings}
-    return [
-        r for i, r in enumerate(requests) if r.kind not in settings or last[(r.kind, r.name)] == i
-    ]
+def merged(commands: list[Command]) -> list[Command]:
+    """``commands`` with repeated settings merged: of several values of one slider, of
+    the speed, the timestep, the integrator, the motion or a replay's position, only the
+    last is kept (at its place)."""
+
+    def key(cmd: Command) -> tuple[type, str]:
+        return (type(cmd), cmd.name if isinstance(cmd, SetValue) else "")
+
+    last = {key(c): i for i, c in enumerate(commands) if isinstance(c, SETTINGS)}
+    return [c for i, c in enumerate(commands) if not isinstance(c, SETTINGS) or last[key(c)] == i]
 
 
 @dataclass(frozen=True)
@@ -201,17 +181,6 @@ class Button:
     label: object
 
 
-@dataclass(frozen=True)
-class Unknown:
-    """A kind of request the loop does not know.
-
-    Attributes:
-        kind: The kind, as the page sent it.
-    """
-
-    kind: object
-
-
 Command: TypeAlias = (
     Play
     | Pause
@@ -229,33 +198,33 @@ Command: TypeAlias = (
     | Record
     | StopRecord
     | Button
-    | Unknown
 )
 """A typed request: what the controller does, one small class per kind."""
 
-COMMANDS: Mapping[str, Callable[[Request], Command]] = {
-    "play": lambda r: Play(),
-    "pause": lambda r: Pause(),
-    "toggle": lambda r: Toggle(),
-    "reset": lambda r: Reset(),
-    "step": lambda r: Steps(r.value),
-    "advance": lambda r: Advance(r.value, r.name),
-    "speed": lambda r: Speed(r.value),
-    "seek": lambda r: Seek(r.value),
-    "set_value": lambda r: SetValue(r.name, r.value),
-    "integrator": lambda r: Integrator(r.value),
-    "timestep": lambda r: Timestep(r.value),
-    "motion": lambda r: Motion(r.value),
-    "challenge": lambda r: Challenge(r.value),
-    "record": lambda r: Record(),
-    "stop_record": lambda r: StopRecord(),
-    "button": lambda r: Button(r.value),
+SETTINGS = (Speed, Seek, SetValue, Integrator, Timestep, Motion)
+"""Commands that set a value: of several queued, the last one is applied."""
+
+WORDS: Mapping[type, str] = {
+    Play: "Lecture",
+    Pause: "Pause",
+    Toggle: "Lecture/Pause",
+    Reset: "Réinitialiser",
+    Steps: "Pas",
+    Advance: "Pas",
+    Speed: "Vitesse",
+    Seek: "Position dans l'enregistrement",
+    SetValue: "Réglage d'un paramètre",
+    Integrator: "Intégrateur",
+    Timestep: "Pas de temps",
+    Motion: "Mouvement",
+    Challenge: "Défi",
+    Record: "Enregistrer",
+    StopRecord: "Arrêter l'enregistrement",
+    Button: "Bouton",
 }
-"""The typed request of each kind a :class:`Request` may name."""
+"""The page's words for each command (messages name the control, never a code name)."""
 
 
-def command(request: Request) -> Command:
-    """``request`` as a typed request (:class:`Unknown` for a kind no control has)."""
-    kind = request.kind
-    make = COMMANDS.get(kind) if isinstance(kind, str) else None
-    return make(request) if make is not None else Unknown(kind)
+def words(cmd: Command) -> str:
+    """The control ``cmd`` comes from, in the page's words."""
+    return WORDS.get(type(cmd), "Commande")

@@ -18,7 +18,7 @@ from typing import Protocol
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.recording import Recorder
 from sandbox.web.loop.probe import Probe
-from sandbox.web.loop.requests import Request
+from sandbox.web.loop.requests import Command
 from sandbox.web.loop.rewind import Rewind
 from sandbox.web.loop.secret import Secret
 
@@ -72,7 +72,7 @@ class SessionState(Protocol):
     def pending(self) -> bool:
         """Requests wait for the loop (a control may be ahead of the simulation)."""
 
-    def submit(self, request: Request) -> None:
+    def submit(self, request: Command) -> None:
         """Queue a request; the loop thread applies it before its next frame."""
 
     def on_close(self, cleanup: Callable[[], None]) -> None:

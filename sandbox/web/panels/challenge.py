@@ -23,7 +23,7 @@ from sandbox.challenges import BALANCED, Attempt, Challenge
 from sandbox.scenes.base import Param, as_scene
 from sandbox.web.client.fields import param_unit
 from sandbox.web.client.text import html_text, number, with_unit
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Challenge as StartOrEnd
 from sandbox.web.loop.secret import Secret
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.board_table import duration
@@ -113,7 +113,7 @@ class ChallengePanel:
         with self._lock:
             self.attempt, self.ended = attempt, False
         self.page.restrict(secret)
-        self.controller.submit(Request("challenge", secret))
+        self.controller.submit(StartOrEnd(secret))
         self.goal.content = f"**{html_text(c.title)}**\n\n{html_text(c.goal)}"
         asks = c.answer is not None
         self.answer.visible = asks
@@ -140,7 +140,7 @@ class ChallengePanel:
             attempt, self.ended = self.attempt, True
         if attempt is None:
             return
-        self.controller.submit(Request("challenge", None))
+        self.controller.submit(StartOrEnd(None))
         self.page.unrestrict()
         values = attempt.values(self._values())
         c = attempt.challenge

@@ -1,6 +1,6 @@
 """GUI folders of a session: simulation controls, parameters, hypotheses.
 
-Callbacks only queue :class:`~sandbox.web.loop.Request` objects; the loop thread
+Callbacks only queue typed commands (:data:`~sandbox.web.loop.requests.Command`); the loop thread
 applies them. Refresh methods are called by the view from the loop thread. Values
 set programmatically (event.client is None) are never sent back as requests.
 """
@@ -35,19 +35,39 @@ from sandbox.web.client.fields import (
     set_value as set_value,
 )
 from sandbox.web.client.text import number, plain, with_unit
-from sandbox.web.loop import SPEEDS, Request
+from sandbox.web.loop import SPEEDS
+from sandbox.web.loop.requests import (
+    Button,
+    Command,
+    Integrator,
+    Motion,
+    Pause,
+    Play,
+    Record,
+    Reset,
+    SetValue,
+    Speed,
+    Steps,
+    StopRecord,
+    Timestep,
+)
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
 from sandbox.written import time_words
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
 COMMANDS_PAUSED = ("Lecture", "Pas", "Réinitialiser")
-COMMAND_KINDS = {"Pause": "pause", "Lecture": "play", "Pas": "step", "Réinitialiser": "reset"}
-"""Buttons of the time bar and the request each one queues."""
+COMMAND_KINDS: Mapping[str, Command] = {
+    "Pause": Pause(),
+    "Lecture": Play(),
+    "Pas": Steps(),
+    "Réinitialiser": Reset(),
+}
+"""Buttons of the time bar and the command each one queues."""
 
 RECORD_IDLE = ("Enregistrer",)
 RECORD_BUSY = ("Arrêter l'enregistrement",)
-RECORD_KINDS = {RECORD_IDLE[0]: "record", RECORD_BUSY[0]: "stop_record"}
+RECORD_KINDS: Mapping[str, Command] = {RECORD_IDLE[0]: Record(), RECORD_BUSY[0]: StopRecord()}
 
 INTEGRATOR_HINT = "Schéma qui calcule le mouvement d'un pas de temps au suivant"
 EXACT_HINT = (
@@ -72,11 +92,11 @@ CHALLENGE_LOCKED = "Réglage fixé par le défi en cours."
 _on_user = on_user  # kept for modules importing it from here
 
 
-def command(kinds: dict[str, str], label: object) -> Request:
-    """The request of a button labelled ``label`` (a browser may send any label: an
-    unknown one becomes a request that the loop refuses once, in French)."""
-    kind = kinds.get(label) if isinstance(label, str) else None
-    return Request(kind) if kind is not None else Request("button", label)
+def command(kinds: Mapping[str, Command], label: object) -> Command:
+    """The command of a button labelled ``label`` (a browser may send any label: an
+    unknown one becomes a :class:`Button` that the loop refuses once, in French)."""
+    found = kinds.get(label) if isinstance(label, str) else None
+    return found if found is not None else Button(label)
 
 
 def bounds(low: float, high: float) -> tuple[tuple[float, str], ...]:
@@ -163,7 +183,7 @@ class ControlPanel:
         with gui.add_folder("Alerte", visible=False) as self.alert:
             self.alert_text = gui.add_markdown("")
             reset2 = gui.add_button("Réinitialiser", color="red")
-        reset2.on_click(lambda _: submit(Request("reset")))
+        reset2.on_click(lambda _: submit(Reset()))
         with gui.add_folder("Simulation") as self.folder:
             self.title = gui.add_markdown(f"**{plain(scene.title if scene else sim.label)}**")
             self.status = gui.add_markdown("")
@@ -174,7 +194,7 @@ class ControlPanel:
             )
             self.commands.on_click(lambda event: submit(command(COMMAND_KINDS, event.target.value)))
             self.speed = speed_slider(gui, "Temps simulé divisé par le temps réel (1 : temps réel)")
-            on_user(self.speed, lambda v: submit(Request("speed", v)))
+            on_user(self.speed, lambda v: submit(Speed(v)))
             self.record = gui.add_button_group(
                 "Enregistrer",
                 RECORD_IDLE,
@@ -191,7 +211,7 @@ class ControlPanel:
                         initial_value=MOTION_WORDS[sim.motion],
                         hint=MOTION_HINT,
                     )
-                    on_user(self.motion, lambda v: submit(Request("motion", _motion_name(v))))
+                    on_user(self.motion, lambda v: submit(Motion(_motion_name(v))))
                 labels = tuple(integrator_words(n) for n in INTEGRATORS)
                 self.integrator = gui.add_dropdown(
                     INTEGRATOR_LABEL,
@@ -199,9 +219,7 @@ class ControlPanel:
                     initial_value=integrator_words(_known(sim.integrator)),
                     hint=INTEGRATOR_HINT,
                 )
-                on_user(
-                    self.integrator, lambda v: submit(Request("integrator", integrator_name(v)))
-                )
+                on_user(self.integrator, lambda v: submit(Integrator(integrator_name(v))))
                 self._dt_hint = (
                     f"Pas de temps du calcul (de {number(MIN_TIMESTEP)} s à "
                     f"{number(sim.max_timestep)} s)"
@@ -209,7 +227,7 @@ class ControlPanel:
                 self.timestep = gui.add_number(
                     TIMESTEP_LABEL, initial_value=sim.timestep, step=1e-5, hint=self._dt_hint
                 )
-                on_user(self.timestep, lambda v: submit(Request("timestep", v)))
+                on_user(self.timestep, lambda v: submit(Timestep(v)))
         busy = self._busy
         self.mirrors: dict[str, Mirror] = {
             "<speed>": Mirror(self.speed, lambda: controller.speed, busy=busy),
@@ -270,9 +288,7 @@ class ControlPanel:
         name = p.name
         on_user(
             dropdown,
-            lambda v: submit(
-                Request("set_value", float(names.index(v)) if v in names else v, name=name)
-            ),
+            lambda v: submit(SetValue(name, float(names.index(v)) if v in names else v)),
         )
         self.sliders[p.name] = dropdown
         self.mirrors[p.name] = Mirror(dropdown, shown, busy=self._busy)
@@ -302,7 +318,7 @@ class ControlPanel:
             hint=param_hint(p) + " Écrivez par exemple 0,0002 ou 2e-4.",
         )
         name = p.name
-        on_user(box, lambda v: submit(Request("set_value", parse_number(v), name=name)))
+        on_user(box, lambda v: submit(SetValue(name, parse_number(v))))
         self.sliders[p.name] = box
         read = _reader(sim, name)
         self.mirrors[p.name] = Mirror(box, lambda: engineering(float(read())), busy=self._busy)
@@ -403,8 +419,8 @@ def _reader(sim: ReadOnlySimulation, name: str) -> Callable[[], float]:
     return lambda: sim.values[name]
 
 
-def _setter(submit: Callable[[Request], None], name: str) -> Callable[[Any], None]:
-    return lambda value: submit(Request("set_value", value, name=name))
+def _setter(submit: Callable[[Command], None], name: str) -> Callable[[Any], None]:
+    return lambda value: submit(SetValue(name, value))
 
 
 class HypothesesPanel:

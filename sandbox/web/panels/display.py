@@ -20,7 +20,8 @@ from sandbox.physics.display import main_joint
 from sandbox.physics.picture import Picture
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import number
-from sandbox.web.loop import SPEEDS, Request
+from sandbox.web.loop import SPEEDS
+from sandbox.web.loop.requests import Advance, Speed
 from sandbox.web.loop.state import SessionState
 from sandbox.web.view3d.arrows import USER_SCALES, ArrowLayer
 from sandbox.web.view3d.geoms import MARKER, mechanism_size
@@ -216,18 +217,18 @@ class DisplayPanel:
         self._point: tuple[viser.SceneNodeHandle, viser.LabelHandle] | None = None
 
     # -- callbacks (viser's thread) ------------------------------------------------------
-    def step_request(self) -> Request:
-        """The request of one "Pas" as the folder sets it (the time bar's "Pas" may use
+    def step_request(self) -> Advance:
+        """The command of one "Pas" as the folder sets it (the time bar's "Pas" may use
         it too)."""
         unit = STEP_UNITS.get(str(self.step_unit.value), str(self.step_unit.value))
-        return Request("advance", self.step_value.value, name=unit)
+        return Advance(self.step_value.value, unit)
 
     def _on_slow(self, event: viser.GuiEvent[Any]) -> None:
         if event.client is None or self.slow.disabled:  # locked by a shared link
             return
         choices = {speed_label(s): s for s in SLOW_MOTION}
         value = event.target.value
-        self.controller.submit(Request("speed", choices.get(value, value)))
+        self.controller.submit(Speed(choices.get(value, value)))
 
     def _on_follow(self, event: viser.GuiEvent[Any]) -> None:
         if event.client is not None:

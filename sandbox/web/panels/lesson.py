@@ -29,7 +29,7 @@ import viser
 from sandbox.lessons import Lesson, Progress, catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import SetValue
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.lesson_goal import Line, Words, goal_html, lines
 from sandbox.web.panels.plots import Plot, group_by_unit
@@ -233,7 +233,7 @@ class LessonPanel:
         step = progress.go(index)
         for name, value in step.preset:
             if name not in self.fixed:  # the teacher's link wins over a step's presets
-                self.controller.submit(Request("set_value", value, name=name))
+                self.controller.submit(SetValue(name, value))
         recorder = self.controller.recorder
         if recorder is not None:
             recorder.event("lesson", step=index)

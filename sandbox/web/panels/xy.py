@@ -21,7 +21,7 @@ from viser import uplot
 
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
-from sandbox.web.loop import Request
+from sandbox.web.loop.requests import Reset, SetValue
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.plots import PALETTE, dashed, dots, replace_chart
 from sandbox.web.panels.preset_picker import PresetPicker
@@ -188,8 +188,8 @@ class XYPanel:
             self._rebuild(x, ys, refs)
             if preset is not None and preset.values:
                 for name, value in preset.values.items():
-                    self.controller.submit(Request("set_value", value, name))
-                self.controller.submit(Request("reset"))
+                    self.controller.submit(SetValue(name, value))
+                self.controller.submit(Reset())
         elif "axes" in pending:
             x = self.words.get(str(self.x_pick.value), TIME)
             ys = [self.words[str(p.value)] for p in self.y_picks if str(p.value) in self.words]

@@ -28,18 +28,15 @@ from sandbox.web.client.text import number, plain, table_row
 from sandbox.web.loop import (
     Notice,
     Refused,
-    Request,
     Session,
     as_number,
     check_speed,
     french_message,
     merged,
     pending,
-    shown_value,
     step_count,
 )
-from sandbox.web.loop.requests import Pause, Play, Seek, Speed, Steps, Toggle
-from sandbox.web.loop.requests import command as typed
+from sandbox.web.loop.requests import Command, Pause, Play, Seek, Speed, Steps, Toggle, words
 from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.controls import bounds, command, speed_slider
 from sandbox.web.serving.server import App, open_server, run_forever
@@ -63,7 +60,7 @@ class ReplayController:
         self.clock = clock
         self.model: ModelChoice  # which model replays it: the scene's or the recording's
         self.sim, self.model = open_replay(rec)
-        self.requests: queue.Queue[Request] = queue.Queue()
+        self.requests: queue.Queue[Command] = queue.Queue()
         self.playing = True
         self.speed = 1.0
         self.diverged: str | None = None
@@ -109,7 +106,7 @@ class ReplayController:
         """A replay records nothing."""
 
     # -- requests ------------------------------------------------------------------------
-    def submit(self, request: Request) -> None:
+    def submit(self, request: Command) -> None:
         """Queue a request (``play``, ``pause``, ``toggle``, ``step``, ``seek``, ``speed``)."""
         self.requests.put(request)
 
@@ -129,7 +126,7 @@ class ReplayController:
                 notice = Notice(
                     "error",
                     "Erreur interne",
-                    f"La commande « {shown_value(request.kind)} » a échoué ({type(exc).__name__}).",
+                    f"La commande « {words(request)} » a échoué ({type(exc).__name__}).",
                 )
                 if notice not in notices:
                     notices.append(notice)
@@ -142,11 +139,10 @@ class ReplayController:
         self._last = now
         return notices
 
-    def _apply(self, request: Request) -> None:
-        """Do what ``request`` asks, read as a typed request as the live controller reads
-        it (:func:`~sandbox.web.loop.requests.command`); what only a live simulation does
-        is refused."""
-        match typed(request):
+    def _apply(self, request: Command) -> None:
+        """Do what ``request`` asks, as the live controller reads it; what only a live
+        simulation does is refused."""
+        match request:
             case Play() | Pause() | Toggle() as cmd:
                 self.playing = {Play: True, Pause: False}.get(type(cmd), not self.playing)
                 if self.playing and self.index >= len(self.rec.times) - 1:
@@ -162,7 +158,7 @@ class ReplayController:
                 self.speed = check_speed(value)
             case _:
                 raise Refused(
-                    f"Une relecture ne peut pas « {shown_value(request.kind)} » : utilisez la "
+                    f"Une relecture n'a pas la commande « {words(request)} » : utilisez la "
                     "ligne de temps."
                 )
 
@@ -260,27 +256,22 @@ class ReplayPanel:
         @self.time.on_update
         def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
             if event.client is not None:
-                submit(Request("seek", event.target.value))
+                submit(Seek(event.target.value))
 
         @self.speed.on_update
         def _(event: viser.GuiEvent[viser.GuiSliderHandle[float]]) -> None:
             if event.client is not None:
-                submit(Request("speed", event.target.value))
+                submit(Speed(event.target.value))
 
-    COMMAND_KINDS = {
-        "Lecture/Pause": "toggle",
-        "Image précédente": "back",
-        "Image suivante": "step",
-        "Début": "start",
+    COMMAND_KINDS: Mapping[str, Command] = {
+        "Lecture/Pause": Toggle(),
+        "Image précédente": Steps(-1),
+        "Image suivante": Steps(),
+        "Début": Seek(0.0),
     }
 
     def _command(self, label: object) -> None:
-        request = command(self.COMMAND_KINDS, label)
-        if request.kind == "back":
-            request = Request("step", -1)
-        elif request.kind == "start":
-            request = Request("seek", 0.0)
-        self.controller.submit(request)
+        self.controller.submit(command(self.COMMAND_KINDS, label))
 
     def refresh(self, time: float | None = None) -> None:
         """Follow the timeline (the scrubber moves while playing); ``time`` is unused (a

@@ -30,7 +30,8 @@ import viser
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row, with_unit
-from sandbox.web.loop import Controller, Frame, Notice, Request, Session
+from sandbox.web.loop import Controller, Frame, Notice, Session
+from sandbox.web.loop.requests import Integrator, Reset, SetValue, Timestep
 from sandbox.web.loop.study_queue import StudyJob, progress_words
 from sandbox.web.panels.board import BOARD_FOLDER, TEACHER_PREFIX, name_field
 from sandbox.web.panels.board import teacher_path as teacher_path  # re-exported
@@ -408,10 +409,10 @@ class FollowApp(App):
             if what == SEND_VALUES:
                 ctl = view.controller
                 for name, value in setting.values.items():
-                    ctl.submit(Request("set_value", value, name=name))
-                ctl.submit(Request("integrator", setting.integrator))
-                ctl.submit(Request("timestep", setting.timestep))
-                ctl.submit(Request("reset"))
+                    ctl.submit(SetValue(name, value))
+                ctl.submit(Integrator(setting.integrator))
+                ctl.submit(Timestep(setting.timestep))
+                ctl.submit(Reset())
             elif view.lesson is not None and setting.lesson is not None:
                 view.lesson.go_to(*setting.lesson)
         message = (

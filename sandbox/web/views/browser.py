@@ -14,7 +14,8 @@ from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web.client import wire
 from sandbox.web.client.fields import set_value
-from sandbox.web.loop import EVERY, Controller, Frame, Notice, Request
+from sandbox.web.loop import EVERY, Controller, Frame, Notice
+from sandbox.web.loop.requests import Integrator, Timestep
 from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.accuracy import FOLDER as ACCURACY_FOLDER
 from sandbox.web.panels.accuracy import AccuracyPanel
@@ -219,8 +220,8 @@ class WebView(Generic[D]):
             submit = controller.submit
 
             def choose(integrator: str, timestep: float) -> None:
-                submit(Request("integrator", integrator))
-                submit(Request("timestep", timestep))
+                submit(Integrator(integrator))
+                submit(Timestep(timestep))
 
         self.accuracy = AccuracyPanel(client.gui, sim, choose=choose)
         self.hypotheses = HypothesesPanel(client.gui, sim)

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import viser
@@ -33,7 +34,8 @@ from sandbox.scenes.base import as_scene
 from sandbox.web.client import viser_internals
 from sandbox.web.client.fields import on_user, param_label, set_value
 from sandbox.web.client.text import plain
-from sandbox.web.loop import Controller, Request
+from sandbox.web.loop import Controller
+from sandbox.web.loop.requests import Command, Integrator, SetValue, Speed, Timestep
 from sandbox.web.page.link import (
     BUTTON,
     FOLDABLE,
@@ -79,8 +81,12 @@ INTRO = (
     "élèves trouveront verrouillés ou cachés."
 )
 
-SETTING_KINDS = {"speed": "speed", "integrator": "integrator", "timestep": "timestep"}
-"""The request of each simulation setting of a link (a parameter's is ``set_value``)."""
+SETTING_KINDS: Mapping[str, Callable[[Any], Command]] = {
+    "speed": Speed,
+    "integrator": Integrator,
+    "timestep": Timestep,
+}
+"""The command of each simulation setting of a link (a parameter's is :class:`SetValue`)."""
 
 
 def attach(
@@ -312,8 +318,8 @@ class SharePanel:
                 view.lesson.open_at(lesson, (setup.step or 1) - 1)
                 _show_lesson(view)
         for name, value in setup.settings:
-            kind = SETTING_KINDS.get(name, "set_value")
-            submit(Request(kind, value, name=name if kind == "set_value" else ""))
+            make = SETTING_KINDS.get(name)
+            submit(make(value) if make is not None else SetValue(name, value))
         for slug in setup.open:
             label = self.page.folders.get(slug)
             if label is not None and label not in self.foldable:
