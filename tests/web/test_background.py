@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import os
 
+import pytest
+
 from sandbox.web.loop.background import NICE, BackgroundPool
 
 
@@ -11,6 +13,7 @@ def _priority() -> int:
     return os.nice(0) if hasattr(os, "nice") else 0
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_the_pool_starts_with_its_first_job_lowered_and_ends_when_stopped():
     pool = BackgroundPool(1)
     assert pool.processes == 0  # nothing started before a job
@@ -24,6 +27,7 @@ def test_the_pool_starts_with_its_first_job_lowered_and_ends_when_stopped():
     assert pool.processes == 0
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_stopped_pool_starts_again_for_the_next_job():
     pool = BackgroundPool(1)
     try:

@@ -95,6 +95,7 @@ def test_the_xy_plot_draws_the_pilon_over_a_revolution_in_french(open_page, serv
     _no_english(page.inner_text("body"))
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page, served_rotor):
     page = open_page(served_rotor.url)
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)

@@ -646,6 +646,7 @@ def test_more_steps_while_one_runs_are_refused_not_queued(ctl):
 
 
 @pytest.mark.slow  # two seconds of a real scheduler thread
+@pytest.mark.solo  # its frame rates are measured: nothing else runs beside it in CI
 def test_a_student_flooding_steps_leaves_the_others_their_frame_rate():
     """Issue 20: with the timestep at 1e-6 s and "Pas" of 0.02 s clicked every 100 ms,
     every other session of the worker fell from 51 to 0.4 frames/s (up to 64 requests a

@@ -74,6 +74,7 @@ def test_a_second_parameter_must_differ(page):
         panel.study()
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_study_runs_and_its_dots_and_closed_form_reach_the_chart(page):
     page.show(FOLDER)
     panel = _panel(page)
@@ -107,6 +108,7 @@ def test_no_study_during_a_challenge(page):
     assert "défi" in page.client.toasts[-1][1] and _panel(page).job is None
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_the_compressor_plots_against_r_over_l(tmp_path):
     """The preset's horizontal axis is R/L while L varies."""
     page = Page("compressor", tmp_path)
@@ -152,6 +154,7 @@ def test_an_xy_preset_that_changes_parameters_restarts_the_run(page):
     _ = Study  # the contract type the page builds
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_period_is_charted_in_seconds(tmp_path):
     """The inertia lab's flip period: a time, whatever the angle's unit, titled as one."""
     page = Page("inertia", tmp_path)

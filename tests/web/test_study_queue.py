@@ -68,6 +68,7 @@ def test_priority_is_lowered_through_psutil_on_windows(monkeypatch):
     lower_priority()
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 @pytest.mark.skipif(not hasattr(os, "nice"), reason="POSIX niceness")
 def test_runs_go_to_a_lowered_process_that_ends_with_the_study():
     before = _children()
@@ -79,6 +80,7 @@ def test_runs_go_to_a_lowered_process_that_ends_with_the_study():
     assert wait_for(lambda: queue.processes == 0 and _children() <= before, timeout=20)
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_studies_take_turns_run_by_run():
     """A short study that comes second is not held back by a long one."""
     queue = StudyQueue(run=slow)
@@ -93,6 +95,7 @@ def test_studies_take_turns_run_by_run():
     queue.close()
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_cancelled_study_leaves_no_process_behind():
     before = _children()
     queue = StudyQueue()

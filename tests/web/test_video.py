@@ -176,6 +176,7 @@ def _export(page, export) -> dict[str, bytes]:
     return got
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_the_page_exports_the_last_seconds_of_the_simulation(tmp_path):
     """« Exporter une vidéo » without a recording: the last seconds the session kept
     (30 states a simulated second), made in a worker process and downloaded."""
@@ -194,6 +195,7 @@ def test_the_page_exports_the_last_seconds_of_the_simulation(tmp_path):
     assert "Pas de vidéo pendant un défi" in export.status.content and export.future is None
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_the_page_exports_the_recording_in_progress(tmp_path):
     from tests.robustness.test_hostile_web import Page
 
@@ -252,6 +254,7 @@ def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
     assert tried == []
 
 
+@pytest.mark.solo  # waits on a lowest-priority worker, which a busy machine starves by design
 def test_a_page_that_leaves_mid_export_leaves_no_folder(tmp_path):
     import time
 
