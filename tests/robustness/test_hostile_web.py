@@ -222,7 +222,7 @@ class Page:
         self.clock = Clock()
         self.ctl = Controller(Simulation(target), clock=self.clock, record_dir=record_dir)
         self.client = Client()
-        self.view = WebView(self.client, self.ctl)
+        self.view = WebView(self.client, self.ctl, live=self.ctl)
         self.scheduler = Scheduler(clock=self.clock, threaded=False)
         self.session = Session(self.ctl, self.view, scheduler=self.scheduler)
         self.session.start()

@@ -252,7 +252,7 @@ def test_a_browser_still_sending_its_last_frame_gets_no_new_one(served):
         # IN_FLIGHT frames go while nothing is taken; then none until the sender catches up
         assert all(pictures[:IN_FLIGHT]) and not any(pictures[IN_FLIGHT:]) and not view.draws
         # ... or until MAX_HELD has passed: a browser is never left without its 3D view
-        time.sleep(MAX_HELD + 0.1)
+        clock.now += MAX_HELD + 0.1
         assert view.draws
         stuck[0] = False
         assert wait_for(lambda: view.draws, timeout=5)

@@ -118,12 +118,12 @@ class _Gui:
 def test_the_panel_redraws_only_when_a_value_changes():
     sim = SimpleNamespace(scene=SCENES["rotor"], values=dict(DEFAULTS))
     gui = _Gui()
-    panel = PolarPanel.create(gui, SimpleNamespace(sim=sim))  # type: ignore[arg-type]
+    panel = PolarPanel.create(gui, sim)  # type: ignore[arg-type]
     assert panel is not None and gui.folders == [FOLDER] and "<svg" in gui.html.content
     assert panel.refresh() is False  # nothing changed
     sim.values["speed_rpm"] = 3000.0
     assert panel.refresh() is False  # the speed does not change the unbalance
     sim.values["mass1_g"] = 10.0
     assert panel.refresh() is True and "0,0005 à 0°" in gui.html.content
-    other = SimpleNamespace(sim=SimpleNamespace(scene=SCENES["gyroscope"]))
+    other = SimpleNamespace(scene=SCENES["gyroscope"])
     assert PolarPanel.create(_Gui(), other) is None  # type: ignore[arg-type]

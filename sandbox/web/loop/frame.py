@@ -13,6 +13,7 @@ from typing import Protocol
 from sandbox.physics.picture import Picture
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
+from sandbox.web.loop.requests import Command
 from sandbox.web.loop.secret import Secret
 
 FPS = 60.0
@@ -134,6 +135,10 @@ class Source(Protocol):
     @property
     def step_cpu_total(self) -> float:
         """CPU seconds spent stepping so far (0 for a replay)."""
+
+    def submit(self, request: Command) -> None:
+        """Queue a typed command; the loop thread applies it before its next frame (what
+        a replay cannot do is refused there, in French)."""
 
     def frame(self, now: float | None = None, *, record: bool = True) -> list[Notice]:
         """Apply the requests and move on (step, or along the recording); returns the

@@ -59,6 +59,10 @@ class SessionState(Protocol):
     """The lesson the page follows (set by the lesson panel, recorded with the session)."""
 
     @property
+    def cost(self) -> float:
+        """CPU seconds of stepping per simulated second (NaN before any step)."""
+
+    @property
     def probe(self) -> Probe:
         """Readouts sampled between frames, for an X–Y plot."""
 

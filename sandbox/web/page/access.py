@@ -34,13 +34,14 @@ from __future__ import annotations
 
 import json
 
+from sandbox.web.loop.requests import Pause, Play
 from sandbox.web.panels.controls import COMMAND_KINDS
 
 REPLAY_TOGGLE = "Lecture/Pause"
 """The replay's play/pause button (sandbox.web.replay.player.ReplayPanel.COMMANDS[0])."""
 
 PLAY_PAUSE: tuple[str, ...] = (
-    *(label for label, kind in COMMAND_KINDS.items() if kind in ("pause", "play")),
+    *(label for label, cmd in COMMAND_KINDS.items() if isinstance(cmd, (Pause, Play))),
     REPLAY_TOGGLE,
 )
 """Words of the buttons Space clicks: the live time bar's "Pause"/"Lecture", the replay's

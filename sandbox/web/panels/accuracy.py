@@ -24,6 +24,7 @@ from sandbox.physics.units import display_unit
 from sandbox.scenes.base import Scene, as_scene
 from sandbox.web.client import charts
 from sandbox.web.client.text import html_text, number, table_row, with_unit
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.tables import cell, fmt
 
 log = logging.getLogger(__name__)
@@ -222,7 +223,10 @@ class AccuracyPanel:
         sim: ReadOnlySimulation,
         *,
         choose: Callable[[str, float], None] | None = None,
+        cost: Callable[[], float] | None = None,
     ) -> None:
+        self.sim = sim
+        self.cost = cost
         scene = as_scene(sim.scene)
         self.scene = scene if scene is not None and scene.accuracy is not None else None
         self.results = load_results(scene.name) if scene is not None else None
@@ -305,6 +309,15 @@ class AccuracyPanel:
                 return None
         self._waiting[setting] = accuracy.submit(self.scene, setting)
         return None
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché »: it runs the simulation's reference test, so
+        a challenge closes it; refreshed only where the session's cost is measured (a
+        replay measures none: its folder keeps the benchmark's grid)."""
+        cost = self.cost
+        if cost is None:
+            return [Folder(FOLDER, self.folder)]
+        return [Folder(FOLDER, self.folder, lambda f: self.refresh(self.sim, cost(), f.now))]
 
     def refresh(self, sim: ReadOnlySimulation, cost: float, now: float) -> None:
         """Rewrite the table; redraw the chart when a mark moves."""

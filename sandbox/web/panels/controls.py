@@ -53,6 +53,7 @@ from sandbox.web.loop.requests import (
 )
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels import tables
+from sandbox.web.panels.folder import Folder
 from sandbox.written import time_words
 
 COMMANDS_PLAYING = ("Pause", "Pas", "Réinitialiser")
@@ -439,6 +440,16 @@ class HypothesesPanel:
             timestep=s.timestep,
             imposed=s.motion == IMPOSED,
         )
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché »: the modelling words, which a challenge
+        keeps (they give nothing away), refreshed even while diverged."""
+        title = HYPOTHESES_FOLDER
+        return [
+            Folder(
+                title, self.folder, lambda _: self.refresh(), secret_safe=True, needs_readouts=False
+            )
+        ]
 
     def refresh(self) -> None:
         """Follow integrator and timestep changes."""

@@ -10,6 +10,7 @@ import numpy as np
 
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import as_scene
+from sandbox.web.panels.folder import Folder
 
 if TYPE_CHECKING:
     import viser
@@ -42,6 +43,7 @@ class CyclePanel:
     """
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
+        self.sim = sim
         scene = as_scene(sim.scene)
         self.fn = scene.cycle if scene is not None else None
         self.charts: list[tuple[tuple[str, ...], viser.GuiUplotHandle]] = []
@@ -75,6 +77,13 @@ class CyclePanel:
                     padding=(12, 24, 0, 0),
                 )
                 self.charts.append((names, chart))
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché » (none when the scene has no cycle): computed
+        from the simulation over a revolution, so a challenge closes it."""
+        if self.folder is None:
+            return []
+        return [Folder(FOLDER, self.folder, lambda frame: self.refresh(self.sim, frame.now))]
 
     def refresh(self, sim: ReadOnlySimulation, now: float) -> None:
         """Redraw when the simulated cycle changed (new parameters or speed)."""

@@ -15,6 +15,7 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import MAX_SHOWN, plain, table_row
 from sandbox.web.panels.controls import set_value
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.tables import fmt
 
 FOLDER = "Isoler un solide"
@@ -30,6 +31,7 @@ class IsolatePanel:
     """
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
+        self.sim = sim
         scene = as_scene(sim.scene)
         self.names = names = dict(scene.page.names.solids) if scene else {}
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
@@ -79,6 +81,13 @@ class IsolatePanel:
         self.refused = value if isinstance(value, str) else repr(value)
         set_value(self.picker, self._good)
         return self.choices[self._good]
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché »: it reads the state itself (the instant the
+        tables show), so a challenge closes it."""
+        if self.folder is None:
+            return []
+        return [Folder(FOLDER, self.folder, lambda frame: self.refresh(self.sim, frame.state))]
 
     def refresh(self, sim: ReadOnlySimulation, state: Snapshot | None = None) -> None:
         """Recompute at ``state``, the instant the tables show (its forces prepared; None:

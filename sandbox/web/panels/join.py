@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 
 import segno
 
+from sandbox.web.panels.folder import Folder
+
 if TYPE_CHECKING:
     import viser
 
@@ -48,6 +50,9 @@ def join_html(urls: Sequence[str], *, qr: bool = True) -> str:
     return "".join(parts)
 
 
+FOLDER = "Rejoindre"
+
+
 class JoinPanel:
     """Folder "Rejoindre" (shown only when the server is reachable from other machines).
 
@@ -58,5 +63,9 @@ class JoinPanel:
     """
 
     def __init__(self, gui: viser.GuiApi, urls: Sequence[str], *, expand: bool = True) -> None:
-        with gui.add_folder("Rejoindre", expand_by_default=expand) as self.folder:
+        with gui.add_folder(FOLDER, expand_by_default=expand) as self.folder:
             self.html = gui.add_html(join_html(urls))
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché » (the addresses never change)."""
+        return [Folder(FOLDER, self.folder)]

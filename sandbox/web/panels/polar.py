@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Protocol
+from typing import TYPE_CHECKING
 
 import numpy as np
 import viser
@@ -27,6 +27,10 @@ from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import as_scene
 from sandbox.scenes.page import UnbalanceDiagram
 from sandbox.web.client.text import html_text, number
+from sandbox.web.panels.folder import Folder
+
+if TYPE_CHECKING:
+    from sandbox.web.loop.frame import Frame
 from sandbox.web.panels.plots import nice_ceil
 
 FOLDER = "Diagramme des balourds"
@@ -181,11 +185,6 @@ def panel_html(unbalance: Unbalance) -> str:
 
 
 # -- the panel --------------------------------------------------------------------------------
-class _Driver(Protocol):
-    @property
-    def sim(self) -> ReadOnlySimulation: ...
-
-
 class PolarPanel:
     """Folder "Diagramme des balourds" of the rotor scene, redrawn when a value changes.
 
@@ -194,12 +193,14 @@ class PolarPanel:
 
     Args:
         gui: A viser ``GuiApi``.
-        controller: The session's controller, or a replay's (anything with ``sim``, whose
-            ``values`` are the parameter values).
+        sim: The simulation shown (live or replayed): its ``values`` are the parameters.
+        diagram: The scene's diagram.
     """
 
-    def __init__(self, gui: viser.GuiApi, controller: _Driver, diagram: UnbalanceDiagram) -> None:
-        self.controller = controller
+    def __init__(
+        self, gui: viser.GuiApi, sim: ReadOnlySimulation, diagram: UnbalanceDiagram
+    ) -> None:
+        self.sim = sim
         self.diagram = diagram
         self._key: tuple[float, ...] | None = None
         self.folder = gui.add_folder(FOLDER, expand_by_default=True)
@@ -208,18 +209,26 @@ class PolarPanel:
         self.refresh()
 
     @classmethod
-    def create(cls, gui: viser.GuiApi, controller: _Driver) -> PolarPanel | None:
-        """The panel when ``controller`` shows a scene that declares an unbalance diagram
-        (the rotor), else None."""
-        scene = as_scene(controller.sim.scene)
+    def create(cls, gui: viser.GuiApi, sim: ReadOnlySimulation) -> PolarPanel | None:
+        """The panel when ``sim`` is of a scene that declares an unbalance diagram (the
+        rotor), else None."""
+        scene = as_scene(sim.scene)
         diagram = scene.page.unbalance_diagram if scene is not None else None
         if diagram is None:
             return None
-        return cls(gui, controller, diagram)
+        return cls(gui, sim, diagram)
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché »: drawn from the parameters (closed during a
+        challenge: it would show a hidden unbalance), refreshed even while diverged."""
+        return [Folder(FOLDER, self.folder, self._redraw, needs_readouts=False)]
+
+    def _redraw(self, _: Frame) -> None:
+        self.refresh()
 
     def refresh(self) -> bool:
         """Redraw when a parameter the diagram depends on changed; True when redrawn."""
-        values: Mapping[str, float] = self.controller.sim.values
+        values: Mapping[str, float] = self.sim.values
         try:
             key = tuple(float(values[k]) for k in self.diagram.depends_on)
         except (KeyError, TypeError, ValueError):

@@ -18,6 +18,7 @@ from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes.base import as_scene
 from sandbox.web.client.fields import on_user, set_value
 from sandbox.web.client.text import html_text
+from sandbox.web.panels.folder import Folder
 from sandbox.written import written
 
 if TYPE_CHECKING:
@@ -161,6 +162,11 @@ class Projector:
         self._pending_font: int | None = None
         on_user(self.size, self._ask_font)
         self._lines: list[str] = []
+
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché » (text size, overlay), which a challenge
+        keeps; the overlay itself is refreshed at every panel tick, whatever is shown."""
+        return [Folder(self.folder.label or DISPLAY_FOLDER, self.folder, secret_safe=True)]
 
     def _ask_font(self, option: object) -> None:
         for px in FONT_SIZES:

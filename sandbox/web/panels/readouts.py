@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -15,8 +16,12 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.scenes.base import as_scene
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import set_value
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.plots import ComponentPlot, Plot, component_plot, group_by_unit
 from sandbox.web.view3d.arrows import ArrowLayer
+
+if TYPE_CHECKING:
+    from sandbox.web.loop.frame import Frame
 
 POINT_O = "O (origine)"
 POINT_P = "P (saisi)"
@@ -192,6 +197,23 @@ class ReadoutPanel:
         if folder == ENERGY_FOLDER:
             return list(ENERGY_NAMES)
         return []
+
+    def pickable(self) -> list[Folder]:
+        """Its folders of « Panneau affiché »: they show only a frame's readouts (the
+        withheld ones removed), so a challenge keeps them. The plots are filled by
+        :meth:`sample` at every panel tick, shown or not (their history goes on)."""
+        return [self._folder(title, handle) for title, handle in self.folders.items()]
+
+    def _folder(self, title: str, handle: viser.GuiFolderHandle) -> Folder:
+        def refresh(frame: Frame) -> None:
+            if frame.readouts is not None:
+                self.refresh(self.sim, frame.readouts, title, state=frame.state)
+
+        def names() -> list[str]:
+            return self.names(title)
+
+        plots = title == PLOTS_FOLDER
+        return Folder(title, handle, None if plots else refresh, names, secret_safe=True)
 
     def sample(
         self,

@@ -28,6 +28,7 @@ from sandbox.web.client.text import number
 from sandbox.web.loop import Refused, as_number, french_message
 from sandbox.web.loop.state import SessionState
 from sandbox.web.loop.study_queue import StudyJob, StudyQueue, progress_words
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.preset_picker import PresetPicker
 from sandbox.web.panels.study_chart import STAT_LABELS, StudyChart
 from sandbox.web.panels.xy_data import Axis
@@ -347,6 +348,13 @@ class StudyPanel:
             client.add_notification("Étude paramétrique", text, color="red", auto_close_seconds=8.0)
 
     # -- from the session loop -----------------------------------------------------------
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché » (none for a scene without parameters): it
+        runs simulations of its own, so a challenge closes it."""
+        if self.folder is None:
+            return []
+        return [Folder(FOLDER, self.folder, lambda _: self.refresh())]
+
     def refresh(self) -> None:
         """Apply the form's changes; show the study's progress and new dots."""
         if self.folder is None:

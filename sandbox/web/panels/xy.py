@@ -23,6 +23,7 @@ from sandbox.scenes.base import as_scene
 from sandbox.scenes.presets import TIME, XYPreset
 from sandbox.web.loop.requests import Reset, SetValue
 from sandbox.web.loop.state import SessionState
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.plots import PALETTE, dashed, dots, replace_chart
 from sandbox.web.panels.preset_picker import PresetPicker
 from sandbox.web.panels.xy_data import TIME_AXIS, Axis, XYData
@@ -262,6 +263,13 @@ class XYPanel:
         )
 
     # -- from the session loop -----------------------------------------------------------
+    def pickable(self) -> list[Folder]:
+        """Its folder of « Panneau affiché »: it samples the simulation between frames
+        (only while shown), so a challenge closes it."""
+        return [
+            Folder(FOLDER, self.folder, lambda frame: self.refresh(frame.now), watch=self.watch)
+        ]
+
     def watch(self, shown: bool) -> None:
         """Sample while the folder is shown and the plot not frozen (every tick)."""
         if shown and not self.frozen:

@@ -317,7 +317,7 @@ def start_replay(
 
     def session(client: viser.ClientHandle) -> Session:
         ctl = ReplayController(rec)
-        view = WebView(client, ctl, controls=ReplayPanel, values=ctl.values)
+        view = WebView(client, ctl, controls=lambda gui: ReplayPanel(gui, ctl))
         return Session(ctl, view)
 
     app = App(server, host, session)

@@ -24,9 +24,9 @@ from sandbox.web.panels.board import name_field, teacher_path
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.follow import FOLLOWER_FPS, SHARED, BroadcastView, FollowerView
+from sandbox.web.serving.own_page import OwnPage
 from sandbox.web.serving.server import App
 from sandbox.web.view3d.camera import point_camera
-from sandbox.web.views.browser import WebView
 
 log = logging.getLogger(__name__)
 
@@ -51,7 +51,7 @@ class ClassApp(App):
     Args:
         server: The viser server.
         host: Interface listened on.
-        factory: A browser's session (its view a :class:`~sandbox.web.views.browser.WebView`).
+        factory: A browser's own page (its session, view and live controller).
         token: Secret of the teacher's link (random when None).
         max_sessions: Browsers served at once by this process.
         port: The port students reach (the workers' shared one).
@@ -65,7 +65,7 @@ class ClassApp(App):
         self,
         server: viser.ViserServer,
         host: str,
-        factory: Callable[[viser.ClientHandle], Session],
+        factory: Callable[[viser.ClientHandle], OwnPage],
         *,
         token: str | None = None,
         max_sessions: int,
@@ -100,19 +100,17 @@ class ClassApp(App):
                 log.exception("a student could not follow the projected simulation")
                 client.gui.reset()
                 client.scene.reset()
-        session = self.build(client)
+        page = self.build(client)
+        session = page.session
         self._hide_broadcast(client)
         try:  # the board is not worth a session: a failure here is only logged
             if teacher:
-                scene = session.controller.sim.scene
+                scene = page.controller.sim.scene
                 self.classroom.teacher(client, scene=scene.name if scene is not None else "")
-                if isinstance(session.controller, Controller):
-                    self._teacher = (client.client_id, session.controller)
+                self._teacher = (client.client_id, page.controller)
             else:
                 box = name_field(client.gui, self.classroom.name_of(client.client_id))
-                sim = session.controller.sim
-                view = session.view if isinstance(session.view, WebView) else None
-                self.classroom.student(client, sim, view, field=box)
+                self.classroom.student(client, page.controller.sim, page.view, field=box)
         except Exception:
             log.exception("the class board could not take this browser")
         return session

@@ -40,7 +40,7 @@ from sandbox.web.panels.study_chart import StudyChart
 from sandbox.web.panels.tables import fmt
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
-from sandbox.web.serving.own_page import own_view
+from sandbox.web.serving.own_page import own_page
 from sandbox.web.serving.server import App, SimOptions
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import point_camera
@@ -104,7 +104,7 @@ class BroadcastView:
         self.labels = {n: plain(i.label or n) for n, i in infos.items()}
         self.summary = ""
         self.version = 0
-        self.teachers: list[WebView[Controller]] = []
+        self.teachers: list[WebView] = []
         self._summary_at = -math.inf
 
     @property
@@ -276,7 +276,7 @@ class FollowApp(App):
         self.broadcast = BroadcastView(server, self.shared)
         self.broadcast_session = Session(self.shared, self.broadcast)
         self.modes: dict[int, str] = {}
-        self._views: dict[int, WebView[Controller]] = {}
+        self._views: dict[int, WebView] = {}
         self._followers: dict[int, FollowerView] = {}
         self.study: StudyJob | None = None  # the teacher's, sent to every student
         self._switch = threading.Lock()
@@ -310,6 +310,7 @@ class FollowApp(App):
         view = WebView(
             client,
             self.shared,
+            live=self.shared,
             lesson=self.lesson,
             join_urls=self.join_urls,
             draw=False,
@@ -359,15 +360,21 @@ class FollowApp(App):
             )
         back.on_click(lambda _: self.switch(client, own=False))
         # the same page as a class's student: « Partager » and « Rejoindre » included
-        view = own_view(
-            self.server, client, controller, lesson=self.lesson, join_urls=self.join_urls
+        page = own_page(
+            self.server,
+            client,
+            controller,
+            lesson=self.lesson,
+            join_urls=self.join_urls,
+            alive=lambda: self.connected(cid),
         )
+        view = page.view
         self._views[cid] = view
         if self.study is not None and view.study is not None:
             view.study.receive(self.study)
         box = name_field(client.gui, self.classroom.name_of(cid))
         self.classroom.student(client, controller.sim, view, field=box)
-        return Session(controller, view, alive=lambda: self.connected(cid))
+        return page.session
 
     def switch(self, client: viser.ClientHandle, *, own: bool) -> None:
         """Move a student between following and a simulation of their own."""
@@ -392,7 +399,7 @@ class FollowApp(App):
                 self.sessions[cid] = session
             session.start()
 
-    def _send(self, what: str, teacher: WebView[Controller]) -> None:
+    def _send(self, what: str, teacher: WebView) -> None:
         """The teacher's buttons: parameters or lesson step to every own copy, a study to
         every student."""
         if what == SEND_STUDY:
@@ -422,7 +429,7 @@ class FollowApp(App):
         )
         teacher.notify(Notice("info", "Classe", message))
 
-    def _send_study(self, teacher: WebView[Controller]) -> None:
+    def _send_study(self, teacher: WebView) -> None:
         """The teacher's study (running or done) to every student: followers get it in a
         folder of their page, students on their own copy in their « Étude paramétrique »;
         students who arrive later get it too."""
@@ -471,9 +478,7 @@ class FollowApp(App):
 class _TeacherSession(Session):
     """The teacher's panels on the shared simulation (the broadcast steps it)."""
 
-    def __init__(
-        self, app: FollowApp, view: WebView[Controller], counts: viser.GuiMarkdownHandle
-    ) -> None:
+    def __init__(self, app: FollowApp, view: WebView, counts: viser.GuiMarkdownHandle) -> None:
         cid = view.client.client_id
         super().__init__(app.shared, view, alive=lambda: app.connected(cid), drive=False)
         self.app = app

@@ -6,23 +6,40 @@ the students use) and « Rejoindre » (the address students type).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import viser
 
-from sandbox.web.loop import Controller
+from sandbox.web.loop import Controller, Session
 from sandbox.web.views import share as share_panel
 from sandbox.web.views.browser import WebView
 
 
-def own_view(
+@dataclass(frozen=True)
+class OwnPage:
+    """One browser's own simulation.
+
+    Attributes:
+        session: What the loop runs for it.
+        view: Its page.
+        controller: Its live simulation.
+    """
+
+    session: Session
+    view: WebView
+    controller: Controller
+
+
+def own_page(
     server: viser.ViserServer,
     client: viser.ClientHandle,
     controller: Controller,
     *,
     lesson: str | None = None,
     join_urls: Sequence[str] = (),
-) -> WebView[Controller]:
+    alive: Callable[[], bool] | None = None,
+) -> OwnPage:
     """Every panel of ``controller``'s simulation for ``client``, with « Partager » (the
     link the page was opened with applied) and « Rejoindre » when ``join_urls`` is given.
 
@@ -32,7 +49,8 @@ def own_view(
         controller: Its own simulation's controller.
         lesson: The lesson the page opens by itself.
         join_urls: Addresses students type to join.
+        alive: False once the page is gone (default: the server's connection).
     """
-    view = WebView(client, controller, lesson=lesson, join_urls=join_urls)
+    view = WebView(client, controller, live=controller, lesson=lesson, join_urls=join_urls)
     share_panel.attach(server, client, view, lesson=lesson)
-    return view
+    return OwnPage(Session(controller, view, alive=alive), view, controller)

@@ -15,12 +15,12 @@ import viser
 
 from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
-from sandbox.web.loop import Controller, Session, first_estimate
+from sandbox.web.loop import Controller, first_estimate
 from sandbox.web.serving import addresses, network
 from sandbox.web.serving.class_app import ClassApp
 from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.follow import FollowApp
-from sandbox.web.serving.own_page import own_view
+from sandbox.web.serving.own_page import OwnPage, own_page
 from sandbox.web.serving.server import MAX_SESSIONS, SimOptions, open_server
 
 log = logging.getLogger(__name__)
@@ -106,10 +106,9 @@ def start(
         )
     else:
 
-        def session(client: viser.ClientHandle) -> Session:
+        def session(client: viser.ClientHandle) -> OwnPage:
             controller = Controller(Simulation(target, **options))
-            view = own_view(server, client, controller, lesson=opened, join_urls=urls)
-            return Session(controller, view)
+            return own_page(server, client, controller, lesson=opened, join_urls=urls)
 
         app = ClassApp(
             server,

@@ -4,42 +4,37 @@ from __future__ import annotations
 
 import logging
 import math
-import time
 from collections import deque
-from collections.abc import Callable, Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Generic, Literal, Protocol, TypeVar
+from typing import TYPE_CHECKING, Literal, Protocol
 
 from sandbox.lessons import catalogue
 from sandbox.scenes.base import as_scene
 from sandbox.web.client import wire
 from sandbox.web.client.fields import set_value
-from sandbox.web.loop import EVERY, Controller, Frame, Notice
+from sandbox.web.loop import EVERY, Frame, Notice
+from sandbox.web.loop.frame import Source
 from sandbox.web.loop.requests import Integrator, Timestep
 from sandbox.web.loop.secret import Secret
-from sandbox.web.panels.accuracy import FOLDER as ACCURACY_FOLDER
+from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.accuracy import AccuracyPanel
 from sandbox.web.panels.challenge import ChallengePanel
-from sandbox.web.panels.controls import HYPOTHESES_FOLDER, ControlPanel, HypothesesPanel
-from sandbox.web.panels.cycle import FOLDER as CYCLE_FOLDER
+from sandbox.web.panels.controls import ControlPanel, HypothesesPanel
 from sandbox.web.panels.cycle import CyclePanel
 from sandbox.web.panels.display import DisplayPanel
-from sandbox.web.panels.isolate import FOLDER as ISOLATE_FOLDER
+from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.isolate import IsolatePanel
 from sandbox.web.panels.join import JoinPanel
 from sandbox.web.panels.lesson import LessonPanel
 from sandbox.web.panels.polar import PolarPanel
 from sandbox.web.panels.projector import Projector
 from sandbox.web.panels.readouts import (
-    ENERGY_FOLDER,
     PLOTS_FOLDER,
     SCENE_FOLDER,
-    TORSORS_FOLDER,
     ReadoutPanel,
 )
-from sandbox.web.panels.study import FOLDER as STUDY_FOLDER
 from sandbox.web.panels.study import StudyPanel
-from sandbox.web.panels.xy import FOLDER as XY_FOLDER
 from sandbox.web.panels.xy import XYPanel
 from sandbox.web.video.export import VideoExport
 from sandbox.web.view3d.arrows import ArrowLayer
@@ -59,10 +54,6 @@ PANEL_RATE = 10.0
 """Refresh rate of the tables and plots [Hz] (poses and arrows go at the frame rate)."""
 
 ALL_FOLDERS = "Tous les panneaux"
-SECRET_SAFE = (SCENE_FOLDER, PLOTS_FOLDER, TORSORS_FOLDER, ENERGY_FOLDER, HYPOTHESES_FOLDER)
-"""Folders a page keeps while a challenge runs: they show only the frame's readouts
-(withheld ones removed). The others read the simulation itself (isolating a solid, the
-polar diagram, accuracy against the course's closed form): closed until it ends."""
 MAX_HELD = 0.5
 """Seconds a session may go without drawing while its sender holds frames; then it
 draws anyway (a browser never waits for its 3D view longer, whatever held it)."""
@@ -89,17 +80,6 @@ class Controls(Protocol):
     def sync(self) -> None: ...
 
 
-class Driver(Protocol):
-    """What a view reads from the controller it shows (a live session's
-    :class:`Controller`, or a replay's)."""
-
-    @property
-    def sim(self) -> Simulation: ...
-
-
-D = TypeVar("D", bound=Driver)
-
-
 def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:
     """The scene's force arrows in a viser scene (None when the scene has none)."""
     spec = as_scene(sim.scene)
@@ -117,17 +97,16 @@ def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> 
     )
 
 
-class WebView(Generic[D]):
-    """Draws a controller's simulation into one viser client (implements ``View``).
+class WebView:
+    """Draws a source's simulation into one viser client (implements ``View``).
 
     Args:
         client: The viser ``ClientHandle`` of the browser.
-        controller: The session's :class:`Controller`, or a replay's.
-        controls: Builds the top panel from ``(gui, controller)``; default (only for a
-            :class:`Controller`) the live :class:`ControlPanel` and the lesson panel (a
-            replay passes its timeline).
-        values: Unused (readouts come with each frame, from the controller); kept for
-            callers.
+        source: What the page shows: a live session's :class:`Controller`, or a replay.
+        live: The live session the page drives (the same controller, seen as its panels
+            see it): its controls, lesson, challenge, « Affichage », X–Y plot, study,
+            video and accuracy cost. None for a replay, which brings its own ``controls``.
+        controls: Builds the top panel (default: the live :class:`ControlPanel`).
         lesson: Lesson to open at once (live sessions only).
         join_urls: Addresses students type to join (folder "Rejoindre" when given).
         draw: Draw the 3D scene; False when another view draws it for everyone (the
@@ -138,18 +117,19 @@ class WebView(Generic[D]):
     def __init__(
         self,
         client: viser.ClientHandle,
-        controller: D,
+        source: Source,
         *,
-        controls: Callable[[viser.GuiApi, D], Controls] | None = None,
-        values: Callable[[], Mapping[str, float]] | None = None,
+        live: SessionState | None = None,
+        controls: Callable[[viser.GuiApi], Controls] | None = None,
         lesson: str | None = None,
         join_urls: Sequence[str] = (),
         draw: bool = True,
         shared_arrows: ArrowLayer | None = None,
     ) -> None:
         self.client = client
-        self.controller = controller
-        sim = controller.sim
+        self.controller = source
+        self.live = live
+        sim = source.sim
         model = sim.model
         client.gui.configure_theme(control_width="large", show_share_button=False)
         client.gui.main_panel.dock_right()
@@ -167,34 +147,33 @@ class WebView(Generic[D]):
         known = set(sim.readout_names())
         arrows = self.arrows.arrows if self.arrows is not None else ()
         self._arrow_readouts = {a.name for a in arrows if a.name in known}
-        self.controls: Controls
         self.lesson: LessonPanel | None = None
         self.challenge: ChallengePanel | None = None
+        self.control_panel: ControlPanel | None = None  # a live page's (a link hides its
+        # controls, a challenge its secret ones)
         self._allowed: tuple[str, ...] | None = None  # folders left by a challenge
+        self.controls: Controls
         if controls is not None:
-            self.controls = controls(client.gui, controller)
-        elif isinstance(controller, Controller):
-            self.challenge = ChallengePanel(client.gui, controller, self)
-            self.controls = ControlPanel(client.gui, controller)
+            self.controls = controls(client.gui)
+        elif live is not None:
+            self.challenge = ChallengePanel(client.gui, live, self)
+            self.controls = self.control_panel = ControlPanel(client.gui, live)
         else:
-            raise TypeError(f"{type(controller).__name__} needs its own controls (no defaults)")
-        self.video = (
-            VideoExport(client.gui, controller)
-            if controls is None and isinstance(controller, Controller)
-            else None
-        )
+            raise TypeError("a page without a live session needs its own controls")
+        own = live if controls is None else None  # a page of the live session's own
+        self.video = VideoExport(client.gui, own) if own is not None else None
         self.join = JoinPanel(client.gui, join_urls) if join_urls else None
         left = 16
-        if controls is None and isinstance(controller, Controller):
-            self.lesson, docked = _lesson_column(client.gui, controller, lesson, self.arrows)
+        if own is not None:
+            self.lesson, docked = _lesson_column(client.gui, own, lesson, self.arrows)
             left += LESSON_WIDTH if docked else 0
         if left > 16:
             point_camera(client, sim, narrow=True)
         self.display: DisplayPanel | None = None
-        if isinstance(controller, Controller):  # "Affichage": slow motion, Pas, camera
+        if live is not None:  # "Affichage": slow motion, Pas, camera
             self.display = DisplayPanel(
                 client.gui,
-                controller,
+                live,
                 scene=client.scene if draw else None,
                 renderer=self.renderer,
                 camera=client.camera if draw else None,
@@ -208,26 +187,33 @@ class WebView(Generic[D]):
             "seules ses grandeurs sont calculées",
         )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
-        self.polar = PolarPanel.create(client.gui, controller)
+        self.polar = PolarPanel.create(client.gui, sim)
         self.cycle = CyclePanel(client.gui, sim)
-        self.xy = XYPanel(client.gui, controller) if isinstance(controller, Controller) else None
-        self.study = (
-            StudyPanel(client.gui, controller) if isinstance(controller, Controller) else None
-        )
+        self.xy = XYPanel(client.gui, live) if live is not None else None
+        self.study = StudyPanel(client.gui, live) if live is not None else None
         self.isolate = IsolatePanel(client.gui, sim)
-        choose = None
-        if isinstance(controller, Controller):  # a precision asked: its setting applied
-            submit = controller.submit
-
-            def choose(integrator: str, timestep: float) -> None:
-                submit(Integrator(integrator))
-                submit(Timestep(timestep))
-
-        self.accuracy = AccuracyPanel(client.gui, sim, choose=choose)
+        self.accuracy = AccuracyPanel(
+            client.gui,
+            sim,
+            choose=_chooser(live) if live is not None else None,
+            cost=_cost(live) if live is not None else None,
+        )
         self.hypotheses = HypothesesPanel(client.gui, sim)
-        # Panels of other modules go here, and their folder in _add_picker's list so that
-        # "Panneau affiché" shows one at a time.
         self.projector = Projector(client.gui, sim, left=left, right=CONTROLS_WIDTH + 16)
+        # « Panneau affiché »: every panel's folders, in the picker's order. A new panel
+        # adds its folders here (its own pickable() says how each is shown and refreshed).
+        self.pickable: list[Folder] = [
+            *self.readouts.pickable(),
+            *(self.polar.pickable() if self.polar is not None else ()),
+            *self.cycle.pickable(),
+            *(self.xy.pickable() if self.xy is not None else ()),
+            *(self.study.pickable() if self.study is not None else ()),
+            *self.isolate.pickable(),
+            *self.accuracy.pickable(),
+            *self.hypotheses.pickable(),
+            *(self.join.pickable() if self.join is not None else ()),
+            *self.projector.pickable(),
+        ]
         if self.arrows is not None:  # labels placed in this browser's view, at its text size
             self.arrows.watch(
                 client.camera,
@@ -241,25 +227,12 @@ class WebView(Generic[D]):
         # before each of the last frames drawn
         self._last_panel = -math.inf
         self._resync_controls = False
-        self._add_picker(client.gui)
+        self._add_picker()
 
     # -- which folder is shown -----------------------------------------------------------
-    def _add_picker(self, gui: viser.GuiApi) -> None:
+    def _add_picker(self) -> None:
         """One readout folder shown at a time (only it is computed and sent)."""
-        groups: dict[str, viser.GuiFolderHandle] = dict(self.readouts.folders)
-        for folder in (
-            self.polar.folder if self.polar is not None else None,
-            self.cycle.folder,
-            self.xy.folder if self.xy is not None else None,
-            self.study.folder if self.study is not None else None,
-            self.isolate.folder,
-            self.accuracy.folder,
-            self.hypotheses.folder,
-            self.join.folder if self.join is not None else None,
-            self.projector.folder,
-        ):
-            if folder is not None and folder.label:
-                groups[folder.label] = folder
+        groups = {f.title: f.handle for f in self.pickable}
         self.groups = groups
         default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
         self.shown = default
@@ -304,11 +277,13 @@ class WebView(Generic[D]):
         """A challenge starts (from the class board's thread): the secret controls go,
         the readouts that would give it away and the folders that read the simulation
         are closed until :meth:`unrestrict`."""
-        keep = (*SECRET_SAFE, self.projector.folder.label or "")
-        self._allowed = tuple(label for label in self.groups if label in keep)
+        # kept: the folders that show only the frame's readouts (withheld ones removed);
+        # the others read the simulation itself (isolating a solid, the polar diagram,
+        # accuracy against the course's closed form): closed until it ends
+        self._allowed = tuple(f.title for f in self.pickable if f.secret_safe)
         self.readouts.withheld = secret.withheld
-        if isinstance(self.controls, ControlPanel):
-            self.controls.conceal(secret.public, secret.locked)
+        if self.control_panel is not None:
+            self.control_panel.conceal(secret.public, secret.locked)
         self.picker.options = (*self._allowed, ALL_FOLDERS)
         self._pending_folder = self.shown
 
@@ -316,8 +291,8 @@ class WebView(Generic[D]):
         """The challenge is over: every folder and control back."""
         self._allowed = None
         self.readouts.withheld = frozenset()
-        if isinstance(self.controls, ControlPanel):
-            self.controls.reveal()
+        if self.control_panel is not None:
+            self.control_panel.reveal()
         self.picker.options = (*self.groups, ALL_FOLDERS)
         self._pending_folder = self.shown
 
@@ -335,7 +310,7 @@ class WebView(Generic[D]):
             self._held_since = None
             self.holding = False
             return True
-        now = time.monotonic()
+        now = self.controller.clock()  # the source's wall clock
         if self._held_since is None:
             self._held_since = now
         self.holding = now - self._held_since <= MAX_HELD  # never silent for long
@@ -353,8 +328,9 @@ class WebView(Generic[D]):
         lesson, at :data:`PANEL_RATE`; None between refreshes."""
         if self._pending_folder is not None:
             self._apply_folder()
-        if self.xy is not None:
-            self.xy.watch(self._showing(XY_FOLDER))
+        for folder in self.pickable:
+            if folder.watch is not None:
+                folder.watch(self._showing(folder.title))
         if now - self._last_panel < 1.0 / PANEL_RATE:
             return None
         if self.lesson is not None and self.lesson.progress is not None:
@@ -364,7 +340,9 @@ class WebView(Generic[D]):
         names = {"time", *self.readouts.plot_names()}
         names.update(self.projector.names)
         names.update(self._arrow_readouts)  # the labels write them, at the same instant
-        names.update(self.readouts.names(self.shown))
+        for folder in self.pickable:
+            if folder.title == self.shown:
+                names.update(folder.names())
         return names
 
     def render(self, frame: Frame) -> None:
@@ -393,46 +371,28 @@ class WebView(Generic[D]):
                 self._refresh_panels(frame)
 
     def _refresh_panels(self, frame: Frame) -> None:
-        controller, now = self.controller, frame.now
-        sim = controller.sim
+        """What every page refreshes at the panels' rate, then the folders shown."""
         # the status line's t is the instant the tables show (the drawn state's)
         self.controls.refresh(None if frame.state is None else float(frame.state.data.time))
         if self.video is not None:
             self.video.refresh()
-        if self._showing(HYPOTHESES_FOLDER):
-            self.hypotheses.refresh()
         self.projector.refresh(None if frame.diverged else frame.readouts)
         if self.display is not None:
             self.display.refresh()
-        if self.polar is not None and self._showing(self.polar.folder.label or ""):
-            self.polar.refresh()
-        if frame.diverged or frame.readouts is None:
-            return
-        values = frame.readouts
-        self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
-        if self.shown != PLOTS_FOLDER:
-            self.readouts.refresh(
-                sim,
-                values,
-                None if self.shown == ALL_FOLDERS else self.shown,
-                state=frame.state,
-            )
-        if self.lesson is not None:
-            self.lesson.refresh(values)
-        if self._showing(CYCLE_FOLDER):
-            self.cycle.refresh(sim, now)
-        if self.xy is not None and self._showing(XY_FOLDER):
-            self.xy.refresh(now)
-        if self.study is not None and self._showing(STUDY_FOLDER):
-            self.study.refresh()
-        drawing = self._picture
-        if self.trail is not None and drawing is not None and drawing.trail is not None:
-            self.trail.add(drawing.time, drawing.trail)
-        if self._showing(ISOLATE_FOLDER):
-            self.isolate.refresh(sim, frame.state)  # the instant the tables show
-        if isinstance(controller, Controller) and self._showing(ACCURACY_FOLDER):
-            self.accuracy.refresh(sim, controller.cost, now)  # a replay measures no cost
-        if self.arrows is not None:
+        values = None if frame.diverged else frame.readouts
+        if values is not None:
+            self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
+            if self.lesson is not None:
+                self.lesson.refresh(values)
+            drawing = self._picture
+            if self.trail is not None and drawing is not None and drawing.trail is not None:
+                self.trail.add(drawing.time, drawing.trail)
+        for folder in self.pickable:
+            if folder.refresh is None or not self._showing(folder.title):
+                continue
+            if values is not None or not folder.needs_readouts:
+                folder.refresh(frame)
+        if values is not None and self.arrows is not None:
             self.arrows.relabel(values)  # the instant the tables and the overlay show
 
     def notify(self, notice: Notice) -> None:
@@ -460,8 +420,23 @@ class WebView(Generic[D]):
         self._last_panel = -math.inf  # show the new state at once
 
 
+def _chooser(live: SessionState) -> Callable[[str, float], None]:
+    """« Précision et coût »'s choice of a precision: its setting applied to ``live``."""
+
+    def choose(integrator: str, timestep: float) -> None:
+        live.submit(Integrator(integrator))
+        live.submit(Timestep(timestep))
+
+    return choose
+
+
+def _cost(live: SessionState) -> Callable[[], float]:
+    """This session's CPU cost per simulated second, read when the folder refreshes."""
+    return lambda: live.cost
+
+
 def _lesson_column(
-    gui: viser.GuiApi, controller: Controller, lesson: str | None, arrows: ArrowLayer | None
+    gui: viser.GuiApi, controller: SessionState, lesson: str | None, arrows: ArrowLayer | None
 ) -> tuple[LessonPanel, bool]:
     """The lesson panel, in its own column docked left of the 3D view when the scene has
     lessons (minimised unless a lesson opens at once); else in the control panel.

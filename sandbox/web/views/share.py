@@ -34,7 +34,6 @@ from sandbox.scenes.base import as_scene
 from sandbox.web.client import viser_internals
 from sandbox.web.client.fields import on_user, param_label, set_value
 from sandbox.web.client.text import plain
-from sandbox.web.loop import Controller
 from sandbox.web.loop.requests import Command, Integrator, SetValue, Speed, Timestep
 from sandbox.web.page.link import (
     BUTTON,
@@ -51,7 +50,6 @@ from sandbox.web.panels.controls import (
     INTEGRATOR_LABEL,
     SPEED_LABEL,
     TIMESTEP_LABEL,
-    ControlPanel,
     advanced,
 )
 from sandbox.web.panels.display import FOLDER as DISPLAY_FOLDER
@@ -92,7 +90,7 @@ SETTING_KINDS: Mapping[str, Callable[[Any], Command]] = {
 def attach(
     server: viser.ViserServer,
     client: viser.ClientHandle,
-    view: WebView[Any],
+    view: WebView,
     *,
     lesson: str | None = None,
 ) -> SharePanel | None:
@@ -110,7 +108,7 @@ def attach(
     Returns:
         The folder, or None when the view is not a live session's.
     """
-    if not isinstance(view.controller, Controller) or not isinstance(view.controls, ControlPanel):
+    if view.live is None or view.control_panel is None:
         return None
     query, host, path = request_query(server, client.client_id)
     fragment, page = from_query(query)
@@ -141,11 +139,11 @@ class SharePanel:
     """
 
     def __init__(
-        self, gui: viser.GuiApi, view: WebView[Any], *, base: str, lesson: str | None = None
+        self, gui: viser.GuiApi, view: WebView, *, base: str, lesson: str | None = None
     ) -> None:
-        controller = view.controller
-        controls = view.controls
-        assert isinstance(controller, Controller) and isinstance(controls, ControlPanel)
+        controller, controls = view.live, view.control_panel
+        if controller is None or controls is None:
+            raise TypeError("« Partager » is for a live session's page")
         self.view = view
         self.controller = controller
         self.controls_panel = controls
@@ -348,7 +346,7 @@ class SharePanel:
         self.summary.content = self._summary()
 
 
-def _show_lesson(view: WebView[Any]) -> None:
+def _show_lesson(view: WebView) -> None:
     """Unfold the lesson's column (the view folds it when the page opens no lesson by
     itself) and step the camera back for the 3D view between two columns. viser gives no
     public way from a folder to its panel: a later viser may leave the column folded."""
@@ -366,7 +364,7 @@ def _show_lesson(view: WebView[Any]) -> None:
         )
 
 
-def _show_panel(view: WebView[Any], label: str) -> None:
+def _show_panel(view: WebView, label: str) -> None:
     """Choose ``label`` in "Panneau affiché" as the user would (the view applies it at its
     next frame)."""
     view.show_folder(label)
