@@ -2,7 +2,7 @@
 
 The web page's « Précision et coût » shows, for the integrator and timestep in force and
 for the scene's default, what ``sandbox bench`` measures on the scene's reference test
-(:class:`~sandbox.scenes.base.Accuracy`: its parameter values and duration, from the
+(:class:`~sandbox.physics.spec.Accuracy`: its parameter values and duration, from the
 start): the key quantity's relative error against the course's closed form, the drift of
 what the scene conserves, and the CPU cost of stepping. A setting the saved benchmark ran
 is read from it (the numbers of ``bench/results.md``); any other is measured once per
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from sandbox.bench import Run, SceneResult, run_one
 from sandbox.errors import SandboxError
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import Scene, as_scene
+from sandbox.physics.spec import Scene
 
 KEPT = 64
 """Settings measured and kept per process (a class tries a few timesteps each)."""
@@ -47,7 +47,7 @@ class Setting:
 def in_force(sim: ReadOnlySimulation) -> Setting:
     """The setting ``sim`` runs: its integrator, and the timestep the user chose or else
     the scene's default for the parameters (a transient shrink is the default's own)."""
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     if scene is None or sim.timestep_chosen:
         return Setting(sim.integrator, sim.timestep)
     return Setting(sim.integrator, scene.default_timestep(sim.values))
@@ -55,7 +55,7 @@ def in_force(sim: ReadOnlySimulation) -> Setting:
 
 def default(sim: ReadOnlySimulation) -> Setting | None:
     """The scene's default setting for ``sim``'s parameters (None: not a scene)."""
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     if scene is None:
         return None
     return Setting(scene.integrator, scene.default_timestep(sim.values))
@@ -72,10 +72,10 @@ def test_default(scene: Scene) -> Setting | None:
 
 def on_test(sim: ReadOnlySimulation, setting: Setting) -> Setting:
     """``setting`` as the reference test measures it: the same timestep, or where the
-    scene's default is an angle per step (:attr:`~sandbox.scenes.base.Accuracy.same_angle`)
+    scene's default is an angle per step (:attr:`~sandbox.physics.spec.Accuracy.same_angle`)
     the same angle per step at the test's speed (the page's default is then the test's
     default: the compressor's 500 µs at 3000 tr/min is 100 µs at 17,000)."""
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     acc = scene.accuracy if scene is not None else None
     if scene is None or acc is None or not acc.same_angle:
         return setting

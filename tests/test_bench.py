@@ -22,8 +22,8 @@ from sandbox.bench import (
     write_results,
 )
 from sandbox.cli import main
+from sandbox.physics.spec import Accuracy
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import Accuracy
 from sandbox.scenes.measures import energy_drift
 
 OSCILLATOR = """

@@ -1,6 +1,6 @@
 """What accuracy costs in time: work-precision grids, effects and overhead benchmarks.
 
-``sandbox bench`` runs, for every scene with an :class:`~sandbox.scenes.base.Accuracy`,
+``sandbox bench`` runs, for every scene with an :class:`~sandbox.physics.spec.Accuracy`,
 each integrator at timesteps spanning two decades around the scene's default, and
 measures the key quantity's error against the course, the invariant's drift, the
 constraint violation, and the CPU cost of stepping (readouts excluded). Timings are

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import Accuracy, Scene
+from sandbox.physics.spec import Accuracy, Scene
 
 MIN_CPU = 0.03
 """CPU seconds of stepping in one cost measurement, at least."""

@@ -12,9 +12,9 @@ import mujoco
 from sandbox.bench.grid import QUICK_DURATION, run_one
 from sandbox.bench.results import Run
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.spec import Scene
 from sandbox.physics.stepping import step_model
 from sandbox.runner import simulate
-from sandbox.scenes.base import Scene
 
 
 def everything_on(sim: Simulation) -> None:

@@ -16,8 +16,8 @@ from sandbox.bench.pareto import mark_pareto
 from sandbox.bench.results import Run, SceneResult
 from sandbox.physics.model import INTEGRATORS
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.spec import Accuracy, Scene
 from sandbox.runner import simulate
-from sandbox.scenes.base import Accuracy, Scene
 
 FACTORS = (0.1, 0.3, 1.0, 3.0, 10.0)
 """Timesteps of the grid, as multiples of the scene's default (two decades)."""

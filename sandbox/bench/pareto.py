@@ -8,7 +8,7 @@ import math
 from collections.abc import Sequence
 
 from sandbox.bench.results import Run
-from sandbox.scenes.base import Accuracy
+from sandbox.physics.spec import Accuracy
 
 ERROR_FLOOR = 1e-12
 """Errors below this are round-off: all equal when comparing runs."""

@@ -21,8 +21,8 @@ from sandbox.bench.cost import FRAME_RATE, GOAL, PANEL_RATE, SessionCost
 from sandbox.bench.pareto import mark_pareto
 from sandbox.bench.results import Run, SceneResult
 from sandbox.data import data_dir
+from sandbox.physics.spec import Accuracy
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import Accuracy
 
 SCHEMA = 1
 """Version of results.json (documented in docs/reference.md)."""

@@ -8,8 +8,8 @@ import json
 
 from sandbox.lessons import lessons
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.spec import Scene
 from sandbox.scenes import DEFAULT_SCENE, SCENES, resolve
-from sandbox.scenes.base import Scene
 
 
 def cmd_list() -> int:

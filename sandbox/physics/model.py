@@ -1,8 +1,9 @@
 """Build an MjModel from a scene spec or an MJCF file, with only the scene's effects on.
 
-Physics never imports the scenes: a scene spec reaches it as a :class:`SceneSpec` in a
-:class:`Source`, and scene *names* are resolved through the registry that
-:mod:`sandbox.scenes` passes down when it is imported (:func:`register_scenes`).
+Physics never imports the scenes: a scene's record (:class:`~sandbox.physics.spec.Scene`,
+a plain dataclass of physics) reaches it in a :class:`Source`, and scene *names* are
+resolved through the registry that :mod:`sandbox.scenes` passes down when it is imported
+(:func:`register_scenes`).
 """
 
 from __future__ import annotations
@@ -10,22 +11,22 @@ from __future__ import annotations
 import errno
 import os
 import stat
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
 
 import mujoco
 
 from sandbox.data import data_dir
 from sandbox.errors import BadModel, BadOption, UnknownScene, choices, one_line, shown
 from sandbox.french import shown_value
-from sandbox.physics.imposed import ANCHOR_SLOTS, Imposed
+from sandbox.physics.imposed import ANCHOR_SLOTS
 from sandbox.physics.limits import (
     check_spec,
     prescan,
     read_mjcf,
 )
+from sandbox.physics.spec import Scene
 
 INTEGRATORS: dict[str, int] = {
     "euler": int(mujoco.mjtIntegrator.mjINT_EULER),
@@ -73,54 +74,11 @@ def check_integrator(name: object) -> int:
     return INTEGRATORS[name]
 
 
-class SceneSpec(Protocol):
-    """What physics reads from a scene spec (:class:`sandbox.scenes.base.Scene` is one).
-
-    Callables take the parameter values by name (``Mapping[str, float]``)."""
-
-    @property
-    def name(self) -> str: ...
-    @property
-    def mjcf(self) -> str: ...  # file name under the scenes folder
-    @property
-    def effects(self) -> Any: ...  # every effect the scene may call for
-    def effects_at(self, values: Mapping[str, float] | None = None) -> Any: ...  # disable_flags()
-    @property
-    def integrator(self) -> str: ...
-    @property
-    def timestep(self) -> float: ...
-    @property
-    def max_timestep(self) -> float: ...
-    @property
-    def timestep_for(self) -> Callable[..., float] | None: ...
-    @property
-    def readouts(self) -> Sequence[Any]: ...  # name, unit, doc, fn(snapshot) -> float
-    @property
-    def edit(self) -> Callable[[mujoco.MjSpec, Mapping[str, float]], None] | None: ...
-    @property
-    def drive(self) -> Callable[..., None] | None: ...  # (model, data, values)
-    @property
-    def control(self) -> Callable[..., None] | None: ...  # (model, data, values), per step
-    @property
-    def initial_state(self) -> Callable[..., None] | None: ...  # (model, data, values)
-    @property
-    def reference(self) -> Callable[[Mapping[str, float]], dict[str, float]] | None: ...
-    @property
-    def mechanism(self) -> Callable[[Any, dict[str, float]], None] | None: ...  # (snap, out)
-    @property
-    def imposed(self) -> Imposed | None: ...  # the input motion the course imposes, if any
-    def defaults(self) -> dict[str, float]: ...
-    def param(self, name: object) -> Any: ...  # has check(value) -> float and live
-    def default_timestep(
-        self, values: Mapping[str, float] | None = None, data: Any = None
-    ) -> float: ...
-
-
-_SCENES: Mapping[str, SceneSpec] = {}
+_SCENES: Mapping[str, Scene] = {}
 """The registry :func:`resolve` looks names up in (empty until one is registered)."""
 
 
-def register_scenes(scenes: Mapping[str, SceneSpec]) -> None:
+def register_scenes(scenes: Mapping[str, Scene]) -> None:
     """Let :func:`resolve` (and ``Simulation(name)``) find scenes by name.
 
     :mod:`sandbox.scenes` passes its registry down when it is imported
@@ -138,11 +96,11 @@ def register_scenes(scenes: Mapping[str, SceneSpec]) -> None:
 class Source:
     """Where a model comes from: a registered scene or a user's MJCF file."""
 
-    scene: SceneSpec | None
+    scene: Scene | None
     path: Path
 
     @classmethod
-    def of_scene(cls, scene: SceneSpec) -> Source:
+    def of_scene(cls, scene: Scene) -> Source:
         """The source of a scene spec: its MJCF file in the scenes folder."""
         return cls(scene, data_dir("scenes") / scene.mjcf)
 
@@ -213,7 +171,7 @@ def model_xml(source: Source, values: Mapping[str, float]) -> str:
     return spec.to_xml()
 
 
-def _edit(spec: mujoco.MjSpec, scene: SceneSpec, values: Mapping[str, float]) -> None:
+def _edit(spec: mujoco.MjSpec, scene: Scene, values: Mapping[str, float]) -> None:
     """The scene's edits of its MJCF, and the ``userdata`` an imposed law's anchor takes
     (:mod:`sandbox.physics.imposed`: it travels with the state)."""
     if scene.edit is not None:

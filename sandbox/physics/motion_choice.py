@@ -23,14 +23,14 @@ from sandbox.french import shown_value
 from sandbox.mechanics.imposed import Anchor
 from sandbox.physics import readouts as generic
 from sandbox.physics.imposed import FREE, IMPOSED, MOTIONS, ImposedMotion
-from sandbox.physics.model import SceneSpec
+from sandbox.physics.spec import Scene
 
 
 class MotionChoice:
     """The imposed-or-free part of a simulation. What it uses of the simulation is
     declared below; :class:`~sandbox.physics.simulation.Simulation` provides it."""
 
-    scene: SceneSpec | None
+    scene: Scene | None
     values: dict[str, float]
     model: mujoco.MjModel
     data: mujoco.MjData

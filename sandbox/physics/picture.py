@@ -21,7 +21,7 @@ from sandbox.physics.snapshot import Snapshot
 
 
 class ArrowSource(Protocol):
-    """What a picture needs of an arrow (a scene's :class:`~sandbox.scenes.page.Arrow`):
+    """What a picture needs of an arrow (a scene's :class:`~sandbox.physics.page.Arrow`):
     its function of a snapshot and its scale [m per unit]."""
 
     @property

@@ -16,16 +16,16 @@ from typing import Any, Protocol
 
 import mujoco
 
-from sandbox.physics.model import SceneSpec
 from sandbox.physics.readouts import ReadoutInfo
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import Scene
 
 
 class ReadOnlySimulation(Protocol):
     """A simulation as something that only shows it sees it."""
 
     @property
-    def scene(self) -> SceneSpec | None:
+    def scene(self) -> Scene | None:
         """The scene's spec (None: a user's MJCF file)."""
 
     @property

@@ -1,4 +1,4 @@
-"""The course's scenes: the frozen :class:`~sandbox.scenes.base.Scene` specs and their registry.
+"""The course's scenes: the frozen :class:`~sandbox.physics.spec.Scene` specs and their registry.
 
 Importing it loads :mod:`sandbox.scenes.registry`, which passes the registry down to physics
 (:func:`sandbox.physics.model.register_scenes`), so that ``Simulation("rotor")`` and
@@ -8,8 +8,8 @@ Importing it loads :mod:`sandbox.scenes.registry`, which passes the registry dow
 from __future__ import annotations
 
 from sandbox.physics.model import Source, resolve
-from sandbox.scenes.base import Effects, Param, Scene, SceneReadout
-from sandbox.scenes.page import Arrow
+from sandbox.physics.page import Arrow
+from sandbox.physics.spec import Effects, Param, Scene, SceneReadout
 from sandbox.scenes.registry import DEFAULT_SCENE, SCENES, get_scene
 
 __all__ = [

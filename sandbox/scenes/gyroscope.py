@@ -19,11 +19,11 @@ import math
 import mujoco
 import numpy as np
 
+from sandbox.physics.page import Arrow, Components, Names, Page
+from sandbox.physics.presets import XYPreset
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import Accuracy, Effects, Param, Scene, SceneReadout, Series, Values
 from sandbox.physics.torsors import spatial_at_origin as _spatial_at_origin
-from sandbox.scenes.base import Accuracy, Effects, Param, Scene, SceneReadout, Series, Values
-from sandbox.scenes.page import Arrow, Components, Names, Page
-from sandbox.scenes.presets import XYPreset
 
 RPM = 2 * math.pi / 60
 MANOEUVRES = {

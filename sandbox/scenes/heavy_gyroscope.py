@@ -22,8 +22,10 @@ import numpy as np
 from sandbox.errors import BadParameter
 from sandbox.french import number
 from sandbox.mechanics.vectors import cross as _cross
+from sandbox.physics.page import Arrow, Components, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import (
+from sandbox.physics.spec import (
     Accuracy,
     Effects,
     Param,
@@ -34,8 +36,6 @@ from sandbox.scenes.base import (
     per_revolution_timestep,
 )
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.page import Arrow, Components, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 
 G = 9.81
 RPM = 2 * math.pi / 60

@@ -11,7 +11,7 @@ import mujoco
 
 from sandbox.mechanics.imposed import Anchor, Motion, set_speed
 from sandbox.physics.imposed import Imposed
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 
 RPM = 2.0 * math.pi / 60.0
 

@@ -1,4 +1,4 @@
-"""Measures a scene's :class:`~sandbox.scenes.base.Accuracy` can use in ``sandbox bench``.
+"""Measures a scene's :class:`~sandbox.physics.spec.Accuracy` can use in ``sandbox bench``.
 
 Each returns a function of the sampled readouts (name -> array over time) and the
 parameter values, so a scene states *what* it compares in one line.
@@ -10,7 +10,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from sandbox.scenes.base import Series, Values
+from sandbox.physics.spec import Series, Values
 
 Measure = Callable[[Series, Values], float]
 

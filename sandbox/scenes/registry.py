@@ -1,4 +1,4 @@
-"""Registry of the course's scenes (frozen :class:`~sandbox.scenes.base.Scene` specs).
+"""Registry of the course's scenes (frozen :class:`~sandbox.physics.spec.Scene` specs).
 
 Importing it passes the registry down to physics (:func:`sandbox.physics.model.register_scenes`),
 so that ``Simulation("rotor")`` and :func:`~sandbox.physics.model.resolve` know the scene
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from sandbox.errors import UnknownScene, choices
 from sandbox.physics.model import register_scenes
-from sandbox.scenes.base import Scene
+from sandbox.physics.spec import Scene
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.engine import SCENE as ENGINE
 from sandbox.scenes.gyroscope import SCENE as GYROSCOPE

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from sandbox.scenes.base import Accuracy, Values
+from sandbox.physics.spec import Accuracy, Values
 from sandbox.scenes.measures import largest, residual_over_peak
 
 FITTED_ORDERS = 12

@@ -12,7 +12,6 @@ from typing import IO, Any
 from sandbox.bench.plot import LOCK, comma_formatter, new_figure
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import display_unit
-from sandbox.scenes.base import as_scene
 from sandbox.sweep.study import Study
 
 STAT_WORDS = {
@@ -38,7 +37,7 @@ def plot(out: Path | IO[bytes], study: Study, rows: Sequence[Mapping[str, Any]])
     parameter (one curve per value of the second), dots for the runs, the course's
     closed form dashed through them where the scene has one; decimal commas."""
     sim = Simulation(study.target, values=dict(study.fixed))
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     params = {p.name: p for p in (scene.params if scene is not None else ())}
     infos = {i.name: i for i in sim.readout_infos()}
     first = study.varies[0].name

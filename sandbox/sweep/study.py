@@ -15,7 +15,6 @@ import numpy as np
 from sandbox.errors import BadOption, shown
 from sandbox.physics.simulation import Simulation
 from sandbox.runner import MAX_STEPS, check_run
-from sandbox.scenes.base import as_scene
 from sandbox.sweep.reduction import STATISTICS
 
 MAX_RUNS = 1000
@@ -192,7 +191,7 @@ def bench_study(target: str, runs: int = 50, duration: float = 2.0) -> Study:
     scene's first parameter, from its lowest to its highest value, measuring the maximum
     of its first readout."""
     sim = Simulation(target)
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     if scene is None or not scene.params or not scene.readouts:
         raise BadOption(f"{shown(target)} has no parameter or readout of its own to study")
     p = scene.params[0]

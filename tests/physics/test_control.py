@@ -1,4 +1,4 @@
-"""A scene's per-step control (``SceneSpec.control``): called before every ``mj_step`` for
+"""A scene's per-step control (``Scene.control``): called before every ``mj_step`` for
 the scenes that define one, never for the others (one batched ``mj_step`` call).
 
 The model is a driven oscillator (inline MJCF): a mass m on a spring k and a damper c,
@@ -53,7 +53,7 @@ def push(model: mujoco.MjModel, data: mujoco.MjData, values: Mapping[str, float]
 
 @dataclass(frozen=True)
 class _Spec:
-    """The smallest scene spec physics accepts (see ``SceneSpec``)."""
+    """The smallest scene spec physics accepts (see ``Scene``)."""
 
     control: Callable[..., None] | None = None
     name: str = "driven"

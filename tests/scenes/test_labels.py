@@ -14,12 +14,12 @@ from collections.abc import Iterator
 
 import pytest
 
+from sandbox.physics.page import Arrow
 from sandbox.physics.readouts import GENERIC_READOUTS
 from sandbox.physics.simulation import Simulation
+from sandbox.physics.spec import Param, Scene
 from sandbox.physics.units import DISPLAY_UNITS, display_unit
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import Param, Scene
-from sandbox.scenes.page import Arrow
 
 ENGLISH = {
     "and", "angular", "axis", "bearing", "closure", "counterweight", "crank", "drift",

@@ -12,7 +12,6 @@ from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import GAP, number
 from sandbox.web.panels.accuracy import AccuracyPanel, chart_image, load_results
 
@@ -184,7 +183,7 @@ def test_every_scenes_default_is_admissible_on_its_own_test(name):
     measures it, admissible (drift and closure within the limits) and within 0,5 % of the
     course; measured here when the saved benchmark did not run it."""
     sim = Simulation(name)
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     if scene is None or scene.accuracy is None:
         pytest.skip("no reference test")
     res = load_results(name)

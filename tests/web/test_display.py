@@ -13,7 +13,6 @@ from sandbox.errors import BadModel, BadOption, BadParameter, Diverged, UnknownP
 from sandbox.physics.display import angle_between, main_joint
 from sandbox.physics.picture import picture
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.loop import (
     SPEEDS,
     Controller,
@@ -194,7 +193,7 @@ def test_slow_motion_down_to_one_hundredth():
 def test_refusals_name_parameters_in_french_words(monkeypatch):
     """A value is checked once, by its parameter: the refusal speaks English to the
     command line and French (its label, decimal comma, the page's unit) to the page."""
-    scene = as_scene(Simulation("rotor").scene)
+    scene = Simulation("rotor").scene
     assert scene is not None
     labelled = dataclasses.replace(
         scene,

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from sandbox.physics.model import integrator_words
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 from sandbox.web.client.fields import (
     GRACE,
     Mirror,

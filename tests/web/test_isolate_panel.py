@@ -10,7 +10,6 @@ import pytest
 
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import GAP
 from sandbox.web.panels.isolate import isolate_markdown
 
@@ -19,7 +18,7 @@ def test_every_number_sits_in_its_own_column():
     """Issue 14: "73,23-72,95" ran together in the narrow panel."""
     sim = Simulation("compressor")
     sim.advance(0.05)
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     assert scene is not None
     given = scene.page.names.solids
     assert isinstance(given, dict)
@@ -62,7 +61,7 @@ def test_b1_at_o_and_a_gap_of_round_off_that_reads_0():
     for scene_name in ("rotor", "engine"):
         sim = Simulation(scene_name)
         sim.advance(0.05)
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         assert scene is not None
         sim.snapshot(("sup_R_x", "dyn_R_x"))
         for body in isolate.solids(sim.model):
@@ -84,7 +83,7 @@ def test_a_component_six_decades_under_the_largest_reads_0():
 
     sim = Simulation("heavy_gyroscope")
     sim.advance(1.0)
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     assert scene is not None
     sim.snapshot(("sup_R_x", "dyn_R_x"))
     body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")

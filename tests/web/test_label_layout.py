@@ -17,7 +17,6 @@ import pytest
 from conftest import free_port, wait_for
 
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.loop.requests import Pause, Reset
 from sandbox.web.view3d import label_layout
 from sandbox.web.view3d.arrows import ArrowLayer, read_camera
@@ -139,7 +138,7 @@ class Recorder:
 
 def _layer(scene, name: str = "compressor") -> tuple[Simulation, ArrowLayer]:
     sim = Simulation(name)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     assert spec is not None
     return sim, ArrowLayer(scene, spec.page.arrows, extent=1.0, zero=spec.zero)
 
@@ -157,7 +156,7 @@ def test_labels_write_the_instant_the_overlay_shows_and_send_nothing_between():
     scene = Recorder()
     sim, layer = _layer(scene)
     layer.watch(CAMERA)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     assert spec is not None
     units = {i.name: i.unit for i in sim.readout_infos()}
     sim.advance(0.05)

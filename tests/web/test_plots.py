@@ -104,11 +104,10 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
     import numpy as np
 
     from sandbox.physics.simulation import Simulation
-    from sandbox.scenes.base import as_scene
     from sandbox.web.panels.plots import component_plot
 
     sim = Simulation("rotor")
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     plot = component_plot(scene)
     assert plot is not None and plot.spec.basis == "B1"
     assert [label.split(", ")[-1] for label in plot.labels] == ["y₁", "z₁", "y₁", "z₁"]
@@ -136,12 +135,11 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
 
 def test_scenes_without_component_plot():
     from sandbox.physics.simulation import Simulation
-    from sandbox.scenes.base import as_scene
     from sandbox.web.panels.plots import component_plot
 
     assert component_plot(None) is None
-    assert component_plot(as_scene(Simulation("rolling_cylinder").scene)) is None
-    gyro = component_plot(as_scene(Simulation("gyroscope").scene))
+    assert component_plot(Simulation("rolling_cylinder").scene) is None
+    gyro = component_plot(Simulation("gyroscope").scene)
     assert gyro is not None and gyro.spec.basis == "B0" and len(gyro.names) == 3
 
 

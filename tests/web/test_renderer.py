@@ -219,14 +219,13 @@ class HandleScene:
 def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     from sandbox.physics.simulation import Simulation
     from sandbox.physics.units import shown_scale
-    from sandbox.scenes.base import as_scene
     from sandbox.web.view3d.arrow_scale import MAX_REACH, MIN_REACH, SHAFT
     from sandbox.web.view3d.arrows import ArrowLayer
     from sandbox.web.view3d.geoms import mechanism_size
 
     sim = Simulation(scene, values=values)
     sim.advance(0.05)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     assert spec is not None and spec.page.arrows
     fake = HandleScene()
     layer = ArrowLayer(fake, spec.page.arrows, extent=float(sim.model.stat.extent))
@@ -260,11 +259,10 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
 
 def test_the_user_scale_multiplies_the_lengths():
     from sandbox.physics.simulation import Simulation
-    from sandbox.scenes.base import as_scene
     from sandbox.web.view3d.arrows import ArrowLayer
 
     sim = Simulation("rotor")
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     assert spec is not None
     layer = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0)
     snap = sim.snapshot(("sup_R_x",))
@@ -281,12 +279,11 @@ def test_a_round_off_force_draws_no_arrow():
     """The inline four's rocking moment is 0 to 4e-15 N·m: without the scene's round-off
     the automatic scale blew it up into a violet arrow as long as the force's."""
     from sandbox.physics.simulation import Simulation
-    from sandbox.scenes.base import as_scene
     from sandbox.web.view3d.arrows import ArrowLayer
 
     sim = Simulation("engine", values={"cylinders": 4.0}, motion="free")  # imposed: exactly 0
     sim.advance(0.05)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     assert spec is not None
     names = [a.name for a in spec.page.arrows]
     layer = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0, zero=spec.zero)

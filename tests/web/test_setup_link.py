@@ -17,7 +17,6 @@ from conftest import free_port, serve_workers, wait_for
 from sandbox.bench import classroom
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import as_scene
 from sandbox.web.page import link as client_link
 from sandbox.web.page.link import BUTTON, LINK_LABEL, SHARE_FOLDER
 from sandbox.web.panels import setup_link
@@ -171,7 +170,7 @@ def test_a_file_without_parameters_says_so(pendulum_xml):
 
 def test_no_scene_parameter_takes_a_reserved_name():
     for name, scene in SCENES.items():
-        spec = as_scene(scene)
+        spec = scene
         assert spec is not None
         assert not {p.name for p in spec.params} & set(RESERVED), name
 

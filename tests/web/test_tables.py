@@ -112,11 +112,10 @@ def _visible(markdown: str) -> str:
 def test_scene_table_speaks_french_with_a_decimal_comma(scene):
     """Labels (or names while a scene has none), French units, decimal comma, no
     raw HTML cut by a ``|`` (the rolling cylinder's ``|Tt| / N`` tooltip did)."""
-    from sandbox.scenes.base import as_scene
 
     sim = Simulation(scene)
     sim.advance(0.05)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     rows = [
         tables.Row(r.name, r.unit, r.doc, r.label, r.hint, spec.zero_for(r.unit))
         for r in spec.readouts

@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
+from sandbox.physics.presets import TIME
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import RAD_S_TO_RPM
 from sandbox.scenes import SCENES
-from sandbox.scenes.presets import TIME
 from sandbox.sweep import STATISTICS
 from sandbox.web.loop import Controller
 from sandbox.web.loop.probe import RATE, Probe

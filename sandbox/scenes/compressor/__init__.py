@@ -20,7 +20,9 @@ orders), :mod:`.readouts` (readouts and arrows).
 
 from __future__ import annotations
 
-from sandbox.scenes.base import Effects, Scene
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import Effects, Scene
 from sandbox.scenes.compressor.course import (
     HARMONIC_SAMPLES,
     Kinematics,
@@ -52,8 +54,6 @@ from sandbox.scenes.compressor.model import (
 )
 from sandbox.scenes.compressor.params import DEFAULTS, PARAMS, RPM
 from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, READOUTS
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY, FITTED_ORDERS, fit_orders
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.compressor.params import RPM
 from sandbox.scenes.slider_crank import fit_orders
 

@@ -13,7 +13,7 @@ from sandbox.errors import BadParameter
 from sandbox.french import number
 from sandbox.mechanics.imposed import Motion
 from sandbox.physics.imposed import Imposed
-from sandbox.scenes.base import Values, per_revolution_timestep
+from sandbox.physics.spec import Values, per_revolution_timestep
 from sandbox.scenes.compressor.course import kinematics, loop
 from sandbox.scenes.compressor.params import DEFAULTS, RPM
 from sandbox.scenes.imposed import held_speed

@@ -9,12 +9,12 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import joint_drive
-from sandbox.scenes.base import SceneReadout
 from sandbox.scenes.compressor.course import frame_force, motor_torque
 from sandbox.scenes.compressor.cycle import pilon_harmonics
-from sandbox.scenes.page import Arrow
 
 
 def _force(s: Snapshot) -> np.ndarray:

@@ -52,7 +52,9 @@ orders), :mod:`.readouts` (readouts and arrows).
 
 from __future__ import annotations
 
-from sandbox.scenes.base import Effects, Scene
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import Effects, Scene
 from sandbox.scenes.engine.course import (
     counterweight_mass,
     cylinder_count,
@@ -76,8 +78,6 @@ from sandbox.scenes.engine.model import (
 )
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS, PARAMS
 from sandbox.scenes.engine.readouts import ARROWS, FORCE_SCALE, MOMENT_SCALE, READOUTS
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY
 

@@ -15,7 +15,7 @@ from sandbox.mechanics.engine import (
     pilon_orders,
     shaking_moment_amplitude,
 )
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.compressor import course as compressor
 from sandbox.scenes.compressor.params import RPM
 

@@ -15,7 +15,7 @@ from sandbox.french import number
 from sandbox.mechanics.engine import THROWS_DEG, lanchester_unbalance
 from sandbox.mechanics.imposed import Motion
 from sandbox.physics.imposed import Imposed
-from sandbox.scenes.base import Values, per_revolution_timestep
+from sandbox.physics.spec import Values, per_revolution_timestep
 from sandbox.scenes.compressor import model as compressor
 from sandbox.scenes.compressor.course import kinematics, loop
 from sandbox.scenes.compressor.params import RPM

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 
 MAX_CYLINDERS = 4
 

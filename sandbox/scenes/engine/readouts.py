@@ -9,13 +9,13 @@ import math
 import numpy as np
 
 from sandbox.mechanics.engine import Engine, shaking_force, shaking_moment
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import joint_drive
-from sandbox.scenes.base import SceneReadout
 from sandbox.scenes.engine.course import cylinder_count, engine_of
 from sandbox.scenes.engine.cycle import orders
 from sandbox.scenes.engine.params import MAX_CYLINDERS
-from sandbox.scenes.page import Arrow
 
 
 def _theta_c(s: Snapshot) -> float:

@@ -28,7 +28,7 @@ from sandbox.mechanics.inertia import (
     sphere,
     torque_free_period,
 )
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.inertia.params import (
     BLOCK,
     CRANKSHAFT,

@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics.inertia import principal_axes
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.inertia.course import frame_offset, parts
 from sandbox.scenes.inertia.params import LAUNCH, RPM, TUBE_SIDES, choice_index
 

@@ -3,14 +3,14 @@ the launch of the torque-free spin.
 
 The solids are the square-based block of 5.4, the shapes of 5.6, the rod and the
 three-cylinder crankshaft of 5.7; the table :data:`PARAMS` is what the page and the CLI
-offer, one :class:`~sandbox.scenes.base.Param` per parameter.
+offer, one :class:`~sandbox.physics.spec.Param` per parameter.
 """
 
 from __future__ import annotations
 
 import math
 
-from sandbox.scenes.base import Param, Values
+from sandbox.physics.spec import Param, Values
 
 RPM = 2 * math.pi / 60
 SOLIDS = (

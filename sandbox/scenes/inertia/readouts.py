@@ -10,12 +10,12 @@ import math
 import numpy as np
 
 from sandbox.mechanics.inertia import coefficients
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import SceneReadout
+from sandbox.physics.spec import SceneReadout
 from sandbox.scenes.inertia.course import basis, course_inertia, huygens_terms, matrix_at
 from sandbox.scenes.inertia.model import simulated
 from sandbox.scenes.inertia.params import choice_index
-from sandbox.scenes.page import Arrow
 
 
 def _matrix(s: Snapshot) -> np.ndarray:

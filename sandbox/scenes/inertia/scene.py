@@ -9,7 +9,9 @@ import math
 import mujoco
 import numpy as np
 
-from sandbox.scenes.base import (
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import (
     Accuracy,
     Effects,
     Scene,
@@ -22,8 +24,6 @@ from sandbox.scenes.inertia.model import drive, edit, initial_state
 from sandbox.scenes.inertia.params import PARAMS, RPM
 from sandbox.scenes.inertia.readouts import ARROWS, AXIS_READOUTS, READOUTS
 from sandbox.scenes.measures import relative_drift
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 
 
 def flip_times(time: np.ndarray, angle: np.ndarray) -> np.ndarray:

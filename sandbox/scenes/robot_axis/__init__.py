@@ -39,9 +39,9 @@ from __future__ import annotations
 import numpy as np
 
 from sandbox.mechanics.robot_axis import step_response
-from sandbox.scenes.base import Accuracy, Effects, Scene, Series, Values
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import Accuracy, Effects, Scene, Series, Values
 from sandbox.scenes.robot_axis.course import (
     axis_of,
     default_timestep,

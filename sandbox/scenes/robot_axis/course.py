@@ -10,7 +10,7 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics.robot_axis import RobotAxis, equivalent_inertia, state_matrices
-from sandbox.scenes.base import Effects, Values, per_revolution_timestep
+from sandbox.physics.spec import Effects, Values, per_revolution_timestep
 from sandbox.scenes.robot_axis.params import (
     BACK_AND_FORTH,
     DEFAULTS,

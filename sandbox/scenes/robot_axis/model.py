@@ -12,7 +12,7 @@ import mujoco
 from sandbox.mechanics.imposed import Anchor, Motion, follow
 from sandbox.mechanics.robot_axis import back_and_forth, back_and_forth_motion
 from sandbox.physics.imposed import Imposed
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.imposed import one_joint
 from sandbox.scenes.robot_axis.course import axis_of, flexible, profile, servo_gain
 from sandbox.scenes.robot_axis.params import (

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 
 RPM = 2 * math.pi / 60
 SERVO_TIME = 0.01

@@ -11,9 +11,9 @@ import math
 import numpy as np
 
 from sandbox.mechanics.robot_axis import equivalent_inertia, free_axis_frequency, motor_torque
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import SceneReadout
-from sandbox.scenes.page import Arrow
+from sandbox.physics.spec import SceneReadout
 from sandbox.scenes.robot_axis.course import axis_of, flexible
 
 

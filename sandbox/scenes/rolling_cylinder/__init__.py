@@ -52,10 +52,10 @@ import math
 
 import numpy as np
 
-from sandbox.scenes.base import Accuracy, Effects, Scene
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import Accuracy, Effects, Scene
 from sandbox.scenes.measures import energy_drift
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rolling_cylinder.course import (
     G,
     acceleration,

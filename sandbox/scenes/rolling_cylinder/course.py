@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 
 G = 9.81
 

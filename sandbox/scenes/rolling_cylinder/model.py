@@ -11,7 +11,7 @@ import numpy as np
 
 from sandbox.errors import BadParameter
 from sandbox.french import number
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.rolling_cylinder.course import axis_inertia
 
 

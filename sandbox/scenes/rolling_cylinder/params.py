@@ -4,7 +4,7 @@ eccentric mass and the start (initial speed, race)."""
 
 from __future__ import annotations
 
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 
 CYLINDER, PLANE, ECCENTRIC, START = "Cylindre", "Plan incliné", "Masse excentrée", "Lancement"
 PARAMS = (

@@ -12,9 +12,9 @@ import numpy as np
 
 from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.kinematics import Kinematics
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import SceneReadout, Values
-from sandbox.scenes.page import Arrow
+from sandbox.physics.spec import SceneReadout, Values
 from sandbox.scenes.rolling_cylinder.course import (
     acceleration,
     eccentric_acceleration,

@@ -13,11 +13,11 @@ Modules: :mod:`.params` (the parameter table and the geometry), :mod:`.course`
 
 from __future__ import annotations
 
-from sandbox.scenes.base import Accuracy, Effects, Scene
+from sandbox.physics.page import Components, Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
+from sandbox.physics.spec import Accuracy, Effects, Scene
 from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.page import Components, Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.rotor.course import (
     balancing_solution,
     bearing_split,

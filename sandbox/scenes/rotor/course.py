@@ -11,7 +11,7 @@ import numpy as np
 
 from sandbox.mechanics import MassProperties, coefficients, combine, cylinder, sphere
 from sandbox.mechanics.vectors import cross as _cross
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.rotor.params import (
     AXIS,
     BEARING_X,

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from sandbox.mechanics.unbalance import PointMass, Unbalance
-from sandbox.scenes.page import UnbalanceDiagram
+from sandbox.physics.page import UnbalanceDiagram
 from sandbox.scenes.rotor.course import unbalance
 from sandbox.scenes.rotor.params import CORRECTION_RADIUS, PLANE_X
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.rotor.course import disk_axis, mass_points, omega
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 
 # Geometry (metres, kg/m³), shared by the model edits and the closed-form reference.
 STEEL = 7800.0

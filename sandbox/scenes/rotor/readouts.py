@@ -10,9 +10,9 @@ import math
 import numpy as np
 
 from sandbox.mechanics import coefficients, huygens
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import SceneReadout
-from sandbox.scenes.page import Arrow
+from sandbox.physics.spec import SceneReadout
 from sandbox.scenes.rotor.course import bearing_split, reference
 from sandbox.scenes.rotor.params import AXIS, BEARING_X
 

@@ -18,7 +18,7 @@ from sandbox.mechanics.two_planes import (
     correction,
     synchronous_whirl,
 )
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.wheel_balancer.geometry import (
     mass_points,
     springs,

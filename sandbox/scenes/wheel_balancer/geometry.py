@@ -11,7 +11,7 @@ import mujoco
 import numpy as np
 
 from sandbox.mechanics import hollow_cylinder
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.wheel_balancer.params import (
     CLIP_RADIUS,
     DAMPER,

@@ -8,7 +8,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from sandbox.scenes.base import Values
+from sandbox.physics.spec import Values
 from sandbox.scenes.wheel_balancer.course import steady_whirl
 from sandbox.scenes.wheel_balancer.geometry import (
     mass_points,

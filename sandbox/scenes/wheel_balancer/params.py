@@ -10,7 +10,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from sandbox.scenes.base import Effects, Param, Values
+from sandbox.physics.spec import Effects, Param, Values
 
 RPM = 2.0 * math.pi / 60.0
 AXIS = np.array([1.0, 0.0, 0.0])

@@ -13,10 +13,10 @@ import numpy as np
 
 from sandbox.mechanics.two_planes import clips_from_bearings, split_across_axis, to_complex
 from sandbox.mechanics.vectors import cross
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import dynamic_torsor
-from sandbox.scenes.base import SceneReadout
-from sandbox.scenes.page import Arrow
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, X_A, X_B, X_INNER, X_OUTER, soft
 
 WHEEL_BODIES = ("wheel", "rim", "tyre")

@@ -9,12 +9,12 @@ import numpy as np
 
 from sandbox.mechanics.two_planes import clip_unbalance, influence_correction
 from sandbox.physics.model import Source
+from sandbox.physics.page import Names, Page
+from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import Accuracy, Effects, Scene, Values, per_revolution_timestep
+from sandbox.physics.spec import Accuracy, Effects, Scene, Values, per_revolution_timestep
 from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
-from sandbox.scenes.page import Names, Page
-from sandbox.scenes.presets import StudyPreset, XYPreset
 from sandbox.scenes.wheel_balancer.course import machine_solution, reference, supports_model
 from sandbox.scenes.wheel_balancer.model import drive, edit, initial_state
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, PARAMS, effects, omega, soft

@@ -21,7 +21,7 @@ from typing import Any
 import viser
 
 from sandbox.physics.model import INTEGRATOR_WORDS
-from sandbox.scenes.base import Param
+from sandbox.physics.spec import Param
 from sandbox.web.client.text import number
 
 GRACE = 0.4

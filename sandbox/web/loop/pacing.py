@@ -18,7 +18,6 @@ from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.display import DisplayState
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import as_scene
 from sandbox.web.loop.frame import FPS, Notice
 from sandbox.web.loop.probe import Probe
 from sandbox.web.loop.refusals import Refused, divergence_message, french_message
@@ -84,7 +83,7 @@ class Pacing:
         self.step_count = 0.0  # timesteps run, decayed alike
         self.step_cpu_total = 0.0  # CPU seconds spent stepping so far (never decayed)
         self.requests: queue.Queue[Command] = queue.Queue()
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.playing = not (scene is not None and scene.page.start_paused)
         self.speed = 1.0
         self.diverged: str | None = None
@@ -200,10 +199,10 @@ class Pacing:
         return []
 
     def _restart_if_ended(self, now: float) -> None:
-        """A scene whose run ends (:attr:`~sandbox.scenes.base.Scene.run_ended`) starts
+        """A scene whose run ends (:attr:`~sandbox.physics.spec.Scene.run_ended`) starts
         again :data:`RESTART_AFTER` s of wall time after the end (a reset request, applied
         by this frame's drain)."""
-        scene = as_scene(self.sim.scene)
+        scene = self.sim.scene
         ended = scene.run_ended if scene is not None else None
         if ended is None or not ended(self.sim.model, self.sim.data, self.sim.values):
             self._ended_at = None

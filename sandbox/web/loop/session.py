@@ -15,7 +15,6 @@ from collections.abc import Callable, Mapping
 from sandbox.errors import SandboxError
 from sandbox.physics.picture import Picture, picture
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import as_scene
 from sandbox.web.loop.frame import FPS, Frame, Notice, Source, View
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
@@ -212,7 +211,7 @@ class Session:
         secret: Secret | None = ctl.secret  # a replay has none
         key = (id(sim.model), drawn_at, generation)
         if draws and not ctl.diverged and key != self._pictured:
-            scene = as_scene(sim.scene)
+            scene = sim.scene
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None
             with sim.lock:

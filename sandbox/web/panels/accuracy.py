@@ -20,8 +20,8 @@ from sandbox.bench import Run, SceneResult, load_results
 from sandbox.bench.plot import decimal, draw, drift_words, duration, integrator_words
 from sandbox.cores import default_workers
 from sandbox.physics.readonly import ReadOnlySimulation
+from sandbox.physics.spec import Scene
 from sandbox.physics.units import display_unit
-from sandbox.scenes.base import Scene, as_scene
 from sandbox.web.client import charts
 from sandbox.web.client.text import html_text, number, table_row, with_unit
 from sandbox.web.panels.folder import Folder
@@ -227,7 +227,7 @@ class AccuracyPanel:
     ) -> None:
         self.sim = sim
         self.cost = cost
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.scene = scene if scene is not None and scene.accuracy is not None else None
         self.results = load_results(scene.name) if scene is not None else None
         self._since: tuple[Setting, float] | None = None

@@ -20,7 +20,7 @@ from typing import Protocol
 import viser
 
 from sandbox.challenges import BALANCED, Attempt, Challenge
-from sandbox.scenes.base import Param, as_scene
+from sandbox.physics.spec import Param
 from sandbox.web.client.fields import param_unit
 from sandbox.web.client.text import html_text, number, with_unit
 from sandbox.web.loop.requests import Challenge as StartOrEnd
@@ -90,7 +90,7 @@ class ChallengePanel:
         self.controller = controller
         self.page = page
         self.clock = clock
-        scene = as_scene(controller.sim.scene)
+        scene = controller.sim.scene
         self.params = {p.name: p for p in (scene.params if scene is not None else ())}
         self.attempt: Attempt | None = None
         self.ended = False

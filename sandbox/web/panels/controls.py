@@ -16,7 +16,7 @@ from sandbox.physics.imposed import IMPOSED, MOTION_WORDS
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.model import INTEGRATORS, integrator_words
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import Param, as_scene, file_hypotheses
+from sandbox.physics.spec import Param, file_hypotheses
 from sandbox.web.client.fields import (
     Mirror,
     advanced,
@@ -120,7 +120,7 @@ closed by the closure equations themselves)."""
 
 
 def parameter_hypotheses(params: Sequence[Param], values: Mapping[str, float]) -> list[str]:
-    """The hypotheses the parameters set (:attr:`~sandbox.scenes.base.Param.hypothesis`),
+    """The hypotheses the parameters set (:attr:`~sandbox.physics.spec.Param.hypothesis`),
     their values written as the page writes them; one whose value is 0 sets none."""
     lines = []
     for p in params:
@@ -132,7 +132,7 @@ def parameter_hypotheses(params: Sequence[Param], values: Mapping[str, float]) -
 
 def hypotheses(sim: ReadOnlySimulation) -> tuple[str, ...]:
     """Modelling hypotheses: the scene's effects, or what a user's file switches on."""
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     if scene is not None:
         effects = scene.effects_at(sim.values).hypotheses()
         if sim.motion == IMPOSED:
@@ -179,7 +179,7 @@ class ControlPanel:
         self.controller = controller
         self._refusals = 0
         sim = controller.sim
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         submit = controller.submit
         with gui.add_folder("Alerte", visible=False) as self.alert:
             self.alert_text = gui.add_markdown("")

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.panels.folder import Folder
 
 if TYPE_CHECKING:
@@ -44,7 +43,7 @@ class CyclePanel:
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         self.sim = sim
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.fn = scene.cycle if scene is not None else None
         self.charts: list[tuple[tuple[str, ...], viser.GuiUplotHandle]] = []
         self._shown: object = None

@@ -18,7 +18,6 @@ import numpy as np
 
 from sandbox.physics.display import main_joint
 from sandbox.physics.picture import Picture
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import number
 from sandbox.web.loop import SPEEDS
 from sandbox.web.loop.requests import Advance, Speed
@@ -149,7 +148,7 @@ class DisplayPanel:
         self.point = point
         sim = controller.sim
         model = sim.model
-        spec = as_scene(sim.scene)
+        spec = sim.scene
         self.words: Mapping[str, str] = spec.page.names.markers if spec is not None else {}
         self.size = mechanism_size(model, sim.data)
         # A registered scene says whether its motion leaves the view; any file's free

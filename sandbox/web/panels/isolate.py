@@ -12,7 +12,6 @@ import viser
 from sandbox.physics import isolate
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import MAX_SHOWN, plain, table_row
 from sandbox.web.panels.controls import set_value
 from sandbox.web.panels.folder import Folder
@@ -32,7 +31,7 @@ class IsolatePanel:
 
     def __init__(self, gui: viser.GuiApi, sim: ReadOnlySimulation) -> None:
         self.sim = sim
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.names = names = dict(scene.page.names.solids) if scene else {}
         self.zero: Mapping[str, float] = dict(scene.zero) if scene is not None else {}
         self.choices: dict[str, str] = {}

@@ -27,7 +27,6 @@ from typing import Protocol
 import viser
 
 from sandbox.lessons import Lesson, Progress, catalogue
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row
 from sandbox.web.loop.requests import SetValue
 from sandbox.web.loop.state import SessionState
@@ -249,7 +248,7 @@ class LessonPanel:
         self.plots = []
         with self.folder:
             if step.plots:
-                scene = as_scene(self.controller.sim.scene)
+                scene = self.controller.sim.scene
                 arrows = scene.page.arrows if scene is not None else ()
                 colours = {a.name: a.color for a in arrows}  # a curve has its arrow's colour
                 words = {n: self.words.label(n) for n in step.plots}

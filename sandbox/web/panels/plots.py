@@ -12,10 +12,10 @@ import viser
 from numpy.typing import ArrayLike
 from viser import uplot
 
+from sandbox.physics.page import Arrow, Components
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import Scene
 from sandbox.physics.units import display_unit, shown_scale
-from sandbox.scenes.base import Scene
-from sandbox.scenes.page import Arrow, Components
 
 PALETTE = ((40, 110, 230), (230, 80, 40), (40, 160, 80), (150, 60, 200), (200, 160, 20))
 """Line colours when a readout has no arrow colour of its own."""

@@ -8,7 +8,7 @@ the resultant from the centre: the rotor is balanced dynamically when both chain
 at the centre, and then the bearings carry no rotating force.
 
 The vectors come from the scene, which declares its diagram
-(:class:`~sandbox.scenes.base.UnbalanceDiagram`: the rotor's comes from its defect, disk and
+(:class:`~sandbox.physics.spec.UnbalanceDiagram`: the rotor's comes from its defect, disk and
 planes, :mod:`sandbox.scenes.rotor.diagram`); the panel redraws only when a parameter the
 diagram depends on changes.
 """
@@ -23,9 +23,8 @@ import numpy as np
 import viser
 
 from sandbox.mechanics.unbalance import Unbalance, polar
+from sandbox.physics.page import UnbalanceDiagram
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import as_scene
-from sandbox.scenes.page import UnbalanceDiagram
 from sandbox.web.client.text import html_text, number
 from sandbox.web.panels.folder import Folder
 
@@ -212,7 +211,7 @@ class PolarPanel:
     def create(cls, gui: viser.GuiApi, sim: ReadOnlySimulation) -> PolarPanel | None:
         """The panel when ``sim`` is of a scene that declares an unbalance diagram (the
         rotor), else None."""
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         diagram = scene.page.unbalance_diagram if scene is not None else None
         if diagram is None:
             return None

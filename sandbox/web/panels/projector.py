@@ -15,7 +15,6 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.fields import on_user, set_value
 from sandbox.web.client.text import html_text
 from sandbox.web.panels.folder import Folder
@@ -79,7 +78,7 @@ def key_readouts(sim: ReadOnlySimulation) -> dict[str, str]:
     """The overlay's readouts for ``sim`` (those it has) with their short words ("": the
     readout's label): the scene's ``overlay``, else its energies."""
     known = set(sim.readout_names())
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     names = dict(spec.page.overlay) if spec is not None and spec.page.overlay else {}
     names = names or dict.fromkeys(FALLBACK_READOUTS, "")
     return {n: short for n, short in names.items() if n in known}
@@ -92,7 +91,7 @@ def overlay_labels(sim: ReadOnlySimulation) -> dict[str, str]:
     the class board, a video, a static export) takes them from here."""
     infos = {i.name: i for i in sim.readout_infos()}
     short = key_readouts(sim)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     imposed = spec is not None and sim.motion == "imposed"
     changed = dict(spec.page.imposed_overlay) if spec is not None and imposed else {}
     return {n: changed.get(n) or w or infos[n].label or n for n, w in short.items()}
@@ -142,7 +141,7 @@ class Projector:
         self.names = list(key_readouts(sim))
         self.sim = sim
         self.units = {n: infos[n].unit for n in self.names}
-        spec = as_scene(sim.scene)  # the scene's round-off: 5e-15 W is written 0
+        spec = sim.scene  # the scene's round-off: 5e-15 W is written 0
         self.zeros = {n: spec.zero_for(self.units[n]) if spec else 0.0 for n in self.names}
         self.style = gui.add_html(style_html(self.font, left=left, right=right), order=-1000.0)
         self.overlay = gui.add_html(overlay_html([]), order=-999.0)

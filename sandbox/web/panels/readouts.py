@@ -13,7 +13,6 @@ from sandbox.physics.picture import Picture
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.readouts import GENERIC_NAMES
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.base import as_scene
 from sandbox.web.panels import tables
 from sandbox.web.panels.controls import set_value
 from sandbox.web.panels.folder import Folder
@@ -58,7 +57,7 @@ class ReadoutPanel:
         self, gui: viser.GuiApi, sim: ReadOnlySimulation, *, arrows: ArrowLayer | None = None
     ) -> None:
         self.arrows = arrows
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         infos = {i.name: i for i in sim.readout_infos()}
         self.zero: dict[str, float] = dict(scene.zero) if scene is not None else {}
         self._rows = {

@@ -52,7 +52,7 @@ from urllib.parse import quote, unquote
 from sandbox.errors import SandboxError
 from sandbox.physics.model import check_integrator
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import Param, as_scene
+from sandbox.physics.spec import Param
 from sandbox.web.loop import Refused, check_speed, check_timestep, french_message, shown_value
 
 VERSION = 1
@@ -182,7 +182,7 @@ def page_of(
         lessons: Lessons of the scene (name -> number of steps).
         lesson: The lesson the page opens by itself.
     """
-    scene = as_scene(sim.scene)
+    scene = sim.scene
     params = {p.name: p for p in scene.params} if scene is not None else {}
 
     def check(name: str, value: object) -> float | str:

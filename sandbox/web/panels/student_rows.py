@@ -18,7 +18,6 @@ from sandbox.challenges import Attempt
 from sandbox.lessons import Progress
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.scenes import SCENES
-from sandbox.scenes.base import as_scene
 from sandbox.web.panels.board_rows import GOALS, Row, clean_name, progress_of
 from sandbox.web.panels.challenge import ChallengePanel
 from sandbox.web.panels.lesson import LessonPanel
@@ -41,7 +40,7 @@ class Readouts:
     def of(cls, sim: ReadOnlySimulation) -> Readouts:
         infos = {i.name: i for i in sim.readout_infos()}
         short = overlay_labels(sim)
-        spec = as_scene(sim.scene)
+        spec = sim.scene
         names = tuple(short)
         labels = {n: (short.get(n) or i.label or n) for n, i in infos.items()}
         units = {n: i.unit for n, i in infos.items()}

@@ -5,7 +5,7 @@ closed form dashed through them.
 The page builds a :class:`~sandbox.sweep.Study` from its fields (the other parameters at
 the session's current values), checks it with French refusals, and hands it to the
 server's :class:`~sandbox.web.loop.study_queue.StudyQueue`, below the live sessions. The
-scene's presets (:attr:`~sandbox.scenes.page.Page.study_presets`) fill the fields with a
+scene's presets (:attr:`~sandbox.physics.page.Page.study_presets`) fill the fields with a
 study that shows one of the course's laws.
 """
 
@@ -20,8 +20,8 @@ from typing import Any
 import viser
 
 from sandbox.errors import SandboxError
-from sandbox.scenes.base import Param, as_scene
-from sandbox.scenes.presets import StudyPreset
+from sandbox.physics.presets import StudyPreset
+from sandbox.physics.spec import Param
 from sandbox.sweep import MAX_RUNS, Measure, Study, Vary, check
 from sandbox.web.client.fields import param_label
 from sandbox.web.client.text import number
@@ -76,7 +76,7 @@ class StudyPanel:
         self.controller = controller
         self.queue = queue
         sim = controller.sim
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.params: dict[str, Param] = {
             p.name: p for p in (scene.params if scene else ()) if not p.choices
         }

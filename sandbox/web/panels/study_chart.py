@@ -15,7 +15,7 @@ import viser
 from viser import uplot
 
 from sandbox.physics.readonly import ReadOnlySimulation
-from sandbox.scenes.base import Param, as_scene
+from sandbox.physics.spec import Param
 from sandbox.sweep import plot, write_csv
 from sandbox.web.client.fields import param_label, param_unit
 from sandbox.web.client.text import number, with_unit
@@ -62,7 +62,7 @@ class StudyChart:
     ) -> None:
         self.gui = gui
         self.folder = folder
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.params: dict[str, Param] = {p.name: p for p in (scene.params if scene else ())}
         self.infos = {i.name: i for i in sim.readout_infos()}
         self._y_range: tuple[float, float] | None = None

@@ -1,7 +1,7 @@
 """Folder "Tracé X–Y": any readout against any other (or against time), with the
 course's value dashed, a cursor reading X, Y and the slope, and downloads.
 
-The scene's presets (:attr:`~sandbox.scenes.page.Page.xy_presets`) show its laws in one
+The scene's presets (:attr:`~sandbox.physics.page.Page.xy_presets`) show its laws in one
 click: the compressor's pilon and tamis over a crank revolution, the rotor's bearing
 forces against ω during a slow start. Samples come from the session's
 :class:`~sandbox.web.loop.probe.Probe`, taken between frames, only while the folder is shown
@@ -19,8 +19,7 @@ from typing import Any
 import viser
 from viser import uplot
 
-from sandbox.scenes.base import as_scene
-from sandbox.scenes.presets import TIME, XYPreset
+from sandbox.physics.presets import TIME, XYPreset
 from sandbox.web.loop.requests import Reset, SetValue
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.folder import Folder
@@ -57,7 +56,7 @@ class XYPanel:
         self.gui = gui
         self.controller = controller
         sim = controller.sim
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         self.presets: dict[str, XYPreset] = {
             p.label: p for p in (scene.page.xy_presets if scene else ())
         }
@@ -138,7 +137,7 @@ class XYPanel:
         if preset is not None:
             x, ys = preset.x, [y for y in preset.ys if y in self.axes][:Y_SLOTS]
         else:
-            scene = as_scene(self.controller.sim.scene)
+            scene = self.controller.sim.scene
             plots = [n for n in (scene.page.plots if scene is not None else ()) if n in self.axes]
             x, ys = TIME, plots[:1] or ["T"]
         refs = dict(preset.refs) if preset is not None else {}

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from sandbox.bench.plot import LOCK, comma_formatter, new_figure
+from sandbox.physics.presets import TIME
 from sandbox.physics.units import TURN_ANGLES, shown_scale
 from sandbox.runner import csv_cell
-from sandbox.scenes.presets import TIME
 from sandbox.web.client.text import number, with_unit
 from sandbox.written import Written, time_words, written
 

@@ -20,7 +20,6 @@ import viser
 
 from sandbox.recording import Recording, write_csv
 from sandbox.replay import open_simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import with_unit
 from sandbox.web.page import locale as client_text
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
@@ -99,7 +98,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
         server.initial_camera.look_at = look_at
         server.initial_camera.up = up
         renderer = SceneRenderer(scene)
-        spec = as_scene(sim.scene)
+        spec = sim.scene
         arrows = None
         if spec is not None and spec.page.arrows:
             arrows = ArrowLayer(

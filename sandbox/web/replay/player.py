@@ -22,7 +22,6 @@ from sandbox.errors import SandboxError
 from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import ModelChoice, open_replay, set_values
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.fields import param_label, set_value
 from sandbox.web.client.text import number, plain, table_row
 from sandbox.web.loop import (
@@ -247,7 +246,7 @@ class ReplayPanel:
             )
             self.speed = speed_slider(gui, "Temps relu divisé par le temps réel (1 : temps réel)")
         self.params: viser.GuiMarkdownHandle | None = None
-        scene = as_scene(controller.sim.scene)
+        scene = controller.sim.scene
         self.scene_params = scene.params if scene is not None else ()
         if self.scene_params:
             with gui.add_folder("Paramètres enregistrés"):

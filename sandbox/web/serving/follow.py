@@ -28,7 +28,6 @@ from pathlib import Path
 import viser
 
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import plain, table_row, with_unit
 from sandbox.web.loop import Controller, Frame, Notice, Session
 from sandbox.web.loop.requests import Integrator, Reset, SetValue, Timestep
@@ -92,7 +91,7 @@ class BroadcastView:
         sim = controller.sim
         self.renderer = SceneRenderer(server.scene, prefix=f"{SHARED}/model")
         self.arrows: ArrowLayer | None = arrow_layer(server.scene, sim, prefix=SHARED)
-        spec = as_scene(sim.scene)
+        spec = sim.scene
         self.names = [r.name for r in spec.readouts][:8] if spec else ["T", "V"]
         known = set(sim.readout_names())  # the labels write these at the summary's instant
         arrows = self.arrows.arrows if self.arrows is not None else ()

@@ -14,8 +14,8 @@ import mujoco
 import numpy as np
 from PIL import ImageFont
 
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.page import Arrow
 from sandbox.web.video.offscreen import project
 from sandbox.web.view3d.arrow_scale import arrow_points, auto_factor, caption
 

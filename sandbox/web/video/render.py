@@ -29,7 +29,6 @@ from sandbox.physics.display import DisplayState
 from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import open_simulation
-from sandbox.scenes.base import as_scene
 from sandbox.web.client.text import with_unit
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.video.frame import Text, add_arrows, label_arrows
@@ -73,7 +72,7 @@ def render_video(
     view_h = height - strip_h
     sim = open_simulation(rec)
     display = DisplayState(sim)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     infos = {i.name: i for i in sim.readout_infos()}
     words = {n: i.label or n for n, i in infos.items()}
     labels = overlay_labels(sim)  # the page's overlay words

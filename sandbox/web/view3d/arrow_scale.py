@@ -16,8 +16,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.page import Arrow
 from sandbox.written import written
 
 MIN_LENGTH = 1e-4

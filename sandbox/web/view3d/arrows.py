@@ -22,8 +22,8 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes.page import Arrow
 from sandbox.web.client import wire
 from sandbox.web.view3d.arrow_scale import (
     MIN_LENGTH,

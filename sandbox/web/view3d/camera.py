@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sandbox.scenes.base import as_scene
 from sandbox.web.view3d.label_layout import Camera, Rect
 
 if TYPE_CHECKING:
@@ -43,7 +42,7 @@ def camera_pose(
 
 def scene_view(sim: Simulation) -> tuple[Vec3, Vec3]:
     """(direction towards the camera, up vector): the scene's own, else z up."""
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     if spec is not None and spec.page.camera:
         return spec.page.camera
     return (0.45, -1.0, 0.55), (0.0, 0.0, 1.0)
@@ -55,7 +54,7 @@ def point_camera(client: viser.ClientHandle, sim: Simulation, *, narrow: bool = 
     model = sim.model
     direction, up = scene_view(sim)
     center, extent = np.asarray(model.stat.center, dtype=float), float(model.stat.extent)
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     if spec is not None and spec.page.look_at is not None:
         center, extent = np.asarray(spec.page.look_at[0], dtype=float), spec.page.look_at[1]
     position, look_at = camera_pose(center, extent * (1.5 if narrow else 1.0), direction)

@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal, Protocol
 
 from sandbox.lessons import catalogue
-from sandbox.scenes.base import as_scene
 from sandbox.web.client import wire
 from sandbox.web.client.fields import set_value
 from sandbox.web.loop import EVERY, Frame, Notice
@@ -82,7 +81,7 @@ class Controls(Protocol):
 
 def arrow_layer(scene: viser.SceneApi, sim: Simulation, *, prefix: str = "") -> ArrowLayer | None:
     """The scene's force arrows in a viser scene (None when the scene has none)."""
-    spec = as_scene(sim.scene)
+    spec = sim.scene
     if spec is None or not spec.page.arrows:
         return None
     units = {i.name: i.unit for i in sim.readout_infos()}
@@ -141,7 +140,7 @@ class WebView:
         if draw:
             self.renderer = SceneRenderer(client.scene)
             self.arrows = arrow_layer(client.scene, sim)
-            scene = as_scene(sim.scene)
+            scene = sim.scene
             if scene is not None and scene.page.trail is not None:
                 self.trail = Trail(client.scene, extent=float(model.stat.extent))
         known = set(sim.readout_names())

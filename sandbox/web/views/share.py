@@ -30,7 +30,6 @@ from typing import Any
 
 import viser
 
-from sandbox.scenes.base import as_scene
 from sandbox.web.client import viser_internals
 from sandbox.web.client.fields import on_user, param_label, set_value
 from sandbox.web.client.text import plain
@@ -155,7 +154,7 @@ class SharePanel:
             self.start_timestep = sim.timestep
         self.start_folder = view.shown
         self._lock = threading.Lock()
-        scene = as_scene(sim.scene)
+        scene = sim.scene
         params = tuple(scene.params) if scene is not None else ()
         # every control a link can hide or lock: name -> (label, its handles)
         self.controls: dict[str, tuple[str, list[viser.GuiInputHandle[Any]]]] = {}

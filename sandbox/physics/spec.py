@@ -2,7 +2,9 @@
 
 A scene is one MJCF file in the top-level ``scenes/`` folder plus a :class:`Scene` spec.
 The spec is the single source of truth used by the CLI (``describe``, ``--set``), the web
-UI (sliders, panels), the lessons and the tests.
+UI (sliders, panels), the lessons and the tests. These records are plain data of the
+physics layer: physics takes a :class:`Scene` as it is (no protocol to cast it back
+from), and each scene module of :mod:`sandbox.scenes` fills one.
 """
 
 from __future__ import annotations
@@ -19,8 +21,8 @@ import numpy as np
 from sandbox import french
 from sandbox.errors import BadParameter, UnknownParameter, choices, shown
 from sandbox.physics.imposed import Imposed
+from sandbox.physics.page import Page
 from sandbox.physics.units import display_unit
-from sandbox.scenes.page import Page
 
 if TYPE_CHECKING:
     from sandbox.physics.snapshot import Snapshot
@@ -406,7 +408,7 @@ class Scene:
             unit): the page shows a number whose magnitude is at most this as 0 (e.g. a
             bearing force of 6e-12 N where the course says 0). Far below anything the
             scene computes on purpose (a closure error of 1e-8 m stays visible).
-        page: What the page shows of the scene (:class:`~sandbox.scenes.page.Page`:
+        page: What the page shows of the scene (:class:`~sandbox.physics.page.Page`:
             plots, arrows, camera, names, presets, diagrams); the simulation reads none
             of it.
         imposed: The input motion the course imposes (a crank at constant speed, a
@@ -485,16 +487,3 @@ class Scene:
         if self.timestep_for is None:
             return self.timestep
         return float(self.timestep_for({**self._defaults, **(values or {})}, data))
-
-
-def as_scene(spec: object) -> Scene | None:
-    """The :class:`Scene` behind ``Simulation.scene`` (typed by physics as a bare
-    ``SceneSpec``), with everything the layers above read (title, params, arrows,
-    camera...); None for a user's MJCF file.
-
-    Raises:
-        TypeError: if ``spec`` is neither None nor a :class:`Scene` (a registry bug).
-    """
-    if spec is None or isinstance(spec, Scene):
-        return spec
-    raise TypeError(f"scene spec {spec!r} is not a sandbox.scenes.base.Scene")

@@ -1,8 +1,8 @@
 """What a scene proposes to plot and to study: the presets of the page's "Tracé X–Y" and
 "Étude paramétrique" folders, which show the course's laws in one click.
 
-Scenes declare them (:attr:`~sandbox.scenes.page.Page.xy_presets`,
-:attr:`~sandbox.scenes.page.Page.study_presets`); the web layer draws them without
+Scenes declare them (:attr:`~sandbox.physics.page.Page.xy_presets`,
+:attr:`~sandbox.physics.page.Page.study_presets`); the web layer draws them without
 knowing any scene. Names are readout and parameter names (contracts); labels are French.
 """
 

@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sandbox.mechanics.unbalance import Unbalance
+from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
-from sandbox.scenes.presets import StudyPreset, XYPreset
 
 
 @dataclass(frozen=True)
