@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import time
 
 import pytest
 from conftest import choose, wait_for
@@ -140,7 +139,9 @@ def test_a_student_walks_the_balancing_lesson_to_success(open_page):
             page.get_by_text(f"étape {step}/4", exact=False).first.wait_for(timeout=10_000)
         session = next(iter(app.sessions.values()))
         assert wait_for(lambda: session.controller.sim.values["mass1_g"] == 0.0)
-        time.sleep(0.5)  # the step records the unbalanced forces as its start values
+        lesson = session.view.lesson
+        assert lesson is not None  # the step records the unbalanced forces as its start values
+        assert wait_for(lambda: lesson.progress is not None and lesson.progress.initial is not None)
         solution = balancing_solution(session.controller.sim.values)
         values = session.controller.sim.values
         for name in ("mass1_g", "angle1_deg", "mass2_g", "angle2_deg"):

@@ -100,7 +100,12 @@ def _show_every_folder(page) -> None:
         )
         if not clicked:
             return
-        page.wait_for_timeout(600)  # the script's next pass says the folders are open
+        # the script's next pass says the folders are open
+        settled(
+            lambda: page.evaluate(
+                f"document.querySelectorAll('{PANEL} [aria-expanded=true]').length"
+            )
+        )
 
 
 def _controls(page) -> list[tuple[str, str]]:
@@ -294,8 +299,8 @@ def test_space_pauses_and_plays(context, served_rotor):
     assert wait_for(lambda: _status(page)[1] == "en pause", timeout=10)
     assert page.locator(".sandbox-unseen[aria-live]").inner_text() == "Simulation en pause"
     stopped = _status(page)[0]
-    readings = {_status(page)[0] for _ in range(5) if not page.wait_for_timeout(200)}
-    assert readings == {stopped}  # simulated time no longer advances
+    assert settled(lambda: _status(page)[0], polls=5)  # simulated time no longer advances
+    assert _status(page)[0] == stopped
     page.keyboard.press(" ")
     assert wait_for(lambda: _status(page) > (stopped, "en cours"), timeout=10)
     assert wait_for(lambda: _status(page)[0] > stopped + 0.1, timeout=10)
@@ -303,8 +308,9 @@ def test_space_pauses_and_plays(context, served_rotor):
     box = page.get_by_role("textbox", name="Vitesse ×", exact=True)
     box.focus()
     page.keyboard.press(" ")
-    seen = {_status(page)[0] for _ in range(6) if not page.wait_for_timeout(250)}
-    assert len(seen) > 1 and _status(page)[1] == "en cours"
+    typed = _status(page)[0]
+    assert wait_for(lambda: _status(page)[0] > typed + 0.1, timeout=10)
+    assert _status(page)[1] == "en cours"
 
 
 _CONTRAST_JS = """(scope) => {
@@ -384,13 +390,19 @@ def _contrasts(page) -> list[dict]:
     return list(page.evaluate(_CONTRAST_JS, PANEL))
 
 
+def _painted(page) -> None:
+    """Wait until the browser has laid out and painted what changed (two animation
+    frames: the next one starts after the layout of the current)."""
+    page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+
+
 def _scrolled_through(page, read) -> list:
     """``read(page)`` at every scroll position of the control panel, top to bottom."""
     viewport = f"{PANEL} .mantine-ScrollArea-viewport"
     page.evaluate(f"document.querySelectorAll('{viewport}').forEach(v => v.scrollTop = 0)")
     found: list = []
     for _ in range(40):
-        page.wait_for_timeout(150)
+        _painted(page)
         found += read(page)
         moved = page.evaluate(
             f"""() => {{ let moved = false;
@@ -481,12 +493,12 @@ def test_no_button_or_box_is_cut_at_any_text_size(context, served_rotor):
             )
         )
         page.evaluate("document.activeElement.blur()")
-        page.wait_for_timeout(300)
+        _painted(page)
         cut = _scrolled_through(page, lambda p: p.evaluate(_CLIPPED_JS, PANEL))
         assert not cut, (px, sorted(set(cut)))
     # the check can fail: without the style, "Réinitialiser" is cut at 24 px
     page.evaluate(f"document.getElementById('{STYLE_ID}').remove()")
-    page.wait_for_timeout(300)
+    _painted(page)
     assert _scrolled_through(page, lambda p: p.evaluate(_CLIPPED_JS, PANEL))
 
 

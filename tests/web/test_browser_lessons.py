@@ -28,10 +28,9 @@ def test_the_balancing_goal_is_a_sentence_with_a_bar_that_fills(open_page):
         page = open_page(app.url)
         page.get_by_text("étape 1/4", exact=False).first.wait_for(timeout=30_000)
         session = _session(app)
-        for _ in range(2):
+        for step in (2, 3):
             page.get_by_text("Suivant ▶").first.click()
-            page.wait_for_timeout(400)
-        page.get_by_text("étape 3/4", exact=False).first.wait_for(timeout=10_000)
+            page.get_by_text(f"étape {step}/4", exact=False).first.wait_for(timeout=10_000)
         goal = page.locator(".sandbox-goal").first
         goal.get_by_text("Objectif — En cours").wait_for(timeout=10_000)
         # "Balourd statique m·Y : 0,0016 kg·m → objectif < 0,000016 kg·m" (French label,

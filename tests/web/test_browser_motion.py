@@ -4,7 +4,6 @@ turning on every frame; "Pas" of an angle; the typed point P drawn."""
 from __future__ import annotations
 
 import io
-import time
 
 import numpy as np
 import pytest
@@ -46,16 +45,18 @@ def test_a_6000_rpm_rotor_at_one_hundredth_is_seen_turning(open_page, fast_rotor
     page.get_by_text("Affichage", exact=True).first.click()
     choose(page, "Ralenti", "×0,01")
     assert wait_for(lambda: session.controller.speed == 0.01)
-    time.sleep(1.0)
+    ctl = session.controller
+    start = ctl.display_time
+    assert wait_for(lambda: ctl.display_time > start)  # drawn at the new speed
     shots = []
     for _ in range(3):  # a screenshot takes 1-3 s with software WebGL
+        shown = ctl.display_time
+        assert wait_for(lambda shown=shown: ctl.display_time > shown)  # a new instant drawn
         shots.append(_canvas(page))
-        time.sleep(0.1)
     # At ×0.01 the physics (dt = 10 ms, a whole turn a step at 6000 rpm) steps once a
     # second: without the display state, most of these pairs would be identical.
     changes = [float(np.abs(b - a).mean()) for a, b in zip(shots, shots[1:], strict=False)]
     assert min(changes) > 0.05, changes
-    ctl = session.controller
     assert ctl.display_time > ctl.sim.data.time or ctl.display_time == ctl.sim.data.time
 
 
@@ -72,5 +73,4 @@ def test_a_step_of_ten_degrees_turns_the_drawn_rotor(open_page, served_rotor):
     page.get_by_role("button", name="Avancer d'un pas").click()
     w = 1500 * 2 * np.pi / 60
     assert wait_for(lambda: ctl.display_time == pytest.approx(first + np.radians(10) / w))
-    time.sleep(0.5)
-    assert float(np.abs(_canvas(page) - before).mean()) > 0.01
+    assert wait_for(lambda: float(np.abs(_canvas(page) - before).mean()) > 0.01)

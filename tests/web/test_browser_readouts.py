@@ -64,7 +64,8 @@ def test_plots_keep_drawing_while_their_range_grows(open_page, served_cylinder):
     checked = 0
     deadline_time = 9.0
     while session.controller.sim.data.time < deadline_time:
-        page.wait_for_timeout(700)
+        at = session.controller.sim.data.time  # the next look: half a simulated second on
+        assert wait_for(lambda at=at: session.controller.sim.data.time > at + 0.5, timeout=10)
         charts = page.evaluate(CHARTS)
         assert charts, "no chart in the page"
         for chart in charts:
@@ -106,11 +107,18 @@ def test_plot_ticks_use_a_decimal_comma_in_a_french_browser(browser, served_cyli
         choose(page, "Panneau affiché", "Courbes")
         (session,) = served_cylinder.sessions.values()
         session.controller.playing = True
-        page.wait_for_timeout(2500)
-        ticks = page.evaluate(
+        read = (
             "() => Object.values(window.__viserTestpoints.uplots).flatMap("
             "(e) => e.chart.axes.flatMap((a) => (a._values || []).map(String)))"
         )
+        found: list[list[str]] = []
+
+        def fractions_shown() -> bool:  # the charts have data with decimal ticks
+            found.append(page.evaluate(read))
+            return any(re.search(r"\d[.,]\d", t) for t in found[-1])
+
+        wait_for(fractions_shown, timeout=20)
+        ticks = found[-1]
     finally:
         context.close()
     fractions = [t for t in ticks if re.search(r"\d[.,]\d", t)]

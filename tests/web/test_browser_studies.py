@@ -100,6 +100,10 @@ def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page,
     page = open_page(served_rotor.url)
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
     choose(page, "Panneau affiché", "Étude paramétrique")
+    assert wait_for(lambda: len(served_rotor.sessions) == 1)  # this page's alone
+    (session,) = served_rotor.sessions.values()
+    study = session.view.study
+    assert study is not None
     page.get_by_role("button", name="Lancer l'étude").click()
     page.get_by_text(re.compile("Étude terminée : 13 simulations")).wait_for(timeout=60_000)
     title = "Effort du palier A [N]"
@@ -121,7 +125,7 @@ def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page,
     row = page.locator("div.mantine-Flex-root", has=page.get_by_text("À", exact=True)).last
     row.locator("input").first.fill("7000")
     row.locator("input").first.press("Tab")
-    page.wait_for_timeout(500)
+    assert wait_for(lambda: study.stop.value == 7000)  # the server has the bound
     page.get_by_role("button", name="Lancer l'étude").click()
     page.get_by_text(re.compile("refusé, choisissez entre 0 et 6")).wait_for(timeout=10_000)
 
@@ -144,7 +148,7 @@ def test_a_study_runs_refuses_in_french_and_cancels_without_leftovers(open_page,
     )
     duration.fill("20")
     duration.press("Tab")
-    page.wait_for_timeout(500)
+    assert wait_for(lambda: study.duration.value == 20 and study.count.value == 50)
     before = _children()
     page.get_by_role("button", name="Lancer l'étude").click()
     page.get_by_role("button", name="Annuler l'étude").wait_for(timeout=10_000)

@@ -4,6 +4,8 @@ projected simulation (sandbox.web.serving.class_app)."""
 
 from __future__ import annotations
 
+import threading
+import time
 from types import SimpleNamespace
 
 import pytest
@@ -100,6 +102,46 @@ def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulat
         assert app.broadcast is not None
         follower = app.sessions[next(iter(app.overflow))]
         assert follower.drive is False and follower.controller is app.broadcast.controller
+    finally:
+        for s in students:
+            s.close()
+        app.stop()
+
+
+@pytest.mark.slow  # a server and four websocket students: a few seconds
+def test_students_arriving_together_on_a_saturated_process_share_one_broadcast(monkeypatch):
+    """Browsers connect on threads of their own: four arriving at once get one broadcast
+    (two would name the same nodes, the second's replacing the first's while it drew)."""
+    from test_board import FakeStudent
+
+    from sandbox.web.serving import class_app
+    from sandbox.web.serving.app import start
+
+    made: list[object] = []
+    real = class_app.BroadcastView
+
+    def counted(*args, **kwargs):
+        time.sleep(0.3)  # slow to build, as on a saturated laptop
+        made.append(real(*args, **kwargs))
+        return made[-1]
+
+    monkeypatch.setattr(class_app, "BroadcastView", counted)
+    app = start("rotor", port=free_port(), open_message=False, token="tok-together")
+    app.scheduler = SimpleNamespace(governor=SimpleNamespace(saturated=True))
+    url = app.url.replace("http", "ws")
+    students = []
+    try:
+        threads = [
+            threading.Thread(target=lambda: students.append(FakeStudent(url))) for _ in range(4)
+        ]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(30)
+        assert wait_for(lambda: len(app.overflow) == 4, 30)
+        assert len(made) == 1 and app.broadcast is made[0]
+        followed = {app.sessions[cid].controller for cid in app.overflow}
+        assert followed == {app.broadcast.controller}
     finally:
         for s in students:
             s.close()

@@ -6,6 +6,7 @@ only what is shown from that list alone."""
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -23,6 +24,15 @@ from tests.robustness.test_hostile_web import Page
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.fixture
+def rotor_page(tmp_path: Path) -> Iterator[Page]:
+    """The rotor's page, a few frames in."""
+    made = Page("rotor", tmp_path)
+    made.tick(0.2)
+    yield made
+    made.session.stop()
+
+
 @pytest.mark.parametrize("scene", sorted(SCENES))
 def test_the_picker_lists_the_panels_folders_in_order(scene: str, tmp_path: Path) -> None:
     page = Page(scene, tmp_path)
@@ -37,7 +47,8 @@ def test_the_picker_lists_the_panels_folders_in_order(scene: str, tmp_path: Path
         page.session.stop()
 
 
-def test_a_challenge_keeps_the_secret_safe_folders_only(page: Page) -> None:
+def test_a_challenge_keeps_the_secret_safe_folders_only(rotor_page: Page) -> None:
+    page = rotor_page
     view = page.view
     safe = [f.title for f in view.pickable if f.secret_safe]
     closed = [f.title for f in view.pickable if not f.secret_safe]
@@ -52,7 +63,10 @@ def test_a_challenge_keeps_the_secret_safe_folders_only(page: Page) -> None:
     assert list(view.picker.options) == [*(f.title for f in view.pickable), ALL_FOLDERS]
 
 
-def test_a_frame_asks_for_the_shown_folders_readouts_and_refreshes_only_it(page: Page) -> None:
+def test_a_frame_asks_for_the_shown_folders_readouts_and_refreshes_only_it(
+    rotor_page: Page,
+) -> None:
+    page = rotor_page
     view = page.view
     calls: list[str] = []
     for k, folder in enumerate(view.pickable):
@@ -75,16 +89,6 @@ def test_a_frame_asks_for_the_shown_folders_readouts_and_refreshes_only_it(page:
     view.show_folder(ALL_FOLDERS)
     page.tick(0.3)
     assert set(calls) == {f.title for f in view.pickable if f.refresh is not None}
-
-
-@pytest.fixture
-def page(tmp_path: Path):
-    p = Page("rotor", tmp_path)
-    p.tick(0.2)
-    try:
-        yield p
-    finally:
-        p.session.stop()
 
 
 def test_the_view_and_the_session_never_ask_what_their_source_is() -> None:

@@ -155,8 +155,8 @@ def test_a_worker_is_told_when_its_lifeline_breaks():
 
     thread = worker.watch_parent(reader, grace=0.1, stop=stop, exit=exit_)
     assert thread.daemon
-    time.sleep(0.2)
-    assert calls == []  # the parent lives: nothing happens
+    assert not done.wait(0.3)  # the parent lives: nothing happens
+    assert calls == []
     writer.close()
     assert done.wait(5.0)
     assert calls == ["stop", "exit 1"]

@@ -63,6 +63,11 @@ class SpeedProbe:
         self._thread = threading.Thread(target=self._run, name="speed-probe", daemon=True)
         self._thread.start()
 
+    @property
+    def running(self) -> bool:
+        """True while it times its work (between :meth:`start` and :meth:`stop`)."""
+        return self._thread is not None and self._thread.is_alive()
+
     def stop(self) -> float:
         """Stop, and return the median timing [ms] (NaN without any)."""
         self._stop.set()

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 import secrets
+import threading
 from collections.abc import Callable
 
 import viser
@@ -81,6 +82,7 @@ class ClassApp(App):
         self.classroom = Classroom(lambda cid: self.connected(cid))
         self.broadcast: BroadcastView | None = None
         self._broadcast_session: Session | None = None
+        self._broadcasting = threading.Lock()  # browsers arriving together make one
         self._teacher: tuple[int, Controller] | None = None  # the teacher's page here
         self.overflow: set[int] = set()  # students following because of saturation
         super().__init__(server, host, self._open, max_sessions=max_sessions, port=port)
@@ -125,7 +127,15 @@ class ClassApp(App):
     # -- the students who arrive on a saturated process ----------------------------------
     def _projected(self) -> BroadcastView:
         """The broadcast the saturated process's new students follow (made once): the
-        teacher's simulation when their page is here, else the class's shared copy."""
+        teacher's simulation when their page is here, else the class's shared copy.
+
+        Browsers connect on threads of their own: made under a lock, or two arriving
+        together made two, the second's nodes replacing the first's (same names) while
+        the first still drew them ("Cannot assign to 'visible' on a removed handle")."""
+        with self._broadcasting:
+            return self._projected_locked()
+
+    def _projected_locked(self) -> BroadcastView:
         if self.broadcast is None:
             teacher = self._teacher
             if teacher is not None and self.connected(teacher[0]):
