@@ -13,7 +13,7 @@ from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES
 from sandbox.web.client.text import GAP, number
-from sandbox.web.panels.accuracy import AccuracyPanel, chart_image, load_results
+from sandbox.web.panels.accuracy import NOT_LIVE, AccuracyPanel, chart_image, load_results
 
 
 class Handle:
@@ -41,6 +41,12 @@ class Gui:
         handle.options, handle.callbacks = options, []
         handle.on_update = handle.callbacks.append
         return handle
+
+
+def live_cost() -> float:
+    """A live session's measured cost [CPU s per simulated s] (the tests pass their own
+    to refresh())."""
+    return 2e-3
 
 
 def test_shipped_benchmark_has_the_rotor_default_on_its_front():
@@ -86,7 +92,7 @@ def test_the_robot_axis_default_shows_the_error_the_benchmark_measured():
     assert sim.values["profile"] != 0 and accuracy.in_force(sim) == accuracy.default(sim)
     saved = accuracy.saved(res, accuracy.in_force(sim))
     assert saved is not None and saved.error < 1e-6
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     text = _settle(panel, sim)
     assert "◆ ★ Votre réglage, celui par défaut" in text
     assert f"| Erreur relative | {GAP}{number(saved.error, 2)} |" in text
@@ -107,7 +113,7 @@ def test_star_and_diamond_coincide_when_the_setting_is_the_default():
     mapping = chart_base(res)[1]
     run = accuracy.saved(res, mine)
     assert run is not None and run.default
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     _settle(panel, sim)
     assert panel._charted is not None and panel._charted[0] == panel._charted[1]
     sim.set_timestep(1e-3)  # on the benchmark's grid
@@ -128,7 +134,7 @@ def test_a_setting_off_the_grid_is_measured_the_way_the_benchmark_does():
 
     sim = Simulation("rotor")
     sim.set_timestep(2e-3)
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     panel.refresh(sim, cost=2e-3, now=0.0)
     assert "mesure en cours" in panel.text.content and not panel._waiting  # typing...
     text = _settle(panel, sim)
@@ -145,7 +151,7 @@ def test_the_table_reads_the_setting_in_force():
     """The wheel balancer opens on its rigid bench at 10 ms (its reference test, the soft
     bench, defaults to 3 ms): the panel names 10 ms, never 3."""
     sim = Simulation("wheel_balancer")
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     text = _settle(panel, sim)
     table = text.split("\n\n")[2]  # the test's table: the setting in force, never 3 ms
     assert "Runge-Kutta 4, dt = 10 ms" in table and "3 ms" not in table
@@ -165,7 +171,7 @@ def test_a_timestep_per_crank_angle_is_measured_at_the_same_angle_on_the_test():
     mine = accuracy.in_force(sim)
     assert mine.timestep == 5e-4 and accuracy.on_test(sim, mine).timestep == 1e-4
     assert res.default.timestep == 1e-4 and res.admissible(res.default)
-    text = _settle(AccuracyPanel(Gui(), sim), sim)
+    text = _settle(AccuracyPanel(Gui(), sim, cost=live_cost), sim)
     assert "Runge-Kutta 4, dt = 500 µs (100 µs à la vitesse de l'essai)" in text
     row = text.split("| Erreur relative |")[1].split("\n")[0]
     assert number(res.default.error, 2) in row  # the test's default, the saved one
@@ -174,7 +180,8 @@ def test_a_timestep_per_crank_angle_is_measured_at_the_same_angle_on_the_test():
     assert accuracy.on_test(sim, accuracy.in_force(sim)).timestep == 2e-4
     rotor = Simulation("rotor")  # a fixed default: measured as it is
     assert accuracy.on_test(rotor, accuracy.in_force(rotor)) == accuracy.in_force(rotor)
-    assert "à la vitesse de l'essai" not in _settle(AccuracyPanel(Gui(), rotor), rotor)
+    panel = AccuracyPanel(Gui(), rotor, cost=live_cost)
+    assert "à la vitesse de l'essai" not in _settle(panel, rotor)
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))
@@ -213,7 +220,7 @@ def test_every_scenes_default_is_admissible_on_its_own_test(name):
 
 def test_a_file_has_cost_but_no_error(pendulum_xml):
     sim = Simulation(pendulum_xml)
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     panel.refresh(sim, cost=1e-3, now=0.0)
     assert "×1\u202f000" in panel.text.content and panel.image is None
     assert "Erreur" not in panel.text.content
@@ -222,7 +229,7 @@ def test_a_file_has_cost_but_no_error(pendulum_xml):
 def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
     """refresh() only submits the drawing; a later refresh shows the finished image."""
     sim = Simulation("rotor")
-    panel = AccuracyPanel(Gui(), sim)
+    panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     blank = panel.image.image
     panel.refresh(sim, cost=2e-3, now=100.0)  # the default: saved by the benchmark
     assert panel._drawing is not None
@@ -433,7 +440,7 @@ def test_a_precision_asked_applies_the_cheapest_measured_setting_that_reaches_it
 
     sim = Simulation("compressor")
     applied: list[tuple[str, float]] = []
-    panel = AccuracyPanel(Gui(), sim, choose=lambda i, dt: applied.append((i, dt)))
+    panel = AccuracyPanel(Gui(), sim, choose=lambda i, dt: applied.append((i, dt)), cost=live_cost)
     assert panel.ask is not None and "10⁻⁴" in panel.ask.options
     panel._asked(object(), "10⁻⁴")
     assert applied == [("rk4", 1e-4)]
@@ -469,3 +476,12 @@ def test_an_imposed_motion_says_it_is_exact_with_the_benchmark_s_error_and_cost(
     assert "µs de calcul par image" in text and "0,002 s de calcul par seconde simulée" in text
     assert text.endswith("Le tableau ci-dessous vaut pour le mouvement libre (simulé).")
     assert "." not in text.split("µs")[0].split(":")[-1]  # decimal comma, never a point
+
+
+def test_a_replay_says_why_it_measures_nothing():
+    """A replay measures no cost (it computes nothing): the folder says so in words and
+    draws no empty chart."""
+    sim = Simulation("rotor")
+    panel = AccuracyPanel(Gui(), sim)
+    assert panel.text.content == NOT_LIVE and panel.image is None
+    assert [f.refresh for f in panel.pickable()] == [None]

@@ -6,6 +6,7 @@ import math
 import re
 
 import mujoco
+import numpy as np
 import pytest
 
 from sandbox.physics import isolate
@@ -101,3 +102,29 @@ def test_a_component_six_decades_under_the_largest_reads_0():
     psi_dot = sim.readouts()["precession_rate"]
     assert horizontal == pytest.approx(m * d * math.sin(theta) * psi_dot**2, rel=2e-2)
     assert force[0] != "0" and force[1] != "0"
+
+
+@pytest.mark.parametrize("scene_name", ["compressor", "engine"])
+def test_the_centre_of_mass_reads_0_where_the_closure_leaves_round_off(scene_name):
+    """A teacher's trial read « G = (−0,003 ; −1,96×10⁻¹⁰ ; 0) m » for the compressor's
+    crank: a coordinate a millionth of the largest is the loop closure's round-off and
+    reads 0; the others keep their three digits."""
+    import dataclasses
+
+    sim = Simulation(scene_name)
+    scene = sim.scene
+    assert scene is not None
+    crank = isolate.balance(sim.model, sim.data, isolate.solids(sim.model)[0])
+    trial = dataclasses.replace(crank, centre=np.array([-0.003, -1.96e-10, 0.0]))
+    line = isolate_markdown(trial, zero=scene.zero).splitlines()[0]
+    assert line.startswith("G = (−0,003 ; 0 ; 0) m"), line
+    for t in np.linspace(0.0, 0.05, 41):
+        sim.advance(t - float(sim.data.time))
+        sim.snapshot(forces=True)
+        for body in isolate.solids(sim.model):
+            pfd = isolate.balance(sim.model, sim.data, body)
+            line = isolate_markdown(pfd, zero=scene.zero).splitlines()[0]
+            centre = line[line.index("(") + 1 : line.index(")")]
+            assert not re.search(r"×10⁻([6-9]|1\d)", centre), (body, t, line)
+            if float(np.abs(pfd.centre).max()) > 1e-6:  # a real position keeps its digits
+                assert any(c.strip() not in ("0", "−0") for c in centre.split(";")), line

@@ -204,6 +204,14 @@ FOLDER = "Précision et coût"
 """The folder's title (in « Panneau affiché »)."""
 
 
+NOT_LIVE = (
+    "Une relecture rejoue des états enregistrés : elle ne calcule rien, donc n'a ni "
+    "coût de calcul ni erreur à mesurer. Ouvrez la scène en direct (`sandbox serve`) pour "
+    "comparer intégrateurs et pas de temps."
+)
+"""What the folder says where no cost is measured (a replay)."""
+
+
 class AccuracyPanel:
     """What accuracy costs in one session.
 
@@ -256,9 +264,9 @@ class AccuracyPanel:
                 )
                 self.chosen = gui.add_markdown("")
                 self.ask.on_update(lambda event: self._asked(event.client, event.target.value))
-            self.text = gui.add_markdown("")
+            self.text = gui.add_markdown("" if cost is not None else NOT_LIVE)
             self.image = None
-            if self.results is not None and self.scene is not None:
+            if self.results is not None and self.scene is not None and cost is not None:
                 blank = np.full((8, 12, 3), 255, dtype=np.uint8)  # drawn at the first refresh
                 self.image = gui.add_image(blank, label="Erreur relative et coût CPU", format="png")
 

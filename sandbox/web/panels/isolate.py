@@ -180,7 +180,10 @@ def isolate_markdown(
             rows.append(table_row(name(a), *(fmt(float(x), floor=floor) for x in local)))
         return "\n".join(rows)
 
-    centre = " ; ".join(fmt(float(x), digits=3, floor=1e-12) for x in pfd.centre)
+    # a coordinate a millionth of the largest is the closure's round-off (the compressor's
+    # crank read G = (−0,003 ; −1,96×10⁻¹⁰ ; 0) m): it reads 0
+    spot = max(1e-12, RESOLVED * float(np.abs(pfd.centre).max()))
+    centre = " ; ".join(fmt(float(x), digits=3, floor=spot) for x in pfd.centre)
     gap_r, gap_m = pfd.gap
     closed = gap_r <= n_floor and gap_m <= m_floor
     relative = "0" if closed else fmt(pfd.residual, digits=2)
