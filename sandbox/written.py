@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from datetime import datetime
 
 from sandbox.french import number
 from sandbox.physics.units import FLAGS, TURN_ANGLES, flag_words, shown_scale
@@ -101,6 +102,17 @@ def written(
             shown, text = 0.0, "0"
         return Written(text, shown_unit, shown)
     return Written(number(shown, digits, zero=bound), shown_unit, shown)
+
+
+def date_words(stamp: object) -> str:
+    """An ISO date as the page writes it: « 29/11/2026 à 11 h 20 (UTC) » (its own zone,
+    named when the stamp has one); anything else as it is (a crafted file's text)."""
+    try:
+        when = datetime.fromisoformat(str(stamp))
+    except ValueError:
+        return str(stamp)
+    zone = f" ({when.tzname()})" if when.tzinfo is not None and when.tzname() else ""
+    return f"{when:%d/%m/%Y} à {when.hour} h {when:%M}{zone}"
 
 
 def time_words(t: float) -> str:

@@ -71,3 +71,12 @@ def test_the_compressors_dead_centre_reads_zero_not_round_off():
     torque = written("motor_torque", -1.969e-9, "N·m", zero=scene.zero_for("N·m"))
     assert str(torque) == "0\u00a0N·m"
     assert str(written("pilon", -269.78, "N", zero=scene.zero_for("N"))) == "−269,8\u00a0N"
+
+
+def test_a_recordings_date_reads_in_french():
+    """A replay's header wrote « enregistré le 2026-11-29T11:20:41+00:00 »."""
+    from sandbox.written import date_words
+
+    assert date_words("2026-11-29T11:20:41+00:00") == "29/11/2026 à 11 h 20 (UTC)"
+    assert date_words("2026-11-29T09:05:00") == "29/11/2026 à 9 h 05"
+    assert date_words("<b>pas une date</b>") == "<b>pas une date</b>"  # escaped where shown

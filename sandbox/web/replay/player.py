@@ -40,7 +40,7 @@ from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.controls import bounds, command, speed_slider
 from sandbox.web.serving.server import App, open_server, run_forever
 from sandbox.web.views.browser import WebView
-from sandbox.written import time_words
+from sandbox.written import date_words, time_words
 
 
 class ReplayController:
@@ -225,7 +225,7 @@ class ReplayPanel:
             lesson = rec.header.get("lesson")
             self.title = gui.add_markdown(
                 f"**{plain(rec.header.get('target'))}** · enregistré le "
-                f"{plain(rec.header.get('created'))}"
+                f"{plain(date_words(rec.header.get('created')))}"
                 + (f" · leçon {plain(lesson)}" if lesson else "")
             )
             self.status = gui.add_markdown("")
