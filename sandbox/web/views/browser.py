@@ -231,6 +231,8 @@ class WebView:
     # -- which folder is shown -----------------------------------------------------------
     def _add_picker(self) -> None:
         """One readout folder shown at a time (only it is computed and sent)."""
+        self._by_title = {f.title: f for f in self.pickable}
+        self._watching = [f for f in self.pickable if f.watch is not None]
         groups = {f.title: f.handle for f in self.pickable}
         self.groups = groups
         default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
@@ -327,7 +329,7 @@ class WebView:
         lesson, at :data:`PANEL_RATE`; None between refreshes."""
         if self._pending_folder is not None:
             self._apply_folder()
-        for folder in self.pickable:
+        for folder in self._watching:  # every tick: only the folders that sample
             if folder.watch is not None:
                 folder.watch(self._showing(folder.title))
         if now - self._last_panel < 1.0 / PANEL_RATE:
@@ -339,9 +341,9 @@ class WebView:
         names = {"time", *self.readouts.plot_names()}
         names.update(self.projector.names)
         names.update(self._arrow_readouts)  # the labels write them, at the same instant
-        for folder in self.pickable:
-            if folder.title == self.shown:
-                names.update(folder.names())
+        shown = self._by_title.get(self.shown)
+        if shown is not None:
+            names.update(shown.names())
         return names
 
     def render(self, frame: Frame) -> None:
