@@ -124,7 +124,7 @@ def measure(scene: Scene, setting: Setting) -> Run:
     if acc is None:
         raise ValueError(f"scene {scene.name!r} has no reference test")
     try:
-        run = run_one(scene.name, acc, setting.integrator, setting.timestep, acc.duration)
+        run = run_one(scene, acc, setting.integrator, setting.timestep, acc.duration)
     except SandboxError as exc:  # a timestep over the scene's limit at the test's values
         run = Run(scene.name, setting.integrator, setting.timestep, acc.duration)
         run.diverged, run.detail = True, str(exc)

@@ -161,7 +161,7 @@ def open_replay(rec: Recording) -> tuple[Simulation, ModelChoice]:
     try:
         if scene in SCENES:
             sim = Simulation(
-                scene,
+                SCENES[scene],
                 values=head["values"],
                 integrator=head["integrator"],
                 timestep=head["timestep"],

@@ -11,6 +11,7 @@ import pytest
 from conftest import LESSON_FILE
 
 from sandbox.cli import main
+from sandbox.scenes import get_scene
 
 
 def _err(capsys) -> str:
@@ -281,7 +282,7 @@ def test_the_recorder_itself_refuses_a_named_pipe(tmp_path):
     pipe = tmp_path / "p.sbx"
     os.mkfifo(pipe)
     with pytest.raises(BadRecording, match="named pipe"):
-        Recorder(pipe, Simulation("rotor"))
+        Recorder(pipe, Simulation(get_scene("rotor")))
 
 
 @pytest.mark.parametrize("frames_first", [False, True])

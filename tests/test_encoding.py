@@ -33,8 +33,9 @@ bench.write_results([result], out / "bench", quick=True)
 write_csv(SimpleNamespace(names=["énergie_J", "θ̇"], readouts=[[1.5, 2.0]]), out / "r.csv")
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 
-sim = Simulation("rotor")
+sim = Simulation(get_scene("rotor"))
 recorder = Recorder(out / "lesson.sbx", sim)
 for _ in range(3):
     sim.step(10)

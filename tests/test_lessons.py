@@ -25,7 +25,7 @@ from sandbox.lessons import (
     validate,
 )
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.web.loop.requests import SetValue
 
 ALL = sorted(lessons())
@@ -59,7 +59,7 @@ def test_every_check_fails_at_the_start_and_passes_in_the_solved_state(name, ind
     values: dict[str, float] = {}
     for earlier in lesson.steps[: index + 1]:
         values.update(dict(earlier.preset))
-    _solve(Simulation(lesson.scene, values=values), lesson, index)
+    _solve(Simulation(resolve(lesson.scene), values=values), lesson, index)
 
 
 def _solve(sim: Simulation, lesson, index: int) -> None:
@@ -441,7 +441,7 @@ def test_the_balancing_hints_give_the_solution_that_passes_the_check():
     assert typed["mass2_g"] == pytest.approx(exact["mass2_g"], abs=0.05)
     assert abs(exact["angle1_deg"]) == pytest.approx(typed["angle1_deg"])  # -180 is 180
     assert exact["angle2_deg"] == pytest.approx(typed["angle2_deg"], abs=1e-9)
-    sim = Simulation("rotor", values=values)
+    sim = Simulation(get_scene("rotor"), values=values)
     sim.advance(0.1)
     progress = Progress(lesson)
     progress.go(3)
@@ -529,7 +529,7 @@ def test_a_check_passes_in_the_solved_state_whichever_way_the_motion_is_computed
     values: dict[str, float] = {}
     for earlier in lesson.steps[: index + 1]:
         values.update(dict(earlier.preset))
-    sim = Simulation(lesson.scene, values=values)
+    sim = Simulation(resolve(lesson.scene), values=values)
     if motion not in sim.motions:
         pytest.skip("this scene has no imposed motion")
     try:

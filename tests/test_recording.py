@@ -21,6 +21,7 @@ from sandbox.recording import (
     load,
     write_csv,
 )
+from sandbox.scenes import get_scene
 
 
 def _record(path, sim, frames=120, steps=10, change_at=None):
@@ -35,7 +36,7 @@ def _record(path, sim, frames=120, steps=10, change_at=None):
 
 
 def test_round_trip_is_exact(tmp_path):
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "r.sbx"
     _record(path, sim, change_at=40)
     rec = load(path)
@@ -63,7 +64,7 @@ def test_a_crash_loses_at_most_the_last_flush(tmp_path, monkeypatch):
     """The recorder flushes at least every 5 s; a process that dies leaves a readable
     file (without end line) that --salvage replays."""
     clock = [0.0]
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "crash.sbx"
     rec = Recorder(path, sim, clock=lambda: clock[0])
     for _ in range(50):
@@ -82,7 +83,7 @@ def test_a_crash_loses_at_most_the_last_flush(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("cut", [10, 200, 2000])
 def test_truncated_files_name_the_problem(tmp_path, cut):
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "r.sbx"
     _record(path, sim, frames=40)
     bad = tmp_path / "cut.sbx"
@@ -92,7 +93,7 @@ def test_truncated_files_name_the_problem(tmp_path, cut):
 
 
 def test_corrupted_foreign_and_newer_files(tmp_path):
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "r.sbx"
     _record(path, sim, frames=40)
     data = bytearray(path.read_bytes())
@@ -126,7 +127,7 @@ def test_corrupted_foreign_and_newer_files(tmp_path):
 def test_ten_minutes_at_60_hz_stay_under_50_mb(tmp_path):
     """Size of a 10-minute web recording (60 Hz states, 10 Hz readouts), extrapolated
     from 30 s of the rotor: the stream is written the same way throughout."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "long.sbx"
     rec = Recorder(path, sim)
     for k in range(30 * 60):
@@ -172,7 +173,7 @@ def test_create_unique_keeps_the_name_in_its_folder(tmp_path):
 def test_create_unique_then_record_two_sessions(tmp_path):
     paths = []
     for speed in (1000, 2000):
-        sim = Simulation("rotor", values={"speed_rpm": speed})
+        sim = Simulation(get_scene("rotor"), values={"speed_rpm": speed})
         path = create_unique(tmp_path, "rotor-same-second")
         _record(path, sim, frames=5)
         paths.append(path)
@@ -185,7 +186,7 @@ def test_create_unique_in_a_missing_folder_is_one_clear_error(tmp_path):
 
 
 def test_version_must_be_the_integer_1(tmp_path):
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "r.sbx"
     _record(path, sim, frames=5)
     lines = gzip.decompress(path.read_bytes()).decode().splitlines()
@@ -200,7 +201,7 @@ def test_version_must_be_the_integer_1(tmp_path):
 
 
 def test_a_reset_may_go_back_in_time_but_nothing_else(tmp_path):
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "r.sbx"
     rec = Recorder(path, sim)
     for k in range(6):
@@ -231,7 +232,7 @@ def test_a_recording_that_reaches_a_reader_limit_is_closed_and_stays_replayable(
     from sandbox.recording import limits
 
     monkeypatch.setattr(limits, limit, value)
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = recording.Recorder(tmp_path / "r.sbx", sim)
     for _ in range(400):
         sim.step(10)
@@ -247,7 +248,7 @@ def test_a_flood_of_events_closes_the_recording_before_the_event_limit(tmp_path,
     from sandbox.recording import limits
 
     monkeypatch.setattr(limits, "MAX_EVENTS", 50)
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = recording.Recorder(tmp_path / "r.sbx", sim)
     for i in range(100):
         sim.set_value("mass2_g", 10 + i % 5)

@@ -13,12 +13,13 @@ from sandbox.recording import BadRecording, Recorder, limits
 from sandbox.recording.format import FIX, FORMAT
 from sandbox.recording.untrusted import GzipLines, open_regular
 from sandbox.recording.validate import RecordReader, Refused, check_header
+from sandbox.scenes import get_scene
 
 
 def _header_line(tmp_path) -> bytes:
     """The header line of a short rotor recording, as written."""
     path = tmp_path / "r.sbx"
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = Recorder(path, sim)
     rec.close()
     return gzip.decompress(path.read_bytes()).splitlines()[0]

@@ -17,6 +17,7 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_simulation, planned_steps, resimulate
+from sandbox.scenes import get_scene
 from sandbox.web.loop.requests import Pause, Play, Seek, Speed, Steps
 from sandbox.web.replay.export import export_static
 from sandbox.web.replay.player import ReplayController
@@ -25,7 +26,7 @@ from sandbox.web.replay.player import ReplayController
 @pytest.fixture
 def recording(tmp_path):
     """Two seconds of the rotor with every kind of change a user can make."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path / "lesson.sbx"
     rec = Recorder(path, sim)
     changes = {

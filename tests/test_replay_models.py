@@ -16,6 +16,7 @@ from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
 from sandbox.replay import open_replay, verify
+from sandbox.scenes import get_scene
 from sandbox.web.loop.requests import Seek
 from sandbox.web.replay.player import ReplayController
 
@@ -49,7 +50,7 @@ def builds(monkeypatch):
 def _rotor(path, *, frames=12, steps=10, changes=None):
     """The rotor recorded ``frames`` frames; ``changes[k] = [(name, value)...]`` set
     after frame k."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = Recorder(path, sim)
     for k in range(frames):
         sim.step(steps)

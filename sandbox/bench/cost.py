@@ -11,6 +11,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.spec import Accuracy, Scene
@@ -24,7 +25,7 @@ REPEATS = 3
 
 def stepping_cost(
     simulation: Callable[..., Simulation],
-    target: str,
+    target: Scene | str | Path,
     acc: Accuracy,
     integrator: str,
     timestep: float,
@@ -62,7 +63,10 @@ def stepping_cost(
 
 
 def evaluation_cost(
-    simulation: Callable[..., Simulation], target: str, acc: Accuracy, timestep: float
+    simulation: Callable[..., Simulation],
+    target: Scene | str | Path,
+    acc: Accuracy,
+    timestep: float,
 ) -> float:
     """CPU seconds of one evaluation of an imposed motion (the state at an instant from
     the closure equations, every force by inverse dynamics): ``Simulation.step(1)``
@@ -155,7 +159,7 @@ def session_cost(scene: Scene, *, warmup: float = 0.1) -> SessionCost:
     (:data:`FRAME_RATE` and :data:`PANEL_RATE` calls); each is the best of
     :data:`REPEATS`.
     """
-    sim = Simulation(scene.name)
+    sim = Simulation(scene)
     sim.advance(warmup)
     dt = sim.timestep
     best = math.inf

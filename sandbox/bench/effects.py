@@ -48,14 +48,14 @@ def bench_effects(scene: Scene, *, quick: bool = False) -> EffectsResult:
     assert acc is not None
     duration = acc.duration * (QUICK_DURATION if quick else 1.0)
 
-    def all_on(target: str, **kwargs: object) -> Simulation:
+    def all_on(target: Scene, **kwargs: object) -> Simulation:
         sim = Simulation(target, **kwargs)  # type: ignore[arg-type]
         everything_on(sim)
         return sim
 
     dt = scene.default_timestep(acc.values)
-    declared = run_one(scene.name, acc, scene.integrator, dt, duration)  # simulated, free
-    on = run_one(scene.name, acc, scene.integrator, dt, duration, simulation=all_on)
+    declared = run_one(scene, acc, scene.integrator, dt, duration)  # simulated, free
+    on = run_one(scene, acc, scene.integrator, dt, duration, simulation=all_on)
     return EffectsResult(scene.name, declared, on)
 
 
@@ -83,7 +83,7 @@ def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -
     """Time both loops on the same model at the scene's defaults (best of three)."""
 
     def bare() -> float:
-        sim = Simulation(scene.name, motion="free")
+        sim = Simulation(scene, motion="free")
         m, d = sim.model, sim.data
         per = max(1, int(round(1.0 / (rate * m.opt.timestep))))
         frames = int(round(duration * rate))
@@ -94,7 +94,7 @@ def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -
         return time.perf_counter() - start
 
     def ours() -> float:
-        sim = Simulation(scene.name, motion="free")
+        sim = Simulation(scene, motion="free")
         start = time.perf_counter()
         simulate(sim, duration, rate, progress=False)
         return time.perf_counter() - start

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -31,7 +32,7 @@ def _series(samples: dict[str, list[float]]) -> dict[str, np.ndarray]:
 
 
 def run_one(
-    target: str,
+    target: Scene | str | Path,
     acc: Accuracy,
     integrator: str,
     timestep: float,
@@ -46,7 +47,13 @@ def run_one(
     ``motion``: "free" (the integrators' grid) or "imposed" (a scene's imposed motion,
     computed exactly: the integrator and timestep then only set the sampling).
     """
-    run = Run(str(target), integrator, timestep, duration, motion=motion)
+    run = Run(
+        target.name if isinstance(target, Scene) else str(target),
+        integrator,
+        timestep,
+        duration,
+        motion=motion,
+    )
     sim = simulation(
         target, values=dict(acc.values), integrator=integrator, timestep=timestep, motion=motion
     )
@@ -115,7 +122,7 @@ def bench_scene(
     timesteps = tuple(dt for dt in grid if dt <= scene.max_timestep * (1 + 1e-9))
     for integrator in integrators:
         for dt in timesteps:
-            run = run_one(scene.name, acc, integrator, dt, duration)
+            run = run_one(scene, acc, integrator, dt, duration)
             run.default = integrator == scene.integrator and math.isclose(dt, default_dt)
             result.runs.append(run)
             if progress is not None:
@@ -131,7 +138,7 @@ def bench_scene(
     ):
         # the same case, computed exactly: its error against the course and its cost (the
         # timestep only samples it)
-        result.imposed = run_one(scene.name, acc, scene.integrator, default_dt, duration,
+        result.imposed = run_one(scene, acc, scene.integrator, default_dt, duration,
                                  motion="imposed")  # fmt: skip
         if progress is not None:
             r = result.imposed

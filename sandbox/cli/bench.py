@@ -16,7 +16,7 @@ from sandbox.cores import default_workers
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
-from sandbox.scenes import SCENES, get_scene
+from sandbox.scenes import SCENES, get_scene, resolve
 
 
 def _bench_sweep(target: str) -> int:
@@ -50,7 +50,7 @@ def _bench_video(target: str, seconds: float = 30.0) -> int:
     # viser (a second, 20 MB) only for this benchmark: 'sandbox --help' stays quick and small
     from sandbox.web.video.render import VideoOptions, render_video
 
-    sim = Simulation(target)
+    sim = Simulation(resolve(target))
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "bench.sbx"
         recorder = Recorder(path, sim)

@@ -1,9 +1,9 @@
 """Build an MjModel from a scene spec or an MJCF file, with only the scene's effects on.
 
 Physics never imports the scenes: a scene's record (:class:`~sandbox.physics.spec.Scene`,
-a plain dataclass of physics) reaches it in a :class:`Source`, and scene *names* are
-resolved through the registry that :mod:`sandbox.scenes` passes down when it is imported
-(:func:`register_scenes`).
+a plain dataclass of physics) reaches it in a :class:`Source`, and a scene *name* is
+resolved against the registry its caller passes (:func:`resolve`; :mod:`sandbox.scenes`
+gives its own).
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ import stat
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from types import MappingProxyType
 
 import mujoco
 
@@ -74,22 +75,8 @@ def check_integrator(name: object) -> int:
     return INTEGRATORS[name]
 
 
-_SCENES: Mapping[str, Scene] = {}
-"""The registry :func:`resolve` looks names up in (empty until one is registered)."""
-
-
-def register_scenes(scenes: Mapping[str, Scene]) -> None:
-    """Let :func:`resolve` (and ``Simulation(name)``) find scenes by name.
-
-    :mod:`sandbox.scenes` passes its registry down when it is imported
-    (:mod:`sandbox.scenes.registry` makes the call), so that physics never imports the
-    layer above it; the entry points (cli, bench, replay, the web package) import it.
-    This injected registry is the seam that lets ``Simulation("rotor")`` take a name;
-    a caller holding a spec can pass ``Source.of_scene(spec)`` instead and need no
-    registry.
-    """
-    global _SCENES
-    _SCENES = scenes
+NO_SCENES: Mapping[str, Scene] = MappingProxyType({})
+"""No registry: :func:`resolve` then takes only MJCF paths."""
 
 
 @dataclass(frozen=True)
@@ -110,25 +97,26 @@ class Source:
         return self.scene.name if self.scene else self.path.name
 
 
-def resolve(target: str | Path) -> Source:
-    """Turn ``X`` of the CLI into a source: a registered scene name or an MJCF path.
+def resolve(target: str | Path, scenes: Mapping[str, Scene] = NO_SCENES) -> Source:
+    """Turn ``X`` of the CLI into a source: a scene name of ``scenes`` or an MJCF path.
 
-    Scene names are those of the registry passed to :func:`register_scenes` (importing
-    :mod:`sandbox.scenes` does it).
+    Args:
+        target: A scene name or the path of an MJCF file.
+        scenes: The registry names are looked up in (:func:`sandbox.scenes.resolve` passes
+            the course's); without one, only a file is accepted.
 
     Raises:
         UnknownScene: neither a scene nor an existing file (lists the scenes).
         BadModel: a directory was given instead of a file.
     """
-    scenes = _SCENES
     text = str(target)
     if text in scenes:
         return Source.of_scene(scenes[text])
     name = shown(text)
     if not scenes:
         unknown = (
-            f"unknown scene or file {name}: no scene registry is loaded (import "
-            "sandbox.scenes first), or give the path of an MJCF file"
+            f"unknown file {name}: give the path of an MJCF file (a scene's name is "
+            "resolved by sandbox.scenes.resolve)"
         )
     else:
         unknown = (

@@ -27,6 +27,7 @@ from sandbox.physics.model import (
 from sandbox.physics.motion_choice import MotionChoice
 from sandbox.physics.readouts import ReadoutInfo
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import Scene
 from sandbox.physics.stepping import finite as finite  # re-exported
 from sandbox.physics.stepping import step_model
 
@@ -49,7 +50,8 @@ class Simulation(MotionChoice):
     """One MuJoCo simulation of a scene or MJCF file.
 
     Args:
-        target: Scene name, MJCF path, or an already resolved :class:`Source`.
+        target: A scene's spec, an already resolved :class:`Source`, or an MJCF path (a
+            scene's *name* is resolved above physics: :func:`sandbox.scenes.resolve`).
         values: Parameter values overriding the scene's defaults (validated).
         integrator: Integrator name overriding the scene's or file's own.
         timestep: Timestep [s] overriding the scene's or file's own.
@@ -62,14 +64,20 @@ class Simulation(MotionChoice):
 
     def __init__(
         self,
-        target: str | Path | Source,
+        target: Scene | Source | str | Path,
         *,
         values: Mapping[str, object] | None = None,
         integrator: str | None = None,
         timestep: float | None = None,
         motion: str | None = None,
     ) -> None:
-        self.source = target if isinstance(target, Source) else resolve(target)
+        self.source = (
+            target
+            if isinstance(target, Source)
+            else Source.of_scene(target)
+            if isinstance(target, Scene)
+            else resolve(target)
+        )
         self.scene = self.source.scene
         self.values: dict[str, float] = self.scene.defaults() if self.scene else {}
         for name, value in (values or {}).items():

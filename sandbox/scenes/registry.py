@@ -1,17 +1,18 @@
 """Registry of the course's scenes (frozen :class:`~sandbox.physics.spec.Scene` specs).
 
-Importing it passes the registry down to physics (:func:`sandbox.physics.model.register_scenes`),
-so that ``Simulation("rotor")`` and :func:`~sandbox.physics.model.resolve` know the scene
-names. That injection is the seam between the two layers: physics never imports the
-scenes (tests/test_layers.py), it only looks names up in the mapping it was given here.
-A scene that needs a simulation of its own builds it from its spec
-(``Simulation(Source.of_scene(SCENE))``) and so does not depend on this registry.
+Physics never imports the scenes (tests/test_layers.py) and keeps no registry: it takes a
+scene's spec (``Simulation(get_scene("rotor"))``), and a name typed by a user (the CLI's
+``X``, a link, a study) is turned into a source here, by :func:`resolve`, which passes this
+registry to :func:`sandbox.physics.model.resolve`.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from sandbox.errors import UnknownScene, choices
-from sandbox.physics.model import register_scenes
+from sandbox.physics import model
+from sandbox.physics.model import Source
 from sandbox.physics.spec import Scene
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
 from sandbox.scenes.engine import SCENE as ENGINE
@@ -41,7 +42,11 @@ SCENES: dict[str, Scene] = {
 
 DEFAULT_SCENE = "rotor"
 
-register_scenes(SCENES)
+
+def resolve(target: str | Path) -> Source:
+    """A scene of the registry by name, or an MJCF file by path (UnknownScene listing the
+    scenes, BadModel for a directory or a device)."""
+    return model.resolve(target, SCENES)
 
 
 def get_scene(name: str) -> Scene:

@@ -36,7 +36,7 @@ def plot(out: Path | IO[bytes], study: Study, rows: Sequence[Mapping[str, Any]])
     """The study as a PNG for a slide, in French: the measure against the first varied
     parameter (one curve per value of the second), dots for the runs, the course's
     closed form dashed through them where the scene has one; decimal commas."""
-    sim = Simulation(study.target, values=dict(study.fixed))
+    sim = Simulation(study.source, values=dict(study.fixed))
     scene = sim.scene
     params = {p.name: p for p in (scene.params if scene is not None else ())}
     infos = {i.name: i for i in sim.readout_infos()}

@@ -18,7 +18,6 @@ from typing import Any
 import mujoco
 import numpy as np
 
-import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
 from sandbox.errors import BadOption, Diverged, shown
 from sandbox.physics.simulation import Simulation
 from sandbox.runner import check_run
@@ -43,7 +42,7 @@ def _first_hinge(sim: Simulation) -> int | None:
 def run_one(study: Study, point: Mapping[str, float]) -> dict[str, Any]:
     """One run of ``study`` at ``point``: its row (see :data:`sandbox.sweep.COLUMNS_AFTER`)."""
     sim = Simulation(
-        study.target,
+        study.source,
         values={**dict(study.fixed), **point},
         integrator=study.integrator,
         timestep=study.timestep,

@@ -13,8 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sandbox.errors import BadOption, shown
+from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.runner import MAX_STEPS, check_run
+from sandbox.scenes import resolve
 from sandbox.sweep.reduction import STATISTICS
 
 MAX_RUNS = 1000
@@ -126,6 +128,11 @@ class Study:
             for combo in itertools.product(*(v.values for v in self.varies))
         ]
 
+    @property
+    def source(self) -> Source:
+        """The scene or MJCF file ``target`` names (resolved against the course's registry)."""
+        return resolve(self.target)
+
 
 def check(study: Study) -> int:
     """Refuse a study before any run: parameters, bounds, readout, budget. Returns the
@@ -158,14 +165,14 @@ def check(study: Study) -> int:
     for vary in study.varies:  # both ends within the parameter's bounds (the scene says)
         for value in (vary.start, vary.stop):
             Simulation(
-                study.target,
+                study.source,
                 values={**fixed, vary.name: value},
                 integrator=study.integrator,
                 timestep=study.timestep,
                 motion=study.motion,
             )
     sim = Simulation(
-        study.target,
+        study.source,
         values=fixed,
         integrator=study.integrator,
         timestep=study.timestep,
@@ -190,7 +197,7 @@ def bench_study(target: str, runs: int = 50, duration: float = 2.0) -> Study:
     """The study ``sandbox bench --sweep`` times: ``runs`` runs of ``duration`` s over the
     scene's first parameter, from its lowest to its highest value, measuring the maximum
     of its first readout."""
-    sim = Simulation(target)
+    sim = Simulation(resolve(target))
     scene = sim.scene
     if scene is None or not scene.params or not scene.readouts:
         raise BadOption(f"{shown(target)} has no parameter or readout of its own to study")

@@ -7,8 +7,6 @@ no viser) -> :mod:`.panels` (the page's folders) -> :mod:`.video` -> :mod:`.page
 client in French, access, layout) -> :mod:`.views` (what one browser sees) ->
 :mod:`.serving` (servers, class, follow mode, workers) -> :mod:`.replay`.
 
-It serves scenes by name, so it loads the registry, which passes itself down to physics
-(:func:`sandbox.physics.model.register_scenes`).
+A scene named by a user is resolved by :func:`sandbox.scenes.resolve` where the name
+arrives (the server's start, follow mode, a study).
 """
-
-import sandbox.scenes  # noqa: F401

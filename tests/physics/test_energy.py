@@ -8,6 +8,7 @@ import pytest
 
 from sandbox.physics.energy import frame_power
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 
 
 def test_frame_power_by_hand():
@@ -16,7 +17,7 @@ def test_frame_power_by_hand():
 
 
 def test_perfect_fixed_joints_do_no_work():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.advance(0.1)
     values = sim.readouts()
     assert abs(frame_power(values)) < 1e-6 * max(1.0, abs(values["P_ext"]))

@@ -7,11 +7,12 @@ import pytest
 
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene, resolve
 
 
 @pytest.mark.parametrize("target", ["compressor", "rotor"])
 def test_actions_sum_to_the_dynamic_torsor_of_each_solid(target):
-    sim = Simulation(target)
+    sim = Simulation(resolve(target))
     sim.advance(0.003)
     sim.snapshot(["sup_R_x"])
     for solid in isolate.solids(sim.model):
@@ -26,7 +27,7 @@ def test_actions_sum_to_the_dynamic_torsor_of_each_solid(target):
 
 def test_piston_sees_the_frame_and_the_rod():
     """Course exercise: isolating the piston 3 shows the action of 0 (slide) and of 2."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(0.002)
     sim.snapshot(["sup_R_x"])
     import mujoco
@@ -41,7 +42,7 @@ def test_piston_sees_the_frame_and_the_rod():
 def test_balance_reduces_everything_at_g_and_closes_the_pfd():
     """The panel's numbers: G, {D} and the actions moved to G (M_G = M_O + R ∧ OG), and
     the PFD's relative residual."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(0.002)
     sim.snapshot(["sup_R_x"])
     for solid in isolate.solids(sim.model):
@@ -82,7 +83,7 @@ def test_the_heavy_tops_weight_reads_minus_m_g_along_z0():
     """Issue 21: the planar table read "poids | 0 | 0 | 0 | 0" for the heavy top."""
     import mujoco
 
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     sim.advance(0.2)
     sim.snapshot(["sup_R_x"])
     rotor = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
@@ -101,7 +102,7 @@ def test_the_rotors_rotating_bearing_force_is_m_e_omega_squared_and_fixed_in_the
 
     import mujoco
 
-    sim = Simulation("rotor", values={"mass1_g": 0.0, "mass2_g": 0.0})
+    sim = Simulation(get_scene("rotor"), values={"mass1_g": 0.0, "mass2_g": 0.0})
     sim.advance(0.2)
     rotor = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "rotor")
     seen = []
@@ -123,7 +124,7 @@ def test_the_rotors_rotating_bearing_force_is_m_e_omega_squared_and_fixed_in_the
 def test_the_engines_pfd_gap_is_round_off_of_its_largest_action():
     """Issue 21: divided by {D} (0 for the crank at constant speed), the engine's relative
     gap read 3×10²⁸⁶."""
-    sim = Simulation("engine")
+    sim = Simulation(get_scene("engine"))
     sim.advance(0.1)
     sim.snapshot(["sup_R_x"])
     for solid in isolate.solids(sim.model):
@@ -142,7 +143,7 @@ def test_a_frictionless_joint_has_no_moment_about_its_own_axis(motion):
     the actuator's torque)."""
     from sandbox.physics.torsors import joint_drive
 
-    sim = Simulation("compressor", values={"speed_rpm": 6000.0}, motion=motion)
+    sim = Simulation(get_scene("compressor"), values={"speed_rpm": 6000.0}, motion=motion)
     sim.advance(0.0371)
     sim.snapshot(["sup_R_x"])
     model, data = sim.model, sim.data

@@ -11,7 +11,7 @@ from sandbox.challenges import CHALLENGES
 from sandbox.physics.model import build
 from sandbox.physics.picture import TwinMismatch, check_twin, geom_local_poses, picture
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import get_scene
+from sandbox.scenes import get_scene, resolve
 
 
 def _twin(sim: Simulation, **public: float):
@@ -25,7 +25,7 @@ def test_the_twin_draws_the_public_shapes_posed_by_the_simulated_motion(skew: fl
     """A rotor whose disk is tilted by a hidden angle: with a twin built at 0°, what is
     drawn (shapes, every body's pose) does not depend on the hidden angle, and the
     rotor's pose is the simulated one."""
-    sim = Simulation("rotor", values={"skew_deg": skew, "defect_mass_g": 35.0})
+    sim = Simulation(get_scene("rotor"), values={"skew_deg": skew, "defect_mass_g": 35.0})
     sim.advance(0.137)
     twin = _twin(sim, skew_deg=0.0, defect_mass_g=1.0)
     drawn = picture(sim.snapshot(), shown=twin)
@@ -35,7 +35,7 @@ def test_the_twin_draws_the_public_shapes_posed_by_the_simulated_motion(skew: fl
     assert drawn.poses == pytest.approx(plain.poses, abs=1e-12)  # the motion is the same
     assert drawn.arrows == pytest.approx(plain.arrows, nan_ok=True)  # forces measured
     # the shapes: the twin's at any hidden angle, and the real ones differ from them
-    untilted = Simulation("rotor", values={"skew_deg": 0.0, "defect_mass_g": 1.0})
+    untilted = Simulation(get_scene("rotor"), values={"skew_deg": 0.0, "defect_mass_g": 1.0})
     assert geom_local_poses(twin) == pytest.approx(geom_local_poses(untilted.model), abs=1e-12)
     assert not np.allclose(geom_local_poses(sim.model), geom_local_poses(twin), atol=1e-6)
     rotor = sim.model.body("rotor").id
@@ -45,14 +45,14 @@ def test_the_twin_draws_the_public_shapes_posed_by_the_simulated_motion(skew: fl
 def test_the_wheel_s_tilted_tyre_is_drawn_straight() -> None:
     """The tyre is a body welded to the wheel, tilted by the hidden skew: the twin's
     welded pose is drawn (the real one would reach the browser in body_xquat)."""
-    sim = Simulation("wheel_balancer", values={"skew_deg": 0.8, "skew_angle_deg": 70.0})
+    sim = Simulation(get_scene("wheel_balancer"), values={"skew_deg": 0.8, "skew_angle_deg": 70.0})
     sim.advance(0.05)
     twin = _twin(sim, skew_deg=0.0, defect_mass_g=0.0)
     tyre = sim.model.body("tyre").id
     drawn, plain = picture(sim.snapshot(), shown=twin), picture(sim.snapshot())
     assert drawn.poses == pytest.approx(plain.poses, abs=1e-12)
     assert not np.allclose(drawn.body_xquat[tyre], plain.body_xquat[tyre], atol=1e-4)
-    straight = Simulation("wheel_balancer", values={"skew_deg": 0.0})
+    straight = Simulation(get_scene("wheel_balancer"), values={"skew_deg": 0.0})
     straight.advance(0.05)
     assert drawn.body_xquat[tyre] == pytest.approx(
         picture(straight.snapshot()).body_xquat[tyre], abs=1e-9
@@ -60,7 +60,7 @@ def test_the_wheel_s_tilted_tyre_is_drawn_straight() -> None:
 
 
 def test_a_twin_of_another_structure_is_refused() -> None:
-    sim = Simulation("wheel_balancer")
+    sim = Simulation(get_scene("wheel_balancer"))
     soft = build(sim.source, {**sim.values, "supports": 1.0})  # four more joints
     with pytest.raises(TwinMismatch, match="joints"):
         check_twin(sim.model, soft)
@@ -75,7 +75,7 @@ def test_a_challenge_s_twin_draws_the_same_whatever_was_drawn(name: str) -> None
     base = {**get_scene(c.scene).defaults(), **dict(c.fixed)}
     drawn = []
     for seed in (1, 2):
-        sim = Simulation(c.scene, values={**base, **c.draw(base, random.Random(seed))})
+        sim = Simulation(resolve(c.scene), values={**base, **c.draw(base, random.Random(seed))})
         sim.advance(0.05)
         twin = _twin(sim, **c.public())
         drawn.append((sim, picture(sim.snapshot(), shown=twin)))

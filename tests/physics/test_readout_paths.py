@@ -14,7 +14,7 @@ import pytest
 from sandbox.physics import readouts as R
 from sandbox.physics.mechanism import mechanism_bodies
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 
 REL = 1e-12
 ROUND_OFF = 1e-15
@@ -162,7 +162,7 @@ def test_every_joint_type_springs_motors_and_loads_match_the_naive_sums(seed):
 def test_each_scene_matches_the_naive_sums_and_its_readouts_do_not_depend_on_sharing(name):
     """Generic readouts against the naive sums; every scene readout computed alone (fresh
     snapshot) equals the one computed in a full row (shared torsors and caches)."""
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     sim.advance(0.05)
     row = sim.readouts()
     _assert_same(row, _naive(sim.model, sim.data))
@@ -172,7 +172,7 @@ def test_each_scene_matches_the_naive_sums_and_its_readouts_do_not_depend_on_sha
 
 def test_model_constant_indices_follow_a_rebuilt_model():
     """The cached structure belongs to one compiled model: a rebuild gets its own."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     first = mechanism_bodies(sim.model)
     sim.set_value("counterweight_mass", 0.1)  # rebuild
     assert mechanism_bodies(sim.model) is not first
@@ -183,7 +183,7 @@ def test_model_constant_indices_follow_a_rebuilt_model():
 def test_the_compressor_orders_of_a_cached_revolution_are_the_fitted_ones():
     from sandbox.scenes.compressor import cycle as compressor
 
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(0.05)
     names = ["pilon_h1", "pilon_h2", "tamis_h1"]
     cached = sim.readouts(names)

@@ -37,6 +37,7 @@ from sandbox.recording import (
     load,
 )
 from sandbox.replay import open_simulation, resimulate
+from sandbox.scenes import get_scene
 
 GIB = 2**30
 
@@ -65,7 +66,7 @@ def _record(path: Path, sim: Simulation, frames: int = 12) -> Lines:
 @pytest.fixture(scope="module")
 def rotor(tmp_path_factory) -> Lines:
     """A valid rotor recording: header, frames, readouts, a 'set', a 'reset', the end."""
-    return _record(tmp_path_factory.mktemp("rotor") / "r.sbx", Simulation("rotor"))
+    return _record(tmp_path_factory.mktemp("rotor") / "r.sbx", Simulation(get_scene("rotor")))
 
 
 @pytest.fixture(scope="module")

@@ -26,10 +26,10 @@ import msgspec
 import numpy as np
 import pytest
 
-import sandbox.scenes  # noqa: F401  (the registry: Simulation("rotor"))
+import sandbox.scenes  # noqa: F401  (the registry: Simulation(get_scene("rotor")))
 from sandbox.physics.model import integrator_words
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.web.client.fields import param_label
 from sandbox.web.loop import Controller, Scheduler, Session
 from sandbox.web.loop.requests import Button, Pause, Reset, Seek, Speed, Steps
@@ -220,7 +220,7 @@ class Page:
 
     def __init__(self, target: str | Path, record_dir: Path) -> None:
         self.clock = Clock()
-        self.ctl = Controller(Simulation(target), clock=self.clock, record_dir=record_dir)
+        self.ctl = Controller(Simulation(resolve(target)), clock=self.clock, record_dir=record_dir)
         self.client = Client()
         self.view = WebView(self.client, self.ctl, live=self.ctl)
         self.scheduler = Scheduler(clock=self.clock, threaded=False)
@@ -450,7 +450,7 @@ def test_a_crafted_mjcf_shows_its_names_as_text(tmp_path, quiet):
 
 def test_the_replay_header_of_a_crafted_recording_is_shown_as_text():
     header = {"target": INJECTION, "created": "<script>steal()</script>", "lesson": "**x**"}
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = SimpleNamespace(header=header, times=np.array([0.0, 0.1]))
     ctl = SimpleNamespace(
         rec=rec,
@@ -485,7 +485,9 @@ def short_recording(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from sandbox.web.loop.requests import Record
 
     clock = Clock()
-    ctl = Controller(Simulation("rotor"), clock=clock, record_dir=tmp_path_factory.mktemp("rec"))
+    ctl = Controller(
+        Simulation(get_scene("rotor")), clock=clock, record_dir=tmp_path_factory.mktemp("rec")
+    )
     ctl.submit(Record())
     for _ in range(30):
         clock.now += 1 / 60

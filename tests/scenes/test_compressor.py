@@ -18,6 +18,7 @@ import pytest
 
 from sandbox.mechanics import huygens
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene, resolve
 from sandbox.scenes.compressor import (
     RPM,
     SCENE,
@@ -44,7 +45,7 @@ def _sample(sim, duration, every):
 def _run(values=None, duration=0.1, *, every=5e-4, timestep=None):
     """A new simulation sampled from its start (``every`` None: at every step); returns it
     with arrays of NAMES."""
-    sim = Simulation("compressor", values=values or {}, timestep=timestep)
+    sim = Simulation(get_scene("compressor"), values=values or {}, timestep=timestep)
     return sim, _sample(sim, duration, sim.timestep if every is None else every)
 
 
@@ -90,7 +91,7 @@ def test_slider_crank_kinematics_at_dead_centres_and_by_differences():
 
 def test_model_inertia_is_the_courses_matrix():
     """MuJoCo's crank inertia, moved back to O, is I_O,1 with A1, B1, C1 and -E1."""
-    sim = Simulation("compressor", values={"E1": 2e-6})
+    sim = Simulation(get_scene("compressor"), values={"E1": 2e-6})
     m, d = sim.model, sim.data
     b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "crank")
     mujoco.mj_resetData(m, d)
@@ -104,7 +105,7 @@ def test_model_inertia_is_the_courses_matrix():
 
 
 def test_effects_weight_off_contacts_off_closure_on():
-    flags = Simulation("compressor").model.opt.disableflags
+    flags = Simulation(get_scene("compressor")).model.opt.disableflags
     assert flags & mujoco.mjtDisableBit.mjDSBL_GRAVITY
     assert flags & mujoco.mjtDisableBit.mjDSBL_CONTACT
     assert not flags & mujoco.mjtDisableBit.mjDSBL_EQUALITY
@@ -123,7 +124,7 @@ def test_the_frame_force_is_minus_the_sum_of_m_gamma():
     """Simulated pilon vs −Σ m Γ(G_i) from MuJoCo's own accelerations of the centres."""
     from sandbox.physics.kinematics import body_accelerations
 
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(0.007)
     sim.snapshot(["sup_R_x"])
     a_g, _ = body_accelerations(sim.model, sim.data)
@@ -138,7 +139,7 @@ def test_counterweight_trades_order_one_pilon_for_tamis_and_leaves_order_two():
     the order-1 pilon but the tamis grows back; order 2 never changes."""
     out = {}
     for cw in (0.0, 0.1, 0.2):
-        sim = Simulation("compressor", values={"counterweight_mass": cw})
+        sim = Simulation(get_scene("compressor"), values={"counterweight_mass": cw})
         out[cw] = sim.readouts(["pilon_h1", "pilon_h2", "tamis_h1"])
         ref = sim.reference()
         for key in ("pilon_h1", "tamis_h1"):
@@ -155,7 +156,7 @@ def test_orders_during_a_ramp_follow_the_current_speed():
     at the current ω (they scale with ω²) within 0.5 %, and cost no revolution of steps."""
     from sandbox.scenes.compressor import reference
 
-    sim = Simulation("compressor", values={"ramp_s": 0.5})
+    sim = Simulation(get_scene("compressor"), values={"ramp_s": 0.5})
     sim.advance(0.2)
     got = sim.readouts(["pilon_h1", "pilon_h2", "tamis_h1", "omega"])
     assert 0.2 * 3000 * RPM < got["omega"] < 0.6 * 3000 * RPM  # mid-ramp
@@ -169,7 +170,7 @@ def test_both_ways_of_measuring_the_orders_agree_in_steady_state():
     same orders once the speed is steady (1e-3 of the order-1 pilon)."""
     from sandbox.scenes.compressor import loop_forces, revolution, steady
 
-    sim = Simulation("compressor", values={"counterweight_mass": 0.1})
+    sim = Simulation(get_scene("compressor"), values={"counterweight_mass": 0.1})
     sim.advance(0.05)
     snap = sim.snapshot(["sup_R_x"])
     assert steady(snap)
@@ -185,7 +186,7 @@ def test_pilon_harmonics_are_the_order_readouts_of_the_snapshot():
     readouts: the same numbers as the readouts, cached on the snapshot."""
     from sandbox.scenes.compressor import pilon_harmonics
 
-    sim = Simulation("compressor", values={"counterweight_mass": 0.1})
+    sim = Simulation(get_scene("compressor"), values={"counterweight_mass": 0.1})
     sim.advance(0.05)
     snap = sim.snapshot(["sup_R_x"])
     orders = pilon_harmonics(snap)
@@ -256,7 +257,7 @@ def test_references_follow_a_speed_ramp_within_a_percent_of_the_peak(values):
     θ'' terms) match the simulation within 1 % of each one's peak (measured 1.5e-4 to
     3.3e-4). The constant-speed formulas miss the motor torque by 19 to 29 % of its peak."""
     values = {"ramp_s": 0.05 if values.get("speed_rpm") else 0.2, **values}
-    sim = Simulation("compressor", values=values)
+    sim = Simulation(get_scene("compressor"), values=values)
     s = _sample(sim, 1.0, sim.timestep)
     for name in ("pilon", "tamis", "motor_torque"):
         assert _peak_error(s, name) < 1e-2, name
@@ -269,13 +270,13 @@ def test_rod_shorter_than_crank_is_refused():
     from sandbox.errors import BadParameter
 
     with pytest.raises(BadParameter, match="longer than the crank"):
-        Simulation("compressor", values={"R": 0.03, "L": 0.02})
+        Simulation(get_scene("compressor"), values={"R": 0.03, "L": 0.02})
 
 
 # -- the closure's design ---------------------------------------------------------------------
 def test_initial_state_is_on_the_loop_with_consistent_velocities():
     """The run starts closed: zero gap at A and a relative velocity J·q̇ of zero."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     assert sim.readouts(["closure_error"])["closure_error"] < 1e-12
     assert np.abs(sim.data.efc_vel).max() < 1e-9
     assert sim.readouts(["omega"])["omega"] == pytest.approx(3000 * RPM, rel=1e-12)
@@ -286,7 +287,7 @@ def test_closure_does_no_work_and_biases_nothing():
     chosen): the closure's power is below 1e-4 of the shaft's and the pilon matches the
     course within 5e-4 of its peak (a closure at MuJoCo's stiffest time constant, 2 dt,
     shows 0.2 % here from its damping of a step-to-step violation)."""
-    sim = Simulation("compressor", timestep=1e-4)
+    sim = Simulation(get_scene("compressor"), timestep=1e-4)
     sim.advance(0.06)
     s = _one_revolution(sim)
     assert np.max(np.abs(s["P_int"])) < 1e-4 * np.max(np.abs(s["motor_torque"] * s["omega"]))
@@ -301,7 +302,9 @@ def test_default_timestep_keeps_the_crank_angle_per_step():
     down to 1, 1.5, 2, 3, 5 or 7 × 10^k s; 1 ms at low speed; finer for a short rod."""
     dt = {rpm: SCENE.default_timestep({"speed_rpm": rpm}) for rpm in (0, 1000, 3000, 6000, 17000)}
     assert dt == {0: 1e-3, 1000: 1e-3, 3000: 5e-4, 6000: 2e-4, 17000: 1e-4}
-    assert SCENE.timestep == SCENE.default_timestep() == Simulation("compressor").timestep
+    assert (
+        SCENE.timestep == SCENE.default_timestep() == Simulation(get_scene("compressor")).timestep
+    )
     for rpm in np.linspace(100, 17000, 60):
         step = SCENE.default_timestep({"speed_rpm": rpm})
         assert rpm * RPM * step <= 17000 * RPM * 1e-4 * (1 + 1e-9) or step == 1e-3
@@ -310,7 +313,7 @@ def test_default_timestep_keeps_the_crank_angle_per_step():
 
 
 def test_a_new_speed_brings_its_timestep_unless_the_user_chose_one():
-    sim = Simulation("compressor", motion="free")  # the servo and the closure follow dt
+    sim = Simulation(get_scene("compressor"), motion="free")  # the servo and the closure follow dt
     model, events = sim.model, []
     sim.observers.append(lambda kind, fields: events.append((kind, fields.get("value"))))
     sim.set_value("speed_rpm", 17000)
@@ -326,7 +329,7 @@ def test_a_new_speed_brings_its_timestep_unless_the_user_chose_one():
     for _ in range(80):  # (checked after each call of step)
         sim.step(1)
     assert sim.timestep == 5e-4 and events[-1] == ("timestep", 5e-4)
-    user = Simulation("compressor", timestep=2e-4)
+    user = Simulation(get_scene("compressor"), timestep=2e-4)
     user.set_value("speed_rpm", 17000)
     assert user.timestep == 2e-4
     user.set_timestep(3e-4)
@@ -341,7 +344,7 @@ def test_a_live_drop_from_17000_rpm_keeps_the_fine_step_until_the_crank_has_slow
     slows by 0.9 mm. Keeping the step of the actual speed until the crank has turned at its
     new speed for 50 steps, it opens as with a fixed 1e-4 s (1.5e-4 m while braking),
     closes again, and the 1 ms step comes back."""
-    sim = Simulation("compressor", values={"speed_rpm": 17000.0}, motion="free")
+    sim = Simulation(get_scene("compressor"), values={"speed_rpm": 17000.0}, motion="free")
     sim.advance(0.05)
     events = []
     sim.observers.append(lambda kind, fields: events.append((kind, fields.get("value"))))
@@ -379,7 +382,7 @@ def test_the_error_per_revolution_depends_on_the_angle_per_step_only():
             settle=0.003 * k,
             rate=5000.0 / k,
         )
-        out[rpm] = run_one("compressor", acc, "rk4", 1e-4 * k, acc.duration)
+        out[rpm] = run_one(get_scene("compressor"), acc, "rk4", 1e-4 * k, acc.duration)
     fast, slow = out[17000.0], out[3000.0]
     assert slow.error == pytest.approx(fast.error, rel=1e-6)
     assert slow.drift == pytest.approx(fast.drift, rel=1e-6)
@@ -392,7 +395,7 @@ def test_a_recorded_speed_change_replays_exactly(tmp_path):
     from sandbox.recording import Recorder, load
     from sandbox.replay import resimulate
 
-    sim = Simulation("compressor", motion="free")  # the servo's braking re-simulated
+    sim = Simulation(get_scene("compressor"), motion="free")  # the servo's braking re-simulated
     rec = Recorder(tmp_path / "c.sbx", sim)
     for k in range(60):
         sim.step(5)
@@ -408,7 +411,7 @@ def test_a_recorded_speed_change_replays_exactly(tmp_path):
 
 
 def test_live_speed_change_is_held_within_a_tenth_of_a_percent():
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     model = sim.model
     sim.set_value("speed_rpm", 6000)
     assert sim.model is model  # live: no rebuild
@@ -436,7 +439,7 @@ def test_short_rod_l_over_r_1_1():
 def test_start_from_rest_with_a_ramp():
     """Set point rising with a 0.1 s time constant: closed and energy-consistent during
     the whole start, and at speed (0.1 %) with the course's pilon after 1 s."""
-    sim = Simulation("compressor", values={"ramp_s": 0.1})
+    sim = Simulation(get_scene("compressor"), values={"ramp_s": 0.1})
     assert sim.readouts(["omega"])["omega"] == 0.0
     s = _sample(sim, 1.0, 2e-3)
     assert np.all(np.isfinite(s["P_int"])) and s["closure_error"].max() < 1e-6
@@ -460,7 +463,7 @@ def test_the_actuators_torque_is_the_shafts_plus_what_turns_the_rotor(scene):
     ripples, θ'' ≠ 0) the actuator's torque, whose power is P_ext, is C_mot + J θ'': J the
     motor rotor's inertia (0,02 kg·m²), C_mot what reaches the crank shaft (the course's
     C_mot, the « Couple moteur » row); they differ by up to 20 % of the peak."""
-    sim = Simulation(scene, values={"speed_rpm": 6000.0}, motion="free")
+    sim = Simulation(resolve(scene), values={"speed_rpm": 6000.0}, motion="free")
     gap = peak = 0.0
     for _ in range(40):
         sim.advance(0.0011)

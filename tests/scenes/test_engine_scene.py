@@ -19,7 +19,7 @@ import pytest
 from sandbox.errors import BadParameter
 from sandbox.mechanics import engine as closed
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene
 from sandbox.scenes import engine as scene
 from sandbox.scenes.compressor import RPM
 
@@ -29,7 +29,7 @@ NAMES = ("theta", "omega", "pilon", "pilon_ref", "tamis", "shaking_moment",
 
 
 def _sim(**values: float) -> Simulation:
-    return Simulation("engine", values=values)
+    return Simulation(get_scene("engine"), values=values)
 
 
 def _revolution(sim: Simulation, turns: float = 1.02) -> dict[str, np.ndarray]:

@@ -10,6 +10,7 @@ import pytest
 
 from sandbox.errors import Diverged
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.scenes.gyroscope import LOCK_DEG, pivot_moment
 
 N = ("spin", "gimbal_outer", "gimbal_inner", "axis_drift", "gimbal_lock", "sigma_G_x",
@@ -29,7 +30,7 @@ def _still_case(integrator: str | None = None, timestep: float | None = None) ->
     and any integrator would pass; the tilt and the nudge excite the nutation.
     """
     sim = Simulation(
-        "gyroscope",
+        get_scene("gyroscope"),
         values={"spin_rpm": 30000.0, "manoeuvre": 0.0, **TILTED},
         integrator=integrator,
         timestep=timestep,
@@ -82,7 +83,7 @@ def _reading(case_rot: np.ndarray, axis: np.ndarray) -> tuple[float, float]:
 
 def test_spinning_the_axis_holds_and_the_gimbals_read_the_case():
     """Turn the case to (40°, 25°, -15°): the axis stays, the gimbals give the attitude."""
-    sim = Simulation("gyroscope", values={"spin_rpm": 12000.0, "manoeuvre": 0.0})
+    sim = Simulation(get_scene("gyroscope"), values={"spin_rpm": 12000.0, "manoeuvre": 0.0})
     for name, deg in (("case_yaw_deg", 40.0), ("case_pitch_deg", 25.0), ("case_roll_deg", -15.0)):
         sim.set_value(name, deg)
     sim.advance(1.5)
@@ -97,14 +98,14 @@ def test_spinning_the_axis_holds_and_the_gimbals_read_the_case():
 
 def test_at_spin_zero_the_rotor_follows_the_case():
     """Pivot friction drags a still rotor along; with perfect pivots nothing does."""
-    sim = Simulation("gyroscope", values={"spin_rpm": 0.0, "manoeuvre": 0.0})
+    sim = Simulation(get_scene("gyroscope"), values={"spin_rpm": 0.0, "manoeuvre": 0.0})
     sim.set_value("case_yaw_deg", 40.0)
     sim.advance(3.0)
     r = sim.readouts(N)
     assert r["axis_drift"] > 0.5 * math.radians(40.0)
     assert r["spin"] == 0.0 and math.isfinite(r["pivot_moment_outer"])
     perfect = Simulation(
-        "gyroscope", values={"spin_rpm": 0.0, "pivot_damping": 0.0, "manoeuvre": 0.0}
+        get_scene("gyroscope"), values={"spin_rpm": 0.0, "pivot_damping": 0.0, "manoeuvre": 0.0}
     )
     perfect.set_value("case_yaw_deg", 40.0)
     perfect.advance(3.0)
@@ -114,7 +115,7 @@ def test_at_spin_zero_the_rotor_follows_the_case():
 def test_spinning_rotor_resists_the_pivot_friction():
     """The same yaw at 12,000 rpm: the drift is 1/100 of the still rotor's."""
     still, fast = (
-        Simulation("gyroscope", values={"spin_rpm": rpm, "manoeuvre": 0.0})
+        Simulation(get_scene("gyroscope"), values={"spin_rpm": rpm, "manoeuvre": 0.0})
         for rpm in (0.0, 12000.0)
     )
     for sim in (still, fast):
@@ -126,7 +127,7 @@ def test_spinning_rotor_resists_the_pivot_friction():
 def test_the_page_opens_on_a_manoeuvre_the_axis_holds_through():
     """At the defaults the case turns by itself within seconds (manoeuvre 2): the gimbal
     angles change while the rotor's axis keeps its direction."""
-    sim = Simulation("gyroscope")
+    sim = Simulation(get_scene("gyroscope"))
     assert sim.values["manoeuvre"] == 2.0
     sim.advance(3.0)
     r = sim.readouts(N)
@@ -137,7 +138,7 @@ def test_the_page_opens_on_a_manoeuvre_the_axis_holds_through():
 @pytest.mark.parametrize("spin", [12000.0, 30000.0])
 def test_gimbal_lock_is_traversed_without_warning_and_flagged(spin):
     """Manoeuvre 1 rolls the case through 90°: the rotor's axis meets the outer pivot."""
-    sim = Simulation("gyroscope", values={"spin_rpm": spin, "manoeuvre": 0.0})
+    sim = Simulation(get_scene("gyroscope"), values={"spin_rpm": spin, "manoeuvre": 0.0})
     sim.set_value("manoeuvre", 1.0)
     outer = sim.model.joint("outer").id
     rows = []
@@ -186,7 +187,9 @@ def test_pivot_moment_is_the_rate_of_the_carried_angular_momentum(gimbal):
     drags the rotor's axis and the pivots transmit up to ~0.9 N·m.
     """
     dt = 5e-5
-    sim = Simulation("gyroscope", values={"spin_rpm": 30000.0, "manoeuvre": 1.0}, timestep=dt)
+    sim = Simulation(
+        get_scene("gyroscope"), values={"spin_rpm": 30000.0, "manoeuvre": 1.0}, timestep=dt
+    )
     m, d = sim.model, sim.data
     axis_id = m.joint(gimbal).id
     sim.advance(1.2)
@@ -212,7 +215,7 @@ def test_pivot_moment_is_the_rate_of_the_carried_angular_momentum(gimbal):
 def test_gimbals_absorb_a_turn_of_the_case_away_from_lock():
     """Manoeuvre 2 (no lock): the pivots transmit only their friction's effect, < 1e-2 N·m,
     against ~0.9 N·m when the case drags the axis at lock."""
-    sim = Simulation("gyroscope", values={"spin_rpm": 30000.0, "manoeuvre": 2.0})
+    sim = Simulation(get_scene("gyroscope"), values={"spin_rpm": 30000.0, "manoeuvre": 2.0})
     peak = 0.0
     for _ in range(40):
         sim.advance(0.05)
@@ -224,7 +227,7 @@ def test_gimbals_absorb_a_turn_of_the_case_away_from_lock():
 
 
 def test_a_new_spin_relaunches_the_rotor_and_keeps_the_reference_axis():
-    sim = Simulation("gyroscope", values={"manoeuvre": 0.0})
+    sim = Simulation(get_scene("gyroscope"), values={"manoeuvre": 0.0})
     sim.set_value("case_yaw_deg", 30.0)
     sim.advance(0.5)
     before = sim.readouts(N)

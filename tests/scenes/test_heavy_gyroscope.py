@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.scenes.heavy_gyroscope import RPM, SCENE, G, precession
 
 
@@ -16,7 +17,7 @@ from sandbox.scenes.heavy_gyroscope import RPM, SCENE, G, precession
     [{}, {"spin_rpm": 1000.0}, {"tilt_deg": 60.0}, {"mass": 3.0, "d": 0.05}, {"tilt_deg": 5.0}],
 )
 def test_steady_precession_matches_the_exact_relation_within_one_percent(values):
-    sim = Simulation("heavy_gyroscope", values=values)
+    sim = Simulation(get_scene("heavy_gyroscope"), values=values)
     exact, _ = precession(sim.values)
     for _ in range(10):
         sim.advance(0.2)
@@ -48,7 +49,7 @@ def test_fast_top_limit():
     timestep still holds the exact root to 1e-3 (r dt = 0.47)."""
     exact, fast = precession(SCENE.defaults() | {"spin_rpm": 30000.0})
     assert exact == pytest.approx(fast, rel=1e-2)
-    sim = Simulation("heavy_gyroscope", values={"spin_rpm": 30000.0})
+    sim = Simulation(get_scene("heavy_gyroscope"), values={"spin_rpm": 30000.0})
     for _ in range(5):
         sim.advance(0.2)
         r = sim.readouts(["precession_rate", "nutation"])
@@ -58,7 +59,7 @@ def test_fast_top_limit():
 
 
 def test_energy_and_vertical_angular_momentum_are_kept():
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     r0 = sim.readouts(["T", "V", "sigma_O_z", "spin"])
     sim.advance(5.0)
     r = sim.readouts(["T", "V", "sigma_O_z", "spin"])
@@ -74,8 +75,8 @@ def test_ball_joint_does_not_drift_over_a_minute():
     Measured at the default (0.2 ms at 3000 rpm): 3.5e-7 rad in a minute, Ω within 2.2e-7
     of the exact root, T + V within 9e-10 (0.15 ms: 8e-8, 7e-8, 2e-10; 0.25 ms: θ 1.1e-6;
     0.5 ms: 3.4e-5 rad, 9e-6 and 8e-8)."""
-    assert Simulation("heavy_gyroscope").timestep == 2e-4
-    sim = Simulation("heavy_gyroscope")
+    assert Simulation(get_scene("heavy_gyroscope")).timestep == 2e-4
+    sim = Simulation(get_scene("heavy_gyroscope"))
     exact, _ = precession(sim.values)
     theta = math.radians(sim.values["tilt_deg"])
     r0 = sim.readouts(["T", "V"])
@@ -89,7 +90,7 @@ def test_ball_joint_does_not_drift_over_a_minute():
 
 
 def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     sim.advance(0.3)
     model = sim.model
     sim.set_value("spin_rpm", 6000.0)
@@ -113,7 +114,7 @@ def test_the_timestep_follows_the_spin_above_22500_rpm():
         1.5e-4,
         1.5e-4,
     ]
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     sim.set_value("spin_rpm", 30000.0)
     assert sim.timestep == 1.5e-4
     sim.set_value("spin_rpm", 3000.0)
@@ -121,15 +122,15 @@ def test_the_timestep_follows_the_spin_above_22500_rpm():
     for _ in range(52):  # (checked after each call of step)
         sim.step(1)
     assert sim.timestep == 2e-4
-    assert Simulation("heavy_gyroscope", values={"spin_rpm": 30000.0}).timestep == 1.5e-4
-    user = Simulation("heavy_gyroscope", timestep=5e-5)
+    assert Simulation(get_scene("heavy_gyroscope"), values={"spin_rpm": 30000.0}).timestep == 1.5e-4
+    user = Simulation(get_scene("heavy_gyroscope"), timestep=5e-5)
     user.set_value("spin_rpm", 30000.0)
     assert user.timestep == 5e-5
 
 
 def test_a_new_mass_acts_on_the_running_top():
     """Mass is model data: the motion goes on, no longer steady, so θ starts to nutate."""
-    sim = Simulation("heavy_gyroscope", values={"spin_rpm": 1000.0})
+    sim = Simulation(get_scene("heavy_gyroscope"), values={"spin_rpm": 1000.0})
     sim.advance(0.3)
     t, spin = sim.data.time, sim.readouts(["spin"])["spin"]
     sim.set_value("mass", 2.0)
@@ -146,4 +147,4 @@ def test_impossible_inertia_is_refused():
     from sandbox.errors import BadParameter
 
     with pytest.raises(BadParameter, match="I_transverse"):
-        Simulation("heavy_gyroscope", values={"I_spin": 0.01, "I_transverse": 0.001})
+        Simulation(get_scene("heavy_gyroscope"), values={"I_spin": 0.01, "I_transverse": 0.001})

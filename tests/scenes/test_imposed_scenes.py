@@ -11,7 +11,7 @@ import pytest
 
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.scenes.compressor.params import RPM
 
 IMPOSED_SCENES = [name for name, s in SCENES.items() if s.imposed is not None]
@@ -25,10 +25,10 @@ def test_the_scenes_the_course_drives_offer_an_imposed_motion():
         "wheel_balancer",
         "robot_axis",
     }
-    assert Simulation("compressor").motion == "imposed"  # the course's steady regime
-    assert Simulation("engine").motion == "imposed"
-    assert Simulation("rotor").motion == "free"  # free by default, imposed on request
-    assert Simulation("gyroscope").motions == ("free",)
+    assert Simulation(get_scene("compressor")).motion == "imposed"  # the course's steady regime
+    assert Simulation(get_scene("engine")).motion == "imposed"
+    assert Simulation(get_scene("rotor")).motion == "free"  # free by default, imposed on request
+    assert Simulation(get_scene("gyroscope")).motions == ("free",)
 
 
 def _turn(sim: Simulation, names: list[str], samples: int = 48) -> dict[str, np.ndarray]:
@@ -53,7 +53,7 @@ def _turn(sim: Simulation, names: list[str], samples: int = 48) -> dict[str, np.
     ],
 )
 def test_the_compressor_imposed_holds_the_course_s_closed_forms_to_1e9(values):
-    sim = Simulation("compressor", values=values, motion="imposed")
+    sim = Simulation(get_scene("compressor"), values=values, motion="imposed")
     sim.advance(0.013)
     pairs = [("pilon", "pilon_ref"), ("tamis", "tamis_ref"), ("motor_torque", "motor_torque_ref")]
     got = _turn(
@@ -82,7 +82,7 @@ def test_the_compressor_imposed_holds_the_course_s_closed_forms_to_1e9(values):
     ],
 )
 def test_the_engine_imposed_holds_the_course_s_closed_forms_to_1e9(values):
-    sim = Simulation("engine", values=values, motion="imposed")
+    sim = Simulation(get_scene("engine"), values=values, motion="imposed")
     sim.advance(0.01)
     names = ["pilon", "pilon_ref", "tamis", "tamis_ref", "shaking_moment", "shaking_moment_ref"]
     got = _turn(sim, names + ["closure_error", "P_acc", "P_ext", "P_int"])
@@ -118,13 +118,13 @@ def test_every_readout_imposed_equals_the_free_simulation_at_its_finest_setting(
     """In steady state, at the free simulation's θ, θ' and θ'' (RK4, 1e-5 s, the
     benchmark's finest), every readout of the imposed motion is the free one's within 1e-4 of the
     peak of its kind (its unit) over a revolution."""
-    free = Simulation(scene, motion="free", integrator="rk4", timestep=1e-5)
+    free = Simulation(resolve(scene), motion="free", integrator="rk4", timestep=1e-5)
     free.advance(0.1)
     names = [n for n in free.readout_names() if n != "time"]
-    imposed = Simulation(scene, motion="imposed")
+    imposed = Simulation(resolve(scene), motion="imposed")
     motion = imposed.imposed
     assert motion is not None
-    turn = _turn(Simulation(scene, motion="imposed"), names)
+    turn = _turn(Simulation(resolve(scene), motion="imposed"), names)
     peaks = _peaks_by_unit(imposed, turn)
     units = {i.name: i.unit for i in imposed.readout_infos()}
     for _ in range(6):  # six instants of a revolution
@@ -144,7 +144,7 @@ def test_every_readout_imposed_equals_the_free_simulation_at_its_finest_setting(
 @pytest.mark.slow
 @pytest.mark.parametrize("scene", ["compressor", "engine"])
 def test_the_loops_stay_closed_after_an_hour_imposed(scene):
-    sim = Simulation(scene, values={"speed_rpm": 6000.0}, motion="imposed")
+    sim = Simulation(resolve(scene), values={"speed_rpm": 6000.0}, motion="imposed")
     sim.advance(3600.0)
     assert sim.data.time == pytest.approx(3600.0, abs=1e-6)
     r = sim.readouts(["closure_error", "omega", "P_int", "P_ext"])
@@ -154,7 +154,7 @@ def test_the_loops_stay_closed_after_an_hour_imposed(scene):
 
 
 def test_switching_keeps_the_input_s_angle_and_speed():
-    sim = Simulation("compressor", motion="free")
+    sim = Simulation(get_scene("compressor"), motion="free")
     sim.advance(0.05)
     before = sim.readouts(["theta", "omega", "lambda"])
     sim.set_motion("imposed")
@@ -173,13 +173,13 @@ def test_switching_keeps_the_input_s_angle_and_speed():
 
 
 def test_a_live_speed_change_keeps_the_angle_and_a_ramp_keeps_the_speed():
-    sim = Simulation("compressor", motion="imposed")
+    sim = Simulation(get_scene("compressor"), motion="imposed")
     sim.advance(0.02)
     theta = sim.readouts(["theta"])["theta"]
     sim.set_value("speed_rpm", 6000.0)
     r = sim.readouts(["theta", "omega"])
     assert r["theta"] == theta and r["omega"] == 6000.0 * RPM  # the course's speed step
-    ramp = Simulation("compressor", values={"ramp_s": 0.1}, motion="imposed")
+    ramp = Simulation(get_scene("compressor"), values={"ramp_s": 0.1}, motion="imposed")
     ramp.advance(0.05)
     before = ramp.readouts(["theta", "omega"])
     ramp.set_value("speed_rpm", 1000.0)
@@ -191,7 +191,7 @@ def test_a_live_speed_change_keeps_the_angle_and_a_ramp_keeps_the_speed():
 @pytest.mark.parametrize("scene", IMPOSED_SCENES)
 def test_each_imposed_scene_runs_exactly_and_keeps_the_energy_theorem(scene):
     values = {"flexible": 0.0} if scene == "robot_axis" else {}
-    sim = Simulation(scene, values=values, motion="imposed")
+    sim = Simulation(resolve(scene), values=values, motion="imposed")
     for _ in range(20):
         sim.advance(0.037)
         r = sim.readouts()
@@ -202,8 +202,8 @@ def test_each_imposed_scene_runs_exactly_and_keeps_the_energy_theorem(scene):
 
 def test_the_robot_axis_imposed_move_needs_the_rigid_arm_and_the_back_and_forth():
     with pytest.raises(BadOption, match="flexible"):
-        Simulation("robot_axis", motion="imposed")
-    sim = Simulation("robot_axis", values={"flexible": 0.0}, motion="imposed")
+        Simulation(get_scene("robot_axis"), motion="imposed")
+    sim = Simulation(get_scene("robot_axis"), values={"flexible": 0.0}, motion="imposed")
     sim.advance(0.3)
     r = sim.readouts(["C_m", "C_m_ref", "C_m_gap"])
     assert r["C_m"] == pytest.approx(r["C_m_ref"], rel=1e-9, abs=1e-12)
@@ -215,15 +215,15 @@ def test_the_robot_axis_imposed_move_needs_the_rigid_arm_and_the_back_and_forth(
 
 def test_the_wheel_balancer_s_soft_bench_is_simulated():
     with pytest.raises(BadOption) as caught:
-        Simulation("wheel_balancer", values={"supports": 1.0}, motion="imposed")
+        Simulation(get_scene("wheel_balancer"), values={"supports": 1.0}, motion="imposed")
     assert "ressorts" in caught.value.french
 
 
 def test_a_motion_the_scene_lacks_or_a_crafted_name_is_refused_in_both_languages():
     with pytest.raises(BadOption) as caught:
-        Simulation("gyroscope", motion="imposed")
+        Simulation(get_scene("gyroscope"), motion="imposed")
     assert "--motion free" in str(caught.value)
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     with pytest.raises(BadOption) as bad:
         sim.set_motion("<script>")
     assert "imposé ou libre" in bad.value.french
@@ -231,9 +231,11 @@ def test_a_motion_the_scene_lacks_or_a_crafted_name_is_refused_in_both_languages
 
 
 def test_the_imposed_torque_row_is_named_for_what_the_motor_must_give():
-    labels = {i.name: i.label for i in Simulation("compressor").readout_infos()}
+    labels = {i.name: i.label for i in Simulation(get_scene("compressor")).readout_infos()}
     assert labels["motor_torque"] == "Couple nécessaire Cₘₒₜ"
-    labels = {i.name: i.label for i in Simulation("compressor", motion="free").readout_infos()}
+    labels = {
+        i.name: i.label for i in Simulation(get_scene("compressor"), motion="free").readout_infos()
+    }
     assert labels["motor_torque"] == "Couple moteur Cₘₒₜ"
 
 
@@ -241,7 +243,7 @@ def test_an_imposed_recording_replays_and_verifies_bit_for_bit(tmp_path):
     from sandbox.recording import Recorder, load
     from sandbox.replay import open_simulation, verify
 
-    sim = Simulation("compressor", values={"ramp_s": 0.05})
+    sim = Simulation(get_scene("compressor"), values={"ramp_s": 0.05})
     path = tmp_path / "c.sbx"
     rec = Recorder(path, sim)
     for k in range(30):
@@ -268,7 +270,7 @@ def test_an_imposed_recording_replays_and_verifies_bit_for_bit(tmp_path):
 def test_an_imposed_speed_change_brings_its_timestep_at_once():
     """The imposed motion is exact at any step: the new speed's default timestep comes at
     once, both ways (the free crank keeps the fine step while its servo brakes it)."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.set_value("speed_rpm", 17000.0)
     assert sim.timestep == 1e-4
     sim.set_value("speed_rpm", 3000.0)

@@ -16,7 +16,7 @@ import pytest
 from sandbox.errors import BadParameter
 from sandbox.mechanics.inertia import torque_free_period
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene
 from sandbox.scenes.inertia import (
     BLOCK,
     CRANKSHAFT,
@@ -37,7 +37,7 @@ MATRIX = ("A", "B", "C", "D", "E", "F")
 
 
 def _matrix(values: dict[str, float]) -> dict[str, float]:
-    sim = Simulation("inertia", values=values)
+    sim = Simulation(get_scene("inertia"), values=values)
     return sim.readouts(list(MATRIX) + ["I_1", "I_2", "I_3", "gap"])
 
 
@@ -62,7 +62,7 @@ def test_course_5_5_huygens_from_O_to_G_for_the_square_block():
     """At G (GO = (0, 0, −b/2)) A loses m b²/4: 0.181667 − 2 × 0.0625 = 0.056667 kg·m²
     = m (a² + b²)/12; the Huygens term read is that m b²/4 = 0.125 kg·m²."""
     values = {"solid": SQUARE_BLOCK, "mass": 2.0, "a": 0.3, "b": 0.5, "point": 0}
-    sim = Simulation("inertia", values=values)
+    sim = Simulation(get_scene("inertia"), values=values)
     at_o = sim.readouts(["A", "C", "huygens_A", "huygens_C"])
     assert at_o["huygens_A"] == pytest.approx(0.125, rel=1e-9)
     assert at_o["huygens_C"] == pytest.approx(0.0, abs=1e-15)
@@ -202,7 +202,7 @@ def test_intermediate_axis_flips_with_eulers_period_and_conserves_T_and_sigma():
     the angle rises through 90° once per period, 3.3584 s from Euler's equations (Jacobi
     functions, K(k) by the AGM), the first time a quarter period after the launch (0.84 s);
     measured within 0.5 % over three periods."""
-    sim = Simulation("inertia")
+    sim = Simulation(get_scene("inertia"))
     assert sim.timestep == SCENE.timestep == 0.01 and sim.integrator == "rk4"
     expected = flip_period(sim.values)
     assert expected == pytest.approx(3.358373, rel=1e-6)
@@ -218,7 +218,7 @@ def test_intermediate_axis_flips_with_eulers_period_and_conserves_T_and_sigma():
 @pytest.mark.parametrize("axis", [0, 2], ids=["smallest", "largest"])
 def test_smallest_and_largest_axes_stay_stable(axis):
     """1° off the axis of I₁ or I₃, ω stays within a few degrees of it (20 s)."""
-    sim = Simulation("inertia", values={"spin_axis": axis})
+    sim = Simulation(get_scene("inertia"), values={"spin_axis": axis})
     run = _record(sim, 20.0)
     assert run["spin_angle"].max() < 3.0
     assert _drift(run["T"]) < 1e-6 and _drift(run["sigma_G"]) < 1e-6
@@ -227,7 +227,7 @@ def test_smallest_and_largest_axes_stay_stable(axis):
 def test_long_run_keeps_G_still_and_sigma_fixed_in_R0():
     """120 s (36 flips): σ_G keeps its direction in R₀, G stays where it was, T and |σ_G|
     drift by 2e-6 (RK4 at 10 ms, 1.7e-8 per second)."""
-    sim = Simulation("inertia")
+    sim = Simulation(get_scene("inertia"))
     arrow = {a.name: a for a in SCENE.page.arrows}["sigma_G"]
     from sandbox.physics.snapshot import Snapshot
 
@@ -247,7 +247,7 @@ def test_long_run_keeps_G_still_and_sigma_fixed_in_R0():
 def test_high_speed_spin_shrinks_the_step_and_keeps_the_period():
     """3000 rpm: the default step keeps 0.13 rad per step (3e-4 s), and the flip period
     scales as 1/ω: 3.358373 × 120/3000 = 0.134335 s, within 0.5 %."""
-    sim = Simulation("inertia", values={"spin_rpm": 3000.0})
+    sim = Simulation(get_scene("inertia"), values={"spin_rpm": 3000.0})
     assert sim.timestep == 3e-4
     run = _record(sim, 0.6, every=6e-4)
     times = flip_times(run["time"], run["spin_angle"])
@@ -259,7 +259,9 @@ def test_high_speed_spin_shrinks_the_step_and_keeps_the_period():
 def test_G_stays_at_rest_at_high_speed_when_O_is_off_G(solid):
     """The rod (O = A at its end) tumbling at 3000 rpm: G does not move, so m V(G) and
     the dynamic resultant stay at round-off (the free joint's origin is at G)."""
-    sim = Simulation("inertia", values={"solid": solid, "spin_rpm": 3000.0, "spin_axis": 0})
+    sim = Simulation(
+        get_scene("inertia"), values={"solid": solid, "spin_rpm": 3000.0, "spin_axis": 0}
+    )
     sim.advance(2.0)
     values = sim.readouts(["kin_R_x", "kin_R_y", "kin_R_z", "dyn_R_x", "sigma_G"])
     assert max(abs(values[f"kin_R_{c}"]) for c in "xyz") < 1e-15
@@ -271,7 +273,7 @@ def test_crankshaft_flip_period_matches_euler():
     """Any solid with three distinct principal moments flips about the middle one; the
     crankshaft (E ≠ 0: principal axes tilted from R_S) as well."""
     values = {"solid": CRANKSHAFT, "spin_rpm": 600.0, "perturbation_deg": 2.0}
-    sim = Simulation("inertia", values=values)
+    sim = Simulation(get_scene("inertia"), values=values)
     moments = [sim.readouts([f"I_{k}"])[f"I_{k}"] for k in (1, 2, 3)]
     assert moments[0] < moments[1] < moments[2]
     expected = flip_period(sim.values)
@@ -284,7 +286,7 @@ def test_crankshaft_flip_period_matches_euler():
 def test_a_new_launch_parameter_relaunches_but_the_point_does_not():
     """Changing the axis relaunches the spin at once (stable axis: angle back to ε); the
     point and basis only change the readouts."""
-    sim = Simulation("inertia")
+    sim = Simulation(get_scene("inertia"))
     sim.advance(1.7)  # mid-flip
     assert sim.readouts(["spin_angle"])["spin_angle"] > 45.0
     sim.set_value("point", 2)
@@ -324,7 +326,7 @@ def test_crankshaft_principal_axis_is_tilted_in_its_plane_of_symmetry():
     i_g = huygens_to_G(inertia_matrix(*(by_hand[n] for n in MATRIX)), 1.0, -g)
     _, axes = principal_axes(i_g)
     e1 = axes[:, 0] * np.sign(axes[2, 0])
-    sim = Simulation("inertia", values={"solid": CRANKSHAFT, "spin_axis": 0})
+    sim = Simulation(get_scene("inertia"), values={"solid": CRANKSHAFT, "spin_axis": 0})
     read = sim.readouts(["axis_x", "axis_y", "axis_z"])
     assert read["axis_y"] == pytest.approx(0.0, abs=1e-12)
     assert [read["axis_x"], read["axis_z"]] == pytest.approx([e1[0], e1[2]], abs=1e-3)
@@ -334,10 +336,10 @@ def test_crankshaft_principal_axis_is_tilted_in_its_plane_of_symmetry():
 def test_exactly_on_the_intermediate_axis_nothing_grows_but_the_least_tilt_flips():
     """ε = 0: Euler's equations keep ω on e₂ exactly (the lesson's remark); ε = 0.001°
     grows (rate 0.48 ω) into a flip within 4 s."""
-    still = Simulation("inertia", values={"perturbation_deg": 0.0})
+    still = Simulation(get_scene("inertia"), values={"perturbation_deg": 0.0})
     still.advance(30.0)
     assert still.readouts(["spin_angle"])["spin_angle"] == 0.0
-    tiny = Simulation("inertia", values={"perturbation_deg": 0.001})
+    tiny = Simulation(get_scene("inertia"), values={"perturbation_deg": 0.001})
     run = _record(tiny, 4.0)
     assert run["spin_angle"].max() > 170.0
 
@@ -409,7 +411,9 @@ def test_course_5_6_2_hollow_cylinder_is_the_full_one_minus_the_hole(ratio):
     full, hole = rho * math.pi * big_r**2 * h, rho * math.pi * r**2 * h
     a = full * (big_r**2 / 4 + h**2 / 12) - hole * (r**2 / 4 + h**2 / 12)
     c = full * big_r**2 / 2 - hole * r**2 / 2
-    sim = Simulation("inertia", values={"solid": HOLLOW, "a": big_r, "b": h, "hole_ratio": ratio})
+    sim = Simulation(
+        get_scene("inertia"), values={"solid": HOLLOW, "a": big_r, "b": h, "hole_ratio": ratio}
+    )
     read = sim.readouts(list(MATRIX) + ["gap"])
     _close(read, {"A": a, "B": a, "C": c, "D": 0.0, "E": 0.0, "F": 0.0}, max(a, c))
     assert read["gap"] < 2e-4

@@ -19,7 +19,7 @@ from sandbox.physics.readouts import GENERIC_READOUTS
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.spec import Param, Scene
 from sandbox.physics.units import DISPLAY_UNITS, display_unit
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 
 ENGLISH = {
     "and", "angular", "axis", "bearing", "closure", "counterweight", "crank", "drift",
@@ -117,7 +117,7 @@ def test_display_units_are_french():
 
 def test_simulation_passes_the_french_words_on():
     """What the web layer reads (``Simulation.readout_infos``) carries the labels."""
-    infos = Simulation("rotor").readout_infos()
+    infos = Simulation(get_scene("rotor")).readout_infos()
     by_name = {i.name: i for i in infos}
     assert by_name["bearing_A"].label == "Effort du palier A"
     assert by_name["T"].label == "Énergie cinétique T"
@@ -195,7 +195,7 @@ def test_round_off_hides_only_round_off(name):
     """``Scene.zero`` thresholds sit at least 1e8 times below the largest readout of their
     unit (0.4 s at the defaults), so no value the scene means is shown as 0."""
     scene = SCENES[name]
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     units = {i.name: i.unit for i in sim.readout_infos()}
     peaks: dict[str, float] = {}
     for _ in range(20):
@@ -218,7 +218,7 @@ def test_round_off_of_the_rotor_is_shown_as_zero():
     from sandbox.web.client.text import number
 
     scene = SCENES["rotor"]
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.advance(0.1)
     values = sim.readouts(["dyn_R_z", "sup_M_y", "bearing_A"])
     assert abs(values["dyn_R_z"]) <= scene.zero_for("N")
@@ -231,7 +231,7 @@ def test_overlay_writes_three_or_four_key_readouts_in_french(name):
     """Projector mode writes a scene's key readouts large over the 3D view: each one a
     readout of the scene, with French short words (or its label)."""
     scene = SCENES[name]
-    known = set(Simulation(name).readout_names())
+    known = set(Simulation(resolve(name)).readout_names())
     assert 2 <= len(scene.page.overlay) <= 4, scene.page.overlay
     for readout, short in scene.page.overlay.items():
         assert readout in known, readout

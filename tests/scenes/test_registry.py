@@ -10,12 +10,12 @@ import pytest
 
 from sandbox.errors import BadParameter
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_scene_compiles_steps_and_stays_finite(name):
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     sim.advance(0.2)
     values = sim.readouts()
     assert all(math.isfinite(v) for v in values.values())
@@ -25,7 +25,7 @@ def test_scene_compiles_steps_and_stays_finite(name):
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_effects_not_called_for_are_off(name):
     scene = SCENES[name]
-    flags = Simulation(name).model.opt.disableflags
+    flags = Simulation(resolve(name)).model.opt.disableflags
     assert bool(flags & mujoco.mjtDisableBit.mjDSBL_GRAVITY) == (not scene.effects.gravity)
     assert bool(flags & mujoco.mjtDisableBit.mjDSBL_CONTACT) == (not scene.effects.contacts)
     assert flags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
@@ -99,7 +99,7 @@ def test_every_param_extreme_compiles_or_is_refused_clearly(name):
     for p in scene.params:
         for value in (p.min, p.max):
             try:
-                sim = Simulation(name, values={p.name: value})
+                sim = Simulation(resolve(name), values={p.name: value})
             except BadParameter as exc:
                 assert "\n" not in str(exc) and ("raise" in str(exc) or "lower" in str(exc))
                 continue
@@ -112,32 +112,39 @@ def test_default_timestep_is_declared_once_and_admitted(name):
     follows its speed declares ``timestep_for``); every parameter's extremes give a step
     the scene accepts."""
     scene = SCENES[name]
-    assert scene.default_timestep() == scene.timestep == Simulation(name).timestep
+    assert scene.default_timestep() == scene.timestep == Simulation(resolve(name)).timestep
     for p in scene.params:
         for value in (p.min, p.max):
             dt = scene.default_timestep({p.name: value})
             assert 0 < dt <= min(scene.max_timestep, 0.1), (p.name, value)
 
 
-def test_the_registry_passes_itself_down_to_physics():
-    """Physics never imports the scenes: it takes a spec, and knows the names only once
-    the registry is loaded (every entry point loads it); without it the error says so."""
+def test_physics_takes_a_spec_and_the_registry_is_passed_not_injected():
+    """Physics never imports the scenes and keeps no registry: a name means a file there,
+    and the error says where names are resolved; the scenes' :func:`resolve` passes the
+    registry; loading the scenes changes nothing in physics (nothing is injected)."""
     import subprocess
     import sys
 
     script = (
         "import sys\n"
         "from sandbox.errors import UnknownScene\n"
+        "from sandbox.physics import model\n"
         "from sandbox.physics.simulation import Simulation\n"
         "try:\n    Simulation('rotor')\nexcept UnknownScene as exc:\n    print(exc)\n"
         "assert 'sandbox.scenes' not in sys.modules\n"
-        "from sandbox.scenes import SCENES, Source, resolve\n"
+        "from sandbox.scenes import SCENES, Source, get_scene, resolve\n"
         "assert Simulation(Source.of_scene(SCENES['rotor'])).label == 'rotor'\n"
-        "assert resolve('rotor').scene is SCENES['rotor'] and Simulation('rotor').scene\n"
+        "assert resolve('rotor').scene is SCENES['rotor']\n"
+        "assert Simulation(get_scene('rotor')).scene is SCENES['rotor']\n"
+        "assert not hasattr(model, 'register_scenes')\n"
+        "try:\n    Simulation('rotor')\nexcept UnknownScene as exc:\n    print(exc)\n"
     )
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
-    assert "import sandbox.scenes" in out.stdout
+    lines = out.stdout.splitlines()
+    assert len(lines) == 2 and lines[0] == lines[1], lines  # the same before and after
+    assert "sandbox.scenes.resolve" in lines[0]
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))
@@ -151,7 +158,7 @@ def test_a_variant_switches_off_what_it_does_not_call_for(name):
         assert set(scene.effects_at(values).simulated()) <= union, values
     for values in variants[:3]:
         try:
-            sim = Simulation(name, values=values)
+            sim = Simulation(resolve(name), values=values)
         except BadParameter:
             continue
         flags = sim.model.opt.disableflags & ~int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
@@ -163,7 +170,7 @@ def test_the_rigid_wheel_balancer_simulates_no_spring():
     rigid, soft = scene.effects_at({"supports": 0}), scene.effects_at({"supports": 1})
     assert not rigid.springs and not rigid.joint_damping and soft.springs
     assert "Liaisons parfaites" in rigid.hypotheses()
-    flags = Simulation("wheel_balancer").model.opt.disableflags
+    flags = Simulation(get_scene("wheel_balancer")).model.opt.disableflags
     assert flags & mujoco.mjtDisableBit.mjDSBL_SPRING and flags & mujoco.mjtDisableBit.mjDSBL_DAMPER
 
 
@@ -173,14 +180,14 @@ def test_a_kept_revolution_serves_within_the_speed_tolerance_and_goes_with_its_m
     from sandbox.scenes.revolutions import SPEED_TOLERANCE, PerModel
 
     kept: PerModel[str] = PerModel()
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     model, values = sim.model, dict(sim.values)
     assert kept.get(model, values, 314.0) is None
     kept.put(model, values, 314.0, "one turn")
     assert kept.get(model, values, 314.0 * (1 + 0.5 * SPEED_TOLERANCE)) == "one turn"
     assert kept.get(model, values, 314.0 * (1 + 2 * SPEED_TOLERANCE)) is None
     assert kept.get(model, {**values, "R": values["R"] * 1.01}, 314.0) is None
-    other = Simulation("compressor").model  # another session: its own revolution
+    other = Simulation(get_scene("compressor")).model  # another session: its own revolution
     assert kept.get(other, values, 314.0) is None
     del sim, model
     gc.collect()
@@ -194,7 +201,7 @@ def test_a_revolution_simulated_while_the_motion_settles_is_simulated_again():
     from sandbox.scenes.engine import cycle as engine
     from sandbox.scenes.revolutions import SETTLE
 
-    sim = Simulation("engine", motion="free")  # a revolution simulated ahead
+    sim = Simulation(get_scene("engine"), motion="free")  # a revolution simulated ahead
     sim.advance(0.3)
     sim.set_value("cylinders", 2.0)
     sim.advance(0.05)

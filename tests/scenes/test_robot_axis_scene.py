@@ -26,7 +26,7 @@ from sandbox.mechanics.robot_axis import (
     step_response,
 )
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene
 from sandbox.scenes.robot_axis import (
     DEFAULTS,
     RAIL,
@@ -47,7 +47,7 @@ COURSE = RobotAxis()
 
 
 def _sim(**values: float) -> Simulation:
-    return Simulation("robot_axis", values=values)
+    return Simulation(get_scene("robot_axis"), values=values)
 
 
 def _run(sim: Simulation, duration: float, names: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -236,7 +236,9 @@ def _resonance_energy_gap(dt: float, duration: float) -> tuple[np.ndarray, float
     trapezoids."""
     omega = free_axis_frequency(COURSE)
     sim = Simulation(
-        "robot_axis", values={"eta": 0.9, "sine_Hz": omega / (2 * math.pi), **SINE}, timestep=dt
+        get_scene("robot_axis"),
+        values={"eta": 0.9, "sine_Hz": omega / (2 * math.pi), **SINE},
+        timestep=dt,
     )
     names = ["E_c", "C_m", "P_diss", "omega_m"]
     rows = [[0.0, 0.0, *sim.readouts(names).values()]]
@@ -560,7 +562,9 @@ def test_every_row_is_one_instant_the_motor_power_is_its_torque_times_its_speed(
     assert sim.readouts(["C_m"])["C_m"] == pytest.approx(applied, rel=1e-12)
     peaks = {}
     for dt in (1e-3, 1e-4):
-        peaks[dt] = float(np.max(_run(Simulation("robot_axis", timestep=dt), 0.3, ("C_m",))["C_m"]))
+        peaks[dt] = float(
+            np.max(_run(Simulation(get_scene("robot_axis"), timestep=dt), 0.3, ("C_m",))["C_m"])
+        )
     assert peaks[1e-3] == pytest.approx(4.98, rel=1e-2) and peaks[1e-4] == pytest.approx(
         4.80, rel=1e-2
     )

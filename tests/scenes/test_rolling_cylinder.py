@@ -16,6 +16,7 @@ import pytest
 
 from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.scenes.rolling_cylinder import (
     acceleration,
     axis_inertia,
@@ -29,7 +30,7 @@ G = 9.81
 
 
 def _run(values, duration=1.0, every=0.01, names=("v", "slip_velocity", "T", "V", "N", "x")):
-    sim = Simulation("rolling_cylinder", values=values)
+    sim = Simulation(get_scene("rolling_cylinder"), values=values)
     rows, times = [], []
     for _ in range(int(round(duration / every))):
         sim.advance(every)
@@ -82,7 +83,7 @@ def test_slipping_contact_stays_on_the_plane(values):
 @pytest.mark.parametrize("factor", [1.05, 0.95, 1.02, 0.98])
 def test_regime_switches_at_mu_min(factor):
     values = {"slope_deg": 30.0}
-    threshold = mu_min({**Simulation("rolling_cylinder", values=values).values})
+    threshold = mu_min({**Simulation(get_scene("rolling_cylinder"), values=values).values})
     assert threshold == pytest.approx(math.tan(math.radians(30)) / 3)  # solid: tan α / 3
     _, _, s = _run({**values, "mu": threshold * factor}, duration=0.5)
     slip = abs(s["slip_velocity"][-1])
@@ -99,7 +100,7 @@ def test_v_of_a_in_s_is_zero_but_v_of_a_is_not():
 
 def test_dynamic_moment_at_a_formula_matches_definition_with_an_eccentric_mass():
     """δA = dσA/dt + V(A) ∧ m V(G): the transport term is needed when G is off the axis."""
-    sim = Simulation("rolling_cylinder", values={"eccentric_mass": 0.5, "v0": 1.0})
+    sim = Simulation(get_scene("rolling_cylinder"), values={"eccentric_mass": 0.5, "v0": 1.0})
     sim.advance(0.23)
     r = sim.readouts(["delta_A_formula", "delta_A_direct", "delta_A_dsigma", "delta_A_transport"])
     assert r["delta_A_formula"] == pytest.approx(r["delta_A_direct"], rel=1e-4)
@@ -110,7 +111,9 @@ def test_dynamic_moment_at_a_formula_matches_definition_with_an_eccentric_mass()
 def test_eccentric_cylinder_follows_the_energy_theorem():
     """While it rolls (a fast, strongly eccentric cylinder hops: N falls to 0 and the
     rolling formula no longer applies), a matches the energy theorem within 1 %."""
-    sim = Simulation("rolling_cylinder", values={"eccentric_mass": 0.2, "slope_deg": 10.0})
+    sim = Simulation(
+        get_scene("rolling_cylinder"), values={"eccentric_mass": 0.2, "slope_deg": 10.0}
+    )
     for _ in range(40):
         sim.advance(0.025)
         r = sim.readouts(["a", "a_ref", "slip_velocity", "N"])
@@ -148,13 +151,13 @@ def test_too_large_a_timestep_is_refused_or_detected():
     shows the softening."""
     for dt in (0.05, 0.1, 1.0):
         with pytest.raises(SandboxError, match="too large"):
-            Simulation("rolling_cylinder", timestep=dt)
-    sim = Simulation("rolling_cylinder")
+            Simulation(get_scene("rolling_cylinder"), timestep=dt)
+    sim = Simulation(get_scene("rolling_cylinder"))
     with pytest.raises(SandboxError, match="too large"):
         sim.set_timestep(0.05)
     assert sim.timestep == 1e-3
     for integrator in ("euler", "implicitfast", "rk4"):
-        sim = Simulation("rolling_cylinder", integrator=integrator, timestep=0.02)
+        sim = Simulation(get_scene("rolling_cylinder"), integrator=integrator, timestep=0.02)
         try:
             sim.advance(2.0)
         except Diverged:
@@ -162,13 +165,13 @@ def test_too_large_a_timestep_is_refused_or_detected():
         r = sim.readouts(["v", "penetration"])
         assert r["v"] == pytest.approx(acceleration(sim.values) * sim.data.time, rel=1e-2)
         assert r["penetration"] > 1e-4
-    fine = Simulation("rolling_cylinder")
+    fine = Simulation(get_scene("rolling_cylinder"))
     fine.advance(0.5)
     assert fine.readouts(["penetration"])["penetration"] < 1e-5
 
 
 def test_leaving_the_plane_is_reported():
-    sim = Simulation("rolling_cylinder", values={"plane_length": 1.0, "slope_deg": 40.0})
+    sim = Simulation(get_scene("rolling_cylinder"), values={"plane_length": 1.0, "slope_deg": 40.0})
     assert sim.readouts(["on_plane"])["on_plane"] == 1.0
     sim.advance(1.5)
     assert sim.readouts(["on_plane"])["on_plane"] == 0.0
@@ -177,7 +180,7 @@ def test_leaving_the_plane_is_reported():
 def test_race_solid_cylinder_thin_tube_and_sphere():
     """Same slope, same R and mass: x = ½ a t² with I/(mR²) = 1/2, 1 and 2/5; the sphere
     wins, the tube comes last (within 1 %)."""
-    sim = Simulation("rolling_cylinder", values={"race": 1.0})
+    sim = Simulation(get_scene("rolling_cylinder"), values={"race": 1.0})
     sim.advance(1.0)
     r = sim.readouts(["x", "x_hollow", "x_sphere"])
     g = G * math.sin(math.radians(20))
@@ -185,11 +188,11 @@ def test_race_solid_cylinder_thin_tube_and_sphere():
     for name, k in (("x", 0.5), ("x_hollow", 1.0), ("x_sphere", 0.4)):
         assert r[name] == pytest.approx(0.5 * g / (1 + k) * t * t, rel=1e-2), name
     assert r["x_sphere"] > r["x"] > r["x_hollow"]
-    assert Simulation("rolling_cylinder").readouts(["x_sphere"])["x_sphere"] == 0.0
+    assert Simulation(get_scene("rolling_cylinder")).readouts(["x_sphere"])["x_sphere"] == 0.0
 
 
 # -- energy at the default integrator and timestep ------------------------------------------
-SCENE_DEFAULTS = Simulation("rolling_cylinder").values
+SCENE_DEFAULTS = Simulation(get_scene("rolling_cylinder")).values
 ISSUE_CASE = {"eccentric_mass": 0.5, "eccentric_radius": 0.07, "slope_deg": 10.0, "mu": 1.0}
 """0.5 kg at 70 mm from the axis of the default cylinder (1 kg, R = 0.1 m), 10°, μ = 1: it
 rolls, speeding up and slowing down with each turn, and leaves the plane at 1.86 s."""
@@ -201,7 +204,7 @@ def _energy_balance(values, duration, *, integrator=None):
     contact are the only actions; P_contact is 0 while rolling, μ N V(A∈S) while slipping,
     0 without friction), floored at 1e-3 m g R (a cylinder that does not move). Returns
     (that ratio, time of the first loss of contact or None)."""
-    sim = Simulation("rolling_cylinder", values=values, integrator=integrator)
+    sim = Simulation(get_scene("rolling_cylinder"), values=values, integrator=integrator)
     names = ["T", "V", "P_contact", "contact"]
     r = sim.readouts(names)
     e0, work, power, t_max = r["T"] + r["V"], 0.0, r["P_contact"], r["T"]
@@ -223,7 +226,7 @@ def test_default_integrator_keeps_the_energy_of_the_eccentric_cylinder():
     """The issue's case, at the scene's default (RK4, 1 ms), over the whole rolling part
     (1.86 s, 3.3 turns, v up to 2.5 m/s): T + V within 0.5 % of T (measured 8e-5).
     implicitfast at 1 ms, the former default, drifts 1.1 %: the test tells them apart."""
-    sim = Simulation("rolling_cylinder", values=ISSUE_CASE)
+    sim = Simulation(get_scene("rolling_cylinder"), values=ISSUE_CASE)
     assert (sim.integrator, sim.timestep) == ("rk4", 1e-3)
     drift, lost = _energy_balance(ISSUE_CASE, 2.5)
     assert drift < 5e-3
@@ -307,7 +310,7 @@ def test_lift_off_speed_on_a_horizontal_plane():
     assert v_star == pytest.approx(2.0504, rel=1e-4)
     base = {**ISSUE_CASE, "slope_deg": 0.0}
     assert eccentric_normal_force(0.0, 1.05 * v_star, SCENE_DEFAULTS | base) < 0
-    sim = Simulation("rolling_cylinder", values=base | {"v0": 1.05 * v_star})
+    sim = Simulation(get_scene("rolling_cylinder"), values=base | {"v0": 1.05 * v_star})
     sim.step(1)
     r = sim.readouts(["contact", "a_ref", "N_ref", "N"])
     assert r["contact"] == 0.0 and r["N"] == 0.0
@@ -326,7 +329,7 @@ def test_eccentric_cylinder_leaves_the_plane_when_the_course_says():
     contact between the two (measured 1.860 s), and never before. While it touches and
     rolls, N follows N_ref within 1 % of its peak and a follows a_ref within 1 %; after
     the loss the flag is 0 and both references are blank."""
-    sim = Simulation("rolling_cylinder", values=ISSUE_CASE)
+    sim = Simulation(get_scene("rolling_cylinder"), values=ISSUE_CASE)
     v = sim.values
     m, e, _ = mass_properties(v)
     R, alpha = v["R"], math.radians(v["slope_deg"])

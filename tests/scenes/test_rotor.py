@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.scenes.rotor import (
     SCENE,
     balancing_solution,
@@ -27,7 +28,7 @@ CASES = [
 
 
 def _settled(values: dict[str, float], duration: float = 0.25) -> Simulation:
-    sim = Simulation("rotor", values=values)
+    sim = Simulation(get_scene("rotor"), values=values)
     sim.advance(duration)
     return sim
 
@@ -93,7 +94,7 @@ def test_speed_is_held_constant():
 
 def test_shapes_mass_matches_mujoco():
     """The reference's inertia (course shapes + Huygens) is the model's inertia."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     props = mass_properties(sim.values)
     b = sim.model.body("rotor").id
     assert props.mass == pytest.approx(float(sim.model.body_mass[b]), rel=1e-9)
@@ -135,7 +136,7 @@ def test_static_balance_alone_leaves_a_rotating_moment():
 
 
 def test_live_speed_change_needs_no_rebuild():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     model = sim.model
     sim.set_value("speed_rpm", 3000)
     assert sim.model is model
@@ -144,7 +145,7 @@ def test_live_speed_change_needs_no_rebuild():
 
 
 def test_moving_a_mass_keeps_the_motion():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.advance(0.1)
     angle, t = float(sim.data.qpos[0]), float(sim.data.time)
     sim.set_value("mass1_g", 40)

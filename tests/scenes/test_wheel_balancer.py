@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.scenes import wheel_balancer as wb
 from sandbox.scenes.wheel_balancer import (
     MYSTERIES,
@@ -39,7 +40,7 @@ RIGID_CASES = [
 
 
 def _run(values: dict[str, float], duration: float = 0.3) -> Simulation:
-    sim = Simulation("wheel_balancer", values=values)
+    sim = Simulation(get_scene("wheel_balancer"), values=values)
     sim.advance(duration)
     return sim
 
@@ -122,7 +123,7 @@ def test_the_machines_clips_balance_the_wheel(speed, mystery):
 def test_rounded_clips_as_a_student_types_them_are_within_two_percent():
     """The lesson's mystery step accepts 2 %: clips typed to 0.1 g and 0.1° do it."""
     values = {"mystery": 2.0}
-    exact = machine_solution(Simulation("wheel_balancer", values=values).values)
+    exact = machine_solution(Simulation(get_scene("wheel_balancer"), values=values).values)
     typed = {k: round(v, 1) for k, v in exact.items()}
     before = _run(values).readouts(list(FORCES))
     after = _run(values | typed).readouts(list(FORCES))
@@ -195,7 +196,7 @@ def test_machine_shows_nothing_at_rest():
 def test_wheel_properties_are_the_models():
     """The closed form's wheel (shapes + Huygens) is MuJoCo's: mass, centre, inertia."""
     for values in ({}, {"mystery": 1.0, "mass_outer_g": 40.0, "angle_outer_deg": 70.0}):
-        sim = Simulation("wheel_balancer", values=values)
+        sim = Simulation(get_scene("wheel_balancer"), values=values)
         m, d = sim.model, sim.data
         ids = [m.body(b).id for b in ("wheel", "rim", "tyre")]
         mass = float(sum(m.body_mass[i] for i in ids))
@@ -274,7 +275,7 @@ def test_resonance_of_the_supports_stays_stable_and_as_predicted(index):
 
 def test_soft_start_is_already_steady():
     """The initial state is the closed form's vibration: no start-up transient."""
-    sim = Simulation("wheel_balancer", values=SOFT)
+    sim = Simulation(get_scene("wheel_balancer"), values=SOFT)
     sim.step(1)
     first = sim.readouts(["accel_outer"])["accel_outer"]
     assert first == pytest.approx(reference(sim.values)["accel_outer"], rel=5e-3)
@@ -313,7 +314,10 @@ def test_machine_formula_is_wrong_on_soft_supports():
 
 
 def test_soft_supports_add_the_housing_joints():
-    rigid, soft = Simulation("wheel_balancer"), Simulation("wheel_balancer", values=SOFT)
+    rigid, soft = (
+        Simulation(get_scene("wheel_balancer")),
+        Simulation(get_scene("wheel_balancer"), values=SOFT),
+    )
     assert rigid.model.nv == 1 and soft.model.nv == 5
     flags = soft.model.opt.disableflags
     assert not flags & mujoco.mjtDisableBit.mjDSBL_SPRING
@@ -378,13 +382,13 @@ def test_the_machines_clips_are_blank_on_the_soft_bench():
     clips read NaN there ("—" in the page); the influence-coefficient method remains."""
     import math
 
-    sim = Simulation("wheel_balancer", values={"supports": 1.0, "speed_rpm": 600.0})
+    sim = Simulation(get_scene("wheel_balancer"), values={"supports": 1.0, "speed_rpm": 600.0})
     sim.advance(0.5)
     names = ["clip_inner_g", "clip_inner_deg", "clip_outer_g", "clip_outer_deg"]
     out = sim.readouts([*names, "accel_inner", "accel_outer"])
     assert all(math.isnan(out[n]) for n in names), out
     assert out["accel_inner"] > 0 and out["accel_outer"] > 0
-    rigid = Simulation("wheel_balancer", values={"supports": 0.0})
+    rigid = Simulation(get_scene("wheel_balancer"), values={"supports": 0.0})
     rigid.advance(0.2)
     assert all(math.isfinite(v) for v in rigid.readouts(names).values())
 

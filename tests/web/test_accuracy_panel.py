@@ -11,7 +11,7 @@ import pytest
 from sandbox import accuracy
 from sandbox.bench import Run
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.web.client.text import GAP, number
 from sandbox.web.panels.accuracy import NOT_LIVE, AccuracyPanel, chart_image, load_results
 
@@ -88,7 +88,7 @@ def test_the_robot_axis_default_shows_the_error_the_benchmark_measured():
     (1,1x10^-7 for RK4 at 1 ms), never an error against a closed form of another motion
     (it read 2,4 there)."""
     res = load_results("robot_axis")
-    sim = Simulation("robot_axis")
+    sim = Simulation(get_scene("robot_axis"))
     assert sim.values["profile"] != 0 and accuracy.in_force(sim) == accuracy.default(sim)
     saved = accuracy.saved(res, accuracy.in_force(sim))
     assert saved is not None and saved.error < 1e-6
@@ -107,7 +107,7 @@ def test_star_and_diamond_coincide_when_the_setting_is_the_default():
     from sandbox.web.panels.accuracy import _place, chart_base
 
     res = load_results("rotor")
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     mine, default = accuracy.in_force(sim), accuracy.default(sim)
     assert default is not None and mine.same(default)
     mapping = chart_base(res)[1]
@@ -132,7 +132,7 @@ def test_a_setting_off_the_grid_is_measured_the_way_the_benchmark_does():
     from sandbox.bench import run_one
     from sandbox.scenes import get_scene
 
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.set_timestep(2e-3)
     panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     panel.refresh(sim, cost=2e-3, now=0.0)
@@ -141,7 +141,7 @@ def test_a_setting_off_the_grid_is_measured_the_way_the_benchmark_does():
     scene = get_scene("rotor")
     kept = accuracy.measured(scene, accuracy.in_force(sim))
     assert kept is not None and not kept.diverged
-    again = run_one("rotor", scene.accuracy, sim.integrator, 2e-3, scene.accuracy.duration)
+    again = run_one(scene, scene.accuracy, sim.integrator, 2e-3, scene.accuracy.duration)
     assert math.isclose(kept.error, again.error, rel_tol=1e-9, abs_tol=1e-15)
     assert "Implicite rapide, dt = 2 ms" in text and "Implicite rapide, dt = 10 ms" in text
     assert "< 10⁻¹²" in text  # the rotor at constant speed is exact: no round-off shown
@@ -150,7 +150,7 @@ def test_a_setting_off_the_grid_is_measured_the_way_the_benchmark_does():
 def test_the_table_reads_the_setting_in_force():
     """The wheel balancer opens on its rigid bench at 10 ms (its reference test, the soft
     bench, defaults to 3 ms): the panel names 10 ms, never 3."""
-    sim = Simulation("wheel_balancer")
+    sim = Simulation(get_scene("wheel_balancer"))
     panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     text = _settle(panel, sim)
     table = text.split("\n\n")[2]  # the test's table: the setting in force, never 3 ms
@@ -167,7 +167,7 @@ def test_a_timestep_per_crank_angle_is_measured_at_the_same_angle_on_the_test():
     measured at 500 µs, 0,89 rad a step there: its energy-theorem gap 0,94 %, the star on
     an open circle); a timestep typed twice as long is measured twice as long there."""
     res = load_results("compressor")
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     mine = accuracy.in_force(sim)
     assert mine.timestep == 5e-4 and accuracy.on_test(sim, mine).timestep == 1e-4
     assert res.default.timestep == 1e-4 and res.admissible(res.default)
@@ -178,7 +178,7 @@ def test_a_timestep_per_crank_angle_is_measured_at_the_same_angle_on_the_test():
     assert "au même angle par pas" in text and "fermeture des boucles au-delà" in text
     sim.set_timestep(1e-3)
     assert accuracy.on_test(sim, accuracy.in_force(sim)).timestep == 2e-4
-    rotor = Simulation("rotor")  # a fixed default: measured as it is
+    rotor = Simulation(get_scene("rotor"))  # a fixed default: measured as it is
     assert accuracy.on_test(rotor, accuracy.in_force(rotor)) == accuracy.in_force(rotor)
     panel = AccuracyPanel(Gui(), rotor, cost=live_cost)
     assert "à la vitesse de l'essai" not in _settle(panel, rotor)
@@ -189,7 +189,7 @@ def test_every_scenes_default_is_admissible_on_its_own_test(name):
     """What « Précision et coût » shows for a scene as it opens: its default, as the test
     measures it, admissible (drift and closure within the limits) and within 0,5 % of the
     course; measured here when the saved benchmark did not run it."""
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     scene = sim.scene
     if scene is None or scene.accuracy is None:
         pytest.skip("no reference test")
@@ -214,7 +214,7 @@ def test_every_scenes_default_is_admissible_on_its_own_test(name):
             rate=acc.rate / slower,
         )
         mine = accuracy.in_force(sim)
-        page = run_one(name, at_page, mine.integrator, mine.timestep, at_page.duration)
+        page = run_one(get_scene(name), at_page, mine.integrator, mine.timestep, at_page.duration)
         assert res.admissible(page) and page.error <= 5e-3, (page.drift, page.constraint)
 
 
@@ -228,7 +228,7 @@ def test_a_file_has_cost_but_no_error(pendulum_xml):
 
 def test_the_chart_is_drawn_off_the_session_loop_and_shown_when_ready():
     """refresh() only submits the drawing; a later refresh shows the finished image."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     panel = AccuracyPanel(Gui(), sim, cost=live_cost)
     blank = panel.image.image
     panel.refresh(sim, cost=2e-3, now=100.0)  # the default: saved by the benchmark
@@ -438,7 +438,7 @@ def test_a_precision_asked_applies_the_cheapest_measured_setting_that_reaches_it
     many students that speed allows; an error no setting reached is refused in French."""
     import sandbox.scenes  # noqa: F401
 
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     applied: list[tuple[str, float]] = []
     panel = AccuracyPanel(Gui(), sim, choose=lambda i, dt: applied.append((i, dt)), cost=live_cost)
     assert panel.ask is not None and "10⁻⁴" in panel.ask.options
@@ -481,7 +481,7 @@ def test_an_imposed_motion_says_it_is_exact_with_the_benchmark_s_error_and_cost(
 def test_a_replay_says_why_it_measures_nothing():
     """A replay measures no cost (it computes nothing): the folder says so in words and
     draws no empty chart."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     panel = AccuracyPanel(Gui(), sim)
     assert panel.text.content == NOT_LIVE and panel.image is None
     assert [f.refresh for f in panel.pickable()] == [None]

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from test_renderer import FakeScene
 
+from sandbox.scenes import get_scene
 from sandbox.web.view3d.batches import (
     batches,
     instance_poses,
@@ -145,7 +146,7 @@ def test_the_engine_sends_three_messages_a_frame_and_a_label_brings_its_frame_ba
     needs the piston's frame posed again: one more message while it is shown."""
     from sandbox.physics.simulation import Simulation
 
-    sim = Simulation("engine")
+    sim = Simulation(get_scene("engine"))
     renderer = SceneRenderer(FakeScene())
     renderer.sync(sim.model, sim.data)
     counts = []

@@ -17,6 +17,7 @@ from types import SimpleNamespace
 import pytest
 from conftest import choose, free_port, wait_for
 
+from sandbox.scenes import get_scene
 from sandbox.web.panels.board import BOARD_FOLDER, CSV_BUTTON, NAME_LABEL
 from sandbox.web.panels.board_rows import (
     KEEP_GONE,
@@ -254,7 +255,7 @@ def test_a_row_reads_the_lesson_step_and_goal_the_page_shows(gui_server):
     from sandbox.web.panels.student_rows import Readouts as _Readouts
     from sandbox.web.panels.student_rows import Student as _Student
 
-    controller = Controller(Simulation("rotor"))
+    controller = Controller(Simulation(get_scene("rotor")))
     panel = LessonPanel(gui_server.gui, controller, lesson="equilibrage")
     sim = controller.sim
     values = sim.readouts()
@@ -308,7 +309,7 @@ def test_a_classroom_forgets_a_browser_that_left_and_publishes_the_rest():
 
     room = Classroom(lambda cid: cid in here, clock=lambda: 50.0)
     room.relay(Hub(), source="w1")
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     for cid in (1, 2):
         room.student(SimpleNamespace(client_id=cid), sim)  # type: ignore[arg-type]
     room.tick()

@@ -12,6 +12,7 @@ import pytest
 from conftest import free_port, wait_for
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.web.loop.capacity import Load, merged, students_at, students_for
 from sandbox.web.loop.controller import Controller
 from sandbox.web.loop.first_estimate import measure
@@ -73,7 +74,7 @@ def test_the_first_estimate_measures_one_session_of_the_scene():
     def sleep(seconds: float) -> None:
         clock.now += max(seconds, 1 / 60)
 
-    load = measure(lambda: Controller(Simulation("rotor"), clock=clock), sleep=sleep)
+    load = measure(lambda: Controller(Simulation(get_scene("rotor")), clock=clock), sleep=sleep)
     assert load.sessions == 1
     assert load.frames == pytest.approx(60.0, rel=0.05)
     assert load.cpu > load.stepping > 0

@@ -20,6 +20,7 @@ from sandbox.bench.classroom import gui_message, unpack
 from sandbox.bench.classroom.wire import messages
 from sandbox.challenges import CHALLENGES, Challenge
 from sandbox.physics.picture import geom_local_poses
+from sandbox.scenes import get_scene
 from sandbox.web.client.text import UNIT_SPACE, number
 from sandbox.web.loop.requests import Pause, Record, SetValue
 from sandbox.web.panels.board_rows import Run
@@ -323,7 +324,7 @@ def test_the_solution_is_written_with_the_sliders_words():
     import sandbox.scenes  # noqa: F401  (the registry)
     from sandbox.physics.simulation import Simulation
 
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     params = {p.name: p for p in sim.scene.params}
     values = {**sim.values, **SECRET, "speed_rpm": 1500.0}
     text = solution_lines(CHALLENGES["rotor_balance"], values, params)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.web.panels.cycle import CyclePanel
 
 
@@ -30,7 +31,7 @@ class Gui:
 
 
 def test_compressor_cycle_speaks_french_and_draws_a_revolution():
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     gui = Gui()
     panel = CyclePanel(gui, sim)  # type: ignore[arg-type]
     assert gui.folder == "Sur un tour" and len(gui.charts) == 2
@@ -53,5 +54,5 @@ def test_compressor_cycle_speaks_french_and_draws_a_revolution():
 
 def test_scenes_without_a_cycle_have_no_folder():
     gui = Gui()
-    panel = CyclePanel(gui, Simulation("rotor"))  # type: ignore[arg-type]
+    panel = CyclePanel(gui, Simulation(get_scene("rotor")))  # type: ignore[arg-type]
     assert panel.folder is None and not gui.charts

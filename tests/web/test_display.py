@@ -13,6 +13,7 @@ from sandbox.errors import BadModel, BadOption, BadParameter, Diverged, UnknownP
 from sandbox.physics.display import angle_between, main_joint
 from sandbox.physics.picture import picture
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene, resolve
 from sandbox.web.loop import (
     SPEEDS,
     Controller,
@@ -31,7 +32,7 @@ class Clock:
 
 
 def _rotor(speed_rpm: float = 6000.0, dt: float | None = None) -> Controller:
-    sim = Simulation("rotor", values={"speed_rpm": speed_rpm}, timestep=dt)
+    sim = Simulation(get_scene("rotor"), values={"speed_rpm": speed_rpm}, timestep=dt)
     return Controller(sim, clock=Clock())
 
 
@@ -95,7 +96,7 @@ def test_the_display_never_changes_the_physics():
     assert drawn.sim.data.time == blind.sim.data.time
     assert np.array_equal(drawn.sim.data.qpos, blind.sim.data.qpos)
     assert np.array_equal(drawn.sim.data.qvel, blind.sim.data.qvel)
-    alone = Simulation("rotor", values={"speed_rpm": 3000.0}, timestep=1e-3)
+    alone = Simulation(get_scene("rotor"), values={"speed_rpm": 3000.0}, timestep=1e-3)
     alone.step(round(drawn.sim.data.time / 1e-3))
     assert np.array_equal(alone.data.qpos, drawn.sim.data.qpos)
 
@@ -193,7 +194,7 @@ def test_slow_motion_down_to_one_hundredth():
 def test_refusals_name_parameters_in_french_words(monkeypatch):
     """A value is checked once, by its parameter: the refusal speaks English to the
     command line and French (its label, decimal comma, the page's unit) to the page."""
-    scene = Simulation("rotor").scene
+    scene = Simulation(get_scene("rotor")).scene
     assert scene is not None
     labelled = dataclasses.replace(
         scene,
@@ -202,7 +203,7 @@ def test_refusals_name_parameters_in_french_words(monkeypatch):
             for p in scene.params
         ),
     )
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     monkeypatch.setattr(sim, "scene", labelled)
     with pytest.raises(BadParameter) as err:
         sim.check_value("mass1_g", 250.5)
@@ -239,7 +240,7 @@ def test_the_divergence_message_is_french():
 def test_lower_layer_refusals_are_said_in_their_own_french_words():
     """No translation table: a refusal raised with French words shows them; one without
     (an unforeseen English detail) shows a general French sentence, never the English."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     with pytest.raises(BadParameter) as err:
         sim.set_value("L", 0.01)  # shorter than the crank: refused while building
     text = french_message(err.value)
@@ -293,7 +294,7 @@ def _panel(server, scene: str, **values):
     from sandbox.web.panels.display import DisplayPanel
     from sandbox.web.view3d.renderer import SceneRenderer
 
-    ctl = Controller(Simulation(scene, values=values), clock=Clock())
+    ctl = Controller(Simulation(resolve(scene), values=values), clock=Clock())
     point = (np.array([0.1, 0.0, 0.05]), "P")
     renderer = SceneRenderer(server.scene)
     renderer.draw(picture(ctl.drawn()))
@@ -371,7 +372,7 @@ def test_the_masses_are_labelled_with_their_angle_and_p_is_drawn(server):
 
 
 def test_an_angle_step_turns_a_top_on_its_ball_joint():
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     ctl = Controller(sim, clock=Clock())
     w = float(np.linalg.norm(sim.data.qvel[:3]))
     assert w > 1.0
@@ -423,10 +424,10 @@ def test_a_closed_loop_drawn_between_two_steps_stays_closed(scene, order):
     0). The drawn state is brought back onto the loop (display.close_loops)."""
     from sandbox.physics.display import DisplayState
 
-    physics = Simulation(scene)
+    physics = Simulation(resolve(scene))
     physics.advance(0.5)
     expected = physics.readouts([order])[order]
-    sim = Simulation(scene)  # another model: the revolutions' cache is not shared
+    sim = Simulation(resolve(scene))  # another model: the revolutions' cache is not shared
     sim.advance(0.5)
     names = [order, "closure_error", "pilon"]
     drawn = sim.readouts(

@@ -7,6 +7,7 @@ from __future__ import annotations
 import pytest
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.web.loop.controller import Controller
 from sandbox.web.loop.governor import FLOOR_FPS, HIGH, LOW, SATURATED_AFTER, WINDOW, Governor
 from sandbox.web.loop.scheduler import Scheduler
@@ -146,7 +147,7 @@ def test_simulated_time_keeps_real_time_at_the_floor_frame_rate(monkeypatch):
     cpu = [0.0]
     monkeypatch.setattr(pacing.time, "thread_time", lambda: cpu[0])
     clock = Clock()
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     real_step = sim.step
 
     def step(n: int = 1) -> None:

@@ -11,13 +11,14 @@ import pytest
 
 from sandbox.physics import isolate
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene, resolve
 from sandbox.web.client.text import GAP
 from sandbox.web.panels.isolate import isolate_markdown
 
 
 def test_every_number_sits_in_its_own_column():
     """Issue 14: "73,23-72,95" ran together in the narrow panel."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(0.05)
     scene = sim.scene
     assert scene is not None
@@ -60,7 +61,7 @@ def test_b1_at_o_and_a_gap_of_round_off_that_reads_0():
     import numpy as np
 
     for scene_name in ("rotor", "engine"):
-        sim = Simulation(scene_name)
+        sim = Simulation(resolve(scene_name))
         sim.advance(0.05)
         scene = sim.scene
         assert scene is not None
@@ -82,7 +83,7 @@ def test_a_component_six_decades_under_the_largest_reads_0():
     centripetal m d sinθ ψ'²) keeps its digits."""
     import numpy as np
 
-    sim = Simulation("heavy_gyroscope")
+    sim = Simulation(get_scene("heavy_gyroscope"))
     sim.advance(1.0)
     scene = sim.scene
     assert scene is not None
@@ -111,7 +112,7 @@ def test_the_centre_of_mass_reads_0_where_the_closure_leaves_round_off(scene_nam
     reads 0; the others keep their three digits."""
     import dataclasses
 
-    sim = Simulation(scene_name)
+    sim = Simulation(resolve(scene_name))
     scene = sim.scene
     assert scene is not None
     crank = isolate.balance(sim.model, sim.data, isolate.solids(sim.model)[0])

@@ -16,6 +16,7 @@ import pytest
 from conftest import free_port, wait_for
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import resolve
 from sandbox.web.loop.requests import Pause, Reset
 from sandbox.web.view3d import label_layout
 from sandbox.web.view3d.arrows import ArrowLayer, read_camera
@@ -136,7 +137,7 @@ class Recorder:
 
 
 def _layer(scene, name: str = "compressor") -> tuple[Simulation, ArrowLayer]:
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     spec = sim.scene
     assert spec is not None
     return sim, ArrowLayer(scene, spec.page.arrows, extent=1.0, zero=spec.zero)

@@ -10,6 +10,7 @@ import pytest
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import load
+from sandbox.scenes import get_scene
 from sandbox.web.loop import Controller, Scheduler, Session, check_timestep
 from sandbox.web.loop.frame import Source
 from sandbox.web.loop.requests import (
@@ -42,7 +43,7 @@ def test_the_timestep_refusal_gives_the_range_in_french_and_english():
     """One check of a timestep, by the simulation: its refusal speaks English to the
     command line and, as ``french``, gives the page the range; the page's parse of a
     typed text refuses a word with the same range."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     with pytest.raises(BadOption) as err:
         sim.check_timestep(0.5)
     words = err.value.french
@@ -75,7 +76,7 @@ class Blank:
 
 def test_a_session_is_what_the_scheduler_runs_and_says_when_it_stops():
     scheduler = Scheduler(threaded=False)
-    session = Session(Controller(Simulation("rotor")), Blank(), scheduler=scheduler)
+    session = Session(Controller(Simulation(get_scene("rotor"))), Blank(), scheduler=scheduler)
     turns: Turns = session
     assert not turns.stopping
     session.request_stop()
@@ -144,7 +145,7 @@ def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
     """A session asks the same of both sources (frame.Source): the live one draws
     between its physics steps and records; a replay draws its recorded frame, shows its
     recorded row, records nothing and has no secret."""
-    ctl = Controller(Simulation("rotor"), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), record_dir=tmp_path)
     ctl.submit(Pause())
     ctl.submit(Advance(0.0011, "s"))  # drawn between two physics steps
     ctl.submit(Record())
@@ -169,7 +170,7 @@ def test_a_live_controller_and_a_replay_are_read_through_one_protocol(tmp_path):
 
 
 def test_what_a_panel_may_do_goes_through_the_session_state():
-    ctl = Controller(Simulation("rotor"))
+    ctl = Controller(Simulation(get_scene("rotor")))
     assert not ctl.pending()
     ctl.submit(Pause())
     assert ctl.pending()  # queued for the loop, not applied by the panel

@@ -17,7 +17,7 @@ from conftest import wait_for
 from test_frame_cost import Clock, served  # noqa: F401  (the fixture)
 
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.web.loop import frame as frame_module
 from sandbox.web.loop.requests import Play, Speed
 from sandbox.web.views.browser import ALL_FOLDERS
@@ -146,7 +146,7 @@ def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
     """In --follow, the students' table read the crank angle θ as 973 638°, then
     1,452×10⁶° after a minute at 3000 tr/min: it wrote the readouts its own way. It is
     written as the page writes it: in [0, 360°)."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     sim.advance(60.0)
     view, values = _follow_frame(sim)
     assert values["theta"] > 16000.0  # unwrapped: 50 turns a second for a minute
@@ -162,7 +162,7 @@ def test_the_follow_summary_writes_theta_modulo_a_turn_after_a_minute():
 def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(scene):
     """In --follow, the students' summary and the shared 3D labels write the very values
     of the frame they come with, as the page's table writes them."""
-    sim = Simulation(scene)
+    sim = Simulation(resolve(scene))
     sim.advance(0.37)
     view, values = _follow_frame(sim)
     infos = {i.name: i for i in sim.readout_infos()}

@@ -13,6 +13,7 @@ from sandbox.cli import main
 from sandbox.lessons import catalogue
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
+from sandbox.scenes import get_scene
 from sandbox.web.replay.pack import export_pack
 
 pytest.importorskip("imageio_ffmpeg")
@@ -23,7 +24,7 @@ CRAFTED = "<script>alert('x')</script><img src=x onerror=alert(1)>"
 def _lesson_recording(path: Path, *, speed_up: bool = True) -> Path:
     """1.5 s of the rotor following the lesson "equilibrage": step 1 at 0, step 2 at
     0.5 s, step 3 (and 3000 tr/min) at 1.0 s."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     rec = Recorder(path, sim, lesson="equilibrage")
     rec.event("lesson", step=0)
     rec.frame(sim.readouts())
@@ -44,7 +45,7 @@ def _lesson_recording(path: Path, *, speed_up: bool = True) -> Path:
 def pack(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("pack")
     lesson = _lesson_recording(folder / "lesson.sbx")
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     plain = Recorder(folder / "compressor.sbx", sim)
     for _ in range(40):
         sim.step(10)

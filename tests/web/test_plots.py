@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from sandbox.scenes import get_scene
 from sandbox.web.panels.plots import Plot, group_by_unit, nice_ceil, nice_range
 
 
@@ -106,7 +107,7 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
     from sandbox.physics.simulation import Simulation
     from sandbox.web.panels.plots import component_plot
 
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     scene = sim.scene
     plot = component_plot(scene)
     assert plot is not None and plot.spec.basis == "B1"
@@ -138,8 +139,8 @@ def test_scenes_without_component_plot():
     from sandbox.web.panels.plots import component_plot
 
     assert component_plot(None) is None
-    assert component_plot(Simulation("rolling_cylinder").scene) is None
-    gyro = component_plot(Simulation("gyroscope").scene)
+    assert component_plot(Simulation(get_scene("rolling_cylinder")).scene) is None
+    gyro = component_plot(Simulation(get_scene("gyroscope")).scene)
     assert gyro is not None and gyro.spec.basis == "B0" and len(gyro.names) == 3
 
 

@@ -13,7 +13,7 @@ import pytest
 
 from sandbox.mechanics.unbalance import rotating_loads, two_planes
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES, rotor
+from sandbox.scenes import SCENES, get_scene, rotor
 from sandbox.scenes.rotor.diagram import rotor_unbalance
 from sandbox.web.panels.polar import FOLDER, PolarPanel, panel_html
 
@@ -81,7 +81,7 @@ def test_a_balanced_rotor_has_zero_vectors_and_no_bearing_force():
     balanced = rotor_unbalance(values)
     assert np.linalg.norm(balanced.static_total) < 1e-12 * 1.6e-3
     assert np.linalg.norm(balanced.couple_total) < 1e-12 * 4.2e-4
-    sim = Simulation("rotor", values=values)
+    sim = Simulation(get_scene("rotor"), values=values)
     sim.advance(0.1)
     forces = sim.readouts()
     assert forces["bearing_A"] < 1e-6 and forces["bearing_B"] < 1e-6  # from 54 N and 15 N

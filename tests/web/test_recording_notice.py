@@ -8,6 +8,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.web.loop import Controller, Notice
 from sandbox.web.loop.requests import Record, StopRecord
 from sandbox.web.views.browser import WebView
@@ -45,7 +46,7 @@ def _frames(ctl: Controller, seconds: float) -> list[Notice]:
 
 def test_the_recording_pop_ups_name_the_file_only(tmp_path, caplog):
     folder = tmp_path / "secret-server-folder"
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=folder)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=folder)
     ctl.submit(Record())
     notices = _frames(ctl, 0.3)
     ctl.submit(StopRecord())
@@ -69,7 +70,7 @@ def test_a_full_recording_names_the_next_file_only(tmp_path, monkeypatch):
     from sandbox.recording import limits
 
     monkeypatch.setattr(limits, "MAX_RECORDS", 150)
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path / "secret")
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path / "secret")
     ctl.submit(Record())
     notices = _frames(ctl, 3.0)
     full = next(n.text for n in notices if "Fichier plein" in n.text)

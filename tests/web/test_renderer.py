@@ -6,6 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from sandbox.scenes import get_scene, resolve
 from sandbox.web.view3d.geoms import capsule_mesh, geom_pose, geom_shapes, mat_to_wxyz
 from sandbox.web.view3d.label_layout import Camera, label_size
 from sandbox.web.view3d.renderer import READABLE_PX, SceneRenderer
@@ -150,7 +151,7 @@ def test_the_mechanism_size_leaves_the_floor_out():
     from sandbox.physics.simulation import Simulation
     from sandbox.web.view3d.geoms import mechanism_size
 
-    sim = Simulation("rolling_cylinder")
+    sim = Simulation(get_scene("rolling_cylinder"))
     assert float(sim.model.stat.extent) > 10.0  # the 12 m plane
     assert 0.2 < mechanism_size(sim.model, sim.data) < 1.0
 
@@ -159,7 +160,7 @@ def test_small_moving_spheres_are_drawn_large_enough_to_see():
     from sandbox.physics.simulation import Simulation
     from sandbox.web.view3d.geoms import MARKER, mechanism_size
 
-    sim = Simulation("rotor", values={"mass1_g": 30.0})
+    sim = Simulation(get_scene("rotor"), values={"mass1_g": 30.0})
     size = mechanism_size(sim.model)
     shapes = {s.name.rsplit("_", 1)[1]: s for s in geom_shapes(sim.model)}
     assert shapes["correction1"].size == (pytest.approx(MARKER * size),)
@@ -223,7 +224,7 @@ def test_arrows_are_sized_to_the_mechanism_and_stay_in_view(scene, values):
     from sandbox.web.view3d.arrows import ArrowLayer
     from sandbox.web.view3d.geoms import mechanism_size
 
-    sim = Simulation(scene, values=values)
+    sim = Simulation(resolve(scene), values=values)
     sim.advance(0.05)
     spec = sim.scene
     assert spec is not None and spec.page.arrows
@@ -261,7 +262,7 @@ def test_the_user_scale_multiplies_the_lengths():
     from sandbox.physics.simulation import Simulation
     from sandbox.web.view3d.arrows import ArrowLayer
 
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     spec = sim.scene
     assert spec is not None
     layer = ArrowLayer(HandleScene(), spec.page.arrows, extent=1.0)
@@ -281,7 +282,9 @@ def test_a_round_off_force_draws_no_arrow():
     from sandbox.physics.simulation import Simulation
     from sandbox.web.view3d.arrows import ArrowLayer
 
-    sim = Simulation("engine", values={"cylinders": 4.0}, motion="free")  # imposed: exactly 0
+    sim = Simulation(
+        get_scene("engine"), values={"cylinders": 4.0}, motion="free"
+    )  # imposed: exactly 0
     sim.advance(0.05)
     spec = sim.scene
     assert spec is not None
@@ -354,7 +357,7 @@ def test_a_rod_hangs_under_its_piston_and_sends_its_orientation_only():
     from sandbox.physics.picture import body_groups, carriers
     from sandbox.physics.simulation import Simulation
 
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     roots, _ = body_groups(sim.model)
     carried = dict(zip(roots.tolist(), carriers(sim.model).tolist(), strict=True))
     rod, piston = sim.model.body("rod").id, sim.model.body("piston").id
@@ -372,7 +375,7 @@ def test_a_rod_hangs_under_its_piston_and_sends_its_orientation_only():
     assert renderer.messages - sent == 3
     server = viser.ViserServer(port=free_port(), verbose=False)
     try:
-        engine = Simulation("engine")
+        engine = Simulation(get_scene("engine"))
         live = SceneRenderer(server.scene)
         live.sync(engine.model, engine.data)
         with warnings.catch_warnings(record=True) as caught:

@@ -6,6 +6,7 @@ import pytest
 
 from sandbox.physics.limits import MIN_TIMESTEP
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
 from sandbox.web.loop import Controller, Notice, Scheduler, Session
 from sandbox.web.loop.pacing import MAX_FRAME_STEPS, MAX_LAG, SLOW_HOLD, STEP_BUDGET
 from sandbox.web.loop.requests import (
@@ -56,7 +57,7 @@ class Recorder:
 
 @pytest.fixture
 def ctl():
-    return Controller(Simulation("rotor"), clock=Clock())
+    return Controller(Simulation(get_scene("rotor")), clock=Clock())
 
 
 def _run(ctl: Controller, seconds: float, fps: float = 60.0) -> list[Notice]:
@@ -188,7 +189,7 @@ def test_session_survives_a_view_that_fails(caplog):
                 raise RuntimeError("boom")
 
     view = Broken()
-    ctl = Controller(Simulation("rotor"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock())
     session, scheduler = _scheduled(ctl, view, fps=200)
     session.controller.submit(SetValue("mass1_g", "x"))
     _tick(ctl, scheduler, 0.3, fps=200)
@@ -207,7 +208,7 @@ def test_a_failure_on_every_frame_is_shown_and_logged_once(caplog):
             raise KeyError("Solide inconnu")
 
     view = AlwaysBroken()
-    ctl = Controller(Simulation("rotor"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock())
     session, scheduler = _scheduled(ctl, view)
     _tick(ctl, scheduler, 2.0)
     assert view.frames == 120 and len(view.notices) == 1
@@ -240,7 +241,7 @@ def test_a_timestep_below_the_bound_is_refused_once_in_french(ctl):
 
 
 def test_the_timestep_range_is_the_scene_maximum():
-    ctl = Controller(Simulation("rolling_cylinder"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("rolling_cylinder")), clock=Clock())
     ctl.submit(Timestep(0.05))
     (notice,) = ctl.frame()
     assert notice.text.endswith("entre 1×10⁻⁶ s et 0,02 s.")
@@ -326,7 +327,7 @@ def test_recording_from_the_web_session_replays_identically(tmp_path):
     from sandbox.recording import load
     from sandbox.replay import resimulate
 
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     ctl.submit(Record())
     assert ctl.frame()[0].level == "info"
     _run(ctl, 0.5)
@@ -346,7 +347,10 @@ def test_three_browsers_recording_in_the_same_second_keep_three_files(tmp_path, 
     from sandbox.web.loop import controller as session_module
 
     monkeypatch.setattr(session_module.time, "strftime", lambda fmt: "20261123-101500")
-    ctls = [Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path) for _ in range(3)]
+    ctls = [
+        Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
+        for _ in range(3)
+    ]
     paths = [ctl.start_recording() for ctl in ctls]
     for ctl, mass in zip(ctls, (10, 20, 30), strict=True):
         ctl.sim.set_value("mass2_g", mass)
@@ -363,7 +367,7 @@ def test_three_browsers_recording_in_the_same_second_keep_three_files(tmp_path, 
 def test_leaving_the_page_closes_the_recording(tmp_path):
     from sandbox.recording import load
 
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     session, scheduler = _scheduled(ctl, Recorder(), fps=100)
     ctl.submit(Record())
     _tick(ctl, scheduler, 0.4, fps=100)
@@ -375,7 +379,7 @@ def test_leaving_the_page_closes_the_recording(tmp_path):
 def test_a_recording_notes_the_lesson_and_its_steps(tmp_path):
     from sandbox.recording import load
 
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     ctl.lesson = "equilibrage"
     ctl.submit(Record())
     ctl.frame()
@@ -404,7 +408,7 @@ class Wanting(Recorder):
 
 
 def test_a_frame_computes_readouts_once_and_only_those_asked(tmp_path, monkeypatch):
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     view = Wanting({"bearing_A", "time"})
     session = Session(ctl, view)
     calls = []
@@ -438,7 +442,7 @@ def test_a_frame_computes_readouts_once_and_only_those_asked(tmp_path, monkeypat
 
 
 def test_a_view_that_wants_nothing_costs_no_readout(monkeypatch):
-    ctl = Controller(Simulation("rotor"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock())
     view = Recorder()  # wants() -> None
     session = Session(ctl, view)
     monkeypatch.setattr(ctl.sim, "readouts", lambda names=None: pytest.fail("computed"))
@@ -452,7 +456,7 @@ def test_a_browser_holding_frames_keeps_its_panels_on_its_last_pictures_instant(
     """A slow link: while the browser's sender still holds frames, its view draws no new
     picture, so its panels are not refreshed either (they would show a later instant
     than the 3D view beside them); they refresh with the next picture."""
-    ctl = Controller(Simulation("rotor"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock())
     view = Wanting({"bearing_A", "time"})
     session = Session(ctl, view)
     ctl.submit(Play())
@@ -473,7 +477,10 @@ def test_one_scheduler_serves_many_sessions_in_turn():
     scheduler = Scheduler(clock=clock, threaded=False)
     sessions = [
         Session(
-            Controller(Simulation("rotor"), clock=clock), Recorder(), fps=50, scheduler=scheduler
+            Controller(Simulation(get_scene("rotor")), clock=clock),
+            Recorder(),
+            fps=50,
+            scheduler=scheduler,
         )
         for _ in range(12)
     ]
@@ -494,8 +501,12 @@ def test_a_session_whose_end_fails_leaves_the_scheduler_serving_the_others(caplo
     ``cleanups``: the session thread died and every other page of the process froze)."""
     clock = Clock()
     scheduler = Scheduler(clock=clock, threaded=False)
-    gone = Session(Controller(Simulation("rotor"), clock=clock), Recorder(), scheduler=scheduler)
-    stays = Session(Controller(Simulation("rotor"), clock=clock), Recorder(), scheduler=scheduler)
+    gone = Session(
+        Controller(Simulation(get_scene("rotor")), clock=clock), Recorder(), scheduler=scheduler
+    )
+    stays = Session(
+        Controller(Simulation(get_scene("rotor")), clock=clock), Recorder(), scheduler=scheduler
+    )
 
     def broken() -> None:
         raise RuntimeError("clean-up failed")
@@ -516,7 +527,7 @@ def test_a_replay_session_ends_cleanly(tmp_path):
     from sandbox.recording import load
     from sandbox.web.replay.player import ReplayController
 
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     ctl.submit(Record())
     _run(ctl, 0.5)
     ctl.submit(StopRecord())
@@ -538,7 +549,9 @@ def test_one_scheduler_thread_serves_many_sessions():
 
     from conftest import wait_for
 
-    sessions = [Session(Controller(Simulation("rotor")), Recorder(), fps=50) for _ in range(12)]
+    sessions = [
+        Session(Controller(Simulation(get_scene("rotor"))), Recorder(), fps=50) for _ in range(12)
+    ]
     before = threading.active_count()
     for s in sessions:
         s.start()
@@ -556,7 +569,7 @@ def test_one_scheduler_thread_serves_many_sessions():
 def test_a_session_whose_browser_left_stops_within_a_second_even_at_a_tiny_timestep():
     clock = Clock()
     here = [True]
-    ctl = Controller(Simulation("rotor"), clock=clock)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=clock)
     ctl.submit(Timestep(MIN_TIMESTEP))
     scheduler = Scheduler(clock=clock, threaded=False)
     session = Session(ctl, Recorder(), alive=lambda: here[0], scheduler=scheduler)
@@ -577,7 +590,7 @@ def test_a_full_recording_goes_on_in_a_new_file_and_both_are_downloaded(tmp_path
     from sandbox.recording import limits
 
     monkeypatch.setattr(limits, "MAX_RECORDS", 150)
-    ctl = Controller(Simulation("rotor"), clock=Clock(), record_dir=tmp_path)
+    ctl = Controller(Simulation(get_scene("rotor")), clock=Clock(), record_dir=tmp_path)
     ctl.submit(Record())
     notices = _run(ctl, 3.0)
     ctl.submit(StopRecord())
@@ -656,9 +669,13 @@ def test_a_student_flooding_steps_leaves_the_others_their_frame_rate():
     import time as clock
 
     scheduler = Scheduler()
-    victims = [Session(Controller(Simulation("rotor")), Recorder(), scheduler=scheduler)]
-    victims += [Session(Controller(Simulation("rotor")), Recorder(), scheduler=scheduler)]
-    victims += [Session(Controller(Simulation("compressor")), Recorder(), scheduler=scheduler)]
+    victims = [Session(Controller(Simulation(get_scene("rotor"))), Recorder(), scheduler=scheduler)]
+    victims += [
+        Session(Controller(Simulation(get_scene("rotor"))), Recorder(), scheduler=scheduler)
+    ]
+    victims += [
+        Session(Controller(Simulation(get_scene("compressor"))), Recorder(), scheduler=scheduler)
+    ]
     for s in victims:
         s.start()
 
@@ -667,7 +684,7 @@ def test_a_student_flooding_steps_leaves_the_others_their_frame_rate():
         clock.sleep(seconds)
         return min((s.view.frames - b) / seconds for s, b in zip(victims, before, strict=True))
 
-    flooder = Session(Controller(Simulation("rotor")), Recorder(), scheduler=scheduler)
+    flooder = Session(Controller(Simulation(get_scene("rotor"))), Recorder(), scheduler=scheduler)
     try:
         clock.sleep(0.5)
         alone = rate(1.0)
@@ -704,7 +721,7 @@ def test_a_finished_run_starts_again_a_moment_later():
     from sandbox.web.loop.pacing import RESTART_AFTER
 
     now = [0.0]
-    sim = Simulation("rolling_cylinder", values={"plane_length": 2.0})
+    sim = Simulation(get_scene("rolling_cylinder"), values={"plane_length": 2.0})
     ctl = Controller(sim, clock=lambda: now[0])
     assert ctl.playing
     ended = None

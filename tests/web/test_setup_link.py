@@ -16,7 +16,7 @@ from conftest import free_port, serve_workers, wait_for
 
 from sandbox.bench import classroom
 from sandbox.physics.simulation import Simulation
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene
 from sandbox.web.page import link as client_link
 from sandbox.web.page.link import BUTTON, LINK_LABEL, SHARE_FOLDER
 from sandbox.web.panels import setup_link
@@ -28,7 +28,7 @@ FOLDERS = ("Affichage", "Méthode numérique", "Torseurs", "Grandeurs de la scè
 @pytest.fixture(scope="module")
 def rotor_page() -> setup_link.Page:
     return setup_link.page_of(
-        Simulation("rotor"), folders=FOLDERS, lessons={"equilibrage": 4}, lesson=None
+        Simulation(get_scene("rotor")), folders=FOLDERS, lessons={"equilibrage": 4}, lesson=None
     )
 
 
@@ -145,7 +145,9 @@ def test_steps_are_counted_from_one_within_the_lesson(rotor_page):
     for step in ("0", "5", "-1", "2.0", "٣", "99999"):
         setup, ignored = read(f"lesson=equilibrage&step={quote(step)}", rotor_page)
         assert setup.step is None and _why(ignored, f"step={step}") == "étape de 1 à 4 attendue"
-    page = setup_link.page_of(Simulation("rotor"), lessons={"equilibrage": 4}, lesson="equilibrage")
+    page = setup_link.page_of(
+        Simulation(get_scene("rotor")), lessons={"equilibrage": 4}, lesson="equilibrage"
+    )
     assert read("step=4", page)[0].step == 4  # the page's own lesson
 
 
@@ -156,7 +158,7 @@ def test_another_version_is_refused_whole(rotor_page):
 
 
 def test_a_choice_takes_an_option_index_only():
-    page = setup_link.page_of(Simulation("rolling_cylinder"))
+    page = setup_link.page_of(Simulation(get_scene("rolling_cylinder")))
     assert read("race=1", page) == (Setup(settings=(("race", 1.0),)), [])
     assert "choisissez parmi 0 (Non) ; 1 (Oui)" in _why(read("race=0.5", page)[1], "race=0.5")
 

@@ -10,6 +10,7 @@ import pytest
 
 from sandbox.mechanics import rotation_matrix
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene, resolve
 from sandbox.web.panels import tables
 
 SUPERSCRIPTS = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
@@ -59,7 +60,7 @@ def test_torsors_are_transported_and_projected():
 
 
 def test_scene_table_compares_with_the_course():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.advance(0.1)
     values = sim.readouts()
     md = tables.scene_markdown(
@@ -70,7 +71,7 @@ def test_scene_table_compares_with_the_course():
 
 
 def test_energy_table_closes_the_kinetic_energy_theorem():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     sim.advance(0.1)
     md = tables.energy_markdown(sim.readouts())
     assert abs(_shown(md, "P_frame")) < 1e-6 * max(1.0, abs(_shown(md, "P_ext")))
@@ -113,7 +114,7 @@ def test_scene_table_speaks_french_with_a_decimal_comma(scene):
     """Labels (or names while a scene has none), French units, decimal comma, no
     raw HTML cut by a ``|`` (the rolling cylinder's ``|Tt| / N`` tooltip did)."""
 
-    sim = Simulation(scene)
+    sim = Simulation(resolve(scene))
     sim.advance(0.05)
     spec = sim.scene
     rows = [

@@ -12,6 +12,7 @@ import pytest
 from sandbox.cli import main
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder, load
+from sandbox.scenes import get_scene
 from sandbox.web.video import render as video
 from sandbox.web.video.render import VideoOptions, render_video
 
@@ -23,7 +24,7 @@ SIZE = (480, 270)
 @pytest.fixture(scope="module")
 def rotor(tmp_path_factory) -> Path:
     """One second of the rotor at 1500 tr/min, recorded every 10 ms (its timestep)."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     path = tmp_path_factory.mktemp("video") / "rotor.sbx"
     rec = Recorder(path, sim)
     rec.frame(sim.readouts())
@@ -213,7 +214,7 @@ def test_the_page_exports_the_recording_in_progress(tmp_path):
 def test_the_rewind_keeps_the_last_seconds_of_one_model():
     from sandbox.web.loop.rewind import Rewind
 
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     ring = Rewind(seconds=1.0, rate=10.0)
     for _ in range(300):
         sim.step(1)  # 10 ms
@@ -250,7 +251,7 @@ def test_windows_and_macos_keep_mujocos_own_context(system, monkeypatch):
 
     monkeypatch.setattr(mujoco, "Renderer", no_context)
     with pytest.raises(v.VideoError, match="no OpenGL to draw the video offscreen"):
-        v.offscreen_renderer(Simulation("rotor").model, 120, 160)
+        v.offscreen_renderer(Simulation(get_scene("rotor")).model, 120, 160)
     assert tried == []
 
 

@@ -13,7 +13,7 @@ import pytest
 from sandbox.physics.presets import TIME
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.units import RAD_S_TO_RPM
-from sandbox.scenes import SCENES
+from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.sweep import STATISTICS
 from sandbox.web.loop import Controller
 from sandbox.web.loop.probe import RATE, Probe
@@ -72,7 +72,7 @@ def test_the_probe_splits_steps_and_keeps_its_rate():
 def test_nothing_is_sampled_while_no_view_wants_it():
     """Counted, not timed: no readout evaluated between frames when no X–Y plot is
     shown; with one, about RATE samples per wall second whatever the speed."""
-    ctl = Controller(Simulation("compressor"), clock=Clock())
+    ctl = Controller(Simulation(get_scene("compressor")), clock=Clock())
     _run(ctl, 0.5)
     assert ctl.probe.since(0) == (0, [])
     ctl.probe.want("view", ["theta", "pilon"])
@@ -90,7 +90,7 @@ def test_the_compressors_pilon_over_a_revolution_matches_the_course():
     revolution at 3000 rpm, reach every angle the physics steps reach (its per-revolution
     timestep gives 40 steps a turn: every 9°) and equal the course's exact slider-crank
     expressions (dashed) within 0.1 % of their peak."""
-    sim = Simulation("compressor")
+    sim = Simulation(get_scene("compressor"))
     ctl = Controller(sim, clock=Clock())
     data = XYData(
         _axis(sim, "theta"),
@@ -118,7 +118,7 @@ def test_the_rotors_start_draws_the_course_parabola():
     bearing A against ω follows K·ω² (its dashed closed form) within 0.1 % above
     1000 rpm, and the cursor's slope equals 2·K·ω within 2 %."""
     preset = next(p for p in SCENES["rotor"].page.xy_presets if p.values)
-    sim = Simulation("rotor", values=dict(preset.values))
+    sim = Simulation(get_scene("rotor"), values=dict(preset.values))
     ctl = Controller(sim, clock=Clock())
     data = XYData(
         _axis(sim, preset.x),
@@ -146,7 +146,7 @@ def test_the_rotors_start_draws_the_course_parabola():
 
 
 def test_constant_x_says_what_to_do():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {})
     data.add((t, {"omega": 157.0, "bearing_A": 54.4}) for t in (0.0, 0.1, 0.2))
     assert "X ne varie pas" in data.reading(0.5)
@@ -154,7 +154,7 @@ def test_constant_x_says_what_to_do():
 
 
 def test_time_keeps_a_window_and_a_reset_starts_again():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     data = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
     data.add((t / 10, {"bearing_A": 1.0}) for t in range(300))
     assert len(data) == 101  # 10 s kept
@@ -164,7 +164,7 @@ def test_time_keeps_a_window_and_a_reset_starts_again():
 
 def test_the_csv_keeps_contract_names_and_units():
     """Files keep the contract: ω in rad/s and the readouts' names, dot decimals."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {"bearing_A": "bearing_A_ref"})
     data.add([(0.5, {"omega": 100.0, "bearing_A": 22.0, "bearing_A_ref": 22.1})])
     rows = list(csv.reader(io.StringIO(data.csv_text())))
@@ -174,7 +174,7 @@ def test_the_csv_keeps_contract_names_and_units():
 
 
 def test_the_png_is_a_png_in_french():
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     data = XYData(_axis(sim, "omega"), [_axis(sim, "bearing_A")], {"bearing_A": "bearing_A_ref"})
     data.add(
         (t, {"omega": w, "bearing_A": w * w, "bearing_A_ref": w * w})
@@ -198,7 +198,7 @@ def test_every_preset_names_what_its_scene_has(name):
     """Each scene proposes X–Y plots and studies made of its own readouts and
     parameters, within the parameters' bounds, with French labels."""
     scene = SCENES[name]
-    sim = Simulation(name)
+    sim = Simulation(resolve(name))
     readouts = set(sim.readout_names())
     params = {p.name: p for p in scene.params}
     assert scene.page.xy_presets, f"{name} proposes no X–Y plot"
@@ -219,7 +219,7 @@ def test_every_preset_names_what_its_scene_has(name):
 def test_a_flat_curve_reads_a_slope_of_zero_not_round_off():
     """The rotor's bearing force at constant speed: its slope against time is round-off
     (3×10⁻¹⁴ N/s), shown as 0."""
-    sim = Simulation("rotor")
+    sim = Simulation(get_scene("rotor"))
     data = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
     rng = np.random.default_rng(0)
     data.add((t / 100, {"bearing_A": 54.4 + 1e-13 * rng.standard_normal()}) for t in range(300))

@@ -14,6 +14,7 @@ from typing import Any
 from sandbox.cores import default_workers
 from sandbox.errors import BadOption
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import resolve
 from sandbox.web.client import viser_internals
 from sandbox.web.panels.board import teacher_path
 from sandbox.web.serving.server import bracket, check_port, run_forever
@@ -48,7 +49,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     options.pop("open_message", None)
     options = {k: (dict(v) if k == "values" else v) for k, v in options.items()}
     Simulation(
-        target,
+        resolve(target),
         values=options.get("values") or {},
         integrator=options.get("integrator"),
         timestep=options.get("timestep"),

@@ -23,10 +23,10 @@ import secrets
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from pathlib import Path
 
 import viser
 
+from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.web.client.text import plain, table_row, with_unit
 from sandbox.web.loop import Controller, Frame, Notice, Session
@@ -247,7 +247,7 @@ class FollowApp(App):
     Args:
         server: The viser server.
         host: Interface listened on.
-        target: Scene name or MJCF path.
+        target: The scene or MJCF file served (resolved by :func:`sandbox.scenes.resolve`).
         options: Simulation options (values, integrator, timestep).
         lesson: Lesson opened on the teacher's page and the students' copies.
         token: Secret of the teacher's link (random when None).
@@ -258,7 +258,7 @@ class FollowApp(App):
         self,
         server: viser.ViserServer,
         host: str,
-        target: str | Path,
+        target: Source,
         options: SimOptions,
         *,
         lesson: str | None = None,

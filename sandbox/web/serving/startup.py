@@ -15,6 +15,7 @@ import viser
 
 from sandbox.lessons import is_lesson_file, open_lesson_file
 from sandbox.physics.simulation import Simulation
+from sandbox.scenes import resolve
 from sandbox.web.loop import Controller, first_estimate
 from sandbox.web.serving import addresses, network
 from sandbox.web.serving.class_app import ClassApp
@@ -95,19 +96,20 @@ def start(
         "timestep": timestep,
         "motion": motion,
     }
-    Simulation(target, **options)
+    source = resolve(target)
+    Simulation(source, **options)
     server = open_server(host, port, PAGE_TITLE, check=check_port)
     bound = port if network.handing_off() else server.get_port()
     urls = join_urls(host, bound, public_url)
 
     if follow:
         app: ClassApp | FollowApp = FollowApp(
-            server, host, target, options, lesson=opened, token=token, join_urls=tuple(urls)
+            server, host, source, options, lesson=opened, token=token, join_urls=tuple(urls)
         )
     else:
 
         def session(client: viser.ClientHandle) -> OwnPage:
-            controller = Controller(Simulation(target, **options))
+            controller = Controller(Simulation(source, **options))
             return own_page(server, client, controller, lesson=opened, join_urls=urls)
 
         app = ClassApp(
@@ -117,9 +119,9 @@ def start(
             token=token,
             max_sessions=max_sessions,
             port=bound,
-            shared=lambda: Controller(Simulation(target, **options)),
+            shared=lambda: Controller(Simulation(source, **options)),
         )
-    measure_capacity(app.classroom, lambda: Controller(Simulation(target, **options)))
+    measure_capacity(app.classroom, lambda: Controller(Simulation(source, **options)))
     if open_message:
         teacher = app.teacher_url
         print(banner(target, host, app.port, teacher=teacher, public_url=public_url), flush=True)

@@ -20,7 +20,6 @@ from pathlib import Path
 
 import viser
 
-import sandbox.scenes  # noqa: F401  (the registry, in a worker process)
 from sandbox.errors import SandboxError
 from sandbox.recording import load
 from sandbox.web.client.text import plain
