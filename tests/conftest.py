@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 # Tests name scenes at every layer: load the registry, which passes itself down to
-# physics for Simulation("rotor").
+# physics for Simulation(get_scene("rotor")).
 import sandbox.scenes  # noqa: F401
 
 DIVERGING = """
@@ -126,6 +126,7 @@ def browser() -> Iterator[object]:
         def patient_context(*args: object, **kwargs: object) -> object:
             context = new_context(*args, **kwargs)
             context.set_default_timeout(ACTION_TIMEOUT_MS)
+            context.add_init_script(SLOW_DISPLAY_JS)
             return context
 
         instance.new_context = patient_context
@@ -134,6 +135,35 @@ def browser() -> Iterator[object]:
         finally:
             instance.close()
 
+
+DISPLAY_HZ = 10
+"""Refresh rate of the test browsers' display (see :data:`SLOW_DISPLAY_JS`)."""
+
+SLOW_DISPLAY_JS = """(() => {
+  const period = 1000 / HZ;
+  const frame = window.requestAnimationFrame.bind(window);
+  let waiting = new Map(), seq = 0, armed = false, last = 0;
+  function run(t) {
+    armed = false; last = performance.now();
+    const due = waiting; waiting = new Map();
+    due.forEach((cb) => { try { cb(t); } catch (e) { setTimeout(() => { throw e; }); } });
+  }
+  function arm() {
+    if (armed) return;
+    armed = true;
+    const wait = last + period - performance.now();
+    if (wait < 1) frame(run); else setTimeout(() => frame(run), wait);
+  }
+  window.requestAnimationFrame = (cb) => {
+    const id = ++seq; waiting.set(id, cb); arm(); return id;
+  };
+  window.cancelAnimationFrame = (id) => { waiting.delete(id); };
+})();""".replace("HZ", str(DISPLAY_HZ))
+"""Every test page sees a display refreshing :data:`DISPLAY_HZ` times a second: the
+chromium of CI draws the 3D without a graphics card, and viser draws at every animation
+frame while frames arrive, so at 60 Hz each page playing a scene took a whole core (70 ms
+a drawn frame at 1280x720), and two test workers starved each other and their servers.
+The tests read the page, not its smoothness; a slow display is a real student's case."""
 
 ACTION_TIMEOUT_MS = 90_000
 """How long a click or a fill may wait for its page (Playwright's default is 30 s): on a

@@ -70,11 +70,16 @@ def served(request):
         app.stop()
 
 
-def _open(context, app):
+def _open(context, app, *, paused: bool = False):
+    """The page of ``app``; ``paused``: the scene paused first, for a check of words and
+    boxes that motion does not change (a playing page redraws its 3D at every frame)."""
     page = context.new_page()
     page.goto(app.url)
     page.locator("[data-sandbox-folder]").first.wait_for(timeout=30_000)
     assert wait_for(lambda: page.get_by_role("slider").count() > 0)
+    if paused:
+        page.get_by_role("button", name="Pause", exact=True).press("Enter")
+        page.get_by_role("button", name="Lecture", exact=True).wait_for(timeout=30_000)
     return page
 
 
@@ -129,7 +134,7 @@ def _unnamed(controls: list[tuple[str, str]]) -> list[tuple[str, str]]:
 
 
 def test_every_control_has_a_french_name(context, served):
-    page = _open(context, served)
+    page = _open(context, served, paused=True)
     # viser's warning of a 3D drawn without graphics card (headless Chromium, closed
     # after a few seconds): its close button has no words, only a cross
     crosses = page.locator(".mantine-CloseButton-root")
@@ -187,7 +192,7 @@ def _header(page, name: str):
 
 
 def test_tab_reaches_every_folder_and_opens_it(context, served):
-    page = _open(context, served)
+    page = _open(context, served, paused=True)
     headers = page.locator(f"{PANEL} [data-sandbox-folder]")
     wanted = {
         headers.nth(i).inner_text().strip()
@@ -214,6 +219,8 @@ def test_tab_reaches_every_folder_and_opens_it(context, served):
         _tab_to(page, name, folder=True)
         page.keyboard.press("Enter")
         assert wait_for(lambda h=head: h.get_attribute("aria-expanded") == "true", timeout=5)
+        # its opening slide has ended (the controls of a folder still opening are hidden)
+        assert settled(lambda: page.evaluate(f"document.querySelector('{PANEL}').scrollHeight"))
         page.keyboard.press("Tab")
         inside = page.evaluate("() => document.activeElement.closest('[aria-hidden]') !== null")
         first = _focused(page)
@@ -268,7 +275,8 @@ def test_arrows_on_a_slider_leave_the_3d_view_still(context, served_rotor):
     def shot() -> bytes:
         return page.screenshot(clip=view)
 
-    assert settled(shot, polls=2)  # paused: the last frames are drawn
+    # paused: the last frames are drawn, and the 3D labels (refreshed 4 times a second)
+    assert settled(shot, polls=6)
     before = shot()
     page.keyboard.down("ArrowRight")  # held: viser would move the camera every frame
     assert wait_for(lambda: thumb.get_attribute("aria-valuenow") != "1", timeout=5)
@@ -417,7 +425,7 @@ def _scrolled_through(page, read) -> list:
 
 
 def test_every_text_of_the_panel_reaches_4_5_to_1(context, served):
-    page = _open(context, served)
+    page = _open(context, served, paused=True)
     _show_every_folder(page)
     page.mouse.move(640, 700)  # no hover colour
     found = _scrolled_through(page, _contrasts)
@@ -479,7 +487,7 @@ _CLIPPED_JS = """(scope) => {
 
 
 def test_no_button_or_box_is_cut_at_any_text_size(context, served_rotor):
-    page = _open(context, served_rotor)
+    page = _open(context, served_rotor, paused=True)
     _show_every_folder(page)
     for px in FONT_SIZES:
         _pick(page, FONT_LABEL, font_option(px))

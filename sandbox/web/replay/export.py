@@ -23,6 +23,7 @@ from sandbox.replay import open_simulation
 from sandbox.web.client.text import with_unit
 from sandbox.web.page import locale as client_text
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
+from sandbox.web.serving.server import light_without_shadows
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.renderer import SceneRenderer
@@ -90,6 +91,7 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
     with contextlib.redirect_stdout(io.StringIO()):  # no server banner for an export
         server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
     try:
+        light_without_shadows(server)  # as the page
         scene = server.scene
         direction, up = scene_view(sim)
         extent = float(sim.model.stat.extent)

@@ -226,12 +226,20 @@ def open_server(host: str, port: int, label: str, *, check: bool = True) -> vise
     # one, a notebook cell may) puts the filters back as they were when it ends, and the
     # server may outlive it.
     server.on_client_connect(lambda _client: quiet_closed_connections())
+    light_without_shadows(server)
     if network.handing_off():  # a worker: the front listens on the port, not viser
         return server
     if port != 0 and server.get_port() != port:  # lost a race for the port
         server.stop()
         raise BadOption(f"port {port} is in use; choose another one with --port")
     return server
+
+
+def light_without_shadows(server: viser.ViserServer) -> None:
+    """viser's default lights, without their shadow maps: no solid of a scene receives a
+    shadow, yet each drawn frame would render them (cascaded maps: a third of a frame's
+    cost on a laptop or phone that draws the 3D without a graphics card)."""
+    server.scene.configure_default_lights(enabled=True, cast_shadow=False)
 
 
 def run_forever(app: App) -> None:
