@@ -76,11 +76,19 @@ def free_port() -> int:
         return int(sock.getsockname()[1])
 
 
-def serve_workers(cwd: Path, workers: int = 2, scene: str = "rotor") -> tuple[object, int]:
+def serve_workers(
+    cwd: Path, workers: int = 2, scene: str = "rotor", *, interrupts_ignored: bool = False
+) -> tuple[object, int]:
     """``sandbox serve SCENE --workers N`` on a free port, in its own process group:
-    (the Popen, its port); the caller reads its first line and stops it."""
+    (the Popen, its port); the caller reads its first line and stops it.
+    ``interrupts_ignored``: started as a script's background job or a desktop launcher
+    start it, SIGINT ignored (POSIX)."""
+    import signal
     import subprocess
     import sys
+
+    def ignore_interrupts() -> None:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
     port = free_port()
     proc = subprocess.Popen(
@@ -91,6 +99,7 @@ def serve_workers(cwd: Path, workers: int = 2, scene: str = "rotor") -> tuple[ob
         text=True,
         cwd=cwd,
         start_new_session=True,
+        preexec_fn=ignore_interrupts if interrupts_ignored else None,
     )
     return proc, port
 

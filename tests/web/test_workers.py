@@ -70,10 +70,12 @@ def _sessions(port: int, count: int) -> list[object]:
     ]
 
 
-def _start(tmp_path: Path) -> tuple[subprocess.Popen[str], int, list[int]]:
+def _start(
+    tmp_path: Path, *, interrupts_ignored: bool = False
+) -> tuple[subprocess.Popen[str], int, list[int]]:
     from tests.conftest import serve_workers
 
-    proc, port = serve_workers(tmp_path)
+    proc, port = serve_workers(tmp_path, interrupts_ignored=interrupts_ignored)
     assert isinstance(proc, subprocess.Popen)
     first = proc.stdout.readline() if proc.stdout else ""
     assert f"http://127.0.0.1:{port} by 2 worker processes" in first, first
@@ -112,16 +114,25 @@ def test_killing_the_parent_stops_every_worker_and_frees_the_port(tmp_path):
 
 @pytest.mark.slow
 @linux_only
-def test_ctrl_c_still_stops_the_workers_cleanly(tmp_path):
+@pytest.mark.parametrize("ignored", [False, True], ids=["terminal", "background_job"])
+@pytest.mark.parametrize("browsers", [0, 2])
+def test_ctrl_c_still_stops_the_workers_cleanly(tmp_path, ignored, browsers):
     """Ctrl-C in the terminal (SIGINT to the whole group): the parent exits 0 after its
-    workers closed their sessions, without a traceback."""
-    proc, port, pids = _start(tmp_path)
+    workers closed their sessions, without a traceback, browsers connected or not; also
+    when it was started with SIGINT ignored (a script's ``&`` job, a desktop launcher),
+    where the workers used to stop and be restarted (« worker 0 stopped (exit code 0):
+    restarting it ») and the server served on."""
+    proc, port, pids = _start(tmp_path, interrupts_ignored=ignored)
     sessions: list[object] = []
     try:
-        sessions = _sessions(port, 2)
+        sessions = _sessions(port, browsers)
         os.killpg(proc.pid, signal.SIGINT)
+        asked = time.monotonic()
         assert proc.wait(15) == 0
+        took = time.monotonic() - asked
         rest = proc.stdout.read() if proc.stdout else ""
+        assert "restarting" not in rest, rest
+        assert took < 10, f"stopped {took:.1f} s after Ctrl-C (about 1 s on a quiet machine)"
         assert "main process stopped or is gone" not in rest, rest  # the workers did not orphan
         # Known, older than the lifeline: a worker's SIGTERM from the parent can arrive
         # while its SIGINT is being handled (CPython then reports "Signal 15 ignored due
@@ -133,6 +144,25 @@ def test_ctrl_c_still_stops_the_workers_cleanly(tmp_path):
     finally:
         for session in sessions:
             session.close()  # type: ignore[attr-defined]
+        _kill_group(proc)
+
+
+@pytest.mark.slow
+@linux_only
+def test_ctrl_c_right_after_the_address_stops_a_one_process_server(tmp_path):
+    """One process, started with SIGINT ignored: a Ctrl-C as soon as the address is
+    printed stops it (the stop signals are installed before the address is printed; they
+    used to be installed after it, and that Ctrl-C was lost)."""
+    from tests.conftest import serve_workers
+
+    proc, _ = serve_workers(tmp_path, workers=1, interrupts_ignored=True)
+    assert isinstance(proc, subprocess.Popen)
+    try:
+        first = proc.stdout.readline() if proc.stdout else ""
+        assert "served at" in first, first
+        os.killpg(proc.pid, signal.SIGINT)
+        assert proc.wait(15) == 0
+    finally:
         _kill_group(proc)
 
 

@@ -38,7 +38,7 @@ from sandbox.web.loop import (
 from sandbox.web.loop.requests import Command, Pause, Play, Seek, Speed, Steps, Toggle, words
 from sandbox.web.loop.secret import Secret
 from sandbox.web.panels.controls import bounds, command, speed_slider
-from sandbox.web.serving.server import App, open_server, run_forever
+from sandbox.web.serving.server import App, open_server, serve_until_stopped
 from sandbox.web.views.browser import WebView
 from sandbox.written import date_words, time_words
 
@@ -327,4 +327,4 @@ def start_replay(
 
 def serve_replay(rec: Recording, **options: Any) -> None:
     """Serve ``rec`` until Ctrl-C (keyword arguments as for :func:`start_replay`)."""
-    run_forever(start_replay(rec, **options))
+    serve_until_stopped(lambda: start_replay(rec, **options))

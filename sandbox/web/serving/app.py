@@ -17,7 +17,7 @@ from sandbox.physics.simulation import Simulation
 from sandbox.scenes import resolve
 from sandbox.web.client import viser_internals
 from sandbox.web.panels.board import teacher_path
-from sandbox.web.serving.server import bracket, check_port, run_forever
+from sandbox.web.serving.server import bracket, check_port, serve_until_stopped
 from sandbox.web.serving.startup import banner, start
 from sandbox.web.serving.worker import WorkerSpec
 from sandbox.web.serving.workers import serve_pool
@@ -42,7 +42,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
         raise BadOption(f"--workers must be 1 or more, got {count!r}")
     viser_internals.warn_at_start()  # an untested viser: one line, then served all the same
     if count == 1:
-        run_forever(start(target, **options))
+        serve_until_stopped(lambda: start(target, **options))
         return
     host = str(options.pop("host", "127.0.0.1"))
     port = int(options.pop("port", 8080))

@@ -9,13 +9,14 @@ loop that serves until Ctrl-C or SIGTERM (:func:`run_forever`).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import signal
 import socket
 import threading
 import time
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from types import FrameType
 from typing import TypedDict
 
@@ -242,27 +243,47 @@ def light_without_shadows(server: viser.ViserServer) -> None:
     server.scene.configure_default_lights(enabled=True, cast_shadow=False)
 
 
-def run_forever(app: App) -> None:
-    """Block until Ctrl-C or SIGTERM, then stop ``app`` (recordings are closed).
-
-    The first signal stops the loop; later ones (the terminal, a proxy and the worker pool
-    may each send one) are ignored until the recordings are closed."""
-    main = threading.current_thread() is threading.main_thread()
+@contextlib.contextmanager
+def stop_signals() -> Iterator[None]:
+    """Within the block, Ctrl-C and SIGTERM raise KeyboardInterrupt in the main thread,
+    whatever this process inherited: started from a script's background job or a desktop
+    launcher, SIGINT arrives ignored (SIG_IGN). The first signal interrupts; later ones
+    (the terminal, a proxy and the worker pool may each send one) are let pass until the
+    block ends. Outside the main thread, nothing changes."""
     previous = {}
-    if main:
+    if threading.current_thread() is threading.main_thread():
         previous = {sig: signal.signal(sig, _interrupt) for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
-        while True:
-            time.sleep(0.5)
-            app.reap()
-    except KeyboardInterrupt:
-        pass
+        yield
     finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def run_forever(app: App) -> None:
+    """Block until Ctrl-C or SIGTERM, then stop ``app`` (recordings are closed); see
+    :func:`stop_signals` (a caller that prints an address before calling this installs
+    them first, so that a Ctrl-C right after the address is not lost)."""
+    with stop_signals():
         try:
-            app.stop()
+            while True:
+                time.sleep(0.5)
+                app.reap()
+        except KeyboardInterrupt:
+            pass
         finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
+            app.stop()
+
+
+def serve_until_stopped(start: Callable[[], App]) -> None:
+    """``start`` an app and :func:`run_forever` it, the stop signals installed from before
+    ``start`` prints its address: a Ctrl-C right after it is not lost."""
+    with stop_signals():
+        try:
+            app = start()
+        except KeyboardInterrupt:
+            return
+        run_forever(app)
 
 
 def _interrupt(signum: int, frame: FrameType | None) -> None:

@@ -236,8 +236,12 @@ class WorkerPool:
             else:
                 ready.add(index)
 
-    def watch(self) -> None:
+    def watch(self) -> bool:
         """Restart workers that died (a crash must not leave a core's students out).
+
+        Returns:
+            False when a worker ended by itself with exit code 0: it was asked to stop (a
+            Ctrl-C reached it), so the whole server stops, not restarts it.
 
         Raises:
             SandboxError: workers keep dying (more than :data:`MAX_RESTARTS` a minute).
@@ -245,6 +249,9 @@ class WorkerPool:
         for index, proc in list(self.processes.items()):
             if proc.exitcode is None:
                 continue
+            if proc.exitcode == 0:
+                print(f"sandbox: worker {index} was asked to stop: stopping the server", flush=True)
+                return False
             now = time.monotonic()
             self._restarts = [t for t in self._restarts if now - t < 60.0] + [now]
             if len(self._restarts) > MAX_RESTARTS:
@@ -259,6 +266,7 @@ class WorkerPool:
             )
             self._spawn(index)
         self._drain_events()
+        return True
 
     def _drain_events(self) -> None:
         while True:
@@ -373,16 +381,20 @@ def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
     def terminate(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
-    previous = signal.signal(signal.SIGTERM, terminate)
+    # Ctrl-C and SIGTERM stop the server whatever this process inherited: started from a
+    # script's background job or a desktop launcher, SIGINT arrives ignored (SIG_IGN),
+    # and the workers stopped by a Ctrl-C were restarted instead.
+    previous = {sig: signal.signal(sig, terminate) for sig in (signal.SIGTERM, signal.SIGINT)}
     listener = listen(spec.host, spec.port)
     pool = WorkerPool(spec, workers)
     try:
         pool.start()
         pool.front = Front(listener, [pool.pipes[k] for k in range(workers)], pool.closed)
         print(banner, flush=True)
-        while True:
+        serving = True
+        while serving:
             pool.front.poll(POLL)
-            pool.watch()
+            serving = pool.watch()
     except KeyboardInterrupt:
         pass
     finally:
@@ -391,4 +403,5 @@ def serve_pool(spec: WorkerSpec, workers: int, *, banner: str) -> None:
         else:
             listener.close()
         pool.stop()
-        signal.signal(signal.SIGTERM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
