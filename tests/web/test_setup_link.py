@@ -338,6 +338,49 @@ def test_a_page_opened_from_a_link_applies_it_and_writes_it_back(browser):
         assert field.evaluate("e => e.readOnly")
         page.get_by_text("Lien copié", exact=False).wait_for(timeout=30_000)
         assert page.evaluate("navigator.clipboard.readText()") == link
+        # served on this computer only: the folder says the students cannot open it
+        page.get_by_text("n'écoute que cet ordinateur", exact=False).wait_for(timeout=30_000)
+    finally:
+        context.close()
+        app.stop()
+
+
+def test_a_link_starts_at_the_address_students_use():
+    """Links start with the first address students type (the network address printed at
+    start, or --public-url), whatever address the teacher's page was opened at; a loopback
+    page without one says the students cannot open it."""
+    students = "http://192.168.1.20:8080"
+    base, whose = client_link.link_base(
+        [students, "http://10.0.0.7:8080"], "http://127.0.0.1:8080/"
+    )
+    assert base == students + "/" and whose.endswith("adresse des élèves : " + base)
+    proxy = "https://salle-b12.lycee.fr/dynamique"
+    assert client_link.link_base([proxy], "http://127.0.0.1:8080/")[0] == proxy + "/"
+    for own in ("http://127.0.0.1:8080/", "http://localhost:8080/", "http://[::1]:8080/"):
+        base, whose = client_link.link_base([], own)
+        assert base == own and "n'écoute que cet ordinateur" in whose and "--host 0.0.0.0" in whose
+    base, whose = client_link.link_base([], "http://10.0.0.5:8080/")
+    assert base == "http://10.0.0.5:8080/" and "adresse de cette page" in whose
+    assert client_link.link_base([], "") == ("", "")
+
+
+@pytest.mark.browser
+def test_the_teachers_link_opens_at_the_public_url(browser):
+    """A teacher's page opened at 127.0.0.1 of a server behind a proxy: the copied link
+    starts with ``--public-url`` and the folder says it is the students' address."""
+    from sandbox.web.serving.app import start
+
+    public = "https://salle-b12.lycee.fr/dynamique"
+    app = start("rotor", port=free_port(), open_message=False, public_url=public)
+    context = browser.new_context(viewport={"width": 1280, "height": 720})
+    try:
+        page = context.new_page()
+        page.goto(app.url)
+        _open_folder(page, SHARE_FOLDER)
+        page.get_by_role("button", name=BUTTON).click()
+        field = _row(page, LINK_LABEL).locator("textarea").first
+        assert wait_for(lambda: field.input_value().startswith(public + "/#v=1"), timeout=30)
+        page.get_by_text(f"adresse des élèves : {public}/", exact=False).wait_for(timeout=30_000)
     finally:
         context.close()
         app.stop()

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
@@ -298,6 +299,33 @@ def from_query(query: str) -> tuple[str, str]:
     for key, value in pairs:
         found.setdefault(key, value)
     return found.get(LINK_KEY, "")[: MAX_CHARS + 1], found.get(PAGE_KEY, "")[: MAX_PAGE + 1]
+
+
+LOOPBACK = re.compile(r"https?://(?:localhost|127(?:\.\d{1,3}){3}|\[::1\])(?::\d{1,5})?(?:/.*)?")
+"""An address only this computer opens."""
+
+
+def link_base(join_urls: Sequence[str], page: str) -> tuple[str, str]:
+    """(the address links start with, the sentence saying whose it is, ending with that
+    address when it names it).
+
+    The first address students type when there is one (``--host 0.0.0.0``: this machine's
+    network address; ``--public-url``: the proxy's), whatever address the teacher's page
+    was opened at; else the page's own, said to be this computer's only when it is.
+
+    Args:
+        join_urls: Addresses students type (:func:`~sandbox.web.serving.startup.join_urls`).
+        page: The page's own address (:func:`page_address`).
+    """
+    if join_urls:
+        base = join_urls[0] if join_urls[0].endswith("/") else join_urls[0] + "/"
+        return base, f"Le lien part de l'adresse des élèves : {base}"
+    if LOOPBACK.fullmatch(page):
+        return page, (
+            "Ce serveur n'écoute que cet ordinateur : les élèves ne pourront pas ouvrir ce "
+            "lien. Relancez-le avec --host 0.0.0.0 pour qu'ils le puissent."
+        )
+    return page, (f"Le lien part de l'adresse de cette page : {page}" if page else "")
 
 
 def page_address(page: str, host: str, path: str = "") -> str:

@@ -52,5 +52,5 @@ def own_page(
         alive: False once the page is gone (default: the server's connection).
     """
     view = WebView(client, controller, live=controller, lesson=lesson, join_urls=join_urls)
-    share_panel.attach(server, client, view, lesson=lesson)
+    share_panel.attach(server, client, view, lesson=lesson, join_urls=join_urls)
     return OwnPage(Session(controller, view, alive=alive), view, controller)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import logging
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import viser
@@ -40,6 +40,7 @@ from sandbox.web.page.link import (
     LINK_LABEL,
     SHARE_FOLDER,
     from_query,
+    link_base,
     page_address,
     request_query,
 )
@@ -92,6 +93,7 @@ def attach(
     view: WebView,
     *,
     lesson: str | None = None,
+    join_urls: Sequence[str] = (),
 ) -> SharePanel | None:
     """Add "Partager" to a live session's page and apply the link it was opened with.
 
@@ -103,6 +105,8 @@ def attach(
         client: The browser.
         view: Its view, just built.
         lesson: The lesson the page opens by itself (``sandbox serve LESSON``).
+        join_urls: Addresses students type: links start with the first
+            (:func:`~sandbox.web.page.link.link_base`).
 
     Returns:
         The folder, or None when the view is not a live session's.
@@ -111,7 +115,8 @@ def attach(
         return None
     query, host, path = request_query(server, client.client_id)
     fragment, page = from_query(query)
-    panel = SharePanel(client.gui, view, base=page_address(page, host, path), lesson=lesson)
+    base, whose = link_base(join_urls, page_address(page, host, path))
+    panel = SharePanel(client.gui, view, base=base, lesson=lesson, whose=whose)
     setup, ignored = setup_link.read(fragment, panel.page)
     panel.apply(setup)
     line = setup_link.refusal_line(ignored)
@@ -133,12 +138,19 @@ class SharePanel:
     Args:
         gui: The page's ``GuiApi``.
         view: The page's view (a live session's).
-        base: The page's address (origin and path) that links start with.
+        base: The address (origin and path) links start with.
         lesson: The lesson the page opens by itself.
+        whose: The sentence saying whose address ``base`` is (shown under the link).
     """
 
     def __init__(
-        self, gui: viser.GuiApi, view: WebView, *, base: str, lesson: str | None = None
+        self,
+        gui: viser.GuiApi,
+        view: WebView,
+        *,
+        base: str,
+        lesson: str | None = None,
+        whose: str = "",
     ) -> None:
         controller, controls = view.live, view.control_panel
         if controller is None or controls is None:
@@ -214,6 +226,7 @@ class SharePanel:
                 hint="Le lien à donner aux élèves (si la copie est refusée : sélectionnez-le "
                 "puis Ctrl+C)",
             )
+            self.whose = gui.add_markdown(_address_words(whose, base)) if whose else None
         on_user(self.control, self._on_control)
         on_user(self.choice, self._on_choice)
         self.button.on_click(self._on_share)
@@ -343,6 +356,15 @@ class SharePanel:
             else:
                 handle.hint = LOCKED_HINT
         self.summary.content = self._summary()
+
+
+def _address_words(sentence: str, address: str) -> str:
+    """``sentence`` as markdown, the ``address`` it ends with in a code span: markdown
+    would turn it into a link whose backslashed characters show (« salle\\-b12 »)."""
+    if address and sentence.endswith(address):
+        words = sentence[: -len(address)].rstrip()
+        return f"{plain(words)} `{address.replace('`', '')}`"
+    return plain(sentence, limit=800)
 
 
 def _show_lesson(view: WebView) -> None:
