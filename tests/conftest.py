@@ -233,6 +233,14 @@ def settled(read: Callable[[], object], polls: int = 3, timeout: float = 15.0) -
     return wait_for(same, timeout=timeout, poll=0.1)
 
 
+def pause(page) -> None:
+    """Pause the page's simulation from its « Pause » button and wait for « Lecture »: a
+    check of words and boxes that motion does not change then costs no 3D drawing (a
+    playing page redraws its 3D at every frame, in software on CI)."""
+    page.get_by_role("button", name="Pause", exact=True).press("Enter")
+    page.get_by_role("button", name="Lecture", exact=True).wait_for(timeout=30_000)
+
+
 def choose(page, label: str, option: str) -> None:
     """Pick ``option`` in the page's dropdown labelled ``label`` (Playwright page)."""
     row = page.locator("div.mantine-Flex-root", has=page.get_by_text(label, exact=True)).last

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from conftest import free_port, settled, wait_for
+from conftest import free_port, pause, settled, wait_for
 
 from sandbox.web.loop.requests import Pause, Play
 from sandbox.web.page.access import PLAY_PAUSE, REPLAY_TOGGLE, STYLE_ID, html
@@ -78,8 +78,7 @@ def _open(context, app, *, paused: bool = False):
     page.locator("[data-sandbox-folder]").first.wait_for(timeout=30_000)
     assert wait_for(lambda: page.get_by_role("slider").count() > 0)
     if paused:
-        page.get_by_role("button", name="Pause", exact=True).press("Enter")
-        page.get_by_role("button", name="Lecture", exact=True).wait_for(timeout=30_000)
+        pause(page)
     return page
 
 

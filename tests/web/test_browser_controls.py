@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 
 import pytest
-from conftest import free_port, settled, wait_for
+from conftest import free_port, pause, settled, wait_for
 
 from sandbox.lessons import catalogue
 from sandbox.scenes import SCENES
@@ -196,6 +196,7 @@ def test_control_folders_speak_french_without_code_names_or_emoji(projector_page
         page = projector_page.new_page()
         page.goto(app.url)
         page.get_by_text("Simulation", exact=True).first.wait_for(timeout=30_000)
+        pause(page)  # words, not motion
         folders = page.locator(".mantine-ScrollArea-viewport")  # the control panels
 
         def panels_text() -> str:

@@ -108,7 +108,7 @@ def test_plot_ticks_use_a_decimal_comma_in_a_french_browser(browser, served_cyli
         (session,) = served_cylinder.sessions.values()
         session.controller.playing = True
         read = (
-            "() => Object.values(window.__viserTestpoints.uplots).flatMap("
+            "() => Object.values((window.__viserTestpoints || {}).uplots || {}).flatMap("
             "(e) => e.chart.axes.flatMap((a) => (a._values || []).map(String)))"
         )
         found: list[list[str]] = []
