@@ -10,6 +10,7 @@ import math
 import re
 import subprocess
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from types import SimpleNamespace
@@ -596,3 +597,131 @@ def test_a_challenge_announced_in_one_process_reaches_its_board_at_once():
     hub.announce(Run("r", "rotor_balance", 5.0))
     hub.publish([to_wire(_row("a", 1.0))], wants=True)
     assert [b.run.name if b.run else None for b in got] == ["rotor_balance"] * 2
+
+
+WHO = "0123456789abcdef01234567"
+
+
+def _roster_rows(app) -> list:
+    return list(app.classroom.hub.roster.rows(time.time()))
+
+
+def test_a_tab_keeps_its_row_and_its_name_across_a_reconnection(served_class):
+    """A page's websocket carries the tab's key and the name its browser kept (the page's
+    script sets them): the name box is filled with it, and a reload (a new connection with
+    the same key) keeps the student's one row, number and name, not a « (parti) » row
+    beside a new « Élève 2 »."""
+    from sandbox.web.page.link import NAME_KEY, WHO_KEY
+
+    app = served_class
+    url = app.url.replace("http", "ws") + f"/?{WHO_KEY}={WHO}&{NAME_KEY}=Zo%C3%A9"
+    first = FakeStudent(url)
+    try:
+        assert wait_for(lambda: [r.name for r in _roster_rows(app)] == ["Zoé"], 30)
+        (row,) = _roster_rows(app)
+        assert row.key == f"b:{WHO}" and row.number == 1
+    finally:
+        first.close()
+    again = FakeStudent(url)  # the page reloaded
+    other = FakeStudent(app.url.replace("http", "ws"))  # another tab: no key, no name
+    try:
+        assert wait_for(
+            lambda: (
+                [(r.name, r.number, r.connected) for r in _roster_rows(app)]
+                == [("Zoé", 1, True), ("", 2, True)]
+            ),
+            30,
+        ), _roster_rows(app)
+    finally:
+        again.close()
+        other.close()
+
+
+@pytest.mark.parametrize(
+    "query",
+    [
+        "sandbox_who=../../etc&sandbox_name=%3Cb%3EZ%C3%A9%3C/b%3E%0A%0A" + "x" * 80,
+        "sandbox_who=" + "a" * 25,
+        "sandbox_who=0123456789ABCDEF01234567",
+        "",
+    ],
+)
+def test_a_crafted_identity_is_refused_or_cleaned(query):
+    from sandbox.web.page.link import identity
+
+    key, name = identity(query)
+    assert key == ""
+    assert "\n" not in name and len(name) <= 40
+
+
+def test_two_pages_with_one_key_get_two_rows():
+    """A tab duplicated with its storage: two pages of one key; the newer keeps the key,
+    the other gets its own."""
+    from sandbox.web.serving.class_board import Classroom
+
+    class Client:
+        def __init__(self, cid):
+            self.client_id = cid
+
+    from sandbox.physics.simulation import Simulation
+
+    room = Classroom(lambda cid: True)
+    sim = Simulation(get_scene("rotor"))
+    for cid in (1, 2):
+        room.student(Client(cid), sim, who=WHO)  # type: ignore[arg-type]
+    keys = sorted(r.key for r in room.rows())
+    assert keys == ["b:" + WHO, "p:1"]
+
+
+@pytest.mark.browser
+def test_a_student_keeps_the_name_typed_after_a_reload(open_page, served_class):
+    """In a real page: « Votre prénom » comes first while no name is known; typed, then
+    the page reloaded, the box reads the name again (last on the page now) and the board
+    keeps one row for the student, with that name."""
+    app = served_class
+    page = open_page(app.url)
+    box = page.get_by_role("textbox", name=NAME_LABEL, exact=True)
+    box.wait_for(timeout=60_000)
+    first = page.get_by_text("Simulation", exact=True).first
+
+    def above() -> bool:  # the name box above the « Simulation » folder
+        a, b = box.bounding_box(), first.bounding_box()
+        return a is not None and b is not None and a["y"] < b["y"]
+
+    assert above()
+    box.fill("Zoé")
+    assert wait_for(lambda: [r.name for r in _roster_rows(app)] == ["Zoé"], 30)
+    page.reload()
+    assert wait_for(lambda: box.count() == 1 and box.input_value() == "Zoé", 60)
+    first.wait_for(timeout=60_000)
+    assert not above()
+    assert wait_for(
+        lambda: [(r.name, r.number, r.connected) for r in _roster_rows(app)] == [("Zoé", 1, True)],
+        30,
+    ), _roster_rows(app)
+
+
+def test_the_teachers_page_shows_rejoindre_until_the_first_student():
+    """Students can reach the server (here through --public-url): the teacher's page
+    opens on « Rejoindre » (the address and its QR code), and goes back to its usual
+    panel when the first student arrives."""
+    from sandbox.web.panels.join import FOLDER as JOIN
+    from sandbox.web.serving.app import start
+
+    app = start(
+        "rotor", port=free_port(), open_message=False, token="tok-2",
+        public_url="http://salle-b12.lycee.fr:8080",
+    )  # fmt: skip
+    teacher = FakeStudent(app.url.replace("http", "ws") + "/prof/tok-2")
+    students: list[FakeStudent] = []
+    try:
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        (session,) = app.sessions.values()
+        view = session.view
+        assert wait_for(lambda: view.shown == JOIN, 30), view.shown
+        students.append(FakeStudent(app.url.replace("http", "ws")))
+        assert wait_for(lambda: view.shown == view.default_folder != JOIN, 30), view.shown
+    finally:
+        for s in (teacher, *students):
+            s.close()
+        app.stop()

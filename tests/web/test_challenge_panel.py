@@ -290,6 +290,8 @@ def test_tries_are_counted_on_the_board_and_the_end_shows_the_solution(rotor_cla
         app.classroom.announce(Run("run-2", "rotor_balance", time.time()))
         assert wait_for(lambda: ctl.secret is not None, 10)
         assert panel.folder.visible and panel.folder.label == FOLDER
+        # the start announces itself, wherever the student has scrolled
+        assert wait_for(lambda: student.saw("Défi lancé".encode()), 30)
         panel._clicked(None)  # a try on the bare machine: not yet
         assert "Essai 1 : pas encore" in panel.feedback.content
         assert "100 %" in panel.feedback.content

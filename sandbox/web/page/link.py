@@ -39,6 +39,8 @@ from typing import TYPE_CHECKING
 from urllib.parse import parse_qsl
 
 from sandbox.web.client import viser_internals
+from sandbox.web.panels.board import NAME_LABEL
+from sandbox.web.panels.board_rows import MAX_NAME, clean_name
 from sandbox.web.panels.controls import ADVANCED_FOLDER, NUMERICS_FOLDER
 from sandbox.web.panels.display import FOLDER as DISPLAY_FOLDER
 from sandbox.web.panels.setup_link import MAX_CHARS, slug
@@ -64,6 +66,14 @@ LINK_KEY = "sandbox_link"
 PAGE_KEY = "sandbox_page"
 """Query parameter of the websocket carrying the page's origin and path."""
 
+WHO_KEY = "sandbox_who"
+"""Query parameter of the websocket carrying the tab's own key (kept across reloads)."""
+
+NAME_KEY = "sandbox_name"
+"""Query parameter of the websocket carrying the name last typed in « Votre prénom »."""
+
+_WHO = re.compile(r"[0-9a-f]{24}")
+
 MAX_PAGE = 512
 """Longest page address kept [characters]."""
 
@@ -87,6 +97,38 @@ _SCRIPT = """<script>(function () {
   var LINK = %(link_key)s, PAGE = %(page_key)s, MAX = %(max)d, FOLDABLE = %(foldable)s;
   var BUTTON = %(button)s, FIELD = %(field)s, COPIED = %(copied)s, REFUSED = %(refused)s;
   var WAIT = %(wait_ms)d, EVERY = %(every_ms)d;
+  var WHO = %(who_key)s, NAMED = %(name_key)s, NAME_LABEL = %(name_label)s;
+  var NAME_MAX = %(name_max)d;
+  // Who this tab is, kept across reloads (the session's storage: a second tab is another
+  // student), and the name last typed in « Votre prénom » (this browser's storage): the
+  // board keeps a student's row and name when the page reloads or its server restarts.
+  function kept(area, key, make) {
+    try {
+      var value = window[area].getItem(key);
+      if (!value && make) { value = make(); window[area].setItem(key, value); }
+      return value || "";
+    } catch (e) {
+      return make ? make() : "";  // storage refused: a new student at each load
+    }
+  }
+  var who = kept("sessionStorage", "sandbox-who", function () {
+    var bytes = new Uint8Array(12);
+    if (window.crypto && window.crypto.getRandomValues) window.crypto.getRandomValues(bytes);
+    else for (var i = 0; i < bytes.length; i++) bytes[i] = Math.floor(Math.random() * 256);
+    return Array.prototype.map.call(bytes, function (b) {
+      return ("0" + b.toString(16)).slice(-2);
+    }).join("");
+  });
+  document.addEventListener("input", function (e) {
+    var t = e.target;
+    if (!t || t.tagName !== "INPUT") return;
+    var named = t.getAttribute("aria-label") === NAME_LABEL || (t.labels &&
+      Array.prototype.some.call(t.labels, function (l) {
+        return l.textContent.trim() === NAME_LABEL;
+      }));
+    if (!named) return;
+    try { localStorage.setItem("sandbox-name", t.value.slice(0, NAME_MAX)); } catch (err) {}
+  }, true);
   // The websocket to this page's server carries the fragment and the page's address
   // instead of the fragment itself (viser's client opens it at the page's whole address,
   // fragment included, which a websocket's address may not have). viser opens it in a
@@ -98,6 +140,9 @@ _SCRIPT = """<script>(function () {
       if (u.host === location.host) {
         u.searchParams.set(LINK, location.hash.slice(1, MAX + 2));
         u.searchParams.set(PAGE, (location.origin + location.pathname).slice(0, 600));
+        u.searchParams.set(WHO, who);
+        var name = kept("localStorage", "sandbox-name");
+        if (name) u.searchParams.set(NAMED, name.slice(0, NAME_MAX));
       }
       return u.toString();
     } catch (e) {
@@ -273,6 +318,10 @@ def html() -> str:
         "refused": js(NOT_COPIED),
         "wait_ms": round(COPY_WAIT_S * 1000),
         "every_ms": round(1000 / PASS_HZ),
+        "who_key": js(WHO_KEY),
+        "name_key": js(NAME_KEY),
+        "name_label": js(NAME_LABEL),
+        "name_max": MAX_NAME,
     }
 
 
@@ -288,16 +337,37 @@ def request_query(server: viser.ViserServer, client_id: int) -> tuple[str, str, 
     return query, host if isinstance(host, str) else "", path
 
 
-def from_query(query: str) -> tuple[str, str]:
-    """The fragment and the page address a websocket's query carries ("" when absent or
-    unreadable); the fragment is cut one character past the longest one read."""
+def _fields(query: str) -> dict[str, str]:
+    """The first value of each key of a websocket's query ({} when unreadable)."""
     try:
         pairs = parse_qsl(query[: 4 * MAX_CHARS], keep_blank_values=True, max_num_fields=16)
     except ValueError:
-        return "", ""
+        return {}
     found: dict[str, str] = {}
     for key, value in pairs:
         found.setdefault(key, value)
+    return found
+
+
+def identity(query: str) -> tuple[str, str]:
+    """(the tab's key, the name its browser kept) a websocket's query carries: "" for
+    what is absent or malformed (a key is 24 hexadecimal digits; a name is cleaned as a
+    typed one is)."""
+    found = _fields(query)
+    key = found.get(WHO_KEY, "")
+    return (key if _WHO.fullmatch(key) else ""), clean_name(found.get(NAME_KEY, ""))
+
+
+def arrival(server: viser.ViserServer, client_id: int) -> tuple[str, str]:
+    """:func:`identity` of the browser ``client_id`` (("", "") when its handshake is
+    unknown)."""
+    return identity(request_query(server, client_id)[0])
+
+
+def from_query(query: str) -> tuple[str, str]:
+    """The fragment and the page address a websocket's query carries ("" when absent or
+    unreadable); the fragment is cut one character past the longest one read."""
+    found = _fields(query)
     return found.get(LINK_KEY, "")[: MAX_CHARS + 1], found.get(PAGE_KEY, "")[: MAX_PAGE + 1]
 
 

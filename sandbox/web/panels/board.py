@@ -45,8 +45,12 @@ BOARD_ORDER = -900.0
 """Place of "La classe" on the teacher's page: first (the page's style elements are at
 -1000)."""
 NAME_ORDER = 900.0
-"""Place of "Votre prénom" on a student's page: last, below every control (first, it
-pushed the last parameters of a lesson step below a projected 1280×720 page)."""
+"""Place of "Votre prénom" on a student's page once their browser knows their name: last,
+below every control (first, it pushed the last parameters of a lesson step below a
+1280×720 page)."""
+NAME_FIRST_ORDER = -950.0
+"""Place of "Votre prénom" on the page of a student whose name is not known yet: first,
+asked on arrival."""
 
 
 def teacher_path(token: str) -> str:
@@ -55,12 +59,14 @@ def teacher_path(token: str) -> str:
 
 
 def name_field(gui: viser.GuiApi, name: str = "") -> viser.GuiTextHandle:
-    """The student's "Votre prénom" box (read once a second; cleaned when read)."""
+    """The student's "Votre prénom" box (read once a second; cleaned when read): first on
+    the page while no name is known, last once it is."""
     return gui.add_text(
         NAME_LABEL,
         initial_value=name,
-        hint="Le nom sous lequel l'enseignant vous voit dans la classe (40 caractères au plus)",
-        order=NAME_ORDER,
+        hint="Le nom sous lequel l'enseignant vous voit dans la classe (40 caractères au "
+        "plus) ; ce navigateur le retient",
+        order=NAME_ORDER if name else NAME_FIRST_ORDER,
     )
 
 

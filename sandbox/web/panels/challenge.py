@@ -76,6 +76,8 @@ class ChallengePanel:
         controller: Their session's controller (the secret goes to its loop).
         page: Their page (:class:`~sandbox.web.views.browser.WebView`), restricted while it runs.
         clock: Wall clock [s].
+        announce: Shows a notice (title, text) on the page wherever it is scrolled: a
+            challenge's start announces itself.
     """
 
     def __init__(
@@ -85,8 +87,10 @@ class ChallengePanel:
         page: Page,
         *,
         clock: Callable[[], float] = time.time,
+        announce: Callable[[str, str], None] | None = None,
     ) -> None:
         self.gui = gui
+        self.announce = announce
         self.controller = controller
         self.page = page
         self.clock = clock
@@ -132,6 +136,11 @@ class ChallengePanel:
         self.feedback.content = "Aucun essai pour l'instant."
         self.folder.visible = True
         self.folder.expand_by_default = True
+        if self.announce is not None:
+            self.announce(
+                "Défi lancé",
+                f"« {c.title} » : votre défi est en haut du panneau, dans « {FOLDER} ».",
+            )
 
     def end(self) -> None:
         """The teacher stopped it: the solution and what was hidden shown, the page whole

@@ -80,6 +80,7 @@ class Student:
     sim: ReadOnlySimulation | None = None
     challenge: ChallengePanel | None = None
     attempt: Attempt | None = None  # kept across a follow-mode student's switches
+    who: str = ""  # the tab's own key, kept across reloads ("" when unknown)
 
 
 def _read_lesson(view: StudentPage | None, row: Row) -> tuple[Row, str, Mapping[str, float]]:

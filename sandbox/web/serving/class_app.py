@@ -21,13 +21,16 @@ import viser
 
 from sandbox.web.loop import Controller, Session
 from sandbox.web.loop.scheduler import Scheduler
-from sandbox.web.panels.board import name_field, teacher_path
+from sandbox.web.page.link import arrival
+from sandbox.web.panels.board import teacher_path
+from sandbox.web.panels.join import FOLDER as JOIN_FOLDER
 from sandbox.web.serving import network
 from sandbox.web.serving.class_board import Classroom
 from sandbox.web.serving.follow import FOLLOWER_FPS, SHARED, BroadcastView, FollowerView
 from sandbox.web.serving.own_page import OwnPage
 from sandbox.web.serving.server import App
 from sandbox.web.view3d.camera import point_camera
+from sandbox.web.views.browser import WebView
 
 log = logging.getLogger(__name__)
 
@@ -42,6 +45,21 @@ STILL_SATURATED = (
     "Le portable du professeur est encore saturé : restez sur la simulation projetée pour "
     "l'instant, puis réessayez."
 )
+
+
+def _join_until_students(view: WebView) -> Callable[[], None] | None:
+    """The teacher's page shows « Rejoindre » (the address and its QR code) until the
+    first students arrive, then its usual panel, unless the teacher picked another one
+    meanwhile. None when the students cannot reach this server (no « Rejoindre »)."""
+    if view.join is None:
+        return None
+    view.show_folder(JOIN_FOLDER)
+
+    def arrived() -> None:
+        if view.picker.value == JOIN_FOLDER:  # the teacher has not picked another
+            view.show_folder(view.default_folder)
+
+    return arrived
 
 
 class ClassApp(App):
@@ -108,11 +126,15 @@ class ClassApp(App):
         try:  # the board is not worth a session: a failure here is only logged
             if teacher:
                 scene = page.controller.sim.scene
-                self.classroom.teacher(client, scene=scene.name if scene is not None else "")
+                self.classroom.teacher(
+                    client,
+                    scene=scene.name if scene is not None else "",
+                    arrived=_join_until_students(page.view),
+                )
                 self._teacher = (client.client_id, page.controller)
             else:
-                box = name_field(client.gui, self.classroom.name_of(client.client_id))
-                self.classroom.student(client, page.controller.sim, page.view, field=box)
+                who = arrival(self.server, client.client_id)
+                self.classroom.seat(client, page.controller.sim, page.view, who=who)
         except Exception:
             log.exception("the class board could not take this browser")
         return session
@@ -153,8 +175,8 @@ class ClassApp(App):
         broadcast = self._projected()
         point_camera(client, broadcast.controller.sim)
         view = FollowerView(client, broadcast, lambda: self._own(client), intro=SATURATED_INTRO)
-        box = name_field(client.gui, self.classroom.name_of(cid))
-        self.classroom.student(client, broadcast.controller.sim, mode="follow", field=box)
+        who = arrival(self.server, cid)
+        self.classroom.seat(client, broadcast.controller.sim, mode="follow", who=who)
         self.overflow.add(cid)
         return Session(
             broadcast.controller, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid),

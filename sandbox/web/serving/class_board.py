@@ -25,7 +25,7 @@ from sandbox.challenges import for_scene, start
 from sandbox.physics.simulation import Simulation
 from sandbox.web.loop.capacity import Load
 from sandbox.web.loop.scheduler import Scheduler
-from sandbox.web.panels.board import BoardPanel
+from sandbox.web.panels.board import BoardPanel, name_field
 from sandbox.web.panels.board_rows import REFRESH, Board, Row, Run, clean_name, from_wire, to_wire
 from sandbox.web.panels.student_rows import Readouts, Student, StudentPage, student_row
 from sandbox.web.serving.roster import Roster
@@ -123,6 +123,7 @@ class Classroom:
         self.run: Run | None = None  # the class's challenge, as last heard
         self._students: dict[int, Student] = {}
         self._teachers: dict[int, BoardPanel] = {}
+        self._waiting: dict[int, Callable[[], None]] = {}  # teachers before any student
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._wake = threading.Event()  # a student arrived: report now
@@ -143,9 +144,11 @@ class Classroom:
         *,
         mode: str = "own",
         field: viser.GuiTextHandle | None = None,
+        who: str = "",
     ) -> None:
         """A student's page (new, or rebuilt when they switch mode in follow mode: their
-        name and arrival are kept)."""
+        name and arrival are kept); ``who``: the tab's own key (its row on the board is
+        kept across a reload or a server's restart)."""
         cid = client.client_id
         with self._lock:
             old = self._students.get(cid)
@@ -160,6 +163,7 @@ class Classroom:
         else:
             scene = sim.scene.name if sim.scene is not None else Path(str(sim.label)).stem
             entry = Student(client, self.clock(), scene[:80], Readouts.of(sim), view, mode, field)
+            entry.who = who
             entry.sim = sim
             entry.challenge = panel
             with self._lock:
@@ -169,6 +173,23 @@ class Classroom:
         self._wake.set()  # on the board within a fraction of a second, not the next one
         if run is not None:  # a challenge runs: this student gets one too (the same one
             self._give(entry, run)  # when they come back to their own simulation)
+
+    def seat(
+        self,
+        client: viser.ClientHandle,
+        sim: Simulation,
+        view: StudentPage | None = None,
+        *,
+        mode: str = "own",
+        who: tuple[str, str] = ("", ""),
+    ) -> None:
+        """A student's page with its « Votre prénom » box: the name typed here before a
+        follow-mode switch, else the one their browser kept (``who``: the tab's key and
+        that name, :func:`~sandbox.web.page.link.arrival`); the box comes first while no
+        name is known."""
+        key, kept = who
+        field = name_field(client.gui, self.name_of(client.client_id) or kept)
+        self.student(client, sim, view, mode=mode, field=field, who=key)
 
     def name_of(self, client_id: int) -> str:
         """The name a student typed so far ("" when none)."""
@@ -185,9 +206,11 @@ class Classroom:
         folder: viser.GuiFolderHandle | None = None,
         scene: str = "",
         followed: bool = False,
+        arrived: Callable[[], None] | None = None,
     ) -> BoardPanel:
         """Add the board to a teacher's page (with the challenges of ``scene``, whose
-        students each have their own simulation)."""
+        students each have their own simulation); ``arrived`` is called once, when the
+        board first lists a connected student."""
         panel = BoardPanel(
             client,
             folder=folder,
@@ -198,6 +221,9 @@ class Classroom:
         panel.show(self.board)
         with self._lock:
             self._teachers[client.client_id] = panel
+            if arrived is not None:
+                self._waiting[client.client_id] = arrived
+        self._first_students(self.board)
         return panel
 
     def forget(self, client_id: int) -> None:
@@ -205,6 +231,7 @@ class Classroom:
         with self._lock:
             self._students.pop(client_id, None)
             self._teachers.pop(client_id, None)
+            self._waiting.pop(client_id, None)
 
     def students(self) -> int:
         """Student pages of this process."""
@@ -217,11 +244,18 @@ class Classroom:
         with self._lock:
             entries = list(self._students.items())
         out = []
-        for cid, entry in entries:
+        keys: set[str] = set()
+        for cid, entry in reversed(entries):  # the newest page of a reloaded tab first
             if not self.connected(cid):
                 self.forget(cid)
                 continue
-            out.append(student_row(f"{self.source}:{cid}", entry))
+            # the tab's own key (its row survives a reload or a restart), unless another
+            # page here already has it (a tab duplicated with its storage)
+            key = f"b:{entry.who}" if entry.who else ""
+            if not key or key in keys:
+                key = f"{self.source}:{cid}"
+            keys.add(key)
+            out.append(student_row(key, entry))
         return out
 
     def tick(self) -> None:
@@ -293,6 +327,19 @@ class Classroom:
         for panel in panels:
             try:
                 panel.show(board)
+            except Exception:
+                log.debug("a teacher's page is gone", exc_info=True)
+        self._first_students(board)
+
+    def _first_students(self, board: Board) -> None:
+        """The teacher pages waiting for the class are told once it lists a student."""
+        if not any(r.connected for r in board.rows):
+            return
+        with self._lock:
+            waiting, self._waiting = list(self._waiting.values()), {}
+        for arrived in waiting:
+            try:
+                arrived()
             except Exception:
                 log.debug("a teacher's page is gone", exc_info=True)
 

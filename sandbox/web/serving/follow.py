@@ -32,7 +32,8 @@ from sandbox.web.client.text import plain, table_row, with_unit
 from sandbox.web.loop import Controller, Frame, Notice, Session
 from sandbox.web.loop.requests import Integrator, Reset, SetValue, Timestep
 from sandbox.web.loop.study_queue import StudyJob, progress_words
-from sandbox.web.panels.board import BOARD_FOLDER, TEACHER_PREFIX, name_field
+from sandbox.web.page.link import arrival
+from sandbox.web.panels.board import BOARD_FOLDER, TEACHER_PREFIX
 from sandbox.web.panels.board import teacher_path as teacher_path  # re-exported
 from sandbox.web.panels.projector import FONT_SIZES, style_html
 from sandbox.web.panels.study_chart import StudyChart
@@ -333,8 +334,7 @@ class FollowApp(App):
         self._followers[cid] = view
         if self.study is not None:  # the teacher's study, to a student joining later
             view.receive_study(self.study)
-        box = name_field(client.gui, self.classroom.name_of(cid))
-        self.classroom.student(client, self.shared.sim, mode="follow", field=box)
+        self.classroom.seat(client, self.shared.sim, mode="follow", who=arrival(self.server, cid))
         return Session(
             self.shared, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid), drive=False
         )
@@ -371,8 +371,7 @@ class FollowApp(App):
         self._views[cid] = view
         if self.study is not None and view.study is not None:
             view.study.receive(self.study)
-        box = name_field(client.gui, self.classroom.name_of(cid))
-        self.classroom.student(client, controller.sim, view, field=box)
+        self.classroom.seat(client, controller.sim, view, who=arrival(self.server, cid))
         return page.session
 
     def switch(self, client: viser.ClientHandle, *, own: bool) -> None:

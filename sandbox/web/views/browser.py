@@ -155,7 +155,9 @@ class WebView:
         if controls is not None:
             self.controls = controls(client.gui)
         elif live is not None:
-            self.challenge = ChallengePanel(client.gui, live, self)
+            self.challenge = ChallengePanel(
+                client.gui, live, self, announce=lambda title, text: _notify(client, title, text)
+            )
             self.controls = self.control_panel = ControlPanel(client.gui, live)
         else:
             raise TypeError("a page without a live session needs its own controls")
@@ -236,7 +238,7 @@ class WebView:
         groups = {f.title: f.handle for f in self.pickable}
         self.groups = groups
         default = SCENE_FOLDER if SCENE_FOLDER in groups else next(iter(groups), ALL_FOLDERS)
-        self.shown = default
+        self.shown = self.default_folder = default
         self.picker.options = (*groups, ALL_FOLDERS)
         # viser declares value both as a property and as a props field: mypy reads the
         # field as read-only, the property assigns it.
@@ -429,6 +431,11 @@ def _chooser(live: SessionState) -> Callable[[str, float], None]:
         live.submit(Timestep(timestep))
 
     return choose
+
+
+def _notify(client: viser.ClientHandle, title: str, text: str) -> None:
+    """A notice on the page, wherever the student has scrolled."""
+    client.add_notification(title, text, with_close_button=True, auto_close_seconds=12.0)
 
 
 def _cost(live: SessionState) -> Callable[[], float]:
