@@ -14,8 +14,24 @@ import numpy as np
 
 from sandbox.web.video.options import VideoError
 
-
 # -- offscreen OpenGL -----------------------------------------------------------------------
+HEADLIGHT = (0.35, 0.45, 0.1)
+"""Ambient, diffuse and specular grey of the light that follows the camera in a video:
+the page lights its solids from every side (viser's environment map); with MuJoCo's
+default headlight (0.1 ambient) a disc seen from its unlit side was black."""
+
+
+def light_as_the_page(model: mujoco.MjModel) -> None:
+    """Light ``model``'s videos as the page lights the scene: a face turned away from the
+    lights is shaded, never black."""
+    ambient, diffuse, specular = HEADLIGHT
+    light = model.vis.headlight
+    light.active = 1
+    light.ambient[:] = ambient
+    light.diffuse[:] = diffuse
+    light.specular[:] = specular
+
+
 def offscreen_renderer(model: mujoco.MjModel, height: int, width: int) -> mujoco.Renderer:
     """MuJoCo's renderer on a headless context: ``MUJOCO_GL`` when the user set it; on a
     Linux machine without a display, EGL, else OSMesa.
@@ -38,6 +54,7 @@ def offscreen_renderer(model: mujoco.MjModel, height: int, width: int) -> mujoco
                 continue
             gl_context.GLContext = module.GLContext
             break
+    light_as_the_page(model)
     model.vis.global_.offwidth = max(int(model.vis.global_.offwidth), width)
     model.vis.global_.offheight = max(int(model.vis.global_.offheight), height)
     try:
