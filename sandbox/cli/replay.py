@@ -19,6 +19,7 @@ from sandbox.replay import verify
 def _video(rec: Recording, args: argparse.Namespace) -> None:
     """``replay --video``: checked before any frame, a progress bar on a terminal."""
     # viser (a second, 20 MB) only for --video: 'sandbox --help' stays quick and small
+    from sandbox.web.video import aliasing
     from sandbox.web.video.options import parse_size
     from sandbox.web.video.render import VideoOptions, check, render_video
 
@@ -33,6 +34,9 @@ def _video(rec: Recording, args: argparse.Namespace) -> None:
         camera=args.camera,
     )
     check(options, rec)
+    hidden = aliasing.of_clip(rec, options)
+    if hidden is not None:
+        print(f"sandbox: warning: {hidden.english(options.fps)}", file=sys.stderr)
     total = len(options.times(rec))
     with tqdm(total=total, unit="image", disable=not sys.stderr.isatty(), leave=False) as bar:
         frames = render_video(rec, options, lambda done, _: bar.update(done - bar.n))

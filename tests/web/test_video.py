@@ -4,6 +4,7 @@ cursor advancing — and bad input refused before any frame, a failure leaving n
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -201,6 +202,9 @@ def test_the_page_exports_the_last_seconds_of_the_simulation(tmp_path):
     ((name, data),) = _export(page, export).items()
     assert name.endswith(".mp4") and data[4:8] == b"ftyp"  # an MP4
     assert "Vidéo prête" in export.status.content
+    # the rotor at 1500 tr/min, 30 frames/s: the page says what the frames hide
+    assert "0,83 tour entre deux images" in export.status.content
+    assert "ralenti ×0,2" in export.status.content
     page.ctl.secret = object()  # type: ignore[assignment]  # a challenge: a secret state
     export._start(page.client)  # what the click starts, in the session's loop
     assert "Pas de vidéo pendant un défi" in export.status.content and export.future is None
@@ -284,3 +288,30 @@ def test_a_page_that_leaves_mid_export_leaves_no_folder(tmp_path):
     while (folder.exists() or not future.done()) and time.monotonic() < end:
         time.sleep(0.2)
     assert not folder.exists()
+
+
+def test_a_rotation_the_frames_hide_is_named_with_the_slow_motion_that_shows_it():
+    """The wagon-wheel effect: 1500 tr/min = 25 tr/s at 30 frames/s is 0.83 turn a frame
+    (seen backwards), 1800 tr/min exactly one (seen still); ×0.2 gives 0.17 turn a frame."""
+    from sandbox.web.video.aliasing import alias
+
+    seen = alias(25.0, 30)
+    assert seen is not None and seen.per_frame == pytest.approx(25 / 30) and not seen.still
+    assert seen.speed == 0.2 and "--speed 0.2" in seen.english(30)
+    assert "à l'envers" in seen.french(30) and "×0,2" in seen.french(30)
+    still = alias(30.0, 30)
+    assert still is not None and still.still and "arrêtée" in still.french(30)
+    assert alias(25.0, 30, 0.2) is None  # the slow motion proposed shows it
+    assert alias(5.0, 30) is None and alias(0.0, 30) is None and alias(math.nan, 30) is None
+
+
+def test_the_command_warns_of_a_rotor_the_frames_hide(rotor, tmp_path, capsys):
+    """``replay --video`` of the rotor at 1500 tr/min at 10 frames/s: a warning naming the
+    slow motion that shows it; at that slow motion, none."""
+    out = tmp_path / "r.mp4"
+    argv = ["replay", str(rotor), "--video", str(out), "--size", "160x120", "--fps", "10"]
+    assert main([*argv, "--to", "0.3"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: the fastest part turns 25 rev/s" in err and "--speed 0.1 shows it" in err
+    assert main([*argv, "--to", "0.03", "--speed", "0.1"]) == 0
+    assert "warning" not in capsys.readouterr().err

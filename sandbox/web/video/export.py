@@ -25,6 +25,7 @@ from sandbox.recording import load
 from sandbox.web.client.text import plain
 from sandbox.web.loop.background import BackgroundPool
 from sandbox.web.loop.state import SessionState
+from sandbox.web.video.aliasing import alias, turn_rate
 from sandbox.web.video.options import VideoOptions
 
 FOLDER = "Vidéo"
@@ -100,6 +101,7 @@ class VideoExport:
         self.future: Future[int] | None = None
         self.folder_path: Path | None = None
         self._clicked: viser.ClientHandle | None = None
+        self.hidden = ""  # what the video's frames hide, in French ("" when nothing)
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:
             self.button = gui.add_button(
                 BUTTON,
@@ -138,6 +140,7 @@ class VideoExport:
                 self.client.send_file_download(name, video.read_bytes())
             self.status.content = (
                 f"Vidéo prête ({frames} images, {frames / 30:.0f} s) : téléchargée sous {name}."
+                + (f"  \n{plain(self.hidden, limit=600)}" if self.hidden else "")
             )
         except SandboxError as exc:  # e.g. no encoder here: the line names what to install
             self.status.content = f"La vidéo n'a pas pu être faite : {plain(str(exc))}"
@@ -164,6 +167,11 @@ class VideoExport:
                 return
         self.client = client
         self.folder_path = folder
+        with ctl.sim.lock:  # the rotation now, as the video will film it (speed ×1)
+            rate = turn_rate(ctl.sim.model, ctl.sim.data.qvel)
+        fps = VideoOptions(folder / "video.mp4").fps
+        hidden = alias(rate, fps)
+        self.hidden = hidden.french(fps) if hidden else ""
         self.future = VideoJobs.shared().submit(source, folder / "video.mp4", folder / "p.txt")
         self.progress.value = 0.0  # type: ignore[misc]
         self.progress.visible = True
