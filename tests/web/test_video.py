@@ -5,6 +5,7 @@ cursor advancing — and bad input refused before any frame, a failure leaving n
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -181,9 +182,13 @@ def _export(page, export) -> dict[str, bytes]:
     assert export.future is not None and export.progress.visible
     folder = export.folder_path
     end = time.monotonic() + 120
+    said = set()
     while export.future is not None and time.monotonic() < end:
         time.sleep(0.2)
         page.tick(0.1)
+        said.add(export.status.content)
+    # the page counted the frames while they were made
+    assert any(re.search(r"en préparation : image \d+ sur \d+", s) for s in said), said
     assert folder is not None and not folder.exists()  # its work folder removed
     return got
 

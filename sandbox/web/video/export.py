@@ -50,6 +50,7 @@ def render_last(recording: str, out: str, progress: str, last: float = LAST) -> 
         if done % 10 == 0 or done == total:
             note.write_text(f"{done}/{total}", encoding="ascii")
 
+    say(0, len(options.times(rec)))  # started: the page counts the frames from now
     return render_video(rec, options, say)
 
 
@@ -102,6 +103,7 @@ class VideoExport:
         self.folder_path: Path | None = None
         self._clicked: viser.ClientHandle | None = None
         self.hidden = ""  # what the video's frames hide, in French ("" when nothing)
+        self._preparing = ""
         with gui.add_folder(FOLDER, expand_by_default=False) as self.folder:
             self.button = gui.add_button(
                 BUTTON,
@@ -126,7 +128,16 @@ class VideoExport:
         if future is None or self.folder_path is None:
             return
         if not future.done():
-            self.progress.value = 100.0 * self._done()  # type: ignore[misc]
+            done, total = self._counts()
+            self.progress.value = 100.0 * min(1.0, done / max(total, 1))  # type: ignore[misc]
+            words = (
+                f"{self._preparing} : image {done} sur {total}."
+                if total
+                else f"{self._preparing} : en attente d'un processeur libre (la classe passe "
+                "d'abord)…"
+            )
+            if self.status.content != words:
+                self.status.content = words
             return
         self.future = None
         self.progress.visible = False
@@ -176,16 +187,17 @@ class VideoExport:
         self.progress.value = 0.0  # type: ignore[misc]
         self.progress.visible = True
         self.button.disabled = True
-        self.status.content = f"Vidéo des {LAST:.0f} dernières secondes {what} en préparation…"
+        self._preparing = f"Vidéo des {LAST:.0f} dernières secondes {what} en préparation"
+        self.status.content = f"{self._preparing}…"
 
-    def _done(self) -> float:
-        """Share of the frames made (0 before the worker says)."""
+    def _counts(self) -> tuple[int, int]:
+        """(frames made, frames to make); (0, 0) before the worker says."""
         note = self.folder_path / "p.txt" if self.folder_path is not None else None
         try:
-            done, total = (note.read_text(encoding="ascii") if note else "0/1").split("/")
-            return min(1.0, int(done) / max(int(total), 1))
+            done, total = (note.read_text(encoding="ascii") if note else "0/0").split("/")
+            return max(0, int(done)), max(0, int(total))
         except (OSError, ValueError):
-            return 0.0
+            return 0, 0
 
     def close(self) -> None:
         """The browser left: the video being made is dropped, its folder removed once the
