@@ -162,3 +162,23 @@ def test_a_failure_mid_export_leaves_no_site(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="pulled out"):
         export_pack([load(path), load(path)], out)
     assert not out.exists()
+
+
+def test_a_recording_started_at_step_3_exports_step_3(tmp_path):
+    """The page followed the lesson to its third step, then « Enregistrer »: the
+    recording starts with that step, and the pack's first chapter is step 3's, not step 1's
+    (the recording used to hold only the lesson's name)."""
+    from sandbox.web.loop import Controller
+    from sandbox.web.replay.pack import chapters
+
+    ctl = Controller(Simulation(get_scene("rotor")), record_dir=tmp_path)
+    ctl.lesson, ctl.lesson_step = "equilibrage", 2  # what the lesson panel sets
+    path = ctl.start_recording()
+    for _ in range(20):
+        ctl.sim.step(1)
+        ctl.record()
+    ctl.stop_recording()
+    lesson = catalogue()[0]["equilibrage"]
+    title, found = chapters(load(path))
+    assert title == lesson.title
+    assert [c.title for c in found] == [lesson.steps[2].title]

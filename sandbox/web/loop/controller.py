@@ -87,6 +87,7 @@ class Controller(Pacing):
         self.recorder: Recorder | None = None
         self.later: list[Notice] = []  # notices of the recorder, given by the next drain()
         self.lesson: str | None = None  # lesson being followed (recorded with the session)
+        self.lesson_step: int | None = None  # its step on the page (a recording starts with it)
         self._recorded_t = -math.inf
         self._readouts_t = -math.inf
         self.generation = 0  # bumped on reset: plots restart
@@ -188,6 +189,9 @@ class Controller(Pacing):
         self.recorder = Recorder(path, self.sim, lesson=lesson or self.lesson)
         self._recorded_t = self._readouts_t = -math.inf
         self.record()
+        if self.lesson_step is not None and (lesson is None or lesson == self.lesson):
+            # the step shown when recording starts, not the lesson's first
+            self.recorder.event("lesson", step=self.lesson_step)
         return path
 
     def stop_recording(self) -> Path | None:

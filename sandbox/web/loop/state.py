@@ -58,6 +58,9 @@ class SessionState(Protocol):
     lesson: str | None
     """The lesson the page follows (set by the lesson panel, recorded with the session)."""
 
+    lesson_step: int | None
+    """The lesson's step the page shows (0 for the first; a recording starts with it)."""
+
     @property
     def cost(self) -> float:
         """CPU seconds of stepping per simulated second (NaN before any step)."""

@@ -207,6 +207,7 @@ class LessonPanel:
             handle.remove()
         self._step_handles = []
         self.controller.lesson = lesson.name if lesson else None
+        self.controller.lesson_step = None  # until its first step is entered
         title = lesson.title if lesson is not None else FREE
         if self.picker.value != title and title in self._by_title:
             # the control tells the truth; viser's value setter reads as read-only to mypy
@@ -233,6 +234,7 @@ class LessonPanel:
         for name, value in step.preset:
             if name not in self.fixed:  # the teacher's link wins over a step's presets
                 self.controller.submit(SetValue(name, value))
+        self.controller.lesson_step = index
         recorder = self.controller.recorder
         if recorder is not None:
             recorder.event("lesson", step=index)
