@@ -694,7 +694,8 @@ def test_a_student_keeps_the_name_typed_after_a_reload(open_page, served_class):
     page.reload()
     assert wait_for(lambda: box.count() == 1 and box.input_value() == "Zoé", 60)
     first.wait_for(timeout=60_000)
-    assert not above()
+    # last now (the page still lays out the folders it receives)
+    assert wait_for(lambda: not above(), 10), (box.bounding_box(), first.bounding_box())
     assert wait_for(
         lambda: [(r.name, r.number, r.connected) for r in _roster_rows(app)] == [("Zoé", 1, True)],
         30,

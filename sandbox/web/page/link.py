@@ -114,7 +114,7 @@ _SCRIPT = """<script>(function () {
   var who = kept("sessionStorage", "sandbox-who", function () {
     var bytes = new Uint8Array(12);
     if (window.crypto && window.crypto.getRandomValues) window.crypto.getRandomValues(bytes);
-    else for (var i = 0; i < bytes.length; i++) bytes[i] = Math.floor(Math.random() * 256);
+    else for (var i = 0; bytes.length > i; i++) bytes[i] = Math.floor(Math.random() * 256);
     return Array.prototype.map.call(bytes, function (b) {
       return ("0" + b.toString(16)).slice(-2);
     }).join("");

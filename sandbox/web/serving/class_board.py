@@ -256,7 +256,7 @@ class Classroom:
                 key = f"{self.source}:{cid}"
             keys.add(key)
             out.append(student_row(key, entry))
-        return out
+        return out[::-1]  # in order of arrival
 
     def tick(self) -> None:
         """Read the students and publish them (never raises: the board is not worth a
