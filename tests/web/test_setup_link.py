@@ -375,11 +375,15 @@ def test_the_teachers_link_opens_at_the_public_url(browser):
     context = browser.new_context(viewport={"width": 1280, "height": 720})
     try:
         page = context.new_page()
-        page.goto(app.url)
+        page.goto(app.teacher_url)  # it opens on « Rejoindre » (students can reach it)
+        assert wait_for(lambda: len(app.sessions) == 1, 30)
+        (session,) = app.sessions.values()
+        assert wait_for(lambda: session.view.shown == "Rejoindre", 30)
         _open_folder(page, SHARE_FOLDER)
         page.get_by_role("button", name=BUTTON).click()
         field = _row(page, LINK_LABEL).locator("textarea").first
         assert wait_for(lambda: field.input_value().startswith(public + "/#v=1"), timeout=30)
+        assert "rejoindre" not in field.input_value()  # the teacher's panel, not the class's
         page.get_by_text(f"adresse des élèves : {public}/", exact=False).wait_for(timeout=30_000)
     finally:
         context.close()

@@ -139,7 +139,8 @@ class ChallengePanel:
         if self.announce is not None:
             self.announce(
                 "Défi lancé",
-                f"« {c.title} » : votre défi est en haut du panneau, dans « {FOLDER} ».",
+                f"«\u00a0{c.title}\u00a0» : votre défi est en haut du panneau, dans "
+                f"«\u00a0{FOLDER}\u00a0».",
             )
 
     def end(self) -> None:

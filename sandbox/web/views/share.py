@@ -53,6 +53,7 @@ from sandbox.web.panels.controls import (
     advanced,
 )
 from sandbox.web.panels.display import FOLDER as DISPLAY_FOLDER
+from sandbox.web.panels.join import FOLDER as JOIN_FOLDER
 from sandbox.web.panels.projector import style_html
 from sandbox.web.panels.setup_link import Page, Setup
 from sandbox.web.views.browser import LESSON_WIDTH, WebView, point_camera
@@ -303,7 +304,8 @@ class SharePanel:
             if sim.timestep != self.start_timestep:
                 settings.append(("timestep", float(sim.timestep)))
         opened = []
-        if self.view.shown != self.start_folder:
+        # « Rejoindre » is the teacher's own (the address to type): never a student's
+        if self.view.shown not in (self.start_folder, JOIN_FOLDER):
             opened.append(setup_link.slug(self.view.shown))
         if self.open_choice.value in self.foldable:
             opened.append(setup_link.slug(self.open_choice.value))
