@@ -19,7 +19,7 @@ import pytest
 from conftest import choose, free_port, wait_for
 
 from sandbox.scenes import get_scene
-from sandbox.web.panels.board import BOARD_FOLDER, CSV_BUTTON, NAME_LABEL
+from sandbox.web.panels.board import BOARD_FOLDER, BOARD_ORDER, CSV_BUTTON, NAME_LABEL
 from sandbox.web.panels.board_rows import (
     KEEP_GONE,
     Board,
@@ -720,8 +720,11 @@ def test_the_teachers_page_shows_rejoindre_until_the_first_student():
         (session,) = app.sessions.values()
         view = session.view
         assert wait_for(lambda: view.shown == JOIN, 30), view.shown
+        place = view.join.folder.order
+        assert place < BOARD_ORDER  # first on the page, not below the controls
         students.append(FakeStudent(app.url.replace("http", "ws")))
         assert wait_for(lambda: view.shown == view.default_folder != JOIN, 30), view.shown
+        assert view.join.folder.order > place  # back in its place among the panels
     finally:
         for s in (teacher, *students):
             s.close()

@@ -47,15 +47,24 @@ STILL_SATURATED = (
 )
 
 
+JOIN_FIRST_ORDER = -950.0
+"""Place of « Rejoindre » on the teacher's page until the first student arrives: first,
+above « La classe » (the readout folders are below the controls)."""
+
+
 def _join_until_students(view: WebView) -> Callable[[], None] | None:
     """The teacher's page shows « Rejoindre » (the address and its QR code) until the
     first students arrive, then its usual panel, unless the teacher picked another one
     meanwhile. None when the students cannot reach this server (no « Rejoindre »)."""
-    if view.join is None:
+    join = view.join
+    if join is None:
         return None
     view.show_folder(JOIN_FOLDER)
+    place = join.folder.order
+    join.folder.order = JOIN_FIRST_ORDER  # first on the page, above « La classe »
 
     def arrived() -> None:
+        join.folder.order = place
         if view.picker.value == JOIN_FOLDER:  # the teacher has not picked another
             view.show_folder(view.default_folder)
 
