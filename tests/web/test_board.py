@@ -729,3 +729,40 @@ def test_the_teachers_page_shows_rejoindre_until_the_first_student():
         for s in (teacher, *students):
             s.close()
         app.stop()
+
+
+def test_a_tab_that_comes_back_without_its_name_keeps_it():
+    """A tab known by its own key comes back (a reload in a browser that keeps no storage,
+    or a worker restarted) before its page sends a name: the board keeps its name; a row
+    of a mere connection (no tab key) does not borrow one."""
+    roster = Roster(0.0)
+    roster.update("w0", [Row(key=f"b:{WHO}", joined=1.0, name="Zoé")], 2.0)
+    roster.update("w0", [], 3.0)  # the page reloads...
+    roster.update("w1", [Row(key=f"b:{WHO}", joined=4.0, name="")], 5.0)  # ...on worker 1
+    roster.update(
+        "w1", [Row(key=f"b:{WHO}", joined=4.0, name=""), Row(key="w1:7", joined=6.0)], 7.0
+    )
+    rows = roster.rows(8.0)
+    assert [(r.name, r.number, r.connected) for r in rows] == [("Zoé", 1, True), ("", 2, True)]
+
+
+def test_a_reload_served_by_the_same_process_finds_the_name_typed(served_class):
+    """The name typed reaches the server; the page reloads with its tab key but no name
+    (its browser kept none): the process gives the name box the name it last read."""
+    from sandbox.web.page.link import WHO_KEY
+
+    app = served_class
+    url = app.url.replace("http", "ws") + f"/?{WHO_KEY}={WHO}"
+    first = FakeStudent(url, "Zoé")
+    try:
+        assert wait_for(lambda: [r.name for r in _roster_rows(app)] == ["Zoé"], 30)
+    finally:
+        first.close()
+    again = FakeStudent(url)  # types nothing
+    try:
+        assert wait_for(lambda: app.classroom.students() == 1, 30)
+        cid = next(iter(app.sessions))
+        assert wait_for(lambda: app.classroom.name_of(cid) == "Zoé", 30)
+        assert [(r.name, r.number, r.connected) for r in _roster_rows(app)] == [("Zoé", 1, True)]
+    finally:
+        again.close()

@@ -58,6 +58,10 @@ _CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f\u2028\u2029\u200b-\u200f\u202a-\u202
 _SPACES = re.compile(r"\s+")
 
 
+TAB_KEY = "b:"
+"""Prefix of a row key made of the tab's own key (kept across reloads and restarts)."""
+
+
 def clean_name(value: object, limit: int = MAX_NAME) -> str:
     """A name typed in a browser, made safe to keep: text only, control and direction
     characters removed, blanks collapsed, at most ``limit`` characters ("" for none)."""

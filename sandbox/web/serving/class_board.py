@@ -26,12 +26,24 @@ from sandbox.physics.simulation import Simulation
 from sandbox.web.loop.capacity import Load
 from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.panels.board import BoardPanel, name_field
-from sandbox.web.panels.board_rows import REFRESH, Board, Row, Run, clean_name, from_wire, to_wire
+from sandbox.web.panels.board_rows import (
+    REFRESH,
+    TAB_KEY,
+    Board,
+    Row,
+    Run,
+    clean_name,
+    from_wire,
+    to_wire,
+)
 from sandbox.web.panels.student_rows import Readouts, Student, StudentPage, student_row
 from sandbox.web.serving.roster import Roster
 
 log = logging.getLogger(__name__)
 
+
+MAX_NAMES = 1000
+"""Names kept by tab key in a process (the oldest forgotten first)."""
 
 ARRIVAL_GAP = 0.25
 """Seconds at least between two readings of the students: an arrival is reported at once
@@ -124,6 +136,7 @@ class Classroom:
         self._students: dict[int, Student] = {}
         self._teachers: dict[int, BoardPanel] = {}
         self._waiting: dict[int, Callable[[], None]] = {}  # teachers before any student
+        self._names: dict[str, str] = {}  # the last name of each tab's key seen here
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._wake = threading.Event()  # a student arrived: report now
@@ -188,7 +201,9 @@ class Classroom:
         that name, :func:`~sandbox.web.page.link.arrival`); the box comes first while no
         name is known."""
         key, kept = who
-        field = name_field(client.gui, self.name_of(client.client_id) or kept)
+        with self._lock:
+            known = self._names.get(key, "") if key else ""
+        field = name_field(client.gui, self.name_of(client.client_id) or kept or known)
         self.student(client, sim, view, mode=mode, field=field, who=key)
 
     def name_of(self, client_id: int) -> str:
@@ -251,11 +266,18 @@ class Classroom:
                 continue
             # the tab's own key (its row survives a reload or a restart), unless another
             # page here already has it (a tab duplicated with its storage)
-            key = f"b:{entry.who}" if entry.who else ""
+            key = f"{TAB_KEY}{entry.who}" if entry.who else ""
             if not key or key in keys:
                 key = f"{self.source}:{cid}"
             keys.add(key)
-            out.append(student_row(key, entry))
+            row = student_row(key, entry)
+            if entry.who and row.name:  # a reload served here finds the name again
+                with self._lock:
+                    self._names.pop(entry.who, None)
+                    self._names[entry.who] = row.name
+                    while len(self._names) > MAX_NAMES:
+                        del self._names[next(iter(self._names))]
+            out.append(row)
         return out[::-1]  # in order of arrival
 
     def tick(self) -> None:

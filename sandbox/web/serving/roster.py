@@ -9,7 +9,7 @@ from collections.abc import Hashable, Sequence
 from dataclasses import dataclass, replace
 
 from sandbox.web.loop.capacity import Load, merged
-from sandbox.web.panels.board_rows import KEEP_GONE, MAX_ROWS, STALE, Board, Row
+from sandbox.web.panels.board_rows import KEEP_GONE, MAX_ROWS, STALE, TAB_KEY, Board, Row
 
 
 @dataclass
@@ -77,7 +77,10 @@ class Roster:
             seen.add(row.key)
             entry = self._entries.get(row.key)
             if entry is not None:
-                entry.row = replace(row, number=entry.row.number, left=0.0)
+                # a tab known by its own key (after a reload or a restart) keeps its name
+                # until its page sends one
+                name = row.name or (entry.row.name if row.key.startswith(TAB_KEY) else "")
+                entry.row = replace(row, number=entry.row.number, left=0.0, name=name)
                 entry.source = source
                 continue
             if len(self._entries) >= self.max_rows:
