@@ -691,6 +691,8 @@ def test_a_student_keeps_the_name_typed_after_a_reload(open_page, served_class):
     assert above()
     box.fill("Zoé")
     assert wait_for(lambda: [r.name for r in _roster_rows(app)] == ["Zoé"], 30)
+    # the page's script kept it (the box named by its row's label, whenever it is typed)
+    assert page.evaluate("localStorage.getItem('sandbox-name')") == "Zoé"
     page.reload()
     assert wait_for(lambda: box.count() == 1 and box.input_value() == "Zoé", 60)
     first.wait_for(timeout=60_000)

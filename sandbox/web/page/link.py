@@ -122,10 +122,12 @@ _SCRIPT = """<script>(function () {
   document.addEventListener("input", function (e) {
     var t = e.target;
     if (!t || t.tagName !== "INPUT") return;
-    var named = t.getAttribute("aria-label") === NAME_LABEL || (t.labels &&
-      Array.prototype.some.call(t.labels, function (l) {
-        return l.textContent.trim() === NAME_LABEL;
-      }));
+    // named by the row's label (the page's access script names the box later, and
+    // viser's label may point elsewhere than the box)
+    var row = t.closest && t.closest(".mantine-Flex-root");
+    var label = row && row.querySelector("label");
+    var named = t.getAttribute("aria-label") === NAME_LABEL ||
+      (label && (label.textContent || "").trim() === NAME_LABEL);
     if (!named) return;
     try { localStorage.setItem("sandbox-name", t.value.slice(0, NAME_MAX)); } catch (err) {}
   }, true);
