@@ -768,3 +768,20 @@ def test_a_reload_served_by_the_same_process_finds_the_name_typed(served_class):
         assert [(r.name, r.number, r.connected) for r in _roster_rows(app)] == [("Zoé", 1, True)]
     finally:
         again.close()
+
+
+def test_a_page_whose_identity_arrives_late_gets_its_name_back(gui_server):
+    """The handshake of a reloaded page not yet readable when it arrives (a loaded
+    machine): the board's next readings ask again, and once the tab's key comes, the empty
+    name box gets the name its browser kept and goes last."""
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.panels.board import NAME_ORDER
+
+    answers = [("", ""), ("", ""), (WHO, "Zoé")]
+    client = SimpleNamespace(client_id=5, gui=gui_server.gui)
+    room = Classroom(lambda cid: True)
+    room.seat(client, Simulation(get_scene("rotor")), who=lambda: answers.pop(0))  # type: ignore[arg-type]
+    assert [r.key for r in room.rows()] == ["p:5"]  # asked again: not yet
+    assert [(r.key, r.name) for r in room.rows()] == [(f"b:{WHO}", "Zoé")]
+    field = room._students[5].field
+    assert field is not None and field.value == "Zoé" and field.order == NAME_ORDER

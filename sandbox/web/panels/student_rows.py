@@ -8,7 +8,7 @@ board evaluates nothing and a session's frames are untouched.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from typing import Protocol
 
@@ -81,6 +81,8 @@ class Student:
     challenge: ChallengePanel | None = None
     attempt: Attempt | None = None  # kept across a follow-mode student's switches
     who: str = ""  # the tab's own key, kept across reloads ("" when unknown)
+    identify: Callable[[], tuple[str, str]] | None = None  # asked again while who is ""
+    tries: int = 0  # times ``identify`` was asked
 
 
 def _read_lesson(view: StudentPage | None, row: Row) -> tuple[Row, str, Mapping[str, float]]:

@@ -12,6 +12,7 @@ teacher's page is served by this process, else one shared copy at the class's se
 
 from __future__ import annotations
 
+import functools
 import logging
 import secrets
 import threading
@@ -142,7 +143,7 @@ class ClassApp(App):
                 )
                 self._teacher = (client.client_id, page.controller)
             else:
-                who = arrival(self.server, client.client_id)
+                who = functools.partial(arrival, self.server, client.client_id)
                 self.classroom.seat(client, page.controller.sim, page.view, who=who)
         except Exception:
             log.exception("the class board could not take this browser")
@@ -184,7 +185,7 @@ class ClassApp(App):
         broadcast = self._projected()
         point_camera(client, broadcast.controller.sim)
         view = FollowerView(client, broadcast, lambda: self._own(client), intro=SATURATED_INTRO)
-        who = arrival(self.server, cid)
+        who = functools.partial(arrival, self.server, cid)
         self.classroom.seat(client, broadcast.controller.sim, mode="follow", who=who)
         self.overflow.add(cid)
         return Session(

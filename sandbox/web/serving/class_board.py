@@ -23,9 +23,10 @@ import viser
 
 from sandbox.challenges import for_scene, start
 from sandbox.physics.simulation import Simulation
+from sandbox.web.client.fields import set_value
 from sandbox.web.loop.capacity import Load
 from sandbox.web.loop.scheduler import Scheduler
-from sandbox.web.panels.board import BoardPanel, name_field
+from sandbox.web.panels.board import NAME_ORDER, BoardPanel, name_field
 from sandbox.web.panels.board_rows import (
     REFRESH,
     TAB_KEY,
@@ -41,6 +42,9 @@ from sandbox.web.serving.roster import Roster
 
 log = logging.getLogger(__name__)
 
+
+IDENTIFY_TRIES = 10
+"""Readings of the board (a second apart) that ask a page's identity again."""
 
 MAX_NAMES = 1000
 """Names kept by tab key in a process (the oldest forgotten first)."""
@@ -194,17 +198,22 @@ class Classroom:
         view: StudentPage | None = None,
         *,
         mode: str = "own",
-        who: tuple[str, str] = ("", ""),
+        who: Callable[[], tuple[str, str]] = lambda: ("", ""),
     ) -> None:
         """A student's page with its « Votre prénom » box: the name typed here before a
         follow-mode switch, else the one their browser kept (``who``: the tab's key and
         that name, :func:`~sandbox.web.page.link.arrival`); the box comes first while no
         name is known."""
-        key, kept = who
+        key, kept = who()
         with self._lock:
             known = self._names.get(key, "") if key else ""
         field = name_field(client.gui, self.name_of(client.client_id) or kept or known)
         self.student(client, sim, view, mode=mode, field=field, who=key)
+        if not key:  # the handshake not yet readable (a loaded machine): asked again
+            with self._lock:
+                entry = self._students.get(client.client_id)
+            if entry is not None:
+                entry.identify = who
 
     def name_of(self, client_id: int) -> str:
         """The name a student typed so far ("" when none)."""
@@ -264,6 +273,8 @@ class Classroom:
             if not self.connected(cid):
                 self.forget(cid)
                 continue
+            if not entry.who and entry.identify is not None:
+                self._identify(entry)
             # the tab's own key (its row survives a reload or a restart), unless another
             # page here already has it (a tab duplicated with its storage)
             key = f"{TAB_KEY}{entry.who}" if entry.who else ""
@@ -279,6 +290,25 @@ class Classroom:
                         del self._names[next(iter(self._names))]
             out.append(row)
         return out[::-1]  # in order of arrival
+
+    def _identify(self, entry: Student) -> None:
+        """Ask a page's identity again (its handshake was not readable when it arrived):
+        its tab key, and its name when its box is still empty."""
+        entry.tries += 1
+        identify = entry.identify
+        if identify is None or entry.tries > IDENTIFY_TRIES:
+            entry.identify = None
+            return
+        key, kept = identify()
+        if not key:
+            return
+        entry.who, entry.identify = key, None
+        with self._lock:
+            name = kept or self._names.get(key, "")
+        field = entry.field
+        if name and field is not None and not clean_name(field.value):
+            set_value(field, name)
+            field.order = NAME_ORDER
 
     def tick(self) -> None:
         """Read the students and publish them (never raises: the board is not worth a

@@ -17,6 +17,7 @@ client-scoped variant of ``/prof``), and comes back with "Suivre le professeur".
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import secrets
@@ -334,7 +335,9 @@ class FollowApp(App):
         self._followers[cid] = view
         if self.study is not None:  # the teacher's study, to a student joining later
             view.receive_study(self.study)
-        self.classroom.seat(client, self.shared.sim, mode="follow", who=arrival(self.server, cid))
+        self.classroom.seat(
+            client, self.shared.sim, mode="follow", who=functools.partial(arrival, self.server, cid)
+        )
         return Session(
             self.shared, view, fps=FOLLOWER_FPS, alive=lambda: self.connected(cid), drive=False
         )
@@ -371,7 +374,9 @@ class FollowApp(App):
         self._views[cid] = view
         if self.study is not None and view.study is not None:
             view.study.receive(self.study)
-        self.classroom.seat(client, controller.sim, view, who=arrival(self.server, cid))
+        self.classroom.seat(
+            client, controller.sim, view, who=functools.partial(arrival, self.server, cid)
+        )
         return page.session
 
     def switch(self, client: viser.ClientHandle, *, own: bool) -> None:
