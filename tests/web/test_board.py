@@ -674,6 +674,9 @@ def test_two_pages_with_one_key_get_two_rows():
 
 
 @pytest.mark.browser
+# Alone it passes (10 runs); in the parallel run the reloaded page's name box came back
+# first 4 times out of 4 although the browser kept the name: cause not found yet (issue 38).
+@pytest.mark.solo
 def test_a_student_keeps_the_name_typed_after_a_reload(open_page, served_class):
     """In a real page: « Votre prénom » comes first while no name is known; typed, then
     the page reloaded, the box reads the name again (last on the page now) and the board

@@ -149,6 +149,9 @@ def test_ctrl_c_still_stops_the_workers_cleanly(tmp_path, ignored, browsers):
 
 @pytest.mark.slow
 @linux_only
+# In one parallel run of 4 the server, interrupted while it started, ended with SIGSEGV
+# (-11) instead of 0: a crash at exit under load, not understood yet (issue 38).
+@pytest.mark.solo
 def test_ctrl_c_right_after_the_address_stops_a_one_process_server(tmp_path):
     """One process, started with SIGINT ignored: a Ctrl-C as soon as the address is
     printed stops it (the stop signals are installed before the address is printed; they
