@@ -269,6 +269,7 @@ class Classroom:
             entries = list(self._students.items())
         out = []
         keys: set[str] = set()
+        named: dict[str, str] = {}
         for cid, entry in reversed(entries):  # the newest page of a reloaded tab first
             if not self.connected(cid):
                 self.forget(cid)
@@ -283,12 +284,15 @@ class Classroom:
             keys.add(key)
             row = student_row(key, entry)
             if entry.who and row.name:  # a reload served here finds the name again
-                with self._lock:
-                    self._names.pop(entry.who, None)
-                    self._names[entry.who] = row.name
-                    while len(self._names) > MAX_NAMES:
-                        del self._names[next(iter(self._names))]
+                named[entry.who] = row.name
             out.append(row)
+        if named:
+            with self._lock:  # once a reading, the newest names last
+                for who, name in named.items():
+                    self._names.pop(who, None)
+                    self._names[who] = name
+                while len(self._names) > MAX_NAMES:
+                    del self._names[next(iter(self._names))]
         return out[::-1]  # in order of arrival
 
     def _identify(self, entry: Student) -> None:
