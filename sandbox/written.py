@@ -122,3 +122,9 @@ def time_words(t: float) -> str:
         return "—"
     text = f"{abs(t):,.2f}".replace(",", "\u202f").replace(".", ",")
     return ("\u2212" if t < 0 and text.strip("0,\u202f") else "") + text
+
+
+def time_line(t: float) -> str:
+    """The simulated time's line over a picture (the video's overlay, the 3D export's,
+    the followers' summary): « t = 81,20 s »."""
+    return f"t = {with_unit(time_words(t), 's')}"

@@ -82,6 +82,14 @@ def test_the_lesson_plays_offline_with_its_steps_and_plot(pack, browser):
             page.get_by_text(title, exact=True).first.wait_for(timeout=10_000)
         on = page.locator("#steps li.on")
         assert steps[0] in on.inner_text()
+        # the readouts under the video, in the page's own text, at the video's instant
+        now = page.locator("#now")
+        assert now.inner_text().startswith("t = 0,00\u00a0s")
+        assert "Palier A = " in now.inner_text()
+        size = page.evaluate(
+            "() => parseFloat(getComputedStyle(document.getElementById('now')).fontSize)"
+        )
+        assert size >= 18  # readable on a projector and a phone
         start = page.evaluate("() => window.__cursor")
         page.evaluate("() => { const v = document.getElementById('v'); v.muted = true; v.play(); }")
         # the video plays 0,3 s and more, and the cursor follows it
@@ -98,6 +106,9 @@ def test_the_lesson_plays_offline_with_its_steps_and_plot(pack, browser):
         plot.click(position={"x": box["width"] - 20, "y": box["height"] / 2})  # scrolled to
         page.wait_for_function("() => document.getElementById('v').currentTime > 1.2")
         assert steps[2] in on.inner_text()
+        assert page.wait_for_function(
+            "() => document.getElementById('now').textContent.startsWith('t = 1,')"
+        )
         # a chapter's click seeks back to its start
         page.get_by_text(steps[1], exact=True).first.click()
         seek = (
@@ -182,3 +193,43 @@ def test_a_recording_started_at_step_3_exports_step_3(tmp_path):
     title, found = chapters(load(path))
     assert title == lesson.title
     assert [c.title for c in found] == [lesson.steps[2].title]
+
+
+def test_one_clock_for_the_video_the_plot_the_chapters_and_the_3d_page(tmp_path, monkeypatch):
+    """A recording started 2 s into a session (the page's « Enregistrer » at t = 2 s):
+    the plot, the chapters and the readouts under the video count from the recording's
+    start; the simulated time t reads 2 s at its first frame over the video, in the 3D
+    page and under the video, and the page says which is which."""
+    import json
+    import re
+
+    from sandbox.web.video import render
+
+    sim = Simulation(get_scene("rotor"))
+    sim.step(round(2.0 / sim.timestep))
+    path = tmp_path / "late.sbx"
+    rec = Recorder(path, sim, lesson="equilibrage")
+    rec.event("lesson", step=1)
+    rec.frame(sim.readouts())
+    for k in range(60):
+        sim.step(1)
+        if k == 29:
+            rec.event("lesson", step=2)
+        rec.frame(sim.readouts())
+    rec.close()
+    written: list[str] = []
+    real = render.time_line
+    monkeypatch.setattr(render, "time_line", lambda t: written.append(real(t)) or real(t))
+    export_pack([load(path)], tmp_path / "site")
+    assert written[0] == "t = 2,00\u00a0s"  # over the video: the simulated time
+    page = (tmp_path / "site" / "01-late" / "index.html").read_text(encoding="utf-8")
+    data = json.loads(re.search(r"const DATA = (.*);", page).group(1))
+    assert data["t"][0] == 0.0 and abs(data["t"][-1] - 60 * sim.timestep) < 1e-9
+    times = [float(t) for t in re.findall(r'data-t="([0-9.]+)"', page)]
+    assert times[0] == 0.0 and abs(times[1] - 30 * sim.timestep) < 1e-9
+    captions = json.loads(re.search(r"const CAPTIONS = (.*);", page).group(1))
+    assert captions[0][0] == 0.0 and captions[0][1].startswith("t = 2,00\u00a0s")
+    assert captions[-1][1].startswith(real(2.0 + 60 * sim.timestep))  # « t = 2,60 s »
+    assert "t = 2,00\u00a0s au début" in page  # the page names its two times
+    three_d = (tmp_path / "site" / "01-late" / "3d" / "index.html").read_text(encoding="utf-8")
+    assert three_d  # the 3D page's overlay is the captions' code (export_static)

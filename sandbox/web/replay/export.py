@@ -20,14 +20,13 @@ import viser
 
 from sandbox.recording import Recording, write_csv
 from sandbox.replay import open_simulation
-from sandbox.web.client.text import with_unit
 from sandbox.web.page import locale as client_text
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.serving.server import light_without_shadows
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.renderer import SceneRenderer
-from sandbox.written import time_words
+from sandbox.written import time_line
 
 EXPORT_FPS = 30.0
 """Frames per second of a static export (recordings are thinned to this rate)."""
@@ -44,7 +43,7 @@ def overlay_text(
     the time, then "label = value unit" per readout in French (decimal comma, tr/min and
     degrees, 0 below the scene's round-off)."""
     units = dict(zip(rec.names, rec.header.get("units", [""] * len(rec.names)), strict=False))
-    lines = [f"t = {with_unit(time_words(values.get('time', math.nan)), 's')}"]
+    lines = [time_line(values.get("time", math.nan))]
     lines += overlay_lines(names, values, labels or {}, units, zeros)
     return "\n".join(lines)
 
@@ -79,8 +78,16 @@ def _free_port() -> int:
         return int(sock.getsockname()[1])
 
 
-def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS) -> Path:
-    """Write ``folder/index.html`` (3D replay + readout overlay) and ``readouts.csv``.
+def export_static(
+    rec: Recording,
+    folder: str | Path,
+    *,
+    fps: float = EXPORT_FPS,
+    captions: list[tuple[float, str]] | None = None,
+) -> Path:
+    """Write ``folder/index.html`` (3D replay + readout overlay) and ``readouts.csv``;
+    ``captions``, when given, receives each written frame's playback time [s] (the
+    recording's :attr:`~sandbox.recording.Recording.timeline`) and its overlay's text.
 
     Returns:
         The path of ``index.html``.
@@ -144,6 +151,8 @@ def export_static(rec: Recording, folder: str | Path, *, fps: float = EXPORT_FPS
                 arrows.relabel(shown)
             t = float(clock[i])
             overlay.text = overlay_text(rec, shown, names, labels, zeros)
+            if captions is not None:
+                captions.append((t, overlay.text))
             if last_t is not None:
                 serializer.insert_sleep(max(0.0, t - last_t))
             last_t = t

@@ -5,11 +5,18 @@ server, nothing loaded from the network.
 ``DIR/index.html`` lists the recordings; each has its folder with:
 
 - ``index.html``: the recording as a video (:mod:`sandbox.web.video.render`: the mechanism, its
-  arrows and labels, the key readouts in French) with play, pause, scrub and speed; beside
+  arrows and labels, the key readouts in French) with play, pause, scrub and speed; under
+  it the same readouts in the page's own text (readable on a phone, where the video's
+  letters are small), written by the 3D export's overlay code for the same frames; beside
   it, for a recording made during a lesson, the lesson's steps in French, each a chapter of
   the timeline (clicking one seeks there; the step being shown is marked); below, the
   recorded readouts against time, whose cursor follows the video and which seeks the video
   where it is clicked;
+
+One time axis: the video, the plot, the chapters and the 3D page all run on the
+recording's clock (:attr:`~sandbox.recording.Recording.timeline`, from 0 at its first
+frame); the simulated time « t » (81 s for a recording started 81 s into a session) is a
+readout, written the same way over the video, in the 3D page and under the video.
 - ``3d/index.html``: the 3D replay whose camera turns (viser's export,
   :func:`sandbox.web.replay.export.export_static`), and ``readouts.csv``.
 
@@ -36,6 +43,7 @@ from sandbox.replay import open_simulation
 from sandbox.scenes import SCENES
 from sandbox.web.replay.export import export_static
 from sandbox.web.video.render import VideoOptions, render_video
+from sandbox.written import time_line
 
 SIZE = (960, 540)
 """The videos' size: sharp on a laptop, light on a USB stick."""
@@ -65,20 +73,23 @@ def check_folder(folder: Path) -> None:
 
 
 def chapters(rec: Recording) -> tuple[str, list[Chapter]]:
-    """The lesson's title and the steps a recording went through, with their times
-    (none without a lesson, or when this sandbox does not know the lesson)."""
+    """The lesson's title and the steps a recording went through, with their times on
+    the recording's clock (none without a lesson, or when this sandbox does not know the
+    lesson)."""
     name = rec.header.get("lesson")
     lesson = catalogue()[0].get(name) if isinstance(name, str) else None
     if lesson is None:
         return "", []
     out: list[Chapter] = []
+    clock = rec.timeline
     for event in rec.events:
         step = event.get("step")
         if event.get("k") != "lesson" or not isinstance(step, int):
             continue
         if not 0 <= step < len(lesson.steps):
             continue
-        t = float(event.get("t", 0.0))
+        at = int(event.get("index", 0))  # the first frame recorded after the step
+        t = float(clock[min(max(at, 0), len(clock) - 1)]) if len(clock) else 0.0
         s = lesson.steps[step]
         if not out or out[-1].title != s.title:
             out.append(Chapter(t, s.title, s.text))
@@ -97,7 +108,8 @@ def _title(rec: Recording) -> str:
 
 
 def _series(rec: Recording) -> dict[str, object]:
-    """The plotted readouts in the page's units, as JSON-able data."""
+    """The plotted readouts in the page's units against the recording's clock, as
+    JSON-able data."""
     scene = rec.header.get("scene")
     spec = SCENES.get(scene) if isinstance(scene, str) else None
     wanted = [n for n in (spec.page.plots if spec else ()) if n in rec.names]
@@ -113,7 +125,10 @@ def _series(rec: Recording) -> dict[str, object]:
         values = rec.readouts[:, rec.names.index(name)] * factor
         clean = [None if not math.isfinite(v) else round(float(v), 6) for v in values]
         out.append({"label": labels.get(name, name), "unit": unit, "values": clean})
-    return {"t": [round(float(t), 6) for t in rec.readout_times], "series": out}
+    clock = rec.timeline
+    last = len(clock) - 1
+    at = [float(clock[min(int(i), last)]) if last >= 0 else 0.0 for i in rec.readout_frames]
+    return {"t": [round(t, 6) for t in at], "series": out}
 
 
 def _json(data: object) -> str:
@@ -166,11 +181,13 @@ def _write(recordings: Sequence[Recording], folder: Path) -> Path:
         sub = folder / f"{k:02d}-{stem}"
         sub.mkdir()
         frames = render_video(rec, VideoOptions(sub / "video.mp4", size=SIZE))
-        export_static(rec, sub / "3d")
+        captions: list[tuple[float, str]] = []
+        export_static(rec, sub / "3d", captions=captions)
         title = _title(rec)
         lesson, steps = chapters(rec)
+        start = float(rec.times[0]) if len(rec.times) else 0.0
         (sub / "index.html").write_text(
-            page(title, lesson, steps, _series(rec), frames / 30.0),
+            page(title, lesson, steps, _series(rec), frames / 30.0, captions, start),
             encoding="utf-8",
         )
         entries.append((sub.name, title, rec.duration, bool(steps)))
@@ -192,11 +209,15 @@ def _write(recordings: Sequence[Recording], folder: Path) -> Path:
 
 
 STYLE = (
-    "body{font:16px/1.45 sans-serif;margin:16px;color:#111;background:#fff}"
-    "main{display:flex;flex-wrap:wrap;gap:16px}#left{flex:1 1 560px;min-width:300px}"
-    "video{width:100%;background:#fff}canvas{width:100%;height:240px;cursor:pointer}"
+    "body{font:18px/1.45 sans-serif;margin:16px;color:#111;background:#fff}"
+    "main{display:flex;flex-wrap:wrap;gap:16px}#left{flex:1 1 560px;min-width:280px}"
+    "video{width:100%;background:#fff}canvas{width:100%;height:280px;cursor:pointer}"
+    "#now{font-size:20px;white-space:pre-line;margin:6px 0;padding:6px 10px;"
+    "background:#f3f5f8;border-radius:6px;font-variant-numeric:tabular-nums}"
+    "#clock{color:#444}"
     "#steps{flex:0 1 340px}#steps li{cursor:pointer;padding:4px 6px;border-radius:4px}"
-    "#steps li.on{background:#e3edfb;font-weight:bold}nav{margin:8px 0}a{color:#1a56c4}"
+    "#steps li.on{background:#e3edfb}#steps li>span{font-weight:bold}"
+    "select{font-size:inherit}nav{margin:8px 0}a{color:#1a56c4}"
 )
 
 
@@ -206,8 +227,12 @@ def page(
     steps: Sequence[Chapter],
     series: dict[str, object],
     duration: float,
+    captions: Sequence[tuple[float, str]] = (),
+    start: float = 0.0,
 ) -> str:
-    """One recording's page (every text escaped, data as JSON)."""
+    """One recording's page (every text escaped, data as JSON): ``captions`` are the
+    readouts' text at times of the recording's clock, ``start`` the simulated time of its
+    first frame [s]."""
     chapters_html = "".join(
         f'<li data-t="{c.time:.6f}"><span>{html.escape(c.title)}</span>{_text(c.text)}</li>'
         for c in steps
@@ -231,9 +256,21 @@ def page(
         "<option value='0.25'>×0,25</option><option value='0.5'>×0,5</option>"
         "<option value='1' selected>×1</option><option value='2'>×2</option></select>"
         f"</label> · durée {str(round(duration, 1)).replace('.', ',')} s</div>"
+        "<div id='now' aria-live='off'></div>"
+        f"<p id='clock'>{html.escape(clock_words(start))}</p>"
         "<canvas id='plot'></canvas></div>"
         f"{lesson_html}</main>"
-        f"<script>const DATA = {_json(series)};\n{SCRIPT}</script></body></html>"
+        f"<script>const DATA = {_json(series)};\n"
+        f"const CAPTIONS = {_json([[round(t, 6), text] for t, text in captions])};\n"
+        f"{SCRIPT}</script></body></html>"
+    )
+
+
+def clock_words(start: float) -> str:
+    """The sentence that names the page's two times."""
+    return (
+        "La vidéo, les courbes et les étapes comptent le temps depuis le début de "
+        f"l'enregistrement ; t est le temps de la simulation ({time_line(start)} au début)."
     )
 
 
@@ -241,7 +278,7 @@ SCRIPT = r"""
 const video = document.getElementById('v'), canvas = document.getElementById('plot');
 const ctx = canvas.getContext('2d'), colors = ['#1f77b4', '#ff7f0e', '#2ca02c'];
 const t = DATA.t, t0 = t.length ? t[0] : 0, t1 = t.length ? t[t.length - 1] : 1;
-const pad = {l: 64, r: 12, t: 12, b: 34};
+const pad = {l: 64, r: 16, t: 12, b: 40};
 let W = 600, H = 240;  // CSS pixels: the canvas follows its box (a phone, a laptop)
 let lo = Infinity, hi = -Infinity;
 for (const s of DATA.series) {
@@ -250,6 +287,7 @@ for (const s of DATA.series) {
   }
 }
 if (!(hi > lo)) { lo = (isFinite(lo) ? lo : 0) - 1; hi = lo + 2; }
+{ const m = 0.08 * (hi - lo); lo -= m; hi += m; }  // no curve on the frame's edge
 const fr = (v) => v.toLocaleString('fr-FR', {maximumSignificantDigits: 4});
 const X = (time) => pad.l + (time - t0) / ((t1 - t0) || 1) * (W - pad.l - pad.r);
 const Y = (v) => H - pad.b - (v - lo) / (hi - lo) * (H - pad.t - pad.b);
@@ -264,7 +302,7 @@ function fit() {
 function draw() {
   fit();
   ctx.clearRect(0, 0, W, H);
-  ctx.font = '14px sans-serif'; ctx.fillStyle = '#333'; ctx.strokeStyle = '#ccc';
+  ctx.font = '16px sans-serif'; ctx.fillStyle = '#333'; ctx.strokeStyle = '#ccc';
   const raw = (hi - lo) / 4, mag = Math.pow(10, Math.floor(Math.log10(raw)));
   const step = [1, 2, 2.5, 5, 10].map((m) => m * mag).find((s) => s >= raw);
   for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step) {
@@ -272,30 +310,45 @@ function draw() {
     ctx.beginPath(); ctx.moveTo(pad.l, y); ctx.lineTo(W - pad.r, y); ctx.stroke();
     ctx.fillText(fr(v), 4, y + 4);
   }
-  ctx.fillText('Temps t [s] : de ' + fr(t0) + ' à ' + fr(t1), pad.l, H - 10);
+  ctx.textAlign = 'left'; ctx.fillText(fr(t0), pad.l, H - 12);
+  ctx.textAlign = 'right'; ctx.fillText(fr(t1) + ' s', W - pad.r, H - 12);
+  ctx.textAlign = 'center';
+  ctx.fillText("temps de l'enregistrement", (pad.l + W - pad.r) / 2, H - 12);
+  ctx.textAlign = 'left';
   DATA.series.forEach((s, k) => {
     ctx.strokeStyle = colors[k % 3]; ctx.lineWidth = 2; ctx.beginPath();
     let up = false;
     s.values.forEach((v, i) => { if (v === null) { up = false; return; }
       if (up) ctx.lineTo(X(t[i]), Y(v)); else ctx.moveTo(X(t[i]), Y(v)); up = true; });
-    ctx.stroke(); ctx.fillStyle = colors[k % 3];
-    ctx.fillText(s.label + (s.unit ? ' [' + s.unit + ']' : ''), pad.l + 8, pad.t + 16 + 18 * k);
+    ctx.stroke();
   });
-  const x = X(t0 + video.currentTime * (t1 - t0) / (video.duration || (t1 - t0) || 1));
+  DATA.series.forEach((s, k) => {  // the legend over the curves, each on its own line
+    const text = s.label + (s.unit ? ' [' + s.unit + ']' : ''), y = pad.t + 20 + 22 * k;
+    ctx.fillStyle = 'rgba(255,255,255,0.85)';
+    ctx.fillRect(pad.l + 4, y - 16, ctx.measureText(text).width + 8, 21);
+    ctx.fillStyle = colors[k % 3]; ctx.fillText(text, pad.l + 8, y);
+  });
+  const x = X(clock());
   ctx.strokeStyle = '#000'; ctx.lineWidth = 2;
   ctx.beginPath(); ctx.moveTo(x, pad.t); ctx.lineTo(x, H - pad.b); ctx.stroke();
   window.__cursor = x;
   const steps = document.querySelectorAll('#steps li');
   let on = null;
-  steps.forEach((li) => { if (parseFloat(li.dataset.t) <= simTime() + 1e-9) on = li; });
+  steps.forEach((li) => { if (parseFloat(li.dataset.t) <= clock() + 1e-9) on = li; });
   steps.forEach((li) => li.classList.toggle('on', li === on));
+  let k = -1;  // the last caption at or before the clock
+  for (let lo2 = 0, hi2 = CAPTIONS.length - 1; lo2 <= hi2;) {
+    const mid = (lo2 + hi2) >> 1;
+    if (CAPTIONS[mid][0] <= clock() + 1e-6) { k = mid; lo2 = mid + 1; } else hi2 = mid - 1;
+  }
+  const text = k >= 0 ? CAPTIONS[k][1] : (CAPTIONS.length ? CAPTIONS[0][1] : '');
+  const now = document.getElementById('now');
+  if (now.textContent !== text) now.textContent = text;
 }
-function simTime() {
-  return t0 + video.currentTime * (t1 - t0) / (video.duration || (t1 - t0) || 1);
-}
+// one clock: the video's time is the recording's (the video is drawn at its own speed)
+function clock() { return video.currentTime; }
 function seekSim(time) {
-  const share = (time - t0) / ((t1 - t0) || 1);
-  video.currentTime = Math.max(0, share * (video.duration || 0));
+  video.currentTime = Math.max(0, Math.min(time, video.duration || time));
   draw();
 }
 canvas.addEventListener('click', (e) => {

@@ -29,7 +29,7 @@ import viser
 
 from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
-from sandbox.web.client.text import plain, table_row, with_unit
+from sandbox.web.client.text import plain, table_row
 from sandbox.web.loop import Controller, Frame, Notice, Session
 from sandbox.web.loop.requests import Integrator, Reset, SetValue, Timestep
 from sandbox.web.loop.study_queue import StudyJob, progress_words
@@ -48,7 +48,7 @@ from sandbox.web.view3d.camera import point_camera
 from sandbox.web.view3d.renderer import SceneRenderer
 from sandbox.web.view3d.stage import draw_scene
 from sandbox.web.views.browser import WebView, arrow_layer
-from sandbox.written import time_words, written
+from sandbox.written import time_line, written
 
 log = logging.getLogger(__name__)
 
@@ -135,7 +135,7 @@ class BroadcastView:
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller
         state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"t = {with_unit(time_words(frame.time), 's')} · {state}"]
+        lines = [f"{time_line(frame.time)} · {state}"]
         if frame.diverged:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:

@@ -29,7 +29,6 @@ from sandbox.physics.display import DisplayState
 from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import open_simulation
-from sandbox.web.client.text import with_unit
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.video.frame import Text, add_arrows, label_arrows
 from sandbox.web.video.offscreen import aim, backdrop, offscreen_renderer
@@ -37,7 +36,7 @@ from sandbox.web.video.options import DIRECTIONS, VideoError, VideoOptions, chec
 from sandbox.web.video.strip import Follow, Strip, sampled
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.geoms import mechanism_size
-from sandbox.written import time_words
+from sandbox.written import time_line
 
 MP4_SPEED = ["-preset", "veryfast"]
 """x264's faster preset: the encoder shares a 2-core laptop with the drawing (its default
@@ -149,7 +148,9 @@ def render_video(
             draw = ImageDraw.Draw(frame, "RGBA")
             values = sim.readouts(names + readings + ["time"], data=data)
             label_arrows(draw, text, scene, drawn, width, view_h, by_unit, values)
-            lines = [f"t = {with_unit(time_words(float(t)), 's')}"]
+            # the simulated time of this frame, as the page and the 3D export write it (a
+            # recording started at 81 s reads 81 s; the clip's own clock is the player's)
+            lines = [time_line(values["time"])]
             lines += overlay_lines(names, values, labels, units, zeros)
             # top left: a player's controls cover the bottom of a video
             text.box(draw, (0.02 * width, 0.03 * view_h), lines, text.big)
