@@ -222,6 +222,7 @@ def test_one_clock_for_the_video_the_plot_the_chapters_and_the_3d_page(tmp_path,
     monkeypatch.setattr(render, "time_line", lambda t: written.append(real(t)) or real(t))
     export_pack([load(path)], tmp_path / "site")
     assert written[0] == "t = 2,00\u00a0s"  # over the video: the simulated time
+    assert len(set(written)) == len(written) > 10  # it moves (it stayed on the first frame)
     page = (tmp_path / "site" / "01-late" / "index.html").read_text(encoding="utf-8")
     data = json.loads(re.search(r"const DATA = (.*);", page).group(1))
     assert data["t"][0] == 0.0 and abs(data["t"][-1] - 60 * sim.timestep) < 1e-9

@@ -31,10 +31,11 @@ from sandbox.recording import Recording
 from sandbox.replay import open_simulation
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.video.frame import Text, add_arrows, label_arrows
+from sandbox.web.video.framing import SAMPLES, Picture, clip_points, frame_clip
 from sandbox.web.video.offscreen import aim, backdrop, offscreen_renderer
 from sandbox.web.video.options import DIRECTIONS, VideoError, VideoOptions, check
 from sandbox.web.video.strip import Follow, Strip, sampled
-from sandbox.web.view3d.camera import camera_pose, scene_view
+from sandbox.web.view3d.camera import page_pose, scene_view
 from sandbox.web.view3d.geoms import mechanism_size
 from sandbox.written import time_line
 
@@ -107,10 +108,21 @@ def render_video(
             DIRECTIONS[options.camera],
             ((0.0, 1.0, 0.0) if options.camera == "top" else (0.0, 0.0, 1.0)),
         )
-    center, extent = np.asarray(sim.model.stat.center, float), float(sim.model.stat.extent)
-    if spec is not None and spec.page.look_at is not None:
-        center, extent = np.asarray(spec.page.look_at[0], float), spec.page.look_at[1]
-    position, look_at = camera_pose(center, extent, direction)  # as the page frames it
+    position, look_at = page_pose(sim, direction)  # as the page frames it
+    # the moving parts over the clip stay in the picture and clear of the readouts' box
+    widest = ["t = −0 000,00 s"] + [  # the widest lines the box will hold
+        f"{labels[n]} = −00 000,000 {units.get(n, '')}" for n in names
+    ]
+    box_w, box_h = text.extent(widest, text.big)
+    picture = Picture(
+        aspect=width / view_h,
+        fovy=float(sim.model.vis.global_.fovy),
+        box=((0.02 * width + box_w) / width, (0.03 * view_h + box_h) / view_h),
+    )
+    sampled_clock = np.linspace(float(times[0]), float(times[-1]), SAMPLES)
+    points = clip_points(rec, open_simulation(rec), sampled_clock)
+    position, look_at = frame_clip(points, position, look_at, np.asarray(up, float), picture)
+    extent = float(np.linalg.norm(look_at - position))  # the wall behind, at this scale
     tmp = options.out.with_name(f".{options.out.name}.part{options.out.suffix}")
     gif = options.out.suffix.lower() == ".gif"
     writer = imageio_ffmpeg.write_frames(
@@ -130,12 +142,12 @@ def render_video(
     model = sim.model
     try:
         for k, t in enumerate(times):
-            follow.to(float(t))
+            at = follow.to(float(t))  # the simulated time at this instant of the clip
             if sim.model is not model:  # a recorded change rebuilt the model
                 renderer.close()
                 model = sim.model
                 renderer = offscreen_renderer(model, view_h, width)
-            data = display.data(float(t), forces=bool(arrows))
+            data = display.data(at, forces=bool(arrows))
             renderer.update_scene(data)
             scene = renderer.scene
             aim(scene, position, look_at, np.asarray(up, float))

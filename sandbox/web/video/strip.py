@@ -21,29 +21,37 @@ from sandbox.recording import Recording
 
 # -- the recorded motion, between its frames --------------------------------------------------
 class Follow:
-    """Moves a simulation to any instant of a recording: from the recorded frame at or
-    before it, stepped on (a recording keeps frames at the page's rate, 10 to 60 a
-    second; the compressor's crank turns 50 times a second). Re-simulating from a
-    recorded state is exact (``sandbox replay --verify``)."""
+    """Moves a simulation to any instant of a recording's clock
+    (:attr:`~sandbox.recording.Recording.timeline`, from 0 at its first frame, whatever
+    the simulated time then): from the recorded frame at or before it, stepped on (a
+    recording keeps frames at the page's rate, 10 to 60 a second; the compressor's crank
+    turns 50 times a second). Re-simulating from a recorded state is exact (``sandbox
+    replay --verify``)."""
 
     def __init__(self, rec: Recording, sim: Any) -> None:
         self.rec, self.sim = rec, sim
+        self.clock = rec.timeline  # built once: a property that sums every frame
         self.index = -1
 
-    def to(self, time: float) -> None:
-        """The physics state at the last whole timestep at or before ``time``."""
+    def to(self, clock: float) -> float:
+        """The physics state at the last whole timestep at or before ``clock`` [s];
+        returns the simulated time of that instant (what the display draws, a fraction
+        of a timestep past the physics state)."""
         rec, sim = self.rec, self.sim
-        i = max(0, int(np.searchsorted(rec.times, time + 1e-12, side="right")) - 1)
-        if i != self.index or float(sim.data.time) > time + 1e-12:
+        i = max(0, int(np.searchsorted(self.clock, clock + 1e-12, side="right")) - 1)
+        wanted = clock - float(self.clock[i])  # time past frame i
+        if i != self.index or float(sim.data.time) - float(rec.times[i]) > wanted + 1e-12:
             for name, value in rec.values_at(i).items():
                 # a recording whose scene is gone replays its MJCF: no parameters
                 if name in sim.values and sim.values[name] != value:
                     sim.set_value(name, value)
             sim.restore(rec.states[i])
             self.index = i
-        steps = math.floor((time - float(sim.data.time)) / sim.timestep + 1e-9)
+        elapsed = float(sim.data.time) - float(rec.times[i])
+        steps = math.floor((wanted - elapsed) / sim.timestep + 1e-9)
         if steps > 0:
             sim.step(steps)
+        return float(rec.times[i]) + wanted
 
 
 MAX_STRIP_SAMPLES = 20_000
@@ -53,7 +61,8 @@ MAX_STRIP_SAMPLES = 20_000
 def sampled(
     rec: Recording, sim: Any, names: Sequence[str], start: float, stop: float
 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """The strip's readouts over [start, stop] on the re-simulated motion, at every
+    """The strip's readouts over [start, stop] of the recording's clock on the
+    re-simulated motion, at every
     timestep (thinned to :data:`MAX_STRIP_SAMPLES`): the recorded readouts, taken at the
     page's rate, would alias a crank turning 50 times a second."""
     follow = Follow(rec, sim)
@@ -101,7 +110,7 @@ class Strip:
                 words = f"{self.labels.get(name) or name}" + (f" [{unit}]" if unit else "")
                 ax.plot(times, columns[name] * factor, lw=2, label=words, color=f"C{k}")
             ax.set_xlim(*self.span)
-            ax.set_xlabel("Temps t [s]")
+            ax.set_xlabel("Temps de l'enregistrement [s]")  # t is the simulated time
             ax.xaxis.set_major_formatter(comma_formatter())
             ax.yaxis.set_major_formatter(comma_formatter())
             ax.grid(True, alpha=0.3)

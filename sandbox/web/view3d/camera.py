@@ -48,16 +48,27 @@ def scene_view(sim: Simulation) -> tuple[Vec3, Vec3]:
     return (0.45, -1.0, 0.55), (0.0, 0.0, 1.0)
 
 
-def point_camera(client: viser.ClientHandle, sim: Simulation, *, narrow: bool = False) -> None:
-    """Aim a browser's camera at the scene, from the scene's preferred side (``narrow``:
-    from further back, for a 3D view between two docked columns)."""
+def page_pose(
+    sim: Simulation, direction: ArrayLike | None = None, *, narrow: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """The page's camera (position, look-at point): the scene's own framing
+    (``page.look_at``), else MuJoCo's centre and extent, along ``direction`` (the
+    scene's side when None; ``narrow``: from further back)."""
     model = sim.model
-    direction, up = scene_view(sim)
     center, extent = np.asarray(model.stat.center, dtype=float), float(model.stat.extent)
     spec = sim.scene
     if spec is not None and spec.page.look_at is not None:
         center, extent = np.asarray(spec.page.look_at[0], dtype=float), spec.page.look_at[1]
-    position, look_at = camera_pose(center, extent * (1.5 if narrow else 1.0), direction)
+    if direction is None:
+        direction = scene_view(sim)[0]
+    return camera_pose(center, extent * (1.5 if narrow else 1.0), direction)
+
+
+def point_camera(client: viser.ClientHandle, sim: Simulation, *, narrow: bool = False) -> None:
+    """Aim a browser's camera at the scene, from the scene's preferred side (``narrow``:
+    from further back, for a 3D view between two docked columns)."""
+    direction, up = scene_view(sim)
+    position, look_at = page_pose(sim, direction, narrow=narrow)
     client.camera.up_direction = up
     client.camera.position = position
     client.camera.look_at = look_at

@@ -1,0 +1,97 @@
+"""Where a video's camera stands (:mod:`sandbox.web.video.framing`): the page's framing
+kept when the moving parts stay in it, else every moving part of every sampled instant
+in the picture and clear of the readouts' box; a turning disc outlined by its rim, not by
+its box. Checked on the scenes whose page framing cut a part or hid it under the box."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from sandbox.physics.simulation import Simulation
+from sandbox.recording import Recorder, load
+from sandbox.replay import open_simulation
+from sandbox.scenes import get_scene
+from sandbox.web.video.framing import (
+    Picture,
+    _basis,
+    _bounds,
+    clip_points,
+    fits,
+    frame_clip,
+    outline,
+)
+from sandbox.web.view3d.camera import page_pose, scene_view
+
+PICTURE = Picture(aspect=16 / 9, fovy=45.0, box=(0.3, 0.3))
+"""A 16:9 video whose readouts' box takes the top-left 30 % by 30 %."""
+
+
+def _recording(name: str, path: Path, seconds: float) -> Path:
+    sim = Simulation(get_scene(name))
+    rec = Recorder(path, sim)
+    rec.frame(sim.readouts())
+    steps = max(1, round(seconds / sim.timestep / 20))
+    for _ in range(20):
+        sim.step(steps)
+        rec.frame(sim.readouts())
+    rec.close()
+    return path
+
+
+def _page_camera(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    position, look_at = page_pose(sim)
+    return position, look_at, np.asarray(scene_view(sim)[1], float)
+
+
+@pytest.mark.parametrize(
+    ("name", "seconds"),
+    [("rolling_cylinder", 1.0), ("wheel_balancer", 0.5), ("heavy_gyroscope", 1.0)],
+)
+def test_every_moving_part_is_whole_and_clear_of_the_box(name, seconds, tmp_path):
+    """The page's framing cut these (the rolling cylinder under the box at the top of
+    its plane, the wheel and the top's disc above the picture); the video's framing
+    holds every moving part of the whole clip."""
+    rec = load(_recording(name, tmp_path / f"{name}.sbx", seconds))
+    sim = open_simulation(rec)
+    points = clip_points(rec, sim, np.linspace(0.0, rec.timeline[-1], 24))
+    position, look_at, up = _page_camera(sim)
+    assert not fits(_bounds(points, position, _basis(position, look_at, up), PICTURE), PICTURE)
+    position, look_at = frame_clip(points, position, look_at, up, PICTURE)
+    bounds = _bounds(points, position, _basis(position, look_at, up), PICTURE)
+    assert fits(bounds, PICTURE)
+    left, right, bottom, top = bounds  # and it fills the picture: not a speck
+    assert max(right - left, top - bottom) > 0.9
+
+
+def test_a_framing_that_holds_everything_is_the_pages():
+    points = np.array([[0.1, 0.0, 0.0], [-0.1, 0.0, -0.1]])
+    position, look_at, up = np.array([0.0, -1.0, 0.0]), np.zeros(3), np.array([0.0, 0.0, 1.0])
+    got = frame_clip(points, position, look_at, up, PICTURE)
+    assert np.array_equal(got[0], position) and np.array_equal(got[1], look_at)
+
+
+def test_a_part_under_the_box_moves_the_camera_not_the_part():
+    """A part at the top-left, where the box is: the camera aims again, the part ends
+    below the box, whole."""
+    position, look_at, up = np.array([0.0, -1.0, 0.0]), np.zeros(3), np.array([0.0, 0.0, 1.0])
+    points = np.array([[-0.5, 0.0, 0.3], [-0.4, 0.0, 0.25]])
+    basis = _basis(position, look_at, up)
+    assert not fits(_bounds(points, position, basis, PICTURE), PICTURE)
+    position, look_at = frame_clip(points, position, look_at, up, PICTURE)
+    assert fits(_bounds(points, position, _basis(position, look_at, up), PICTURE), PICTURE)
+
+
+def test_a_turning_disc_is_outlined_by_its_rim():
+    """A disc's box corners turn on a circle 1.41 times the disc's: its rim's points do
+    not (the wheel balancer was framed far too small)."""
+    model = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body><joint type='hinge'/>"
+        "<geom type='cylinder' size='0.3 0.02'/></body></worldbody></mujoco>"
+    )
+    points = outline(model, 0)
+    assert np.allclose(np.hypot(points[:, 0], points[:, 1]), 0.3)
+    assert np.allclose(np.abs(points[:, 2]), 0.02)
