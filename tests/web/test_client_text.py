@@ -123,3 +123,63 @@ def test_number_boxes_read_with_a_decimal_comma(browser):
     finally:
         context.close()
         app.stop()
+
+
+def test_a_page_whose_server_stops_says_so_in_french_and_clears_when_it_returns(browser):
+    """viser greys its panel and spins a small red icon; the status line went on reading
+    « en cours ». Once the server has not answered for a few seconds the page says, in
+    French, that the simulation stopped; a page that connects again drops the line."""
+    from conftest import free_port
+
+    from sandbox.web.page.locale import LOST, LOST_AFTER_S
+    from sandbox.web.serving.app import start
+
+    port = free_port()
+    app = start("rotor", port=port, open_message=False)
+    context = browser.new_context(viewport={"width": 1280, "height": 720})
+    try:
+        page = context.new_page()
+        page.goto(app.url)
+        page.get_by_text("Simulation", exact=True).first.wait_for(timeout=30_000)
+        notice = page.locator("#sandbox-lost")
+        assert notice.count() == 0
+        app.stop()
+        notice.wait_for(timeout=(LOST_AFTER_S + 20) * 1000)
+        assert notice.inner_text() == LOST and notice.get_attribute("role") == "alert"
+        app = start("rotor", port=port, open_message=False)  # the teacher starts it again
+        notice.wait_for(state="detached", timeout=60_000)  # viser reconnected by itself
+    finally:
+        context.close()
+        app.stop()
+
+
+def test_the_page_waiting_for_its_server_reads_french(browser, tmp_path):
+    """Before its first connection viser writes « Connecting... »: the page served by a
+    server that is not there yet (here a plain file server) reads French."""
+    import functools
+    import http.server
+    import threading
+
+    import viser.infra as infra
+
+    client_text.install()
+    build = Path(infra.__file__).resolve().parent.parent / "client" / "build"
+    root = client_text.french_root(build)
+    assert root is not None
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args: object) -> None:
+            pass
+
+    handler = functools.partial(Quiet, directory=str(root))
+    files = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=files.serve_forever, daemon=True).start()
+    context = browser.new_context(viewport={"width": 1280, "height": 720})
+    try:
+        page = context.new_page()
+        page.goto(f"http://127.0.0.1:{files.server_address[1]}/index.html")
+        page.get_by_text("Connexion au serveur…", exact=True).wait_for(timeout=30_000)
+        assert "Connecting" not in page.inner_text("body")
+    finally:
+        context.close()
+        files.shutdown()

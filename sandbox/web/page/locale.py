@@ -53,6 +53,7 @@ FRENCH: dict[str, str] = {
     "du navigateur n'a pas pu être lue : il se peut que la page y fonctionne mal.",
     "Unsupported browser": "Navigateur trop ancien",
     "Connection rejected": "Connexion refusée",
+    "Connecting...": "Connexion au serveur…",  # the page before its first connection
     "Version mismatch": "Versions incompatibles",
     "Open navigation": "Ouvrir le menu",
     "Close navigation": "Fermer le menu",
@@ -127,6 +128,19 @@ wrong with the page (a PC without a graphics driver draws the 3D more slowly).""
 CLOSE_AFTER_S = 8.0
 """Seconds a :data:`CLOSING` warning stays: time to read its two sentences."""
 
+LOST = (
+    "Le serveur ne répond plus : la simulation est arrêtée. La page se reconnectera "
+    "d'elle-même dès qu'il répondra (sinon, relancez-le et rechargez la page)."
+)
+"""What a page says once its server stops answering (stopped by the teacher, the
+laptop asleep, the network cut): viser only greys the panel and turns a small icon into
+a red spinner, and the status line went on reading « en cours »."""
+LOST_AFTER_S = 3.0
+"""Seconds without a connection before :data:`LOST` shows (a worker's restart takes
+less)."""
+CONNECTED_ICON = "tabler-icon-cloud-check"
+"""The class of the icon viser's panel shows while its websocket is connected."""
+
 COMMA_EVERY_S = 0.2
 """Seconds between two readings of the number boxes (a box's value changes without any
 event the page can watch when the server moves its slider)."""
@@ -200,7 +214,30 @@ _SCRIPT = """<script>(function () {
   function commas() {
     document.querySelectorAll("input.mantine-NumberInput-input").forEach(comma);
   }
-  setInterval(commas, %(comma_ms)d);
+  // the server lost: a French line over the page until the connection comes back
+  var connected = false, lostSince = 0;
+  function watch() {
+    var on = !!document.querySelector("." + %(icon)s);
+    var notice = document.getElementById("sandbox-lost");
+    if (on) {
+      connected = true; lostSince = 0;
+      if (notice) notice.remove();
+      return;
+    }
+    if (!connected) return;
+    lostSince = lostSince || Date.now();
+    if (notice || %(lost_ms)d > Date.now() - lostSince) return;  // no less-than sign: see the tests
+    notice = document.createElement("div");
+    notice.id = "sandbox-lost";
+    notice.setAttribute("role", "alert");
+    notice.style.cssText = "position:fixed;top:12px;left:50%%;transform:translateX(-50%%);" +
+      "z-index:10000;max-width:min(92vw,640px);padding:10px 16px;border-radius:6px;" +
+      "background:#b3261e;color:#fff;font:600 17px/1.4 sans-serif;text-align:center;" +
+      "box-shadow:0 2px 8px rgba(0,0,0,.3)";
+    notice.textContent = %(lost)s;
+    document.body.appendChild(notice);
+  }
+  setInterval(function () { commas(); watch(); }, %(comma_ms)d);
   document.addEventListener("focusin", commas, true);
   document.addEventListener("focusout", function () { setTimeout(commas, 0); }, true);
   new MutationObserver(function (changes) {
@@ -239,6 +276,9 @@ def _french_script(french: str) -> str:
         "closing": json.dumps(list(CLOSING)),
         "close_ms": round(CLOSE_AFTER_S * 1000),
         "comma_ms": round(COMMA_EVERY_S * 1000),
+        "icon": json.dumps(CONNECTED_ICON),
+        "lost": json.dumps(LOST, ensure_ascii=True),
+        "lost_ms": round(LOST_AFTER_S * 1000),
     }
 
 
