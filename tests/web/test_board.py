@@ -674,9 +674,6 @@ def test_two_pages_with_one_key_get_two_rows():
 
 
 @pytest.mark.browser
-# Alone it passes (10 runs); in the parallel run the reloaded page's name box came back
-# first 4 times out of 4 although the browser kept the name: cause not found yet (issue 38).
-@pytest.mark.solo
 def test_a_student_keeps_the_name_typed_after_a_reload(open_page, served_class):
     """In a real page: « Votre prénom » comes first while no name is known; typed, then
     the page reloaded, the box reads the name again (last on the page now) and the board
@@ -788,3 +785,22 @@ def test_a_page_whose_identity_arrives_late_gets_its_name_back(gui_server):
     assert [(r.key, r.name) for r in room.rows()] == [(f"b:{WHO}", "Zoé")]
     field = room._students[5].field
     assert field is not None and field.value == "Zoé" and field.order == NAME_ORDER
+
+
+def test_a_late_identity_moves_the_box_its_page_already_filled_last(gui_server):
+    """The full runs' reload failure: the handshake not readable at arrival, the page's
+    script fills « Votre prénom » from its storage before the board asks again; the box,
+    already named, still goes last once the tab's key comes (it stayed first)."""
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.client.fields import set_value
+    from sandbox.web.panels.board import NAME_FIRST_ORDER, NAME_ORDER
+
+    answers = [("", ""), (WHO, "Zoé")]
+    client = SimpleNamespace(client_id=6, gui=gui_server.gui)
+    room = Classroom(lambda cid: True)
+    room.seat(client, Simulation(get_scene("rotor")), who=lambda: answers.pop(0))  # type: ignore[arg-type]
+    field = room._students[6].field
+    assert field is not None and field.order == NAME_FIRST_ORDER
+    set_value(field, "Zoé")  # what the page's script typed, from its storage
+    assert [(r.key, r.name) for r in room.rows()] == [(f"b:{WHO}", "Zoé")]
+    assert field.value == "Zoé" and field.order == NAME_ORDER

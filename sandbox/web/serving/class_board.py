@@ -310,9 +310,12 @@ class Classroom:
         with self._lock:
             name = kept or self._names.get(key, "")
         field = entry.field
-        if name and field is not None and not clean_name(field.value):
+        if field is None:
+            return
+        if name and not clean_name(field.value):
             set_value(field, name)
-            field.order = NAME_ORDER
+        if clean_name(field.value):  # known now (the page's script may have filled it
+            field.order = NAME_ORDER  # from its storage before the key came): last
 
     def tick(self) -> None:
         """Read the students and publish them (never raises: the board is not worth a
