@@ -132,7 +132,7 @@ def test_a_lesson_step_sent_by_the_teacher_moves_the_students_sliders(open_page)
 def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_follow):
     """Issue 25: the teacher runs a study and sends it; a follower sees it in a folder of
     its page, a student on their own copy in « Étude paramétrique », with the dots."""
-    from conftest import choose
+    from conftest import choose, pause
 
     from sandbox.web.serving.follow import SEND_STUDY, STUDY_FOLDER
 
@@ -146,6 +146,9 @@ def test_the_teachers_study_reaches_followers_and_own_copies(open_page, served_f
     own.get_by_role("button", name=OWN).click(timeout=90_000)
     own.get_by_role("button", name=FOLLOW).wait_for(timeout=30_000)
     assert wait_for(lambda: app.counts() == (1, 1, 1))
+    # a study does not need the motion: three pages drawing it took two slow cores
+    pause(teacher)  # the followers' view too
+    pause(own)
     teacher.get_by_role("button", name=SEND_STUDY).click()  # nothing to send yet
     teacher.get_by_text("Lancez d'abord une étude", exact=False).first.wait_for(timeout=10_000)
     choose(teacher, "Panneau affiché", "Étude paramétrique")
