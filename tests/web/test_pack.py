@@ -21,21 +21,32 @@ pytest.importorskip("imageio_ffmpeg")
 CRAFTED = "<script>alert('x')</script><img src=x onerror=alert(1)>"
 
 
-def _lesson_recording(path: Path, *, speed_up: bool = True) -> Path:
-    """1.5 s of the rotor following the lesson "equilibrage": step 1 at 0, step 2 at
-    0.5 s, step 3 (and 3000 tr/min) at 1.0 s."""
+def _lesson_recording(
+    path: Path,
+    *,
+    speed_up: bool = True,
+    start: float = 0.0,
+    frames: int = 150,
+    steps: tuple[tuple[int, int], ...] = ((-1, 0), (49, 1), (99, 2)),
+) -> Path:
+    """By default 1.5 s of the rotor following the lesson "equilibrage": step 1 at 0,
+    step 2 at 0.5 s, step 3 (and 3000 tr/min) at 1.0 s. ``start``: seconds simulated
+    before the recording starts; ``steps``: (frame after which, lesson step), -1 before
+    the first frame."""
     sim = Simulation(get_scene("rotor"))
+    if start:
+        sim.step(round(start / sim.timestep))
     rec = Recorder(path, sim, lesson="equilibrage")
-    rec.event("lesson", step=0)
+    changes = dict(steps)
+    if -1 in changes:
+        rec.event("lesson", step=changes[-1])
     rec.frame(sim.readouts())
-    for k in range(150):
+    for k in range(frames):
         sim.step(1)
-        if k == 49:
-            rec.event("lesson", step=1)
-        if k == 99:
-            if speed_up:
+        if k in changes:
+            if speed_up and changes[k] == 2:
                 sim.set_value("speed_rpm", 3000)
-            rec.event("lesson", step=2)
+            rec.event("lesson", step=changes[k])
         rec.frame(sim.readouts())
     rec.close()
     return path
@@ -205,18 +216,10 @@ def test_one_clock_for_the_video_the_plot_the_chapters_and_the_3d_page(tmp_path,
 
     from sandbox.web.video import render
 
-    sim = Simulation(get_scene("rotor"))
-    sim.step(round(2.0 / sim.timestep))
-    path = tmp_path / "late.sbx"
-    rec = Recorder(path, sim, lesson="equilibrage")
-    rec.event("lesson", step=1)
-    rec.frame(sim.readouts())
-    for k in range(60):
-        sim.step(1)
-        if k == 29:
-            rec.event("lesson", step=2)
-        rec.frame(sim.readouts())
-    rec.close()
+    path = _lesson_recording(
+        tmp_path / "late.sbx", speed_up=False, start=2.0, frames=60, steps=((-1, 1), (29, 2))
+    )
+    sim = Simulation(get_scene("rotor"))  # its timestep
     written: list[str] = []
     real = render.time_line
     monkeypatch.setattr(render, "time_line", lambda t: written.append(real(t)) or real(t))
