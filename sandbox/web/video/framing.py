@@ -1,12 +1,12 @@
 """Where a video's camera stands: the page's framing when the moving parts stay in it over
-the whole clip, else the same direction moved back and aimed so that every moving part,
-at every sampled instant of the clip, is inside the picture and below the readouts' box
+the whole clip, else the same direction, aimed and moved so that every moving part, at
+every sampled instant of the clip, is inside the picture and clear of the readouts' box
 (the rolling cylinder starts at the top of its plane, where the page's framing put it
-under the box and cut its top).
+under the box and cut its top; the wheel balancer's wheel was cut too).
 
-Pure geometry on MuJoCo's poses: the parts are the corners of the boxes around the moving
-bodies' visible geoms (``geom_aabb``), sampled along the clip by re-simulating the
-recording.
+Pure geometry on MuJoCo's poses: the parts are outlined by points (a cylinder by its two
+rims, a sphere by three great circles, a box or a mesh by the corners of its
+``geom_aabb``), sampled along the clip by re-simulating the recording.
 """
 
 from __future__ import annotations
