@@ -42,6 +42,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 getattr(args, "follow", False),
                 getattr(args, "public_url", None),
                 getattr(args, "motion", None),
+                getattr(args, "max_memory", None),
             )
         with held_mujoco_warnings(held):
             code = _dispatch(args)
@@ -67,7 +68,7 @@ def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "list":
         return cmd_list()
     if args.command == "describe":
-        return cmd_describe(args.target, args.json)
+        return cmd_describe(args.target, args.json, args.max_memory)
     if args.command == "replay":
         return cmd_replay(args)
     if args.command == "bench":

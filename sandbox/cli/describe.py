@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import json
 
+from sandbox.cli.options import own_source
 from sandbox.lessons import lessons
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.spec import Scene
-from sandbox.scenes import DEFAULT_SCENE, SCENES, resolve
+from sandbox.scenes import DEFAULT_SCENE, SCENES
 
 
 def cmd_list() -> int:
@@ -26,9 +27,9 @@ def cmd_list() -> int:
     return 0
 
 
-def describe(target: str) -> dict:
-    """JSON-able description of a scene or MJCF file."""
-    sim = Simulation(resolve(target))
+def describe(target: str, max_memory: float | None = None) -> dict:
+    """JSON-able description of a scene or MJCF file (``max_memory``: ``--max-memory``)."""
+    sim = Simulation(own_source(target, max_memory))
     scene = sim.scene if isinstance(sim.scene, Scene) else None
     params = [
         {
@@ -71,9 +72,9 @@ def describe(target: str) -> dict:
     }
 
 
-def cmd_describe(target: str, as_json: bool) -> int:
+def cmd_describe(target: str, as_json: bool, max_memory: float | None = None) -> int:
     """Print :func:`describe` as JSON or text."""
-    info = describe(target)
+    info = describe(target, max_memory)
     if as_json:
         print(json.dumps(info, indent=2, ensure_ascii=False))
         return 0

@@ -5,16 +5,43 @@ folders a command writes into, ports and worker counts. Each refusal is one line
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from sandbox.errors import BadOption, BadParameter, shown
+from sandbox.physics.limits import MAX_MODEL_BYTES, estimate, machine_bytes, prescan
+from sandbox.physics.model import Source
 
 MAX_WORKERS = 64
 """Most server processes ``--workers`` may start."""
 
 MAX_NAME_CHARS = 200
 """Longest ``--set`` name or value accepted."""
+
+
+def own_source(target: str | Path, max_memory: float | None) -> Source:
+    """The scene or MJCF file named on the command line: the file is the user's own and
+    may take :func:`~sandbox.physics.limits.machine_bytes` (``--max-memory``) to compile;
+    above the limit of files from outside, a note on stderr says what it will take.
+
+    Raises:
+        UnknownScene, BadModel: see :func:`sandbox.scenes.resolve`.
+    """
+    from sandbox.scenes import resolve  # the registry: only once a command needs it
+
+    source = resolve(target, max_bytes=machine_bytes(max_memory))
+    if source.scene is None:
+        prescan(source.path, source.max_bytes)  # nothing parsed that the limit refuses
+        size, what = estimate(source.path)
+        if MAX_MODEL_BYTES < size <= source.max_bytes:
+            print(
+                f"sandbox: note: {shown(str(source.path))} takes about {size / 2**20:,.0f} MB "
+                f"to compile, mostly {what} (allowed: {source.max_bytes / 2**20:,.0f} MB, "
+                "--max-memory)",
+                file=sys.stderr,
+            )
+    return source
 
 
 def pairs(items: Sequence[str]) -> dict[str, str]:

@@ -66,6 +66,17 @@ def _motion(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _max_memory(parser: argparse.ArgumentParser) -> None:
+    """``--max-memory MB``: what the user's own MJCF file may take to compile."""
+    parser.add_argument(
+        "--max-memory",
+        type=_positive_float("--max-memory"),
+        metavar="MB",
+        help="what an MJCF file named here may take to compile [MB] (default: half the "
+        "machine's memory; files from a browser or a recording stay under 256 MB)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for tests and docs)."""
     p = _Parser(prog="sandbox", description="Rigid-body dynamics teaching sandbox.")
@@ -95,6 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser("describe", help="parameters, effects and readouts of a scene or file")
     d.add_argument("target", help="scene name or MJCF file")
     d.add_argument("--json", action="store_true", help="machine-readable output")
+    _max_memory(d)
     r = sub.add_parser("run", help="simulate without a browser and write readouts")
     r.add_argument("target", help="scene name or MJCF file")
     r.add_argument(
@@ -113,6 +125,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--integrator", choices=sorted(INTEGRATORS), help="override the integrator")
     r.add_argument("--timestep", type=_positive_float("--timestep"), help="override dt [s]")
     _motion(r)
+    _max_memory(r)
     r.add_argument(
         "--tolerance",
         type=_positive_float("--tolerance"),
@@ -164,6 +177,7 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--integrator", choices=sorted(INTEGRATORS), help="override the integrator")
     w.add_argument("--timestep", type=_positive_float("--timestep"), help="override dt [s]")
     _motion(w)
+    _max_memory(w)
     w.add_argument(
         "--jobs", type=int, default=None, help="processes running the study (default: cores)"
     )
@@ -185,6 +199,7 @@ def build_parser() -> argparse.ArgumentParser:
     _server_options(s)
     s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     _motion(s)
+    _max_memory(s)
     s.add_argument(
         "--follow",
         action="store_true",

@@ -21,12 +21,11 @@ from pathlib import Path
 
 from sandbox.accuracy import cheapest, most_accurate
 from sandbox.bench import load_results
-from sandbox.cli.options import no_nul, pairs
+from sandbox.cli.options import no_nul, own_source, pairs
 from sandbox.errors import BadOption, shown
 from sandbox.physics.simulation import Simulation
 from sandbox.recording import Recorder
 from sandbox.runner import RowWriter, check_out, check_run, simulate, special_file
-from sandbox.scenes import resolve
 
 
 class _Sinks:
@@ -123,7 +122,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                 f"--out and --record name the same file {shown(str(args.out))}; give two names"
             )
     integrator, timestep = args.integrator, args.timestep
-    source, values = resolve(args.target), pairs(args.set)
+    source = own_source(args.target, args.max_memory)
+    values = pairs(args.set)
     if args.tolerance is not None:
         probe = Simulation(source, values=values, motion=args.motion)
         if probe.motion == "imposed":
@@ -191,8 +191,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     )
     scene_names = [r.name for r in sim.scene.readouts] if sim.scene else ["T", "V", "P_acc"]
     for name in scene_names:
-        value = rows[-1][columns.index(name)]
-        extra = f"   (course: {ref[name]:.6g})" if name in ref else ""
+        value = rows[-1][columns.index(name)] + 0.0  # "-0" is no number to read: 0
+        extra = f"   (course: {ref[name] + 0.0:.6g})" if name in ref else ""
         print(f"  {name:<18} {value:>14.6g} {units[name]}{extra}")
     if recorder is not None:
         print(

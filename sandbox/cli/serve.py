@@ -9,7 +9,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from sandbox.cli.options import MAX_WORKERS, check_port_range, pairs
+from sandbox.cli.options import MAX_WORKERS, check_port_range, own_source, pairs
 from sandbox.errors import BadOption, choices, shown
 from sandbox.lessons import ANY_SCENE, UnknownLesson, catalogue, is_lesson_file, open_lesson_file
 from sandbox.scenes import DEFAULT_SCENE, SCENES
@@ -27,6 +27,7 @@ def cmd_serve(
     follow: bool = False,
     public_url: str | None = None,
     motion: str | None = None,
+    max_memory: float | None = None,
 ) -> int:
     """``sandbox serve``: start the web app (blocks until Ctrl-C).
 
@@ -69,6 +70,10 @@ def cmd_serve(
     options: dict[str, object] = {"follow": True} if follow else {}
     if motion is not None:
         options["motion"] = motion
+    if target not in SCENES:  # the user's own MJCF file: checked, and its size said
+        own_source(target, max_memory)
+    if max_memory is not None:
+        options["max_memory"] = max_memory
     if public_url:
         if not public_url.startswith(("http://", "https://")) or len(public_url) > 200:
             raise BadOption(

@@ -11,7 +11,7 @@ import sys
 from tqdm import tqdm  # type: ignore[import-untyped]  # (viser needs it; no stubs)
 
 from sandbox import sweep
-from sandbox.cli.options import MAX_WORKERS, pairs
+from sandbox.cli.options import MAX_WORKERS, own_source, pairs
 from sandbox.cores import default_workers
 from sandbox.errors import BadOption
 from sandbox.runner import check_out
@@ -34,6 +34,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         integrator=args.integrator,
         timestep=args.timestep,
         motion=args.motion,
+        max_bytes=own_source(args.target, args.max_memory).max_bytes,
     )
     steps = sweep.check(study)
     runs = len(study.points())

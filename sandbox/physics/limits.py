@@ -40,12 +40,47 @@ MAX_ASSET_BYTES = 256 * 2**20
 [bytes]."""
 
 MAX_MODEL_BYTES = 256 * 2**20
-"""Largest estimated size of what MuJoCo allocates for a user's model before it steps
+"""Largest estimated size of what MuJoCo allocates for a model that comes from outside the
+machine (a browser's upload, a recording's MJCF) before it steps
 [bytes]: height fields (:data:`HFIELD_BYTES` a point), textures (:data:`TEXTURE_BYTES` a
 pixel and face), mesh files (8 bytes a byte of file), the arena (``<size memory>``,
 ``njmax``, ``nconmax``, ``nstack``), user data and keyframes. Checked on the XML and the
 MjSpec before MuJoCo parses or compiles (an hfield of 100000 x 100000 would take 160 GB):
-an accepted model stays under about 350 MB of RSS."""
+an accepted model stays under about 350 MB of RSS. A file named on the command line is
+the user's own: it gets :func:`machine_bytes` (``--max-memory``) instead."""
+
+RAISE_HINT = "make it smaller, or give a larger --max-memory (MB) for your own file"
+"""The fix a refusal names when the limit is the command line's (:func:`machine_bytes`)."""
+
+
+def machine_bytes(megabytes: float | None = None) -> float:
+    """What a model named on the command line may take to compile [bytes]: ``megabytes``
+    when given (``--max-memory``), else half of the machine's memory (psutil, when
+    installed: Linux, macOS and Windows alike), else 4 GB."""
+    if megabytes is not None:
+        return float(megabytes) * 2**20
+    try:
+        import psutil  # optional: the bench and test extras
+
+        return float(psutil.virtual_memory().total) / 2
+    except (ImportError, OSError, AttributeError):
+        return 4.0 * 2**30
+
+
+def estimate(path: Path) -> tuple[float, str]:
+    """What the MJCF file ``path`` would take to compile [bytes], and what takes most of
+    it (:func:`check_spec`'s estimate, nothing refused; (0, "") when it does not parse:
+    the build says why)."""
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+        return check_spec(spec, path, timestep=False, limit=math.inf)
+    except (ValueError, RuntimeError, mujoco.FatalError, BadModel, OSError):
+        return 0.0, ""
+
+
+def _fix(limit: float) -> str:
+    return RAISE_HINT if limit != MAX_MODEL_BYTES else "make it smaller"
+
 
 HFIELD_BYTES = 16
 """Bytes MuJoCo 4.0 takes per height field point while compiling (measured: 8000 x 8000
@@ -120,9 +155,10 @@ def read_mjcf(path: Path, limit: int = MAX_MJCF_BYTES) -> str:
 
 @dataclass
 class _Scan:
-    """What :func:`_prescan` counted so far."""
+    """What :func:`prescan` counted so far, and the limit in bytes."""
 
     root: Path
+    limit: float = MAX_MODEL_BYTES
     elements: int = 0
     read: int = 0
     files: int = 0
@@ -148,13 +184,14 @@ def _product(text: str | None) -> float:
     return out
 
 
-def prescan(path: Path) -> None:
-    """Refuse before MuJoCo parses it an MJCF whose parsing alone would take gigabytes.
+def prescan(path: Path, limit: float = MAX_MODEL_BYTES) -> None:
+    """Refuse before MuJoCo parses it an MJCF whose parsing alone would take more than
+    ``limit`` bytes (height fields, textures) or expand past :data:`MAX_ELEMENTS`.
 
     MuJoCo expands ``<replicate>``, ``<composite>``, ``<flexcomp>`` and built-in meshes
     while parsing; this counts them (following ``<include>``) on the bounded text.
     """
-    scan = _Scan(root=path.parent)
+    scan = _Scan(root=path.parent, limit=limit)
     _scan_file(path, scan, 1.0, path)
 
 
@@ -204,11 +241,11 @@ def _scan_element(elem: ET.Element, scan: _Scan, mult: float, top: Path) -> None
             cost = HFIELD_BYTES * area
         else:  # MuJoCo's default texture type is a cube: six faces
             cost = TEXTURE_BYTES * area * (1 if elem.get("type") == "2d" else 6)
-        if cost > MAX_MODEL_BYTES:
+        if cost > scan.limit:
             raise BadModel(
                 f"{shown(str(top))}: {tag} {shown(elem.get('name') or '')} of "
                 f"{' x '.join(d or '?' for d in dims)} would take more than "
-                f"{MAX_MODEL_BYTES // 2**20} MB; make it smaller"
+                f"{scan.limit / 2**20:,.0f} MB; {_fix(scan.limit)}"
             )
     elif tag == "include" and elem.get("file"):
         target = scan.root / str(elem.get("file"))
@@ -254,12 +291,18 @@ def _asset(spec: mujoco.MjSpec, name: str, folder: str, top: Path) -> tuple[int,
     return 0, 0
 
 
-def check_spec(spec: mujoco.MjSpec, path: Path, *, timestep: bool = True) -> None:
+def check_spec(
+    spec: mujoco.MjSpec, path: Path, *, timestep: bool = True, limit: float = MAX_MODEL_BYTES
+) -> tuple[float, str]:
     """Refuse a user's parsed model that MuJoCo could not run sensibly, before compiling.
 
     Checks the file's own timestep (unless ``timestep`` is False: the caller overrides it)
-    and bounds what compiling would allocate (:data:`MAX_MODEL_BYTES`,
-    :data:`MAX_ASSET_BYTES`, :data:`MAX_KEYS`, :data:`MAX_USER_FIELDS`).
+    and bounds what compiling would allocate (``limit``: :data:`MAX_MODEL_BYTES` for a
+    model from outside, :func:`machine_bytes` for the user's own; :data:`MAX_ASSET_BYTES`,
+    :data:`MAX_KEYS`, :data:`MAX_USER_FIELDS`).
+
+    Returns:
+        The estimate [bytes] and what takes most of it (the user's own file is told).
 
     Raises:
         BadModel: naming the element, its value and the limit.
@@ -330,8 +373,9 @@ def check_spec(spec: mujoco.MjSpec, path: Path, *, timestep: bool = True) -> Non
         )
     what, biggest = max(parts, key=lambda p: p[1])
     estimate = sum(p[1] for p in parts)
-    if estimate > MAX_MODEL_BYTES:
+    if estimate > limit:
         raise BadModel(
             f"{name} would take about {estimate / 2**20:,.0f} MB to compile, mostly "
-            f"{what} (max {MAX_MODEL_BYTES // 2**20} MB); make it smaller"
+            f"{what} (max {limit / 2**20:,.0f} MB); {_fix(limit)}"
         )
+    return estimate, what

@@ -23,6 +23,7 @@ from sandbox.errors import BadModel, BadOption, UnknownScene, choices, one_line,
 from sandbox.french import shown_value
 from sandbox.physics.imposed import ANCHOR_SLOTS
 from sandbox.physics.limits import (
+    MAX_MODEL_BYTES,
     check_spec,
     prescan,
     read_mjcf,
@@ -81,10 +82,13 @@ NO_SCENES: Mapping[str, Scene] = MappingProxyType({})
 
 @dataclass(frozen=True)
 class Source:
-    """Where a model comes from: a registered scene or a user's MJCF file."""
+    """Where a model comes from: a registered scene or a user's MJCF file, and what that
+    file may take to compile [bytes] (:data:`~sandbox.physics.limits.MAX_MODEL_BYTES`
+    for one from outside; a file named on the command line gets more, ``--max-memory``)."""
 
     scene: Scene | None
     path: Path
+    max_bytes: float = MAX_MODEL_BYTES
 
     @classmethod
     def of_scene(cls, scene: Scene) -> Source:
@@ -97,13 +101,20 @@ class Source:
         return self.scene.name if self.scene else self.path.name
 
 
-def resolve(target: str | Path, scenes: Mapping[str, Scene] = NO_SCENES) -> Source:
+def resolve(
+    target: str | Path,
+    scenes: Mapping[str, Scene] = NO_SCENES,
+    *,
+    max_bytes: float = MAX_MODEL_BYTES,
+) -> Source:
     """Turn ``X`` of the CLI into a source: a scene name of ``scenes`` or an MJCF path.
 
     Args:
         target: A scene name or the path of an MJCF file.
         scenes: The registry names are looked up in (:func:`sandbox.scenes.resolve` passes
             the course's); without one, only a file is accepted.
+        max_bytes: What a file may take to compile (the command line's own file gets
+            :func:`~sandbox.physics.limits.machine_bytes`).
 
     Raises:
         UnknownScene: neither a scene nor an existing file (lists the scenes).
@@ -146,7 +157,7 @@ def resolve(target: str | Path, scenes: Mapping[str, Scene] = NO_SCENES) -> Sour
         raise BadModel(
             f"{name} is not a regular file (a device or a pipe?); give an MJCF file (.xml)"
         )
-    return Source(None, Path(text))
+    return Source(None, Path(text), max_bytes)
 
 
 def model_xml(source: Source, values: Mapping[str, float]) -> str:
@@ -191,10 +202,10 @@ def build(
     """
     try:
         if source.scene is None:
-            prescan(source.path)
+            prescan(source.path, source.max_bytes)
         spec = mujoco.MjSpec.from_file(str(source.path))
         if source.scene is None:
-            check_spec(spec, source.path, timestep=own_timestep)
+            check_spec(spec, source.path, timestep=own_timestep, limit=source.max_bytes)
         if source.scene is not None:
             _edit(spec, source.scene, values)
         model = spec.compile()

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from sandbox.errors import UnknownScene, choices
 from sandbox.physics import model
+from sandbox.physics.limits import MAX_MODEL_BYTES
 from sandbox.physics.model import Source
 from sandbox.physics.spec import Scene
 from sandbox.scenes.compressor import SCENE as COMPRESSOR
@@ -43,10 +44,11 @@ SCENES: dict[str, Scene] = {
 DEFAULT_SCENE = "rotor"
 
 
-def resolve(target: str | Path) -> Source:
+def resolve(target: str | Path, *, max_bytes: float = MAX_MODEL_BYTES) -> Source:
     """A scene of the registry by name, or an MJCF file by path (UnknownScene listing the
-    scenes, BadModel for a directory or a device)."""
-    return model.resolve(target, SCENES)
+    scenes, BadModel for a directory or a device); ``max_bytes``: what the file may take to
+    compile (the command line's own: :func:`~sandbox.physics.limits.machine_bytes`)."""
+    return model.resolve(target, SCENES, max_bytes=max_bytes)
 
 
 def get_scene(name: str) -> Scene:

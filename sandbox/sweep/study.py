@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sandbox.errors import BadOption, shown
+from sandbox.physics.limits import MAX_MODEL_BYTES
 from sandbox.physics.model import Source
 from sandbox.physics.simulation import Simulation
 from sandbox.runner import MAX_STEPS, check_run
@@ -116,6 +117,8 @@ class Study:
     timestep: float | None = None
     motion: str | None = None
     """How a scene with an imposed input computes it ("imposed", "free"; None: its default)."""
+    max_bytes: float = MAX_MODEL_BYTES
+    """What an MJCF file may take to compile [bytes] (``--max-memory`` on the command line)."""
     course: str | None = None
     """Key of the closed form in the scene's reference when it is not the readout's own
     (e.g. ``flip_period`` for the period of ``spin_angle``)."""
@@ -130,8 +133,9 @@ class Study:
 
     @property
     def source(self) -> Source:
-        """The scene or MJCF file ``target`` names (resolved against the course's registry)."""
-        return resolve(self.target)
+        """The scene or MJCF file ``target`` names (resolved against the course's registry),
+        an MJCF file allowed :attr:`max_bytes` to compile."""
+        return resolve(self.target, max_bytes=self.max_bytes)
 
 
 def check(study: Study) -> int:

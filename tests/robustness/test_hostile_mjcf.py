@@ -40,14 +40,21 @@ def mjcf(*, option: str = "", asset: str = "", world: str = BODY, head: str = ""
     return f"<mujoco>{head}{options}{assets}<worldbody>{world}</worldbody></mujoco>"
 
 
+UNTRUSTED = ("--max-memory", str(MAX_MODEL_BYTES // 2**20))
+"""A file named on the command line is the user's own and may take half the machine's
+memory; these files are hostile: they run under the limit of files from outside."""
+
+
 def run_file(tmp_path: Path, text: str | bytes, *args: str, name: str = "m.xml") -> Outcome:
-    """``sandbox run NAME ARGS`` on ``text`` written in ``tmp_path``."""
+    """``sandbox run NAME ARGS`` on ``text`` written in ``tmp_path``, under the limit of
+    files from outside (:data:`UNTRUSTED`) unless ``ARGS`` give ``--max-memory``."""
     path = tmp_path / name
     if isinstance(text, bytes):
         path.write_bytes(text)
     else:
         path.write_text(text)
-    return run_cli("run", name, *args, cwd=tmp_path)
+    limit = () if "--max-memory" in args else UNTRUSTED
+    return run_cli("run", name, *args, *limit, cwd=tmp_path)
 
 
 def png_header(width: int, height: int) -> bytes:
@@ -284,3 +291,45 @@ def test_check_spec_estimates_the_hfield_and_accepts_the_scenes(tmp_path):
         source = Source.of_scene(scene)
         check_spec(mujoco.MjSpec.from_file(str(source.path)), source.path, timestep=False)
         build(source, scene.defaults())
+
+
+# -- the user's own file on the command line ----------------------------------------------
+ARENA = mjcf(head='<size memory="1G"/>')
+"""A model whose arena is 1 GB (MuJoCo's gallery has three such: replicate/bunnies.xml,
+leaves.xml, particle.xml)."""
+
+
+def test_a_1_gb_arena_named_on_the_command_line_runs_and_is_said(tmp_path):
+    """The teacher's own file is not a browser's upload: it gets the machine's memory, and
+    a note says what it takes."""
+    out = run_file(tmp_path, ARENA, "--duration", "0.01", "--max-memory", "4096")
+    assert out.code == 0, out.err
+    assert "takes about 1,024 MB to compile, mostly <size memory>" in out.err
+    assert "allowed: 4,096 MB" in out.err
+
+
+def test_a_lower_max_memory_refuses_it_naming_the_option(tmp_path):
+    out = run_file(tmp_path, ARENA, "--duration", "0.01", "--max-memory", "200")
+    line = assert_refused(out, "about 1,024 MB", "(max 200 MB)")
+    assert "--max-memory" in line
+
+
+def test_the_same_file_from_outside_keeps_its_limit(tmp_path):
+    """What a browser sends or a recording carries opens through a source of the default
+    limit: refused, the fix without the command line's option."""
+    from sandbox.errors import BadModel
+    from sandbox.physics.simulation import Simulation
+
+    path = tmp_path / "arena.xml"
+    path.write_text(ARENA)
+    with pytest.raises(BadModel, match=r"\(max 256 MB\); make it smaller$"):
+        Simulation(path)
+
+
+def test_the_default_limit_of_the_command_line_is_half_the_machine():
+    import psutil
+
+    from sandbox.physics.limits import machine_bytes
+
+    assert machine_bytes() == pytest.approx(psutil.virtual_memory().total / 2)
+    assert machine_bytes(300) == 300 * 2**20

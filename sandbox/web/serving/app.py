@@ -13,6 +13,7 @@ from typing import Any
 
 from sandbox.cores import default_workers
 from sandbox.errors import BadOption
+from sandbox.physics.limits import machine_bytes
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import resolve
 from sandbox.web.client import viser_internals
@@ -49,7 +50,7 @@ def serve(target: str | Path, *, workers: int | None = None, **options: Any) -> 
     options.pop("open_message", None)
     options = {k: (dict(v) if k == "values" else v) for k, v in options.items()}
     Simulation(
-        resolve(target),
+        resolve(target, max_bytes=machine_bytes(options.get("max_memory"))),
         values=options.get("values") or {},
         integrator=options.get("integrator"),
         timestep=options.get("timestep"),

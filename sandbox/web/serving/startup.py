@@ -14,6 +14,7 @@ from pathlib import Path
 import viser
 
 from sandbox.lessons import is_lesson_file, open_lesson_file
+from sandbox.physics.limits import machine_bytes
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import resolve
 from sandbox.web.loop import Controller, first_estimate
@@ -53,6 +54,7 @@ def start(
     follow: bool = False,
     token: str | None = None,
     public_url: str | None = None,
+    max_memory: float | None = None,
 ) -> ClassApp | FollowApp:
     """Start the web app in background threads and return at once.
 
@@ -80,6 +82,9 @@ def start(
         public_url: The address students type when they come through a proxy (shown
             in "Rejoindre" and printed instead of this machine's addresses); the
             websockets of pages loaded from it are accepted.
+        max_memory: What the MJCF file ``target`` names may take to compile [MB]
+            (``--max-memory``; None: half the machine's memory). Files a browser sends
+            keep their own limit.
 
     Raises:
         SandboxError: bad target, value or option; BadOption when the port is taken.
@@ -96,7 +101,7 @@ def start(
         "timestep": timestep,
         "motion": motion,
     }
-    source = resolve(target)
+    source = resolve(target, max_bytes=machine_bytes(max_memory))
     Simulation(source, **options)
     server = open_server(host, port, PAGE_TITLE, check=check_port)
     bound = port if network.handing_off() else server.get_port()
