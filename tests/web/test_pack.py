@@ -209,8 +209,8 @@ def test_a_recording_started_at_step_3_exports_step_3(tmp_path):
 def test_one_clock_for_the_video_the_plot_the_chapters_and_the_3d_page(tmp_path, monkeypatch):
     """A recording started 2 s into a session (the page's « Enregistrer » at t = 2 s):
     the plot, the chapters and the readouts under the video count from the recording's
-    start; the simulated time t reads 2 s at its first frame over the video, in the 3D
-    page and under the video, and the page says which is which."""
+    start; the simulated time t reads 2 s at its first frame over the video and under it
+    (the same lines, frame by frame), and the page says which is which."""
     import json
     import re
 
@@ -233,7 +233,9 @@ def test_one_clock_for_the_video_the_plot_the_chapters_and_the_3d_page(tmp_path,
     assert times[0] == 0.0 and abs(times[1] - 30 * sim.timestep) < 1e-9
     captions = json.loads(re.search(r"const CAPTIONS = (.*);", page).group(1))
     assert captions[0][0] == 0.0 and captions[0][1].startswith("t = 2,00\u00a0s")
-    assert captions[-1][1].startswith(real(2.0 + 60 * sim.timestep))  # « t = 2,60 s »
+    # under the video: the very lines written over each of its frames, at its clock
+    assert [c[1].split("\n")[0] for c in captions] == written
+    assert captions[1][0] == pytest.approx(1 / 30, abs=1e-6)
     assert "t = 2,00\u00a0s au début" in page  # the page names its two times
     three_d = (tmp_path / "site" / "01-late" / "3d" / "index.html").read_text(encoding="utf-8")
     assert three_d  # the 3D page's overlay is the captions' code (export_static)

@@ -83,11 +83,8 @@ def export_static(
     folder: str | Path,
     *,
     fps: float = EXPORT_FPS,
-    captions: list[tuple[float, str]] | None = None,
 ) -> Path:
-    """Write ``folder/index.html`` (3D replay + readout overlay) and ``readouts.csv``;
-    ``captions``, when given, receives each written frame's playback time [s] (the
-    recording's :attr:`~sandbox.recording.Recording.timeline`) and its overlay's text.
+    """Write ``folder/index.html`` (3D replay + readout overlay) and ``readouts.csv``.
 
     Returns:
         The path of ``index.html``.
@@ -151,8 +148,6 @@ def export_static(
                 arrows.relabel(shown)
             t = float(clock[i])
             overlay.text = overlay_text(rec, shown, names, labels, zeros)
-            if captions is not None:
-                captions.append((t, overlay.text))
             if last_t is not None:
                 serializer.insert_sleep(max(0.0, t - last_t))
             last_t = t

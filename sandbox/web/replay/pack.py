@@ -7,7 +7,7 @@ server, nothing loaded from the network.
 - ``index.html``: the recording as a video (:mod:`sandbox.web.video.render`: the mechanism, its
   arrows and labels, the key readouts in French) with play, pause, scrub and speed; under
   it the same readouts in the page's own text (readable on a phone, where the video's
-  letters are small), written by the 3D export's overlay code for the same frames; beside
+  letters are small), the very lines written over each frame of the video; beside
   it, for a recording made during a lesson, the lesson's steps in French, each a chapter of
   the timeline (clicking one seeks there; the step being shown is marked); below, the
   recorded readouts against time, whose cursor follows the video and which seeks the video
@@ -180,9 +180,9 @@ def _write(recordings: Sequence[Recording], folder: Path) -> Path:
         stem = re.sub(r"[^A-Za-z0-9_-]", "_", rec.path.stem)[:40] or "enregistrement"
         sub = folder / f"{k:02d}-{stem}"
         sub.mkdir()
-        frames = render_video(rec, VideoOptions(sub / "video.mp4", size=SIZE))
-        captions: list[tuple[float, str]] = []
-        export_static(rec, sub / "3d", captions=captions)
+        captions: list[tuple[float, str]] = []  # what each frame of the video writes
+        frames = render_video(rec, VideoOptions(sub / "video.mp4", size=SIZE), captions=captions)
+        export_static(rec, sub / "3d")
         title = _title(rec)
         lesson, steps = chapters(rec)
         start = float(rec.times[0]) if len(rec.times) else 0.0
@@ -260,7 +260,7 @@ def page(
         f"<p id='clock'>{html.escape(clock_words(start))}</p>"
         "<canvas id='plot'></canvas></div>"
         f"{lesson_html}</main>"
-        f"<script>const DATA = {_json(series)};\n"
+        f"<script>const DATA = {_json({**series, 'end': round(duration, 6)})};\n"
         f"const CAPTIONS = {_json([[round(t, 6), text] for t, text in captions])};\n"
         f"{SCRIPT}</script></body></html>"
     )
@@ -270,15 +270,17 @@ def clock_words(start: float) -> str:
     """The sentence that names the page's two times."""
     return (
         "La vidéo, les courbes et les étapes comptent le temps depuis le début de "
-        f"l'enregistrement ; t est le temps de la simulation ({time_line(start)} au début)."
+        "l'enregistrement. Le temps t affiché est celui de la simulation "
+        f"({time_line(start)} au début)."
     )
 
 
 SCRIPT = r"""
 const video = document.getElementById('v'), canvas = document.getElementById('plot');
 const ctx = canvas.getContext('2d'), colors = ['#1f77b4', '#ff7f0e', '#2ca02c'];
-const t = DATA.t, t0 = t.length ? t[0] : 0, t1 = t.length ? t[t.length - 1] : 1;
-const pad = {l: 64, r: 16, t: 12, b: 40};
+// the axis runs over the whole video (the last readout row may come a frame before its end)
+const t = DATA.t, t0 = 0, t1 = Math.max(t.length ? t[t.length - 1] : 0, DATA.end || 0) || 1;
+const pad = {l: 64, r: 16, t: 14 + 22 * DATA.series.length, b: 52};  // legend above, axis below
 let W = 600, H = 240;  // CSS pixels: the canvas follows its box (a phone, a laptop)
 let lo = Infinity, hi = -Infinity;
 for (const s of DATA.series) {
@@ -310,10 +312,10 @@ function draw() {
     ctx.beginPath(); ctx.moveTo(pad.l, y); ctx.lineTo(W - pad.r, y); ctx.stroke();
     ctx.fillText(fr(v), 4, y + 4);
   }
-  ctx.textAlign = 'left'; ctx.fillText(fr(t0), pad.l, H - 12);
-  ctx.textAlign = 'right'; ctx.fillText(fr(t1) + ' s', W - pad.r, H - 12);
-  ctx.textAlign = 'center';
-  ctx.fillText("temps de l'enregistrement", (pad.l + W - pad.r) / 2, H - 12);
+  ctx.textAlign = 'left'; ctx.fillText(fr(t0), pad.l, H - 30);
+  ctx.textAlign = 'right'; ctx.fillText(fr(t1) + ' s', W - pad.r, H - 30);
+  ctx.textAlign = 'center';  // its own line: a phone's width holds it whole
+  ctx.fillText("temps de l'enregistrement", (pad.l + W - pad.r) / 2, H - 8);
   ctx.textAlign = 'left';
   DATA.series.forEach((s, k) => {
     ctx.strokeStyle = colors[k % 3]; ctx.lineWidth = 2; ctx.beginPath();
@@ -322,11 +324,9 @@ function draw() {
       if (up) ctx.lineTo(X(t[i]), Y(v)); else ctx.moveTo(X(t[i]), Y(v)); up = true; });
     ctx.stroke();
   });
-  DATA.series.forEach((s, k) => {  // the legend over the curves, each on its own line
-    const text = s.label + (s.unit ? ' [' + s.unit + ']' : ''), y = pad.t + 20 + 22 * k;
-    ctx.fillStyle = 'rgba(255,255,255,0.85)';
-    ctx.fillRect(pad.l + 4, y - 16, ctx.measureText(text).width + 8, 21);
-    ctx.fillStyle = colors[k % 3]; ctx.fillText(text, pad.l + 8, y);
+  DATA.series.forEach((s, k) => {  // the legend above the curves, one line each
+    const text = s.label + (s.unit ? ' [' + s.unit + ']' : '');
+    ctx.fillStyle = colors[k % 3]; ctx.fillText(text, pad.l, 18 + 22 * k);
   });
   const x = X(clock());
   ctx.strokeStyle = '#000'; ctx.lineWidth = 2;

@@ -50,9 +50,15 @@ BACKGROUND = (255, 255, 255)
 
 # -- the video ------------------------------------------------------------------------------
 def render_video(
-    rec: Recording, options: VideoOptions, progress: Callable[[int, int], None] | None = None
+    rec: Recording,
+    options: VideoOptions,
+    progress: Callable[[int, int], None] | None = None,
+    *,
+    captions: list[tuple[float, str]] | None = None,
 ) -> int:
-    """Write the video ``options.out``; returns the number of frames.
+    """Write the video ``options.out``; returns the number of frames. ``captions``, when
+    given, receives each frame's time in the video [s] and the text written over it (the
+    lesson pack writes it under the video, readable on a phone).
 
     Raises:
         BadOption: bad options (before any frame).
@@ -166,6 +172,8 @@ def render_video(
             lines += overlay_lines(names, values, labels, units, zeros)
             # top left: a player's controls cover the bottom of a video
             text.box(draw, (0.02 * width, 0.03 * view_h), lines, text.big)
+            if captions is not None:
+                captions.append((k / options.fps, "\n".join(lines)))  # the video's clock
             if strip is not None:
                 frame.paste(strip.image, (0, view_h))
                 x = strip.x_of(float(t))
