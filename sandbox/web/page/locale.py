@@ -138,6 +138,10 @@ a red spinner, and the status line went on reading « en cours »."""
 LOST_AFTER_S = 3.0
 """Seconds without a connection before :data:`LOST` shows (a worker's restart takes
 less)."""
+HIDDEN_SECTION = "Scene tree"
+"""viser's settings panel lists the scene's nodes by their code names (``/WorldAxes``,
+``/arrows``, ``/model``): a developer's tool, hidden from the page (its section, by its
+title)."""
 CONNECTED_ICON = "tabler-icon-cloud-check"
 """The class of the icon viser's panel shows while its websocket is connected."""
 
@@ -160,6 +164,10 @@ _SCRIPT = """<script>(function () {
     var t = node.nodeValue.trim();
     if (!Object.prototype.hasOwnProperty.call(fr, t)) return;
     node.nodeValue = fr[t];
+    var title = node.parentElement;
+    if (t === %(hidden)s && title && title.tagName === "P" && title.parentElement) {
+      title.parentElement.style.display = "none";  // the scene tree: code names, not words
+    }
     if (closing.indexOf(t) >= 0) {  // a warning that needs no answer leaves the 3D view
       var box = node.parentElement && node.parentElement.closest("[role=alert]");
       var close = box && box.querySelector("button");
@@ -213,6 +221,10 @@ _SCRIPT = """<script>(function () {
   }
   function commas() {
     document.querySelectorAll("input.mantine-NumberInput-input").forEach(comma);
+    // a list's chosen option is an input's value, which no text node carries
+    document.querySelectorAll("input[readonly]").forEach(function (input) {
+      if (Object.prototype.hasOwnProperty.call(fr, input.value)) input.value = fr[input.value];
+    });
   }
   // the server lost: a French line over the page until the connection comes back
   var connected = false, lostSince = 0;
@@ -277,6 +289,7 @@ def _french_script(french: str) -> str:
         "close_ms": round(CLOSE_AFTER_S * 1000),
         "comma_ms": round(COMMA_EVERY_S * 1000),
         "icon": json.dumps(CONNECTED_ICON),
+        "hidden": json.dumps(HIDDEN_SECTION),
         "lost": json.dumps(LOST, ensure_ascii=True),
         "lost_ms": round(LOST_AFTER_S * 1000),
     }

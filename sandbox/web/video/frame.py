@@ -12,7 +12,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from PIL import ImageFont
+from PIL import Image, ImageDraw, ImageFont
 
 from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
@@ -36,8 +36,6 @@ class Text:
 
     def extent(self, lines: Sequence[str], font: Any) -> tuple[float, float]:
         """Width and height [px] of :meth:`box` around ``lines``, padding included."""
-        from PIL import Image, ImageDraw
-
         draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
         x0, y0, x1, y1 = draw.multiline_textbbox((0, 0), "\n".join(lines), font=font, spacing=4)
         pad = max(4, font.size // 4)
