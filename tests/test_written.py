@@ -80,3 +80,15 @@ def test_a_recordings_date_reads_in_french():
     assert date_words("2026-11-29T11:20:41+00:00") == "29/11/2026 à 11 h 20 (UTC)"
     assert date_words("2026-11-29T09:05:00") == "29/11/2026 à 9 h 05"
     assert date_words("<b>pas une date</b>") == "<b>pas une date</b>"  # escaped where shown
+
+
+@pytest.mark.parametrize(("duration", "frames"), [(13.46, 137), (13.4600000001, 1347), (0.05, 3)])
+def test_the_replay_s_time_box_has_the_status_line_s_hundredths(duration, frames):
+    """« 13,4600000 » was the replay's time box: its step, end (and so its value) have at
+    most two decimals."""
+    from sandbox.web.replay.player import timeline_scale
+
+    step, top = timeline_scale(duration, frames)
+    for value in (step, top):
+        assert value == round(value, 2) and len(repr(value).split(".")[-1]) <= 2
+    assert top >= duration - 1e-9 and step >= 0.01

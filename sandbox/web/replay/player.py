@@ -206,6 +206,14 @@ def seconds(t: float) -> str:
     return time_words(float(t))
 
 
+def timeline_scale(duration: float, frames: int) -> tuple[float, float]:
+    """The time slider's step and end [s], both to the hundredth: viser writes the box
+    with as many decimals as its step, bounds and value have (a step of 13,46/137 s wrote
+    « 13,4600000 »), and the status line writes times to the hundredth."""
+    step = max(round(duration / max(frames - 1, 1), 2), 0.01)
+    return step, math.ceil(max(duration, step) * 100.0 - 1e-9) / 100.0
+
+
 class ReplayPanel:
     """Folder "Relecture": status, time scrubber, play/pause, frame steps, speed."""
 
@@ -215,11 +223,7 @@ class ReplayPanel:
         self.controller = controller
         rec = controller.rec
         submit = controller.submit
-        t1 = float(controller.timeline[-1])
-        # viser writes the box with as many decimals as its step, bounds and value have:
-        # a step of 13,46/137 s wrote « 13,4600000 »; to the hundredth, as the status
-        step = max(round(t1 / max(len(rec.times) - 1, 1), 2), 0.01)
-        top = math.ceil(max(t1, step) * 100.0 - 1e-9) / 100.0
+        step, top = timeline_scale(float(controller.timeline[-1]), len(rec.times))
         with gui.add_folder("Relecture"):
             # The header comes from a file students exchange: shown as text, never HTML.
             lesson = rec.header.get("lesson")
