@@ -23,6 +23,7 @@ from sandbox.web.video.framing import (
     fits,
     frame_clip,
     outline,
+    sample_clip,
 )
 from sandbox.web.view3d.camera import page_pose, scene_view
 
@@ -95,3 +96,18 @@ def test_a_turning_disc_is_outlined_by_its_rim():
     points = outline(model, 0)
     assert np.allclose(np.hypot(points[:, 0], points[:, 1]), 0.3)
     assert np.allclose(np.abs(points[:, 2]), 0.02)
+
+
+def test_a_cylinder_rolling_far_is_followed_and_a_short_roll_is_not(tmp_path):
+    """Framed still, 4 s down the plane made the
+    cylinder a dot: a clip whose parts travel 4 times their size or more is followed,
+    the camera around their centre of mass, which the parts' outline fills."""
+    far = load(_recording("rolling_cylinder", tmp_path / "far.sbx", 4.0))
+    clip = sample_clip(far, open_simulation(far), np.linspace(0.0, far.timeline[-1], 24))
+    assert clip.follows
+    position, look_at, up = _page_camera(open_simulation(far))
+    position, look_at = frame_clip(clip.shape(), position - look_at, np.zeros(3), up, PICTURE)
+    bounds = _bounds(clip.shape(), position, _basis(position, look_at, up), PICTURE)
+    assert fits(bounds, PICTURE)
+    near = load(_recording("rolling_cylinder", tmp_path / "near.sbx", 0.2))
+    assert not sample_clip(near, open_simulation(near), np.linspace(0.0, 0.2, 8)).follows

@@ -83,30 +83,97 @@ parts' whole travel: the compressor's cylinder and the rotor's base are, the rol
 cylinder's 4 m long plane is not."""
 
 
-def clip_points(rec: Recording, sim: Simulation, clock: Iterable[float]) -> np.ndarray:
-    """Points (x, y, z) outlining every moving geom at each instant of ``clock`` (the
-    recording's clock [s]), re-simulated on ``sim``, and the fixed geoms of about the
-    same size as that motion (:data:`STATIC_SCALE`)."""
+def moving_outline(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """Points outlining every visible geom of a moving body, in this pose (positions up
+    to date)."""
+    moving = (model.body_weldid[model.geom_bodyid] != 0) & _shown(model)
+    parts = [
+        data.geom_xpos[g] + outline(model, g) @ data.geom_xmat[g].reshape(3, 3).T
+        for g in map(int, np.flatnonzero(moving))
+    ]
+    return np.concatenate(parts) if parts else np.zeros((0, 3))
+
+
+def moving_centre(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """The centre of mass of the moving bodies (what a following camera aims at: it
+    does not wobble as a turning part's outline does)."""
+    moving = model.body_weldid != 0
+    mass = model.body_mass * moving
+    total = float(mass.sum())
+    if total <= 0:
+        return np.zeros(3)
+    return np.asarray(mass @ data.xipos / total, dtype=float)
+
+
+FOLLOW_RATIO = 4.0
+"""A clip whose moving parts travel this many times their own size is followed by the
+camera (the rolling cylinder down its plane): framed still, it would be a dot."""
+
+
+@dataclass(frozen=True)
+class Clip:
+    """What a clip's camera frames: the moving parts' outline at each sampled instant,
+    their centre of mass then, and the fixed parts' outline."""
+
+    moving: tuple[np.ndarray, ...]
+    centres: tuple[np.ndarray, ...]
+    fixed: tuple[np.ndarray, ...]
+
+    @property
+    def follows(self) -> bool:
+        """The parts travel :data:`FOLLOW_RATIO` times their own size, or more."""
+        shown = [m for m in self.moving if len(m)]
+        if not shown:
+            return False
+        size = max(float(np.max(m.max(axis=0) - m.min(axis=0))) for m in shown)
+        return _extent(np.concatenate(shown)) > FOLLOW_RATIO * max(size, 1e-9)
+
+    def points(self) -> np.ndarray:
+        """The still camera's cloud: every instant's moving parts, and the fixed parts of
+        about the size of that motion (:data:`STATIC_SCALE`)."""
+        shown = [m for m in self.moving if len(m)]
+        if not shown:
+            return np.zeros((0, 3))
+        cloud = np.concatenate(shown)
+        travel = _extent(cloud)
+        return np.vstack([cloud, *(f for f in self.fixed if _extent(f) <= STATIC_SCALE * travel)])
+
+    def shape(self) -> np.ndarray:
+        """The following camera's cloud: each instant's moving parts around their centre
+        of mass (the camera moves with that centre)."""
+        shown = [m - c for m, c in zip(self.moving, self.centres, strict=True) if len(m)]
+        return np.concatenate(shown) if shown else np.zeros((0, 3))
+
+
+def _extent(points: np.ndarray) -> float:
+    return float(np.max(points.max(axis=0) - points.min(axis=0))) if len(points) else 0.0
+
+
+def sample_clip(rec: Recording, sim: Simulation, clock: Iterable[float]) -> Clip:
+    """The moving parts' outlines and centres at each instant of ``clock`` (the
+    recording's clock [s]), re-simulated on ``sim``, and the fixed parts' outline."""
     follow = Follow(rec, sim)
-    out: list[np.ndarray] = []
+    moving: list[np.ndarray] = []
+    centres: list[np.ndarray] = []
     fixed: list[np.ndarray] = []
     for k, t in enumerate(clock):
         follow.to(float(t))
         model, data = sim.model, sim.data
         mujoco.mj_kinematics(model, data)
-        shown = _shown(model)
-        moving = model.body_weldid[model.geom_bodyid] != 0
-        for g in map(int, np.flatnonzero(shown & (moving | (k == 0)))):
-            at = data.geom_xpos[g] + outline(model, g) @ data.geom_xmat[g].reshape(3, 3).T
-            (out if moving[g] else fixed).append(at)
-    points = np.concatenate(out) if out else np.zeros((0, 3))
-    if len(points):
-        travel = float(np.max(points.max(axis=0) - points.min(axis=0)))
-        points = np.vstack(
-            [points]
-            + [f for f in fixed if np.max(f.max(axis=0) - f.min(axis=0)) <= STATIC_SCALE * travel]
-        )
-    return points
+        moving.append(moving_outline(model, data))
+        centres.append(moving_centre(model, data))
+        if k == 0:
+            still = (model.body_weldid[model.geom_bodyid] == 0) & _shown(model)
+            fixed = [
+                data.geom_xpos[g] + outline(model, g) @ data.geom_xmat[g].reshape(3, 3).T
+                for g in map(int, np.flatnonzero(still))
+            ]
+    return Clip(tuple(moving), tuple(centres), tuple(fixed))
+
+
+def clip_points(rec: Recording, sim: Simulation, clock: Iterable[float]) -> np.ndarray:
+    """The still camera's cloud of a clip (:meth:`Clip.points`)."""
+    return sample_clip(rec, sim, clock).points()
 
 
 def _basis(position: np.ndarray, look_at: np.ndarray, up: np.ndarray) -> np.ndarray:

@@ -31,7 +31,7 @@ from sandbox.recording import Recording
 from sandbox.replay import open_simulation
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
 from sandbox.web.video.frame import Text, add_arrows, label_arrows
-from sandbox.web.video.framing import SAMPLES, Picture, clip_points, frame_clip
+from sandbox.web.video.framing import SAMPLES, Picture, frame_clip, moving_centre, sample_clip
 from sandbox.web.video.offscreen import aim, backdrop, offscreen_renderer
 from sandbox.web.video.options import DIRECTIONS, VideoError, VideoOptions, check
 from sandbox.web.video.strip import Follow, Strip, sampled
@@ -126,8 +126,16 @@ def render_video(
         box=((0.02 * width + box_w) / width, (0.03 * view_h + box_h) / view_h),
     )
     sampled_clock = np.linspace(float(times[0]), float(times[-1]), SAMPLES)
-    points = clip_points(rec, open_simulation(rec), sampled_clock)
-    position, look_at = frame_clip(points, position, look_at, np.asarray(up, float), picture)
+    clip = sample_clip(rec, open_simulation(rec), sampled_clock)
+    following = clip.follows  # parts travelling far (a cylinder down its plane): followed
+    if following:  # the camera's pose around the moving parts' centre of mass
+        position, look_at = frame_clip(
+            clip.shape(), position - look_at, np.zeros(3), np.asarray(up, float), picture
+        )
+    else:
+        position, look_at = frame_clip(
+            clip.points(), position, look_at, np.asarray(up, float), picture
+        )
     extent = float(np.linalg.norm(look_at - position))  # the wall behind, at this scale
     tmp = options.out.with_name(f".{options.out.name}.part{options.out.suffix}")
     gif = options.out.suffix.lower() == ".gif"
@@ -156,8 +164,9 @@ def render_video(
             data = display.data(at, forces=bool(arrows))
             renderer.update_scene(data)
             scene = renderer.scene
-            aim(scene, position, look_at, np.asarray(up, float))
-            backdrop(scene, look_at, extent)
+            centre = moving_centre(sim.model, data) if following else np.zeros(3)
+            aim(scene, centre + position, centre + look_at, np.asarray(up, float))
+            backdrop(scene, centre + look_at, extent)
             scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0  # as the page: no shadows
             snapshot = Snapshot(sim.model, data, sim.values)
             drawn = add_arrows(scene, arrows, snapshot, size, factors, units)
