@@ -111,3 +111,51 @@ def test_a_cylinder_rolling_far_is_followed_and_a_short_roll_is_not(tmp_path):
     assert fits(bounds, PICTURE)
     near = load(_recording("rolling_cylinder", tmp_path / "near.sbx", 0.2))
     assert not sample_clip(near, open_simulation(near), np.linspace(0.0, 0.2, 8)).follows
+
+
+def test_the_videos_labels_are_placed_as_the_pages(monkeypatch):
+    """Four labels: two at one point, one 6 px from it near the right edge, one near the
+    left edge: every label whole in the picture, none over another nor over the box (the
+    video stacked labels on a 40 px grid, over one another and past the right edge)."""
+    from PIL import Image, ImageDraw
+
+    from sandbox.physics.page import Arrow
+    from sandbox.web.video import frame
+
+    text = frame.Text(360)
+    boxes: list[tuple[float, float, float, float]] = []
+    real = text.box
+
+    def measured(draw, xy, lines, font, color=(0, 0, 0)):
+        x0, y0, x1, y1 = draw.multiline_textbbox(xy, "\n".join(lines), font=font, spacing=4)
+        boxes.append((x0, y0, x1, y1))
+        real(draw, xy, lines, font, color)
+
+    monkeypatch.setattr(text, "box", measured)
+    pixels = {0.0: (630.0, 200.0), 1.0: (636.0, 204.0), 2.0: (8.0, 300.0)}
+    monkeypatch.setattr(
+        frame, "project", lambda scene, pts, w, h: np.array([pixels[float(pts[0][0])]])
+    )
+
+    def arrow(name: str) -> Arrow:
+        return Arrow(
+            name, f"Effort {name}", (40, 110, 230), lambda s: (np.zeros(3), np.zeros(3)), unit="N"
+        )
+
+    drawn = [
+        (arrow("A"), np.array([0.0, 0, 0]), 54.4, "N"),
+        (arrow("B"), np.array([0.0, 0, 0]), 14.9, "N"),
+        (arrow("C"), np.array([1.0, 0, 0]), 3.0, "N"),
+        (arrow("D"), np.array([2.0, 0, 0]), 7.0, "N"),
+    ]
+    image = Image.new("RGB", (640, 360), (255, 255, 255))
+    readouts_box = (0.0, 0.0, 200.0, 90.0)
+    frame.ArrowLabels(text).draw(
+        ImageDraw.Draw(image, "RGBA"), None, drawn, (640, 360), {}, avoid=(readouts_box,)
+    )
+    assert len(boxes) == 4
+    for k, (x0, y0, x1, y1) in enumerate(boxes):
+        assert 0 <= x0 and x1 <= 640 and 0 <= y0 and y1 <= 360, boxes[k]
+        assert not (x0 < readouts_box[2] and y0 < readouts_box[3]), boxes[k]
+        for other in boxes[k + 1 :]:
+            assert x1 <= other[0] or other[2] <= x0 or y1 <= other[1] or other[3] <= y0

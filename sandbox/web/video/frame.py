@@ -5,7 +5,6 @@ DejaVu Sans, shipped with it).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -18,6 +17,7 @@ from sandbox.physics.page import Arrow
 from sandbox.physics.snapshot import Snapshot
 from sandbox.web.video.offscreen import project
 from sandbox.web.view3d.arrow_scale import arrow_points, auto_factor, caption
+from sandbox.web.view3d.label_layout import DISTANCES, GAP, Block, Placement, Rect, place
 
 
 # -- the frame's text -----------------------------------------------------------------------
@@ -93,30 +93,70 @@ def add_arrows(
     return drawn
 
 
-def label_arrows(
-    draw: Any,
-    text: Text,
-    scene: mujoco.MjvScene,
-    drawn: Sequence[tuple[Arrow, np.ndarray, float, str]],
-    width: int,
-    height: int,
-    zeros: dict[str, float],
-    readouts: Mapping[str, float] | None = None,
-) -> None:
-    """Each arrow's label ("Palier A : 54,4 N") beside its point of application, the
-    labels of one point stacked, in the arrow's colour; an arrow that is a readout writes
-    the readout's value in ``readouts`` (the overlay's instant), as the page does."""
-    stacks: dict[tuple[int, int], int] = {}
-    for arrow, origin, magnitude, unit in drawn:
-        ((x, y),) = project(scene, origin[None, :], width, height)
-        if not (math.isfinite(x) and math.isfinite(y)):
-            continue
-        key = (round(x / 40), round(y / 40))
-        row = stacks.get(key, 0)
-        stacks[key] = row + 1
-        reading = readouts.get(arrow.name) if readouts is not None else None
-        words = caption(arrow, magnitude, unit, zeros, reading=reading)
-        at = (min(x + 12, width - 8 * text.small.size), y + 4 + row * 1.4 * text.small.size)
-        r, g, b = (int(c * 0.6) for c in arrow.color)  # darker: readable on white
-        color = (r, g, b)
-        text.box(draw, at, [words], text.small, color)
+class ArrowLabels:
+    """The arrows' labels of a video ("Palier A : 54,4 N") placed as the page places its
+    3D labels (:func:`sandbox.web.view3d.label_layout.place`): the labels of one point
+    stacked in a block, each block beside its point on the free side away from the
+    view's centre, clear of the other blocks and of the readouts' box, a leader line when
+    it had to go further; a block keeps its place from frame to frame while it is free
+    (labels do not hop). Sizes are the drawn text's, measured by Pillow."""
+
+    def __init__(self, text: Text) -> None:
+        self.text = text
+        self.before: dict[tuple[float, ...], Placement] = {}
+
+    def draw(
+        self,
+        draw: Any,
+        scene: mujoco.MjvScene,
+        drawn: Sequence[tuple[Arrow, np.ndarray, float, str]],
+        view: tuple[int, int],
+        zeros: dict[str, float],
+        readouts: Mapping[str, float] | None = None,
+        avoid: Sequence[Rect] = (),
+    ) -> None:
+        """Label the ``drawn`` arrows in the picture of size ``view`` (width, height);
+        an arrow that is a readout writes the readout's value in ``readouts`` (the
+        overlay's instant), as the page does."""
+        width, height = view
+        groups: dict[tuple[float, ...], list[tuple[Arrow, str]]] = {}
+        points: dict[tuple[float, ...], tuple[float, float]] = {}
+        for arrow, origin, magnitude, unit in drawn:
+            key = tuple(round(float(c), 6) for c in origin)
+            if key not in points:
+                ((x, y),) = project(scene, origin[None, :], width, height)
+                points[key] = (float(x), float(y))
+            reading = readouts.get(arrow.name) if readouts is not None else None
+            words = caption(arrow, magnitude, unit, zeros, reading=reading)
+            groups.setdefault(key, []).append((arrow, words))
+        keys = list(groups)
+        font = self.text.small
+        blocks = [
+            Block(points[k], tuple(self.text.extent([w], font) for _, w in groups[k])) for k in keys
+        ]
+        places = place(
+            blocks,
+            view=(0.0, 0.0, float(width), float(height)),
+            centre=(width / 2, height / 2),
+            avoid=avoid,
+            before=[self.before.get(k) for k in keys],
+        )
+        self.before = {k: p for k, p in zip(keys, places, strict=True) if p is not None}
+        pad = max(4, font.size // 4)
+        for key, block, where in zip(keys, blocks, places, strict=True):
+            if where is None:
+                continue
+            left, top, right, bottom = where.box
+            if not where.free:  # nowhere free: at least whole in the picture
+                dx = min(max(left, 0.0), width - (right - left)) - left
+                dy = min(max(top, 0.0), height - (bottom - top)) - top
+                left, top, right, bottom = left + dx, top + dy, right + dx, bottom + dy
+            if where.reach > DISTANCES[0]:  # further out: a line joins it to its point
+                px, py = block.point
+                nx, ny = min(max(px, left), right), min(max(py, top), bottom)
+                draw.line((px, py, nx, ny), fill=(90, 90, 90), width=max(1, font.size // 12))
+            y = top
+            for (arrow, words), (_, h) in zip(groups[key], block.sizes, strict=True):
+                r, g, b = (int(c * 0.6) for c in arrow.color)  # darker: readable on white
+                self.text.box(draw, (left + pad, y + pad), [words], font, (r, g, b))
+                y += h + GAP

@@ -30,7 +30,7 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.recording import Recording
 from sandbox.replay import open_simulation
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
-from sandbox.web.video.frame import Text, add_arrows, label_arrows
+from sandbox.web.video.frame import ArrowLabels, Text, add_arrows
 from sandbox.web.video.framing import SAMPLES, Picture, frame_clip, moving_centre, sample_clip
 from sandbox.web.video.offscreen import aim, backdrop, offscreen_renderer
 from sandbox.web.video.options import DIRECTIONS, VideoError, VideoOptions, check
@@ -120,6 +120,8 @@ def render_video(
         f"{labels[n]} = −00 000,000 {units.get(n, '')}" for n in names
     ]
     box_w, box_h = text.extent(widest, text.big)
+    box = (0.0, 0.0, 0.02 * width + box_w, 0.03 * view_h + box_h)  # no label goes there
+    arrow_labels = ArrowLabels(text)
     picture = Picture(
         aspect=width / view_h,
         fovy=float(sim.model.vis.global_.fovy),
@@ -174,7 +176,7 @@ def render_video(
             frame.paste(Image.fromarray(renderer.render()), (0, 0))
             draw = ImageDraw.Draw(frame, "RGBA")
             values = sim.readouts(names + readings + ["time"], data=data)
-            label_arrows(draw, text, scene, drawn, width, view_h, by_unit, values)
+            arrow_labels.draw(draw, scene, drawn, (width, view_h), by_unit, values, avoid=(box,))
             # the simulated time of this frame, as the page and the 3D export write it (a
             # recording started at 81 s reads 81 s; the clip's own clock is the player's)
             lines = [time_line(values["time"])]
