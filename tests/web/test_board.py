@@ -16,7 +16,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
-from conftest import choose, free_port, wait_for
+from conftest import choose, free_port, pause, wait_for
 
 from sandbox.scenes import get_scene
 from sandbox.web.panels.board import BOARD_FOLDER, BOARD_ORDER, CSV_BUTTON, NAME_LABEL
@@ -511,6 +511,7 @@ def test_follow_mode_lists_followers_with_their_name_and_fits_the_buttons(open_p
     try:
         teacher = open_page(app.teacher_url)
         teacher.get_by_text(BOARD_FOLDER, exact=True).last.wait_for(timeout=60_000)
+        pause(teacher)  # names and buttons: the followers' projection may stand still
         student = open_page(app.url)
         label = student.get_by_text(NAME_LABEL, exact=True).last
         label.wait_for(timeout=60_000)

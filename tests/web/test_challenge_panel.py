@@ -435,6 +435,7 @@ def test_the_challenge_s_controls_are_named_in_french_and_readable(open_page, ro
     """The teacher's "Défi" controls and the student's "Défi" folder: every control has a
     French accessible name, every text of both panels reaches 4,5:1 (the green "Lancer le
     défi" included), the answer box says its unit."""
+    from conftest import pause
     from test_browser_access import _contrasts, _controls, _scrolled_through, _unnamed
 
     from sandbox.web.panels.board import START_BUTTON
@@ -442,8 +443,10 @@ def test_the_challenge_s_controls_are_named_in_french_and_readable(open_page, ro
     app = rotor_class
     teacher = open_page(app.teacher_url)
     teacher.get_by_role("button", name=START_BUTTON).wait_for(timeout=60_000)
+    pause(teacher)  # words and contrasts: no motion needed (two pages drawing it took 36 s)
     student = open_page(app.url)
     assert wait_for(lambda: app.classroom.students() == 1, 30)
+    pause(student)
     teacher.mouse.move(640, 700)
     low = [f for f in _scrolled_through(teacher, _contrasts) if f["ratio"] < 4.5]
     assert not low, low
