@@ -100,10 +100,12 @@ def test_the_plot_cursor_advances(clip):
     left edge is the first frame's instant), by the same step each time."""
     _, frames, _ = clip
     view_h = round(SIZE[1] * (1 - video.STRIP))
-    left, right = int(SIZE[0] * 0.085), int(SIZE[0] * 0.825)
+    strip_h = SIZE[1] - view_h
+    left, right = int(SIZE[0] * 0.085), int(SIZE[0] * 0.975)  # inside the axes
+    top, bottom = view_h + int(0.3 * strip_h), view_h + int(0.7 * strip_h)  # not the legend
     columns = []
     for f in frames[1:]:
-        strip = f[view_h + 5 :, left:right].astype(int)
+        strip = f[top:bottom, left:right].astype(int)
         dark = (strip.sum(axis=2) < 120).sum(axis=0)
         columns.append(left + int(np.argmax(dark)))
     steps = np.diff(columns)
@@ -320,3 +322,17 @@ def test_the_command_warns_of_a_rotor_the_frames_hide(rotor, tmp_path, capsys):
     assert "warning: the fastest part turns 25 rev/s" in err and "--speed 0.1 shows it" in err
     assert main([*argv, "--to", "0.03", "--speed", "0.1"]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_a_flat_curve_in_the_strip_has_ticks_that_differ():
+    """A bearing force steady to 1e-6 N gave four ticks all reading « 54,4175 »: a curve
+    flatter than 2 % of its size gets that room around it; a moving one keeps its own."""
+    from sandbox.web.video.strip import flat_limits
+
+    lo, hi = flat_limits(54.4175 + 1e-6 * np.sin(np.linspace(0, 9, 50)))
+    assert lo == pytest.approx(54.4175 * 0.98, rel=1e-6) and hi == pytest.approx(
+        54.4175 * 1.02, rel=1e-6
+    )
+    assert flat_limits(np.zeros(5)) == (-1.0, 1.0)
+    assert flat_limits(np.linspace(-10, 10, 5)) is None
+    assert flat_limits(np.zeros(0)) is None

@@ -80,6 +80,26 @@ def sampled(
     return times, {n: np.asarray(v, dtype=float) for n, v in columns.items()}
 
 
+FLAT = 0.02
+"""A curve flatter than this share of its size is drawn with this much room around it:
+its ticks then differ where a number is read (a bearing force steady to 1e-6 N had four
+ticks all reading « 54,4175 »)."""
+
+
+def flat_limits(values: np.ndarray) -> tuple[float, float] | None:
+    """The y limits of a nearly flat curve (its middle ± :data:`FLAT` of its size), None
+    when the curve's own span is wide enough (or there is none)."""
+    if not len(values):
+        return None
+    lo, hi = float(values.min()), float(values.max())
+    room = FLAT * max(abs(lo), abs(hi))
+    if hi - lo >= 2 * room and hi > lo:
+        return None
+    room = room or 1.0  # a curve at 0: ±1 of its unit
+    middle = (lo + hi) / 2
+    return middle - room, middle + room
+
+
 # -- the plot strip -------------------------------------------------------------------------
 class Strip:
     """Readouts against time over the clip, drawn once (:meth:`draw`); a cursor per
@@ -104,17 +124,29 @@ class Strip:
         """The curves, French axis and legend (decimal comma), once for the clip."""
         with LOCK:
             fig = new_figure(self.width / 100, self.height / 100)
-            ax = fig.add_axes((0.08, 0.22, 0.75, 0.7))
+            ax = fig.add_axes((0.08, 0.22, 0.9, 0.56))  # the legend above: a narrow video
+            shown = []
             for k, name in enumerate(self.names):
                 unit, factor = shown_scale(name, self.units.get(name, ""))
                 words = f"{self.labels.get(name) or name}" + (f" [{unit}]" if unit else "")
-                ax.plot(times, columns[name] * factor, lw=2, label=words, color=f"C{k}")
+                values = columns[name] * factor
+                shown.append(values[np.isfinite(values)])
+                ax.plot(times, values, lw=2, label=words, color=f"C{k}")
             ax.set_xlim(*self.span)
+            limits = flat_limits(np.concatenate(shown) if shown else np.zeros(0))
+            if limits is not None:
+                ax.set_ylim(*limits)
             ax.set_xlabel("Temps de l'enregistrement [s]")  # t is the simulated time
             ax.xaxis.set_major_formatter(comma_formatter())
             ax.yaxis.set_major_formatter(comma_formatter())
             ax.grid(True, alpha=0.3)
-            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+            ax.legend(
+                loc="lower left",
+                bbox_to_anchor=(0.0, 1.0),
+                ncol=max(1, len(self.names)),
+                fontsize=8,
+                frameon=False,
+            )
             fig.canvas.draw()
             rgba = np.asarray(fig.canvas.buffer_rgba())  # type: ignore[attr-defined]
             box = ax.get_window_extent()
