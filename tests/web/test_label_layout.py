@@ -310,8 +310,9 @@ def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
         )
         checked = 0
 
-        def check() -> int:
-            found = 0
+        def read() -> tuple[int, list[tuple]]:
+            """(labels of arrows found, what is wrong) in one reading of the page."""
+            found, wrong = 0, []
             labels, camera = _labels(session, page)
             if not labels:  # only while no arrow shows (an axis at rest between moves)...
                 # ...or until the next layout labels an arrow just shown (after a reset)
@@ -321,19 +322,39 @@ def test_labels_sit_by_their_point_and_never_overlap(browser, scene):
                 ), scene
                 labels, camera = _labels(session, page)
                 if not labels:
-                    return 0
+                    return 0, []
             for i, (name, box, point) in enumerate(labels):
                 inside = 0 <= box[0] and box[2] <= camera.width
-                assert inside and 0 <= box[1] and box[3] <= camera.height, (scene, name, box)
+                if not (inside and 0 <= box[1] and box[3] <= camera.height):
+                    wrong.append((scene, name, box))
                 for other, box2, _ in labels[i + 1 :]:
-                    assert not overlaps(box, box2), (scene, name, other, box, box2)
+                    if overlaps(box, box2):
+                        wrong.append((scene, name, other, box, box2))
                 if overlay is not None:
                     ox = [overlay[0] - canvas[0], overlay[1] - canvas[1]]
                     shown = (ox[0], ox[1], overlay[2] - canvas[0], overlay[3] - canvas[1])
-                    assert not overlaps(box, shown), (scene, name, "readouts", box, shown)
+                    if overlaps(box, shown):
+                        wrong.append((scene, name, "readouts", box, shown))
                 if point is not None:  # an arrow's label: by its point of application
-                    assert distance(point, box) <= REACH, (scene, name, point, box)
+                    if distance(point, box) > REACH:
+                        wrong.append((scene, name, point, box))
                     found += 1
+            return found, wrong
+
+        def check() -> int:
+            """One reading without a fault, within a few layouts: a reading that caught a
+            label's handle between two writes of the loop thread (once in five full runs,
+            the gyroscope's label read 1,200 px above the view) is read again; a label
+            that stays wrong fails."""
+            seen: dict[str, tuple[int, list[tuple]]] = {}
+
+            def clean() -> bool:
+                seen["last"] = read()
+                return not seen["last"][1]
+
+            wait_for(clean, timeout=3, poll=0.3)
+            found, wrong = seen["last"]
+            assert not wrong, wrong[0]
             return found
 
         for _ in range(1 if scene in TRAVELLING else 6):  # a rotor's masses turn: instants
