@@ -155,7 +155,7 @@ def test_a_page_whose_server_stops_says_so_in_french_and_clears_when_it_returns(
     French, that the simulation stopped; a page that connects again drops the line."""
     from conftest import free_port
 
-    from sandbox.web.page.locale import LOST, LOST_AFTER_S
+    from sandbox.web.page.locale import LOST, LOST_AFTER_S, STOPPED
     from sandbox.web.serving.app import start
 
     port = free_port()
@@ -170,6 +170,8 @@ def test_a_page_whose_server_stops_says_so_in_french_and_clears_when_it_returns(
         app.stop()
         notice.wait_for(timeout=(LOST_AFTER_S + 20) * 1000)
         assert notice.inner_text() == LOST and notice.get_attribute("role") == "alert"
+        status = page.get_by_text(STOPPED, exact=True)  # no longer « en cours »
+        assert status.count() == 1 and "en cours" not in page.inner_text("body")
         app = start("rotor", port=port, open_message=False)  # the teacher starts it again
         notice.wait_for(state="detached", timeout=60_000)  # viser reconnected by itself
     finally:

@@ -135,6 +135,9 @@ LOST = (
 """What a page says once its server stops answering (stopped by the teacher, the
 laptop asleep, the network cut): viser only greys the panel and turns a small icon into
 a red spinner, and the status line went on reading « en cours »."""
+RUNNING, STOPPED = "en cours", "arrêtée (serveur injoignable)"
+"""The status line's state while the simulation runs, and what it reads once the server
+stopped answering."""
 LOST_AFTER_S = 3.0
 """Seconds without a connection before :data:`LOST` shows (a worker's restart takes
 less)."""
@@ -248,6 +251,11 @@ _SCRIPT = """<script>(function () {
       "box-shadow:0 2px 8px rgba(0,0,0,.3)";
     notice.textContent = %(lost)s;
     document.body.appendChild(notice);
+    // the status line said « en cours »: nothing runs now (a new connection rewrites it)
+    var walk = document.createTreeWalker(document.body, 4);
+    for (var n = walk.nextNode(); n; n = walk.nextNode()) {
+      if (n.nodeValue.trim() === %(running)s) n.nodeValue = %(stopped)s;
+    }
   }
   setInterval(function () { commas(); watch(); }, %(comma_ms)d);
   document.addEventListener("focusin", commas, true);
@@ -292,6 +300,8 @@ def _french_script(french: str) -> str:
         "hidden": json.dumps(HIDDEN_SECTION),
         "lost": json.dumps(LOST, ensure_ascii=True),
         "lost_ms": round(LOST_AFTER_S * 1000),
+        "running": json.dumps(RUNNING, ensure_ascii=True),
+        "stopped": json.dumps(STOPPED, ensure_ascii=True),
     }
 
 
