@@ -768,8 +768,8 @@ def test_a_reload_served_by_the_same_process_finds_the_name_typed(served_class):
         first.close()
     again = FakeStudent(url)  # types nothing
     try:
-        assert wait_for(lambda: app.classroom.students() == 1, 30)
-        cid = next(iter(app.sessions))
+        assert wait_for(lambda: app.classroom.students() == 1 and len(app.sessions) == 1, 30)
+        cid = next(iter(app.sessions))  # (the session is listed a moment after the seat)
         assert wait_for(lambda: app.classroom.name_of(cid) == "Zoé", 30)
         assert [(r.name, r.number, r.connected) for r in _roster_rows(app)] == [("Zoé", 1, True)]
     finally:

@@ -67,9 +67,12 @@ def test_the_xy_plot_draws_the_pilon_over_a_revolution_in_french(open_page, serv
     page.get_by_text("Panneau affiché", exact=True).first.wait_for(timeout=30_000)
     choose(page, "Panneau affiché", "Tracé X–Y")
     title = ""  # no title on the chart: the preset's name is above it (a phone cut it)
-    assert _shown(page, "Pilon et tamis sur un tour du vilebrequin") or any(
-        v == "Pilon et tamis sur un tour du vilebrequin"
-        for v in page.locator("input").evaluate_all("(es) => es.map((e) => e.value)")
+    preset = "Pilon et tamis sur un tour du vilebrequin"
+    assert wait_for(  # the panel switched (a loaded machine takes a moment)
+        lambda: (
+            _shown(page, preset)
+            or preset in page.locator("input").evaluate_all("(es) => es.map((e) => e.value)")
+        )
     )
     assert wait_for(lambda: _chart(page, title).get("coloured", 0) > 500, timeout=20)
     chart = _chart(page, title)
