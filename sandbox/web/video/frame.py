@@ -33,11 +33,13 @@ class Text:
     def __init__(self, height: int) -> None:
         self.big = _font(max(12, round(height * 0.042)))
         self.small = _font(max(10, round(height * 0.026)))
+        self._measure = ImageDraw.Draw(Image.new("RGB", (1, 1)))  # made once: every frame measures
 
     def extent(self, lines: Sequence[str], font: Any) -> tuple[float, float]:
         """Width and height [px] of :meth:`box` around ``lines``, padding included."""
-        draw = ImageDraw.Draw(Image.new("RGB", (1, 1)))
-        x0, y0, x1, y1 = draw.multiline_textbbox((0, 0), "\n".join(lines), font=font, spacing=4)
+        x0, y0, x1, y1 = self._measure.multiline_textbbox(
+            (0, 0), "\n".join(lines), font=font, spacing=4
+        )
         pad = max(4, font.size // 4)
         return x1 - x0 + 2 * pad, y1 - y0 + 2 * pad
 
