@@ -85,7 +85,10 @@ class DisplayState:
         if key == self._key:
             return shown
         if gap == 0.0 and sim.imposed is not None:
-            # the exact state just computed, forces included: copied, not computed again
+            # the exact state just placed: its forces computed there once when they are
+            # read (the recorder may read them too), then copied
+            if names or forces:
+                sim.snapshot(names, forces=forces)
             mujoco.mj_copyData(shown, model, physics)
             self._key = key
             return shown

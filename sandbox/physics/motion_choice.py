@@ -153,11 +153,13 @@ class MotionChoice:
         mujoco.mj_forward(self.model, self.data)
         self._warnings = self._warning_count()
 
-    def _put(self, t: float) -> None:
-        """The imposed state at time ``t`` in the simulation's data, with its forces."""
+    def _put(self, t: float, *, forces: bool = True) -> None:
+        """The imposed state at time ``t`` in the simulation's data, with its forces
+        (``forces`` False: positions, speeds, accelerations and poses only; the forces
+        are computed when something reads them, :meth:`_prepare`)."""
         assert self._imposed is not None
-        self._imposed.put(self.model, self.data, self.values, t)
-        self._fresh = self._key(self.data)
+        self._imposed.put(self.model, self.data, self.values, t, forces=forces)
+        self._fresh = self._key(self.data) if forces else None
 
     def _key(self, data: mujoco.MjData) -> tuple[object, ...]:
         return (
@@ -207,7 +209,10 @@ class MotionChoice:
         t, dt = float(self.data.time), self.timestep
         for _ in range(nstep):
             t += dt
-        self._put(t)
+        # placed only: a web frame draws another instant (the display's own exact state)
+        # and reads the forces there; whatever reads this one's forces computes them then
+        self._put(t, forces=False)
         d = self.data
-        if not math.isfinite(float(d.qpos.sum()) + float(d.qvel.sum()) + float(d.qacc.sum())):
+        acc = d.qacc_warmstart
+        if not math.isfinite(float(d.qpos.sum()) + float(d.qvel.sum()) + float(acc.sum())):
             raise Diverged(float(d.time), "NaN or Inf in the imposed motion")

@@ -19,6 +19,7 @@ import pytest
 from conftest import wait_for
 
 from sandbox.bench import classroom
+from sandbox.physics import imposed as imposed_module
 from sandbox.physics import readouts as generic
 from sandbox.physics import simulation as simulation_module
 from sandbox.physics import torsors
@@ -60,6 +61,7 @@ class Counts:
     supports: int = 0
     readout_calls: int = 0
     revolutions: int = 0  # revolutions simulated ahead (compressor, engine)
+    inverse: int = 0  # inverse-dynamics solves (an imposed motion)
 
 
 @pytest.fixture
@@ -130,6 +132,13 @@ def _count(session: Session, monkeypatch) -> Counts:
         return real_put(self, *args, **kwargs)
 
     monkeypatch.setattr(PerModel, "put", put)
+    real_inverse = imposed_module.inverse_dynamics
+
+    def inverse(*args, **kwargs):
+        counts.inverse += 1
+        return real_inverse(*args, **kwargs)
+
+    monkeypatch.setattr(imposed_module, "inverse_dynamics", inverse)
     monkeypatch.setattr(generic, "prepare", prepare)
     monkeypatch.setattr(generic, "support_torsor", support)
     monkeypatch.setattr(torsors, "support_torsor", support)  # the scenes' revolutions
@@ -140,6 +149,7 @@ def _count(session: Session, monkeypatch) -> Counts:
     for i in range(WARMUP + FRAMES):
         if i == WARMUP:
             counts.prepares = counts.supports = counts.readout_calls = counts.revolutions = 0
+            counts.inverse = 0
         # as a browser's frames are paced: its sender has taken the previous frame
         assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
         before = buffer.message_counter
@@ -180,6 +190,9 @@ def test_a_drawn_frame_sends_only_what_moved_and_evaluates_once(scene, served, m
     # a revolution simulated ahead serves every reading while nothing changes (the one
     # simulated as the session started is simulated once more when it has settled)
     assert counts.revolutions <= 1, counts
+    # an imposed motion is solved once a frame, at the instant drawn (the physics step
+    # only places the mechanism): a revolution placed ahead adds its own 64 angles
+    assert counts.inverse <= FRAMES + 65 * counts.revolutions, counts
     # messages of a drawn frame: a position and an orientation per moving group at most,
     # one message for every arrow, and one per point the arrows start from (its labels
     # ride on it; their texts change a few times a second, at the panels' refresh)
