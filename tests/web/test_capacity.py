@@ -82,11 +82,15 @@ def test_the_first_estimate_measures_one_session_of_the_scene():
 
 
 @pytest.mark.slow  # a server and two websocket students: a few seconds
-def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulation():
+def test_a_student_arriving_on_a_saturated_process_follows_the_projected_simulation(
+    monkeypatch,
+):
     from test_board import FakeStudent
 
+    from sandbox.web.serving import class_app
     from sandbox.web.serving.app import start
 
+    monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)  # arrivals only (shed: below)
     app = start("rotor", port=free_port(), open_message=False, token="tok-sat")
     url = app.url.replace("http", "ws")
     students = []
@@ -127,6 +131,7 @@ def test_students_arriving_together_on_a_saturated_process_share_one_broadcast(m
         return made[-1]
 
     monkeypatch.setattr(class_app, "BroadcastView", counted)
+    monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)
     app = start("rotor", port=free_port(), open_message=False, token="tok-together")
     app.scheduler = SimpleNamespace(governor=SimpleNamespace(saturated=True))
     url = app.url.replace("http", "ws")
@@ -143,6 +148,56 @@ def test_students_arriving_together_on_a_saturated_process_share_one_broadcast(m
         assert len(made) == 1 and app.broadcast is made[0]
         followed = {app.sessions[cid].controller for cid in app.overflow}
         assert followed == {app.broadcast.controller}
+    finally:
+        for s in students:
+            s.close()
+        app.stop()
+
+
+@pytest.mark.slow  # a server and four websocket students: a few seconds
+def test_a_class_that_arrived_together_is_moved_to_the_projection_when_it_saturates(
+    monkeypatch,
+):
+    """Four students arrive before the governor can tell: each has a simulation of their
+    own. Once saturated with each session given 10 frames/s for a floor of 15, a third of
+    them (the last to arrive, at least one) follow the projected simulation, reading why;
+    nothing more until SHED_PAUSE has passed; a student who arrived over SHED_RECENT s
+    ago or who records keeps their own; nothing moves while the process is not saturated."""
+    from test_board import FakeStudent
+
+    from sandbox.web.serving import class_app
+    from sandbox.web.serving.app import start
+
+    monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)  # the test calls shed() itself
+    app = start("rotor", port=free_port(), open_message=False, token="tok-shed")
+    url = app.url.replace("http", "ws")
+    students = []
+    try:
+        for k in range(4):
+            students.append(FakeStudent(url))
+            assert wait_for(lambda k=k: len(app.sessions) == k + 1, 30)
+        assert wait_for(lambda: len(app.arrived) == 4, 30) and not app.overflow
+        order = sorted(app.arrived, key=app.arrived.__getitem__)
+        governor = SimpleNamespace(saturated=False, given=10.0, floor=15.0)
+        app.scheduler = SimpleNamespace(governor=governor)
+        now = time.monotonic()
+        assert app.shed(now) == 0  # not saturated: nobody moves
+        governor.saturated = True
+        # the first arrived long ago; the third records
+        app.arrived[order[0]] -= class_app.SHED_RECENT + 1
+        recording = SimpleNamespace(frame=lambda row: None, full=False)  # rows dropped
+        app.sessions[order[2]].controller.recorder = recording
+        assert app.shed(now) == 2  # ceil(4 x (1 - 10/15)) = 2: the last two that may
+        assert app.overflow == {order[3], order[1]}
+        for cid in app.overflow:
+            session = app.sessions[cid]
+            assert session.drive is False and session.controller is app.broadcast.controller
+        assert app.shed(now + 0.1) == 0  # the governor sees the lighter load first
+        app.sessions[order[2]].controller.recorder = None
+        assert app.shed(now + class_app.SHED_PAUSE) == 1  # the third, done recording
+        assert app.shed(now + 2 * class_app.SHED_PAUSE) == 0  # the first stays: not new
+        assert order[0] not in app.overflow and len(app.overflow) == 3
+        assert app.shed_count == 3
     finally:
         for s in students:
             s.close()

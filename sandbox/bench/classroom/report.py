@@ -120,7 +120,10 @@ def _teacher_lines(teacher: object) -> list[str]:
     if teacher.get("lowered_fps") is not None:
         lines.append(f"  frame rate lowered to        {teacher['lowered_fps']} for every student")
     if teacher.get("saturated"):
-        lines.append("  saturated                    new students follow the teacher's simulation")
+        lines.append(
+            "  saturated                    new students follow the teacher's simulation "
+            f"({teacher.get('following', 0)} on the board's last reading)"
+        )
     return lines
 
 

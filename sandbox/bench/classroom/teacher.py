@@ -16,6 +16,10 @@ CAPACITY = re.compile("Ce portable tient environ \\*\\*([0-9]+) élève".encode(
 """The estimate's sentence on the teacher's board (UTF-8 bytes on the wire)."""
 LOWERED = re.compile("images abaissées à ([0-9]+) par seconde".encode())
 SATURATED = "Portable saturé".encode()
+BOARD = b"sandbox-board"
+"""The board's table (sandbox.web.panels.board_table.BOARD_CLASS)."""
+FOLLOWING = b"suit la projection"
+"""A follower's cell on the board."""
 
 
 class TeacherPage:
@@ -26,6 +30,7 @@ class TeacherPage:
         self.estimates: list[int] = []
         self.lowered_fps: int | None = None
         self.saturated = False
+        self.following = 0  # students following the projection, on the last board read
         self.error: str | None = None
 
     async def read(self, url: str, origin: str) -> None:
@@ -47,6 +52,8 @@ class TeacherPage:
                         self.lowered_fps = int(lowered[-1])
                     if SATURATED in inner:
                         self.saturated = True
+                    if BOARD in inner:
+                        self.following = inner.count(FOLLOWING)
         except asyncio.CancelledError:
             raise
         except Exception as exc:  # the estimate is a figure of the run: its absence is said
@@ -60,5 +67,6 @@ class TeacherPage:
             "estimates": self.estimates[-20:],
             "lowered_fps": self.lowered_fps,
             "saturated": self.saturated,
+            "following": self.following,
             "error": self.error,
         }

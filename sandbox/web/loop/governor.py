@@ -110,6 +110,7 @@ class Governor:
         self._lock = threading.Lock()
         self.cpu_per_frame = math.nan  # loop CPU of a drawn frame in the last window [s]
         self.frames_per_second = 0.0  # frames run per wall second, every session summed
+        self.given = float(top)  # frames per second a session got in the last window
 
     @property
     def scale(self) -> float:
@@ -172,6 +173,7 @@ class Governor:
         old = self.fps
         drawn = frames - held  # frames that reached their browser's sender
         given = drawn / elapsed / served if served > 0 else self.fps  # a session's frames
+        self.given = given
         sending = frames > 0 and held > HELD * frames  # the websocket's thread is short
         if (share > HIGH or sending) and given < KEPT_UP * self.fps:
             # the loop, busy all the time, or the sending could not give the rate asked

@@ -8,14 +8,22 @@ costly, :mod:`sandbox.web.loop.governor`), a student who arrives follows the tea
 simulation instead, drawn once into the broadcast scene for every such student (the
 follow mode's view, which costs nothing per student): the teacher's own when the
 teacher's page is served by this process, else one shared copy at the class's settings.
+
+A class arrives together: thirty students open the page within seconds, before the
+governor's windows can tell that the process is saturated. So the students who arrived
+last (within :data:`SHED_RECENT` seconds, and not recording) are moved to the projected
+simulation too, as many as the frames the process gave short of the floor say, until it
+is no longer saturated (:meth:`ClassApp.shed`); each reads why.
 """
 
 from __future__ import annotations
 
 import functools
 import logging
+import math
 import secrets
 import threading
+import time
 from collections.abc import Callable
 
 import viser
@@ -46,6 +54,19 @@ STILL_SATURATED = (
     "Le portable du professeur est encore saturé : restez sur la simulation projetée pour "
     "l'instant, puis réessayez."
 )
+
+
+SHED_RECENT = 60.0
+"""Seconds after their arrival during which a student counts as newly connected: moved
+to the projected simulation when the process saturates (the class that just arrived
+together), never one who has worked on their own simulation for longer."""
+
+SHED_PAUSE = 3.0
+"""Seconds between two moves of students to the projected simulation: the governor's
+windows (:data:`~sandbox.web.loop.governor.WINDOW`) see the lighter load first."""
+
+SHED_CHECK = 0.5
+"""Seconds between two looks at the governor's saturation."""
 
 
 JOIN_FIRST_ORDER = -950.0
@@ -113,8 +134,14 @@ class ClassApp(App):
         self._broadcasting = threading.Lock()  # browsers arriving together make one
         self._teacher: tuple[int, Controller] | None = None  # the teacher's page here
         self.overflow: set[int] = set()  # students following because of saturation
+        self.arrived: dict[int, float] = {}  # own students' arrival (monotonic clock)
+        self.shed_count = 0  # students moved to the projected simulation so far
+        self._shed_after = 0.0
+        self._shedding = threading.Event()
         super().__init__(server, host, self._open, max_sessions=max_sessions, port=port)
         self.classroom.start()
+        if self.shared is not None:
+            threading.Thread(target=self._shed_loop, name="shed", daemon=True).start()
 
     @property
     def teacher_url(self) -> str:
@@ -145,9 +172,71 @@ class ClassApp(App):
             else:
                 who = functools.partial(arrival, self.server, client.client_id)
                 self.classroom.seat(client, page.controller.sim, page.view, who=who)
+                self.arrived[client.client_id] = time.monotonic()
         except Exception:
             log.exception("the class board could not take this browser")
         return session
+
+    # -- a class arriving together on a process it saturates -----------------------------
+    def _shed_loop(self) -> None:
+        while not self._shedding.wait(SHED_CHECK):
+            try:
+                self.shed()
+            except Exception:  # the class goes on as it is
+                log.exception("students could not be moved to the projected simulation")
+
+    def shed(self, now: float | None = None) -> int:
+        """While the process is saturated, move the students who arrived last (within
+        :data:`SHED_RECENT` s, not recording) to the projected simulation: as many as
+        the frames each session got short of the floor say (at least one), then wait
+        :data:`SHED_PAUSE` s for the governor to see the lighter load. Returns how many
+        were moved."""
+        governor = self.scheduler.governor
+        if self.shared is None or not governor.saturated:
+            return 0
+        now = time.monotonic() if now is None else now
+        if now < self._shed_after:
+            return 0
+        recent = sorted(
+            (at, cid) for cid, at in list(self.arrived.items()) if now - at <= SHED_RECENT
+        )
+        if not recent:
+            return 0
+        given = float(getattr(governor, "given", 0.0))
+        floor = float(getattr(governor, "floor", 15.0))
+        short = 1.0 - given / floor if 0.0 < given < floor else 0.0
+        count = max(1, math.ceil(len(self.arrived) * short))
+        moved = 0
+        for _, cid in reversed(recent):  # the last to arrive first
+            if moved >= count:
+                break
+            moved += self._to_projected(cid)
+        self._shed_after = now + SHED_PAUSE
+        self.shed_count += moved
+        if moved:
+            log.info("saturated: %d newly arrived student(s) now follow the projection", moved)
+        return moved
+
+    def _to_projected(self, cid: int) -> bool:
+        """One student's own simulation replaced by the projected one (False: gone, or
+        recording: a recording is never cut short)."""
+        with self._lock:
+            old = self.sessions.get(cid)
+            if old is None or getattr(old.controller, "recorder", None) is not None:
+                return False
+            del self.sessions[cid]
+        self.arrived.pop(cid, None)
+        client = self.server.get_clients().get(cid)
+        old.stop()
+        if client is None:
+            return False
+        client.gui.reset()
+        client.scene.reset()
+        session = self._follower(client)
+        with self._lock:
+            self.sessions[cid] = session
+        session.start()
+        return True
 
     @staticmethod
     def _hide_broadcast(client: viser.ClientHandle) -> None:
@@ -221,6 +310,7 @@ class ClassApp(App):
         super()._disconnect(client)
         self.classroom.forget(client.client_id)
         self.overflow.discard(client.client_id)
+        self.arrived.pop(client.client_id, None)
         teacher = self._teacher
         if teacher is not None and teacher[0] == client.client_id:
             self._teacher = None
@@ -229,6 +319,7 @@ class ClassApp(App):
                 session.drive = True  # nobody steps the teacher's simulation now: this one
 
     def stop(self) -> None:
+        self._shedding.set()
         self.classroom.stop()
         if self._broadcast_session is not None:
             self._broadcast_session.stop()
