@@ -24,6 +24,7 @@ from the state alone and the motion continues from it exactly (a replay, ``--ver
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
@@ -73,6 +74,9 @@ class Imposed:
         unavailable: Why the motion cannot be imposed at these parameter values (e.g.
             a torque command, a flexible arm that must be simulated): (English, French),
             or None when it can.
+        held_at: Input angle [rad] at which the page reads its numbers while the input
+            turns faster than a reader can follow (:mod:`sandbox.physics.strobe`): one
+            where every headline quantity is away from zero.
     """
 
     joint: str
@@ -82,6 +86,7 @@ class Imposed:
     default: bool = False
     unavailable: Callable[[Values], tuple[str, str] | None] | None = None
     slot: int = 0
+    held_at: float = math.pi / 3
 
     def refusal(self, values: Values) -> tuple[str, str] | None:
         """(English, French) reason the motion cannot be imposed at ``values``, or None."""

@@ -19,7 +19,8 @@ from test_frame_cost import Clock, served  # noqa: F401  (the fixture)
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import SCENES, get_scene, resolve
 from sandbox.web.loop import frame as frame_module
-from sandbox.web.loop.requests import Play, Speed
+from sandbox.web.loop.requests import Pause, Play, Speed
+from sandbox.web.panels.projector import held_line
 from sandbox.web.views.browser import ALL_FOLDERS
 from sandbox.written import time_words, written
 
@@ -75,7 +76,11 @@ def test_the_table_the_overlay_and_the_labels_show_one_instant_written_one_way(
     zero = {n: spec.zero_for(i.unit) for n, i in infos.items()}
     # the overlay: the same characters as the table for every readout both show
     overlay = html.unescape(re.sub(r"<[^>]+>", "\n", view.projector.overlay.content))
-    shown = [line.split(" = ", 1)[1] for line in overlay.splitlines() if " = " in line]
+    lines = [line for line in overlay.splitlines() if line]
+    if frame.held is not None:  # a fast rotation's numbers, held at one angle: said last
+        assert lines[-1] == held_line(values), overlay
+        lines = lines[:-1]
+    shown = [line.split(" = ", 1)[1] for line in lines if " = " in line]
     assert len(shown) == len(view.projector.names), overlay
     for name, line in zip(view.projector.names, shown, strict=True):
         assert line == str(written(name, values[name], infos[name].unit, zero=zero[name]))
@@ -181,3 +186,52 @@ def test_the_follow_summary_and_the_broadcast_labels_write_the_frames_values(sce
                 unit = arrow.unit
                 value = written(arrow.name, values[arrow.name], unit, zero=spec.zero_for(unit))
                 assert arrows.labels[k].text == f"{arrow.label} : {value}", arrow.name
+
+
+@pytest.mark.slow  # a server: ~1 s
+def test_a_fast_rotation_is_read_at_one_angle_in_every_view_and_live_when_paused(
+    served,  # noqa: F811  (the fixture imported above)
+):
+    """The compressor at 3000 tr/min turns 50 times a second: while it plays, the table,
+    the overlay and the labels write the state at θ = 60° every turn (the same numbers
+    at each refresh, the overlay saying so); paused, they write the drawn instant."""
+    session = served("compressor")
+    first = _panel_frame(session)
+    view = session.view
+    assert first.held is not None and first.state is not None
+    overlay = view.projector.overlay.content
+    assert html.unescape("(relevé à θ = 60°, à chaque tour)") in html.unescape(overlay)
+    labels = [label.text for label in view.arrows.labels]
+    clock = session.controller.clock
+    later: list[frame_module.Frame] = []
+    times: list[float] = []  # the instant each refresh wrote (the status line's t)
+    render = session.view.render
+
+    def seen(frame: frame_module.Frame) -> None:
+        later.append(frame)
+        render(frame)
+        if frame.readouts is not None:
+            times.append(float(view.controls.status.content.split(" ")[2].replace(",", ".")))
+
+    session.view.render = seen
+    while len(times) < 3:  # three refreshes, turns apart
+        assert wait_for(lambda: session.view.draws, timeout=5, poll=0.001)
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+    refreshed = [f for f in later if f.readouts is not None]
+    assert times[-1] >= times[0] + 0.1  # turns later (the status line writes 10 ms)
+    for frame in refreshed:
+        assert frame.readouts["pilon"] == first.readouts["pilon"]
+    assert view.projector.overlay.content == overlay
+    assert [label.text for label in view.arrows.labels] == labels
+    pilon = written("pilon", first.readouts["pilon"], "N")
+    assert any(text.endswith(str(pilon)) for text in labels), labels
+    # paused: the drawn instant, written live
+    session.controller.submit(Pause())
+    later.clear()
+    while sum(f.readouts is not None for f in later) < 2:
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+    paused = [f for f in later if f.readouts is not None][-1]
+    assert paused.held is None
+    assert "à chaque tour" not in view.projector.overlay.content

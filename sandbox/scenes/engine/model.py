@@ -270,6 +270,7 @@ def _layout(model: mujoco.MjModel, n: int, shafts: bool) -> Layout:
     return found
 
 
-IMPOSED = Imposed("crank", "motor", place, held_speed, default=True)
+IMPOSED = Imposed("crank", "motor", place, held_speed, default=True, held_at=math.radians(150))
 """The crankshaft turning at ``speed_rpm``, as the course studies it (1, 7.3): imposed by
-default."""
+default; a fast one read at θ = 60° (the crank's 150°: θ counts from cylinder 1's top
+dead centre)."""

@@ -55,6 +55,10 @@ class Frame:
             prepared), for the panels that compute their own numbers from a state
             (« Isoler un solide », the basis of a solid): one instant for the whole
             frame. None: the physics state's (while recording, a replay), or no readouts.
+        held: While a fast rotation's numbers are held at one angle
+            (:mod:`sandbox.physics.strobe`), the arrows evaluated at that instant (their
+            labels and components write them; ``readouts`` and ``state`` are that
+            instant's too); None otherwise.
     """
 
     now: float
@@ -67,6 +71,7 @@ class Frame:
     readouts: Mapping[str, float] | None = None
     picture: Picture | None = None
     state: Snapshot | None = None
+    held: Picture | None = None
 
     @property
     def key(self) -> tuple[int, float, int]:
@@ -147,6 +152,10 @@ class Source(Protocol):
 
     def drawn(self, names: Collection[str] = (), *, forces: bool = False) -> Snapshot:
         """The state to draw, its forces brought up to date when ``forces`` is set."""
+
+    def held(self) -> Snapshot | None:
+        """The state a fast rotation's numbers are read at (:mod:`sandbox.physics.strobe`),
+        or None: they are read at the drawn instant."""
 
     def shown_readouts(
         self, names: Collection[str], *, snapshot: Snapshot | None = None

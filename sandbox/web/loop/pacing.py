@@ -18,6 +18,7 @@ from sandbox.errors import Diverged, SandboxError
 from sandbox.physics.display import DisplayState
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.strobe import Held
 from sandbox.web.loop.frame import FPS, Notice
 from sandbox.web.loop.probe import Probe
 from sandbox.web.loop.refusals import Refused, divergence_message, french_message
@@ -98,6 +99,7 @@ class Pacing:
         self.display_time = float(sim.data.time)  # time drawn, ahead of the physics < dt
         self._ended_at: float | None = None  # wall clock the scene's run ended at
         self.display = DisplayState(sim)
+        self._held = Held(sim)
         self.probe = Probe()  # readouts sampled between frames (a "Tracé X–Y")
         self._resync(clock())
 
@@ -138,6 +140,20 @@ class Pacing:
         if self.display.ahead(at) == 0.0:
             return self.sim.readouts(wanted)
         return self.sim.readouts(wanted, data=self.display.data(at))
+
+    def held(self) -> Snapshot | None:
+        """While playing a fast imposed rotation, the state its numbers are read at: the
+        last instant before the drawn one at which the input passed its scene's angle
+        (:mod:`sandbox.physics.strobe`); None otherwise (paused, simulated, slow)."""
+        if not self.playing or self.diverged:
+            return None
+        return self._held.snapshot(self.drawn_time, self.speed)
+
+    @property
+    def held_generation(self) -> int:
+        """Changes when :meth:`held` places a new state (what was drawn from the old one
+        is stale)."""
+        return self._held.generation
 
     def drawn(self, names: Collection[str] = (), *, forces: bool = False) -> Snapshot:
         """The state to draw: the physics carried forward to :attr:`drawn_time` (never

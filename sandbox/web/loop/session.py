@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 from sandbox.errors import SandboxError
 from sandbox.physics.picture import Picture, picture
 from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.strobe import HELD_ANGLE
 from sandbox.web.loop.frame import FPS, Frame, Notice, Source, View
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
@@ -69,6 +70,8 @@ class Session:
         self._recording_closed = False
         self._next_check = 0.0
         self._pictured: tuple[int, float, int] | None = None  # key of the last picture
+        self._held_key: tuple[int, int, int] | None = None  # of the held arrows
+        self._held_picture: Picture | None = None  # a fast rotation's arrows, held
         self._seen: dict[tuple[str, str, str], float] = {}  # error notices: last seen
         self.held = 0  # frames not drawn because the browser's sender still held frames
         self._faults: dict[tuple[str, str, str], float] = {}  # frame failures: last seen
@@ -220,7 +223,23 @@ class Session:
                 drawing = picture(snap, arrows, trail=trail, shown=twin)
             self._pictured = key
         state: Snapshot | None = None  # what the panels read besides the readouts
-        if read:
+        held: Picture | None = None  # a fast rotation's arrows at its held angle
+        still = ctl.held() if read and getattr(self.view, "strobe", True) else None
+        if still is not None:  # every number of the frame at the held angle's instant
+            scene = sim.scene
+            if names and HELD_ANGLE in sim.readout_names():
+                names.add(HELD_ANGLE)  # the overlay says which angle
+            with sim.lock:
+                shown = ctl.shown_readouts(() if every else names, snapshot=still)
+                twin = secret.twin(sim) if secret is not None else None
+                held_key = (id(still), getattr(ctl, "held_generation", 0), id(twin))
+                if held_key != self._held_key or self._held_picture is None:
+                    arrows = scene.page.arrows if scene is not None else ()
+                    self._held_picture = picture(still, arrows, shown=twin)
+                    self._held_key = held_key
+                held = self._held_picture  # the same state every turn: the same arrows
+            state = still
+        elif read:
             if values is not None:  # while recording, tables step with the physics
                 shown = values
             else:
@@ -244,6 +263,7 @@ class Session:
             readouts=shown if wanted is not None else None,
             picture=drawing,
             state=state if wanted is not None else None,
+            held=held if wanted is not None else None,
         )
 
     def _turn(self, now: float) -> bool:

@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from sandbox.physics.readonly import ReadOnlySimulation
+from sandbox.physics.strobe import HELD_ANGLE
 from sandbox.web.client.fields import on_user, set_value
 from sandbox.web.client.text import html_text
 from sandbox.web.panels.folder import Folder
@@ -97,6 +98,15 @@ def overlay_labels(sim: ReadOnlySimulation) -> dict[str, str]:
     return {n: changed.get(n) or w or infos[n].label or n for n, w in short.items()}
 
 
+def held_line(values: Mapping[str, float]) -> str:
+    """The overlay's last line while a fast rotation's numbers are held at one angle
+    (:mod:`sandbox.physics.strobe`): which angle, written as the tables write θ."""
+    theta = values.get(HELD_ANGLE)
+    if theta is None or not math.isfinite(theta):
+        return "(relevé au même angle, à chaque tour)"
+    return f"(relevé à θ = {written(HELD_ANGLE, theta, 'rad')}, à chaque tour)"
+
+
 def overlay_lines(
     names: Sequence[str],
     values: Mapping[str, float],
@@ -174,8 +184,10 @@ class Projector:
                 return
         set_value(self.size, font_option(self.font))  # a crafted option: put back
 
-    def refresh(self, values: Mapping[str, float] | None) -> None:
-        """Apply a new text size; show the key readouts of ``values`` (None: keep)."""
+    def refresh(self, values: Mapping[str, float] | None, *, held: bool = False) -> None:
+        """Apply a new text size; show the key readouts of ``values`` (None: keep);
+        ``held``: they are a fast rotation's, read at one angle every turn (said on a
+        last line, :func:`held_line`)."""
         if self._pending_font is not None:
             self.font, self._pending_font = self._pending_font, None
             self.style.content = style_html(self.font, left=self.left, right=self.right)
@@ -186,6 +198,8 @@ class Projector:
         else:
             labels = overlay_labels(self.sim)  # the motion may have changed since
             lines = overlay_lines(self.names, values, labels, self.units, self.zeros)
+            if held and lines:
+                lines.append(held_line(values))
         if lines != self._lines:
             self._lines = lines
             self.overlay.content = overlay_html(lines)

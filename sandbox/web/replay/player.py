@@ -84,6 +84,10 @@ class ReplayController:
         """The recorded frame's state, its forces brought up to date when asked."""
         return self.sim.snapshot(names, forces=forces)
 
+    def held(self) -> Snapshot | None:
+        """None: a replay writes its recorded rows as they are."""
+        return None
+
     def shown_readouts(
         self, names: Collection[str], *, snapshot: Snapshot | None = None
     ) -> dict[str, float]:

@@ -342,25 +342,39 @@ class ArrowLayer:
                 self.messages += 1
         self._seen |= show
 
-    def caption(self, k: int, readouts: Mapping[str, float] | None = None) -> str:
+    def caption(
+        self,
+        k: int,
+        readouts: Mapping[str, float] | None = None,
+        magnitudes: Sequence[float] | np.ndarray | None = None,
+    ) -> str:
         """The label of arrow ``k``: its words, value and unit ("Palier A : 0,91 N"): the
         readout of its name in ``readouts`` when there is one (the pilon's sign, as the
-        tables write it), else its magnitude."""
+        tables write it), else its magnitude (of ``magnitudes`` when given: the held
+        instant's, else the last drawn)."""
         arrow = self.arrows[k]
         reading = readouts.get(arrow.name) if readouts is not None else None
-        return caption(arrow, self.magnitudes[k], self.units[k], self.zero, reading=reading)
+        size = self.magnitudes[k] if magnitudes is None else magnitudes[k]
+        return caption(arrow, float(size), self.units[k], self.zero, reading=reading)
 
-    def relabel(self, readouts: Mapping[str, float] | None = None) -> None:
+    def relabel(
+        self,
+        readouts: Mapping[str, float] | None = None,
+        magnitudes: Sequence[float] | np.ndarray | None = None,
+    ) -> None:
         """Write the labels and place them, at the panels' refresh: the values of the
         frame the tables and the overlay show (``readouts``, read from the state the
-        arrows were drawn at), so that one screen shows one instant."""
+        arrows were drawn at, or from a fast rotation's held instant whose arrows'
+        ``magnitudes`` are given), so that one screen shows one instant."""
+        if magnitudes is not None and len(magnitudes) != len(self.arrows):
+            magnitudes = None
         self._follow_font()
         seen = self._seen | np.asarray(self.shown, dtype=bool)
         self._seen = np.zeros_like(seen)
         em = PX_PER_SCALE * self.font_scale
         moved = self.laid_out is None  # the room of a label changes: placed again now
         for k, label in enumerate(self.labels):
-            text = self.caption(k, readouts)
+            text = self.caption(k, readouts, magnitudes)
             if label.text != text:
                 label.text = text
                 self.messages += 1

@@ -379,12 +379,15 @@ class WebView:
         self.controls.refresh(None if frame.state is None else float(frame.state.data.time))
         if self.video is not None:
             self.video.refresh()
-        self.projector.refresh(None if frame.diverged else frame.readouts)
+        self.projector.refresh(
+            None if frame.diverged else frame.readouts, held=frame.held is not None
+        )
         if self.display is not None:
             self.display.refresh()
         values = None if frame.diverged else frame.readouts
+        arrows_at = frame.held or self._picture  # the instant the numbers are read at
         if values is not None:
-            self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=self._picture)
+            self.readouts.sample(values, push=self._showing(PLOTS_FOLDER), picture=arrows_at)
             if self.lesson is not None:
                 self.lesson.refresh(values)
             drawing = self._picture
@@ -396,7 +399,9 @@ class WebView:
             if values is not None or not folder.needs_readouts:
                 folder.refresh(frame)
         if values is not None and self.arrows is not None:
-            self.arrows.relabel(values)  # the instant the tables and the overlay show
+            # the instant the tables and the overlay show (a fast rotation's held angle)
+            held = None if frame.held is None else frame.held.magnitudes
+            self.arrows.relabel(values, held)
 
     def notify(self, notice: Notice) -> None:
         """A toast for every notice; refused values put the controls back; a finished
