@@ -113,7 +113,7 @@ def test_rotor_bearing_components_are_constant_in_the_rotating_basis():
     assert plot is not None and plot.spec.basis == "B1"
     assert [label.split(", ")[-1] for label in plot.labels] == ["y₁", "z₁", "y₁", "z₁"]
     assert all("Palier" in label for label in plot.labels)
-    assert "composantes dans B1" in plot.title() and "[N]" in plot.title()
+    assert "composantes dans B₁" in plot.title() and "[N]" in plot.title()
     assert not any("_" in label for label in plot.labels)
     body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, scene.page.body_frame)
     seen, turned = [], []

@@ -96,6 +96,9 @@ def test_untrusted_labels_are_escaped_in_every_table():
     )
     assert hyp.splitlines()[0] == "- &lt;img src=x onerror=alert(1)&gt;"
     assert hyp.splitlines()[1] == "- Intégrateur **Runge-Kutta 4**, pas de temps dt = 1 ms"
+    # a timestep is written as « Précision et coût » writes it: « 200 µs », not « 0,2 ms »
+    hyp = tables.hypotheses_markdown([], integrator="rk4", timestep=2e-4)
+    assert hyp.splitlines()[-1].endswith("dt = 200 µs")
 
 
 CODE_NAME = re.compile(r"\b[a-z]+_[a-zA-Z0-9_]+\b")

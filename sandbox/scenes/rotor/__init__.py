@@ -128,7 +128,7 @@ SCENE = Scene(
         # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
         # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
         # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.
-        components=Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B1, liée au rotor"),
+        components=Components(("bearing_A", "bearing_B"), "B1", (1, 2), "B₁, liée au rotor"),
         balancing=("bearing_A", "bearing_B"),
     ),
 )

@@ -24,7 +24,8 @@ if TYPE_CHECKING:
 
 POINT_O = "O (origine)"
 POINT_P = "P (saisi)"
-BASIS_0 = "B0 (monde)"
+BASIS_0 = "B₀, fixe"
+"""The world basis, written as « Isoler un solide » writes it (one name for B₀)."""
 
 SCENE_FOLDER = "Grandeurs de la scène"
 PLOTS_FOLDER = "Courbes"
@@ -125,7 +126,7 @@ class ReadoutPanel:
             bases = [BASIS_0]
             if self.body > 0 and scene is not None:
                 solid = scene.page.names.solids.get(scene.page.body_frame or "")
-                bases.append(f"B1, liée au solide {solid}" if solid else "B1, liée au solide")
+                bases.append(f"B₁, liée au solide {solid}" if solid else "B₁, liée au solide")
             self.basis = gui.add_dropdown(
                 "Base",
                 tuple(bases),

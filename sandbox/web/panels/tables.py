@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sandbox.bench.plot import duration
 from sandbox.mechanics import Torsor
 from sandbox.physics.energy import frame_power
 from sandbox.physics.model import integrator_words
@@ -339,5 +340,6 @@ def hypotheses_markdown(
         items.append("- Calcul exact à chaque instant : ni intégrateur ni pas de temps")
     else:
         method = html_text(integrator_words(integrator))
-        items.append(f"- Intégrateur **{method}**, pas de temps dt = {fmt(timestep * 1e3)} ms")
+        # written as « Précision et coût » writes it (« 200 µs », not « 0,2 ms »)
+        items.append(f"- Intégrateur **{method}**, pas de temps dt = {duration(timestep)}")
     return "\n".join(items)
