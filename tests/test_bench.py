@@ -291,3 +291,20 @@ def test_every_scene_ships_its_benchmark_with_the_default_on_the_front(name):
     assert default is not None and default.pareto and res.admissible(default), name
     assert default.error <= 5e-3, (name, default.error)
     assert res.session is not None and res.session.meets_goal, name
+
+
+def test_every_scene_that_imposes_its_motion_has_an_imposed_row_saying_why_not_when_absent():
+    """bench/results.md: the exact row where the benchmark's case can be imposed, else a
+    row naming why (the wheel balancer's springs, the robot axis's flexible arm)."""
+    from sandbox.bench.report import markdown
+    from sandbox.bench.store import load_results
+    from sandbox.scenes import SCENES
+
+    for name, scene in SCENES.items():
+        res = load_results(name)
+        if res is None or scene.imposed is None:
+            continue
+        text = markdown([res])
+        assert "| **imposed motion**" in text, name
+        if res.imposed is None:
+            assert "not this case:" in text and "simulated" in text, name

@@ -15,6 +15,7 @@ from sandbox.bench import plot
 from sandbox.bench.cost import FRAME_RATE, GOAL, PANEL_RATE, TARGET
 from sandbox.bench.results import SceneResult
 from sandbox.bench.store import to_json
+from sandbox.scenes import get_scene
 
 CSV_COLUMNS = (
     "scene",
@@ -144,6 +145,23 @@ def markdown(results: Sequence[SceneResult]) -> str:
                 f"closure equations + inverse dynamics, {exact.evaluation_s * 1e6:.0f} µs "
                 "per evaluation (one a web frame, whatever dt) |"
             )
+        else:
+            why = _not_imposed(res.scene)
+            if why:
+                parts.append(f"| **imposed motion** | — | — | — | — | — | — | not this case: {why} |")
         parts += _angle_note(res.scene)
         parts.append("")
     return "\n".join(parts)
+
+
+def _not_imposed(name: str) -> str:
+    """Why a scene that can impose its motion cannot on its benchmark case ("" when it
+    has no imposed motion, or can)."""
+    try:
+        scene = get_scene(name)
+    except Exception:  # a result file of a scene this version does not know
+        return ""
+    if scene.imposed is None or scene.accuracy is None:
+        return ""
+    refusal = scene.imposed.refusal({**scene.defaults(), **scene.accuracy.values})
+    return "" if refusal is None else refusal[0]
