@@ -148,7 +148,8 @@ def markdown(results: Sequence[SceneResult]) -> str:
         else:
             why = _not_imposed(res.scene)
             if why:
-                parts.append(f"| **imposed motion** | — | — | — | — | — | — | not this case: {why} |")
+                dashes = " — |" * 6
+                parts.append(f"| **imposed motion** |{dashes} not this case: {why} |")
         parts += _angle_note(res.scene)
         parts.append("")
     return "\n".join(parts)
