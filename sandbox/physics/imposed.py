@@ -76,7 +76,8 @@ class Imposed:
             or None when it can.
         held_at: Input angle [rad] at which the page reads its numbers while the input
             turns faster than a reader can follow (:mod:`sandbox.physics.strobe`): one
-            where every headline quantity is away from zero.
+            where every headline quantity is away from zero; None: never held (an
+            input that does not turn, a carriage on its slide).
     """
 
     joint: str
@@ -86,7 +87,7 @@ class Imposed:
     default: bool = False
     unavailable: Callable[[Values], tuple[str, str] | None] | None = None
     slot: int = 0
-    held_at: float = math.pi / 3
+    held_at: float | None = math.pi / 3
 
     def refusal(self, values: Values) -> tuple[str, str] | None:
         """(English, French) reason the motion cannot be imposed at ``values``, or None."""

@@ -29,6 +29,10 @@ faster than that cannot be read."""
 
 TURN = 2.0 * math.pi
 
+STEADY = 1e-6
+"""Relative change of the speed over a turn below which the rotation counts as steady
+(a speed reached through a lag creeps on for minutes): held."""
+
 HELD_ANGLE = "theta"
 """The readout that names the angle the numbers are held at (the overlay writes it)."""
 
@@ -37,15 +41,25 @@ def held_time(
     imposed: ImposedMotion, values: Values, data: mujoco.MjData, t: float, speed: float = 1.0
 ) -> float | None:
     """The last instant at or before ``t`` [s] at which the input passed its held angle,
-    or None when the numbers are not held: the law's speed is not constant there, or a
-    turn takes :data:`HELD_PERIOD` s of wall time or more at the playback ``speed``."""
+    or None when the numbers are not held: the scene holds none, the law's speed is not
+    steady there (:data:`STEADY`), or a turn takes :data:`HELD_PERIOD` s of wall time or
+    more at the playback ``speed``."""
+    at = imposed.spec.held_at
+    if at is None:
+        return None
     theta, omega, alpha = imposed.motion(values, data, t)
-    if alpha != 0.0 or not math.isfinite(theta + omega):
+    if not math.isfinite(theta + omega + alpha):
         return None
     if not abs(omega) * abs(speed) * HELD_PERIOD > TURN:
         return None
-    at = imposed.spec.held_at
+    period = TURN / abs(omega)
+    if abs(alpha) * period > STEADY * abs(omega):  # still reaching its speed
+        return None
     back = ((theta - at) % TURN) / omega if omega > 0 else ((at - theta) % TURN) / -omega
+    # the law must have turned at that speed since (not a speed step within the turn)
+    before = imposed.motion(values, data, t - back)[1]
+    if abs(before - omega) > STEADY * abs(omega):
+        return None
     return t - back
 
 

@@ -73,3 +73,22 @@ def test_the_held_state_is_the_courses_at_that_angle_and_the_same_every_turn():
     c = sim.readouts(names, snapshot=third)
     assert abs(c["pilon"]) == pytest.approx(4 * abs(a["pilon"]), rel=1e-9)  # ω²
     assert abs(c["pilon"] - c["pilon_ref"]) <= 1e-9 * (abs(c["pilon_ref"]) + abs(c["tamis_ref"]))
+
+
+def test_a_speed_still_reached_through_a_lag_is_live_then_held_once_steady():
+    """With ramp_s = 0.2 s the set point's lag makes the speed creep for a while: the
+    numbers stay live while it changes by over a millionth a turn, held after."""
+    sim = Simulation(
+        get_scene("compressor"), values={"speed_rpm": 3000.0, "ramp_s": 0.2}, motion="imposed"
+    )
+    imposed = sim.imposed
+    assert imposed is not None
+    t0 = float(sim.data.time)
+    assert held_time(imposed, sim.values, sim.data, t0 + 0.1) is None  # accelerating
+    assert held_time(imposed, sim.values, sim.data, t0 + 5.0) is not None  # 25 lags later
+
+
+def test_a_carriage_on_its_slide_is_never_held():
+    sim = Simulation(get_scene("robot_axis"), values={"flexible": 0.0}, motion="imposed")
+    assert sim.imposed is not None and sim.imposed.spec.held_at is None
+    assert all(held_time(sim.imposed, sim.values, sim.data, t) is None for t in (0.1, 0.5, 2.0))

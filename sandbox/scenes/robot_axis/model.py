@@ -146,6 +146,7 @@ IMPOSED = Imposed(
     imposed_law,
     unavailable=imposed_refusal,
     slot=2 * MEMORY,
+    held_at=None,  # a carriage on its slide: nothing turns to be read at an angle
 )
 """The rigid arm's carriage on the trapezoidal speed profile (course 6.3): the torque the
 motor must give, by inverse dynamics (free by default: the flexible arm's vibration is
