@@ -235,3 +235,35 @@ def test_a_fast_rotation_is_read_at_one_angle_in_every_view_and_live_when_paused
     paused = [f for f in later if f.readouts is not None][-1]
     assert paused.held is None
     assert "à chaque tour" not in view.projector.overlay.content
+
+
+def test_the_follow_summary_of_a_fast_rotation_writes_its_held_instant_and_angle():
+    """The followers' table writes a held frame as the page does: the held instant's
+    time, the values at θ = 60° and the line that says so."""
+    import viser
+    from conftest import free_port
+
+    from sandbox.physics.picture import picture
+    from sandbox.physics.strobe import Held
+    from sandbox.web.loop import Controller
+    from sandbox.web.serving.follow import BroadcastView
+
+    sim = Simulation(get_scene("compressor"))
+    sim.advance(1.0)
+    server = viser.ViserServer(port=free_port(), verbose=False)
+    try:
+        view = BroadcastView(server, Controller(sim))
+        held = Held(sim).snapshot(float(sim.data.time))
+        assert held is not None
+        values = sim.readouts([*view.asked, "theta"], snapshot=held)
+        frame = frame_module.Frame(
+            now=0.0, time=float(sim.data.time), generation=0, model_id=id(sim.model),
+            playing=True, diverged=None, readouts=values, state=held,
+            held=picture(held, SCENES["compressor"].page.arrows),
+        )  # fmt: skip
+        view._summarise(frame)
+    finally:
+        server.stop()
+    assert view.summary.endswith(held_line(values)) and "θ = 60°" in held_line(values)
+    assert f"t = {time_words(float(held.data.time))}" in view.summary
+    assert float(held.data.time) < float(sim.data.time)

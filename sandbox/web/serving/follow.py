@@ -36,7 +36,7 @@ from sandbox.web.loop.study_queue import StudyJob, progress_words
 from sandbox.web.page.link import arrival
 from sandbox.web.panels.board import BOARD_FOLDER, TEACHER_PREFIX
 from sandbox.web.panels.board import teacher_path as teacher_path  # re-exported
-from sandbox.web.panels.projector import FONT_SIZES, style_html
+from sandbox.web.panels.projector import FONT_SIZES, held_line, style_html
 from sandbox.web.panels.study_chart import StudyChart
 from sandbox.web.panels.tables import fmt
 from sandbox.web.serving import network
@@ -130,12 +130,15 @@ class BroadcastView:
             if frame.readouts is not None or frame.diverged:
                 self._summarise(frame)
                 if self.arrows is not None:
-                    self.arrows.relabel(frame.readouts)
+                    held = None if frame.held is None else frame.held.magnitudes
+                    self.arrows.relabel(frame.readouts, held)
 
     def _summarise(self, frame: Frame) -> None:
         controller = self.controller
         state = "en pause" if not frame.playing else f"vitesse ×{fmt(controller.speed)}"
-        lines = [f"{time_line(frame.time)} · {state}"]
+        # the instant the numbers are read at (a fast rotation's held one)
+        at = frame.time if frame.state is None else float(frame.state.data.time)
+        lines = [f"{time_line(at)} · {state}"]
         if frame.diverged:
             lines.append(f"**{frame.diverged}**")
         elif frame.readouts is not None:
@@ -152,6 +155,8 @@ class BroadcastView:
                 )
                 rows.append(table_row(self.labels.get(name, name), str(shown)))
             lines.append("\n".join(rows))
+            if frame.held is not None:
+                lines.append(held_line(values))
         text = "\n\n".join(lines)
         if text != self.summary:
             self.summary = text
