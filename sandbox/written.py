@@ -16,6 +16,7 @@ here is for them. A pure module: no UI import.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from datetime import datetime
 
@@ -128,3 +129,26 @@ def time_line(t: float) -> str:
     """The simulated time's line over a picture (the video's overlay, the 3D export's,
     the followers' summary): « t = 81,20 s »."""
     return f"t = {with_unit(time_words(t), 's')}"
+
+
+FLAT = 0.02
+"""A curve flatter than this share of its size is drawn with this much room around it:
+its axis ticks then differ where a number is read (a bearing force steady to 1e-6 N had
+four ticks all reading « 54,4175 », a nutation rate steady to 3×10⁻⁷ °/s every tick
+« 30 »)."""
+
+
+def flat_limits(values: Iterable[float]) -> tuple[float, float] | None:
+    """The vertical limits of a nearly flat curve (its middle ± :data:`FLAT` of its
+    size; ±1 of its unit at 0), None when its own span is wide enough or it has no
+    finite value: one rule for every chart (the page's X–Y plot, the video's strip)."""
+    finite = [v for v in (float(x) for x in values) if math.isfinite(v)]
+    if not finite:
+        return None
+    lo, hi = min(finite), max(finite)
+    room = FLAT * max(abs(lo), abs(hi))
+    if hi - lo >= 2 * room and hi > lo:
+        return None
+    room = room or 1.0
+    middle = (lo + hi) / 2
+    return middle - room, middle + room

@@ -327,7 +327,7 @@ def test_the_command_warns_of_a_rotor_the_frames_hide(rotor, tmp_path, capsys):
 def test_a_flat_curve_in_the_strip_has_ticks_that_differ():
     """A bearing force steady to 1e-6 N gave four ticks all reading « 54,4175 »: a curve
     flatter than 2 % of its size gets that room around it; a moving one keeps its own."""
-    from sandbox.web.video.strip import flat_limits
+    from sandbox.written import flat_limits
 
     lo, hi = flat_limits(54.4175 + 1e-6 * np.sin(np.linspace(0, 9, 50)))
     assert lo == pytest.approx(54.4175 * 0.98, rel=1e-6) and hi == pytest.approx(

@@ -109,7 +109,7 @@ def test_the_compressors_pilon_over_a_revolution_matches_the_course():
         peak = np.max(np.abs(values[f"{name}_ref"]))
         assert np.max(np.abs(values[name] - values[f"{name}_ref"])) < 1e-3 * peak
     arrays = data.arrays(0.5)
-    assert len(arrays) == 1 + len(data.layout()) == 7
+    assert len(arrays) == 1 + len(data.layout()) == 8  # x, 2 × (y, ref, mark), range
     assert all(len(a) == len(arrays[0]) and np.isfinite(a[[0, -1]]).all() for a in arrays)
 
 
@@ -225,3 +225,20 @@ def test_a_flat_curve_reads_a_slope_of_zero_not_round_off():
     data.add((t / 100, {"bearing_A": 54.4 + 1e-13 * rng.standard_normal()}) for t in range(300))
     text = data.reading(0.5, SCENES["rotor"].zero)
     assert "pente 0\u00a0N/s" in text and "10⁻" not in text
+
+
+def test_a_nearly_flat_curve_gets_room_around_it_and_a_wide_one_keeps_its_range():
+    """The heavy top's nutation rate steady to 3×10⁻⁷ °/s: uPlot zoomed into round-off
+    and every tick read « 30 ». The chart's last, invisible column holds 30 ± 2 % at its
+    ends (flat_limits); a curve that spans its range keeps its own ends."""
+    sim = Simulation(get_scene("rotor"))
+    data = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
+    assert data.layout()[-1][0] == "range"
+    data.add((t / 100, {"bearing_A": 30.0 + 3e-7 * math.sin(t)}) for t in range(200))
+    bounds = data.arrays()[-1]
+    assert bounds[0] == pytest.approx(29.4, rel=1e-6) and bounds[-1] == pytest.approx(30.6)
+    assert np.isnan(bounds[1:-1]).all()  # drawn nowhere
+    wide = XYData(TIME_AXIS, [_axis(sim, "bearing_A")], {})
+    wide.add((t / 100, {"bearing_A": float(t)}) for t in range(200))
+    ends = wide.arrays()[-1]
+    assert (ends[0], ends[-1]) == (0.0, 199.0)

@@ -10,6 +10,7 @@ and the plot is not frozen.
 
 from __future__ import annotations
 
+import copy
 import math
 import threading
 import time
@@ -23,7 +24,7 @@ from sandbox.physics.presets import TIME, XYPreset
 from sandbox.web.loop.requests import Reset, SetValue
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.folder import Folder
-from sandbox.web.panels.plots import PALETTE, dashed, dots, replace_chart
+from sandbox.web.panels.plots import PALETTE, RANGE_SERIES, dashed, dots, replace_chart
 from sandbox.web.panels.preset_picker import PresetPicker
 from sandbox.web.panels.xy_data import TIME_AXIS, Axis, XYData
 
@@ -238,6 +239,8 @@ class XYPanel:
                 if not lines:  # a cloud of points: lines would join far-apart samples
                     style = dots(y.title, color)
                 series.append(style)
+            elif role == "range":
+                series.append(copy.deepcopy(RANGE_SERIES))
             elif role == "ref":
                 series.append(dashed(f"{y.words}, cours", color, 1.5, (6.0, 4.0)))
             else:

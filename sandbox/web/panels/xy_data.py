@@ -24,7 +24,7 @@ from sandbox.physics.presets import TIME
 from sandbox.physics.units import TURN_ANGLES, shown_scale
 from sandbox.runner import csv_cell
 from sandbox.web.client.text import number, with_unit
-from sandbox.written import Written, time_words, written
+from sandbox.written import Written, flat_limits, time_words, written
 
 WINDOW = 10.0
 """Seconds of simulated time kept when X is time."""
@@ -217,16 +217,30 @@ class XYData:
             if at is not None and math.isfinite(values[y.name][at]):
                 mark[[0, at, -1]] = values[y.name][at]
             out.append(mark)
+        # the vertical range, held at its ends by an invisible last column: a nearly flat
+        # curve gets room around it (uPlot zoomed into round-off: every tick read « 30 »)
+        every = np.concatenate(out[1:]) if len(out) > 1 else np.zeros(0)
+        span = flat_limits(every)
+        finite = every[np.isfinite(every)]
+        if span is None and len(finite):  # wide enough: the data's own, changing nothing
+            span = float(finite.min()), float(finite.max())
+        bounds = np.full(len(x), np.nan)
+        if span is not None:
+            bounds[0], bounds[-1] = span
+        out.append(bounds)
         return (x, *(finite_ends(c) for c in out[1:]))
 
     def layout(self) -> list[tuple[str, Axis]]:
-        """What each column of :meth:`arrays` after X is: ("y" | "ref" | "mark", its Y)."""
+        """What each column of :meth:`arrays` after X is: ("y" | "ref" | "mark" | "range",
+        its Y; the last, "range", holds the vertical range)."""
         out = []
         for y in self.ys:
             out.append(("y", y))
             if y.name in self.refs:
                 out.append(("ref", y))
             out.append(("mark", y))
+        if self.ys:
+            out.append(("range", self.ys[0]))  # the vertical range's ends (:meth:`arrays`)
         return out
 
     @staticmethod

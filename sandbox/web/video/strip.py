@@ -17,6 +17,7 @@ from PIL import Image
 from sandbox.bench.plot import LOCK, comma_formatter, new_figure
 from sandbox.physics.units import shown_scale
 from sandbox.recording import Recording
+from sandbox.written import flat_limits
 
 
 # -- the recorded motion, between its frames --------------------------------------------------
@@ -80,26 +81,6 @@ def sampled(
     return times, {n: np.asarray(v, dtype=float) for n, v in columns.items()}
 
 
-FLAT = 0.02
-"""A curve flatter than this share of its size is drawn with this much room around it:
-its ticks then differ where a number is read (a bearing force steady to 1e-6 N had four
-ticks all reading « 54,4175 »)."""
-
-
-def flat_limits(values: np.ndarray) -> tuple[float, float] | None:
-    """The y limits of a nearly flat curve (its middle ± :data:`FLAT` of its size), None
-    when the curve's own span is wide enough (or there is none)."""
-    if not len(values):
-        return None
-    lo, hi = float(values.min()), float(values.max())
-    room = FLAT * max(abs(lo), abs(hi))
-    if hi - lo >= 2 * room and hi > lo:
-        return None
-    room = room or 1.0  # a curve at 0: ±1 of its unit
-    middle = (lo + hi) / 2
-    return middle - room, middle + room
-
-
 # -- the plot strip -------------------------------------------------------------------------
 class Strip:
     """Readouts against time over the clip, drawn once (:meth:`draw`); a cursor per
@@ -133,7 +114,7 @@ class Strip:
                 shown.append(values[np.isfinite(values)])
                 ax.plot(times, values, lw=2, label=words, color=f"C{k}")
             ax.set_xlim(*self.span)
-            limits = flat_limits(np.concatenate(shown) if shown else np.zeros(0))
+            limits = flat_limits(np.concatenate(shown) if shown else ())
             if limits is not None:
                 ax.set_ylim(*limits)
             ax.set_xlabel("Temps de l'enregistrement [s]")  # t is the simulated time
