@@ -202,3 +202,36 @@ def test_a_class_that_arrived_together_is_moved_to_the_projection_when_it_satura
         for s in students:
             s.close()
         app.stop()
+
+
+@pytest.mark.slow  # a server and a websocket student: a few seconds
+def test_a_student_whose_move_to_the_projection_fails_keeps_a_simulation_of_their_own(
+    monkeypatch,
+):
+    """The projection cannot be built (a fault): the student moved while the process
+    is saturated gets their own simulation back, never no page at all."""
+    from test_board import FakeStudent
+
+    from sandbox.web.serving import class_app
+    from sandbox.web.serving.app import start
+
+    monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)
+    app = start("rotor", port=free_port(), open_message=False, token="tok-shed-fail")
+    url = app.url.replace("http", "ws")
+    student = FakeStudent(url)
+    try:
+        assert wait_for(lambda: len(app.arrived) == 1, 30)
+        (cid,) = app.arrived
+        old = app.sessions[cid]
+
+        def broken(client):
+            raise RuntimeError("no projection")
+
+        monkeypatch.setattr(app, "_follower", broken)
+        app.scheduler = SimpleNamespace(governor=SimpleNamespace(saturated=True, given=5.0))
+        assert app.shed() == 1
+        session = app.sessions[cid]
+        assert session is not old and session.drive and not app.overflow
+    finally:
+        student.close()
+        app.stop()

@@ -232,7 +232,13 @@ class ClassApp(App):
             return False
         client.gui.reset()
         client.scene.reset()
-        session = self._follower(client)
+        try:
+            session = self._follower(client)
+        except Exception:  # never no page at all: a simulation of their own again
+            log.exception("a student could not be moved to the projected simulation")
+            client.gui.reset()
+            client.scene.reset()
+            session = self._open(client)
         with self._lock:
             self.sessions[cid] = session
         session.start()
