@@ -121,7 +121,7 @@ class ReadoutPanel:
                 "P [m]",
                 (0.0, 0.0, 0.0),
                 step=0.001,
-                hint="Coordonnées de P dans R0 (choisir P saisi)",
+                hint="Coordonnées du point P dans R₀ (choisir « P (saisi) » dans « Point »)",
             )
             bases = [BASIS_0]
             if self.body > 0 and scene is not None:
@@ -171,10 +171,10 @@ class ReadoutPanel:
             state = sim.data if data is None else data
             return (
                 state.xmat[self.body].reshape(3, 3).copy(),
-                "B1",
+                "B₁",
                 ("x<sub>1</sub>", "y<sub>1</sub>", "z<sub>1</sub>"),
             )
-        return np.eye(3), "B0", ("x<sub>0</sub>", "y<sub>0</sub>", "z<sub>0</sub>")
+        return np.eye(3), "B₀", ("x<sub>0</sub>", "y<sub>0</sub>", "z<sub>0</sub>")
 
     # -- refresh -------------------------------------------------------------------------
     def reference(self, sim: ReadOnlySimulation) -> dict[str, float]:

@@ -96,7 +96,7 @@ class TorsorSpec:
 
     Attributes:
         prefix: Readout prefix (``kin``, ``dyn``, ``sup``).
-        symbol: Course symbol as HTML, e.g. ``{𝒟<sub>Σ/R0</sub>}``.
+        symbol: Course symbol as HTML, e.g. ``{𝒟<sub>Σ/R₀</sub>}``.
         caption: Short French caption.
         r_unit: Unit of the resultant.
         m_unit: Unit of the moment.
@@ -110,8 +110,8 @@ class TorsorSpec:
 
 
 TORSORS = (
-    TorsorSpec("kin", "{𝒞<sub>Σ/R0</sub>}", "Torseur cinétique", "kg·m/s", "kg·m²/s"),
-    TorsorSpec("dyn", "{𝒟<sub>Σ/R0</sub>}", "Torseur dynamique", "N", "N·m"),
+    TorsorSpec("kin", "{𝒞<sub>Σ/R₀</sub>}", "Torseur cinétique", "kg·m/s", "kg·m²/s"),
+    TorsorSpec("dyn", "{𝒟<sub>Σ/R₀</sub>}", "Torseur dynamique", "N", "N·m"),
     TorsorSpec("sup", "{𝒯<sub>0/Σ</sub>}", "Action du bâti 0 sur Σ", "N", "N·m"),
 )
 
@@ -219,14 +219,14 @@ def torsors_markdown(
             )
         )
     out.append(
-        "PFD : {𝒟<sub>Σ/R0</sub>} = {𝒯<sub>0/Σ</sub>} + actions extérieures "
+        "PFD : {𝒟<sub>Σ/R₀</sub>} = {𝒯<sub>0/Σ</sub>} + actions extérieures "
         "(poids, moteur, charges)."
     )
     return "\n".join(out)
 
 
 ENERGY_ROWS = (
-    ("T", "T<sub>Σ/R0</sub>", "J", "énergie cinétique"),
+    ("T", "T<sub>Σ/R₀</sub>", "J", "énergie cinétique"),
     ("V", "V", "J", "énergie potentielle"),
     ("P_ext", "P<sub>ext</sub>", "W", "poids, moteurs, charges"),
     (
