@@ -220,6 +220,12 @@ def test_a_fast_rotation_is_read_at_one_angle_in_every_view_and_live_when_paused
         session.run_once(clock.now)
     refreshed = [f for f in later if f.readouts is not None]
     assert times[-1] >= times[0] + 0.1  # turns later (the status line writes 10 ms)
+    # the arrows stay at the held angle too, the poses move on
+    drawn = [f.picture for f in later if f.picture is not None]
+    assert len(drawn) >= 10
+    for pic in drawn:
+        assert pic.magnitudes.tolist() == first.held.magnitudes.tolist()
+    assert len({pic.poses.tobytes() for pic in drawn}) > 5
     for frame in refreshed:
         assert frame.readouts["pilon"] == first.readouts["pilon"]
     assert view.projector.overlay.content == overlay

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import threading
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 
 from sandbox.errors import SandboxError
 from sandbox.physics.picture import Picture, picture
@@ -213,31 +214,31 @@ class Session:
         snap: Snapshot | None = None
         secret: Secret | None = ctl.secret  # a replay has none
         key = (id(sim.model), drawn_at, generation)
-        if draws and not ctl.diverged and key != self._pictured:
+        picturing = draws and not ctl.diverged and key != self._pictured
+        # a fast rotation read at one angle: its numbers and its arrows at that instant
+        strobe = getattr(self.view, "strobe", True)
+        still = ctl.held() if strobe and (read or picturing) else None
+        held = self._held_arrows(still, secret) if still is not None else None
+        if picturing:
             scene = sim.scene
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None
             with sim.lock:
-                snap = ctl.drawn(forces=bool(arrows) or (read and values is None))
+                forces = (bool(arrows) and held is None) or (read and values is None)
+                snap = ctl.drawn(forces=forces and still is None)
                 twin = secret.twin(sim) if secret is not None else None
-                drawing = picture(snap, arrows, trail=trail, shown=twin)
+                drawing = picture(snap, arrows if held is None else (), trail=trail, shown=twin)
+            if held is not None:  # the poses move on; the arrows stay at the held angle
+                drawing = replace(
+                    drawing, arrows=held.arrows, vectors=held.vectors, magnitudes=held.magnitudes
+                )
             self._pictured = key
         state: Snapshot | None = None  # what the panels read besides the readouts
-        held: Picture | None = None  # a fast rotation's arrows at its held angle
-        still = ctl.held() if read and getattr(self.view, "strobe", True) else None
-        if still is not None:  # every number of the frame at the held angle's instant
-            scene = sim.scene
+        if still is not None and read:  # every number of the frame at the held instant
             if names and HELD_ANGLE in sim.readout_names():
                 names.add(HELD_ANGLE)  # the overlay says which angle
             with sim.lock:
                 shown = ctl.shown_readouts(() if every else names, snapshot=still)
-                twin = secret.twin(sim) if secret is not None else None
-                held_key = (id(still), getattr(ctl, "held_generation", 0), id(twin))
-                if held_key != self._held_key or self._held_picture is None:
-                    arrows = scene.page.arrows if scene is not None else ()
-                    self._held_picture = picture(still, arrows, shown=twin)
-                    self._held_key = held_key
-                held = self._held_picture  # the same state every turn: the same arrows
             state = still
         elif read:
             if values is not None:  # while recording, tables step with the physics
@@ -265,6 +266,21 @@ class Session:
             state=state if wanted is not None else None,
             held=held if wanted is not None else None,
         )
+
+    def _held_arrows(self, still: Snapshot, secret: Secret | None) -> Picture:
+        """The arrows of a fast rotation's held state (:meth:`Source.held`), evaluated
+        once a state: it is the same every turn."""
+        ctl = self.controller
+        sim = ctl.sim
+        with sim.lock:
+            twin = secret.twin(sim) if secret is not None else None
+            key = (id(still), getattr(ctl, "held_generation", 0), id(twin))
+            if key != self._held_key or self._held_picture is None:
+                scene = sim.scene
+                arrows = scene.page.arrows if scene is not None else ()
+                self._held_picture = picture(still, arrows, shown=twin)
+                self._held_key = key
+            return self._held_picture
 
     def _turn(self, now: float) -> bool:
         """The scheduler's call: one frame unless the session must end; False to drop it."""
