@@ -182,3 +182,34 @@ def test_overlay_shows_turning_angles_modulo_a_turn_and_flags_in_words():
     (residual,) = overlay_lines(["r"], {"r": -5.5e-15}, {"r": "Écart"}, {"r": "W"}, {"r": 1e-9})
     assert residual == "Écart = 0\u00a0W"  # below the scene's round-off
     assert gimbal == "gimbal_outer = −28,65°"  # not modulo: a gimbal swings both ways
+
+
+def test_typing_a_number_never_refuses_its_first_digits(monkeypatch):
+    """The browser sends a number box's value at every key: typing « 0,01 » in « Vitesse
+    × » (×0,01 to ×4) sent 0 first, refused at once, and the old value put back under
+    the user's fingers made « 1.01 ». A value outside the control's range waits TYPING
+    seconds; the next key's in-range value replaces it and applies at once; one left
+    alone is applied (and refused by the session) once the user stops."""
+    from types import SimpleNamespace
+
+    from conftest import wait_for
+
+    from sandbox.web.client import fields
+
+    monkeypatch.setattr(fields, "TYPING", 0.2)
+    callbacks, applied = [], []
+    handle = SimpleNamespace(disabled=False, on_update=callbacks.append, min=0.01, max=4.0)
+    fields.on_user(handle, applied.append)  # type: ignore[arg-type]
+
+    def key(value: float) -> None:
+        callbacks[0](SimpleNamespace(client=object(), target=SimpleNamespace(value=value)))
+
+    key(0.0)  # « 0 »
+    key(0.0)  # « 0,0 »
+    key(0.01)  # « 0,01 »: in range, applied at once
+    assert applied == [0.01]
+    key(5.0)  # out of range, then nothing more: applied once the user stops
+    assert applied == [0.01]
+    assert wait_for(lambda: applied == [0.01, 5.0], timeout=5)
+    # the zeros typed first were never applied, even later
+    assert applied == [0.01, 5.0]

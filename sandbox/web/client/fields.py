@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 import math
 import re
+import threading
 import time
 from collections.abc import Callable
 from typing import Any
@@ -103,15 +104,48 @@ def engineering(value: float) -> str:
     return number(value, 4)
 
 
+TYPING = 1.5
+"""Seconds a value outside a control's range waits before it is applied (and refused):
+the browser sends a number box's value at every key, so typing « 0,01 » sent 0 first,
+whose refusal put the old value back under the user's fingers (« 1.01 »)."""
+
+
+def _outside(handle: object, value: object) -> bool:
+    """True when ``value`` is a number outside ``handle``'s own bounds (a number box whose
+    first digits are being typed); False without bounds or for anything else."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    low, high = getattr(handle, "min", None), getattr(handle, "max", None)
+    return (isinstance(low, (int, float)) and value < low) or (
+        isinstance(high, (int, float)) and value > high
+    )
+
+
 def on_user(handle: viser.GuiInputHandle[Any], action: Callable[[Any], None]) -> None:
     """Run ``action(value)`` when the user (not the server) changes ``handle``; never
     while it is disabled (a control a shared link locked or hid: only a crafted message
-    can change it, and the next refresh puts it back)."""
+    can change it, and the next refresh puts it back). A value outside the control's own
+    range is applied only if no other comes within :data:`TYPING` seconds (the first
+    digits of a number being typed are never refused under the user's fingers)."""
+    waiting: list[threading.Timer] = []
+    lock = threading.Lock()
 
     @handle.on_update
     def _(event: viser.GuiEvent[Any]) -> None:
-        if event.client is not None and not handle.disabled:
-            action(event.target.value)
+        if event.client is None or handle.disabled:
+            return
+        value = event.target.value
+        with lock:
+            for timer in waiting:
+                timer.cancel()
+            waiting.clear()
+            if _outside(handle, value):
+                timer = threading.Timer(TYPING, action, args=(value,))
+                timer.daemon = True
+                waiting.append(timer)
+                timer.start()
+                return
+        action(value)
 
 
 def set_value(handle: viser.GuiInputHandle[Any], value: object) -> None:
