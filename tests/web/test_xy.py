@@ -242,3 +242,17 @@ def test_a_nearly_flat_curve_gets_room_around_it_and_a_wide_one_keeps_its_range(
     wide.add((t / 100, {"bearing_A": float(t)}) for t in range(200))
     ends = wide.arrays()[-1]
     assert (ends[0], ends[-1]) == (0.0, 199.0)
+
+
+def test_a_slope_below_what_the_written_digits_show_reads_zero():
+    """The heavy top's steady nutation, 30° drifting 3×10⁻⁶° in 10 s (its integration's
+    own drift): « pente 3,35×10⁻⁷ °/s » was a number no digit of the curve shows. A
+    slope that moves Y by less than half its fourth significant digit over the range
+    reads 0; one that moves it by more is written."""
+    sim = Simulation(get_scene("heavy_gyroscope"))
+    data = XYData(TIME_AXIS, [_axis(sim, "nutation")], {})
+    data.add((t / 10, {"nutation": math.radians(30.0 + 3.35e-7 * t / 10)}) for t in range(100))
+    assert "pente 0\u00a0°/s" in data.reading(0.5, SCENES["heavy_gyroscope"].zero)
+    moving = XYData(TIME_AXIS, [_axis(sim, "nutation")], {})
+    moving.add((t / 10, {"nutation": math.radians(30.0 + 0.01 * t / 10)}) for t in range(100))
+    assert "pente 0,01\u00a0°/s" in moving.reading(0.5, SCENES["heavy_gyroscope"].zero)

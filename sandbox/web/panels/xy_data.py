@@ -296,10 +296,12 @@ class XYData:
         span = float(np.nanmax(xs) - np.nanmin(xs)) if len(xs) else 0.0
         for y, value, slope in ys:
             z = zero.get(y.unit, 0.0) * y.scale
-            # a slope that moves Y by less than its round-off (or 10⁻⁹ of its size) over
-            # the whole range is round-off: 0, not 3×10⁻¹⁴
+            # a slope that moves Y over the whole range by less than Y's own written digits
+            # show (half its fourth significant digit), or than its round-off, reads 0: the
+            # heavy top's steady nutation drifting 3×10⁻⁶° in 10 s read « pente 3,35×10⁻⁷ °/s »
             size = float(np.nanmax(np.abs(values[y.name]))) if len(xs) else 0.0
-            flat = max(z, 1e-9 * size) / span if span > 0 else 0.0
+            digit = 10.0 ** (math.floor(math.log10(size)) - 3) if size > 0 else 0.0
+            flat = max(z, 0.5 * digit) / span if span > 0 else 0.0
             lines.append(
                 f"**{y.words}** = {self._written(y, value, zero.get(y.unit, 0.0))} ; "
                 f"pente {with_unit(number(slope, 3, zero=flat), slope_unit(y.shown, self.x.shown))}"
