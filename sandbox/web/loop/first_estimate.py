@@ -13,6 +13,7 @@ students are connected.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Collection
 
@@ -60,6 +61,7 @@ def measure(
     *,
     seconds: float = SECONDS,
     sleep: Callable[[float], None] = time.sleep,
+    stop: threading.Event | None = None,
 ) -> Load:
     """One session of the served scene, its frames run for ``seconds`` at the page's rate:
     what a student costs, as the :class:`~sandbox.web.loop.capacity.Load` of one session.
@@ -68,13 +70,14 @@ def measure(
         controller: Makes the session's controller (the served scene and options).
         seconds: Wall seconds measured.
         sleep: Waits between frames (replaceable in tests).
+        stop: Ends the measure early when set (the server stops).
     """
     ctl = controller()
     page = _Page()
     session = Session(ctl, page)
     wall0, cpu0 = ctl.clock(), time.thread_time()
     frames = 0
-    while ctl.clock() - wall0 < seconds:
+    while ctl.clock() - wall0 < seconds and not (stop is not None and stop.is_set()):
         session.run_once()
         frames += 1
         sleep(max(0.0, frames / FPS - (ctl.clock() - wall0)))

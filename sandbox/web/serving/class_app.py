@@ -140,8 +140,10 @@ class ClassApp(App):
         self._shedding = threading.Event()
         super().__init__(server, host, self._open, max_sessions=max_sessions, port=port)
         self.classroom.start()
+        self._shedder: threading.Thread | None = None
         if self.shared is not None:
-            threading.Thread(target=self._shed_loop, name="shed", daemon=True).start()
+            self._shedder = threading.Thread(target=self._shed_loop, name="shed", daemon=True)
+            self._shedder.start()
 
     @property
     def teacher_url(self) -> str:
@@ -326,6 +328,8 @@ class ClassApp(App):
 
     def stop(self) -> None:
         self._shedding.set()
+        if self._shedder is not None:
+            self._shedder.join(2.0)
         self.classroom.stop()
         if self._broadcast_session is not None:
             self._broadcast_session.stop()

@@ -129,6 +129,7 @@ class Classroom:
         self.connected = connected
         self.load = load or (lambda: Scheduler.shared().governor.load)
         self.first: Load | None = None
+        self.cleanups: list[Callable[[], None]] = []  # run by stop()
         """The capacity measure taken at the start, before any session (None: none)."""
         self.clock = clock
         self.period = period
@@ -422,8 +423,11 @@ class Classroom:
         self._thread.start()
 
     def stop(self) -> None:
-        """Stop reading."""
+        """Stop reading, and the first estimate's measure if it still runs (a process
+        that exits while a thread steps MuJoCo may crash on its way out)."""
         self._stop.set()
         self._wake.set()
+        for cleanup in self.cleanups:
+            cleanup()
         if self._thread is not None:
             self._thread.join(2.0)

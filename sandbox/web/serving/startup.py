@@ -138,13 +138,24 @@ def measure_capacity(classroom: Classroom, controller: Callable[[], Controller])
     measured for two seconds in a thread of its own (:mod:`sandbox.web.loop.first_estimate`),
     then given to the class board."""
 
+    stop = threading.Event()
+
     def run() -> None:
         try:
-            classroom.first = first_estimate.measure(controller)
+            load = first_estimate.measure(controller, stop=stop)
+            if not stop.is_set():
+                classroom.first = load
         except Exception:  # an estimate is a bonus: the board waits for the live one
             log.exception("the first capacity estimate failed")
 
-    threading.Thread(target=run, name="sandbox-capacity", daemon=True).start()
+    thread = threading.Thread(target=run, name="sandbox-capacity", daemon=True)
+
+    def cleanup() -> None:  # a server stopped within its first seconds: wait for it
+        stop.set()
+        thread.join(2.0)
+
+    classroom.cleanups.append(cleanup)
+    thread.start()
 
 
 def _public(host: str) -> bool:
