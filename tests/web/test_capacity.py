@@ -169,6 +169,7 @@ def test_a_class_that_arrived_together_is_moved_to_the_projection_when_it_satura
     from sandbox.web.serving.app import start
 
     monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)  # the test calls shed() itself
+    monkeypatch.setattr(class_app, "SHED_MIN", 4)  # a class of four here (six: a class)
     app = start("rotor", port=free_port(), open_message=False, token="tok-shed")
     url = app.url.replace("http", "ws")
     students = []
@@ -182,6 +183,11 @@ def test_a_class_that_arrived_together_is_moved_to_the_projection_when_it_satura
         app.scheduler = SimpleNamespace(governor=governor)
         now = time.monotonic()
         assert app.shed(now) == 0  # not saturated: nobody moves
+        monkeypatch.setattr(class_app, "SHED_MIN", 5)
+        governor.saturated = True
+        assert app.shed(now) == 0  # four students are not a class arriving together
+        monkeypatch.setattr(class_app, "SHED_MIN", 4)
+        governor.saturated = False
         governor.saturated = True
         # the first arrived long ago; the third records
         app.arrived[order[0]] -= class_app.SHED_RECENT + 1
@@ -216,6 +222,7 @@ def test_a_student_whose_move_to_the_projection_fails_keeps_a_simulation_of_thei
     from sandbox.web.serving.app import start
 
     monkeypatch.setattr(class_app, "SHED_CHECK", 3600.0)
+    monkeypatch.setattr(class_app, "SHED_MIN", 1)
     app = start("rotor", port=free_port(), open_message=False, token="tok-shed-fail")
     url = app.url.replace("http", "ws")
     student = FakeStudent(url)

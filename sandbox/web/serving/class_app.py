@@ -68,6 +68,10 @@ windows (:data:`~sandbox.web.loop.governor.WINDOW`) see the lighter load first."
 SHED_CHECK = 0.5
 """Seconds between two looks at the governor's saturation."""
 
+SHED_MIN = 6
+"""Students with a simulation of their own below which nobody is moved: a class arriving
+together, not two browsers on a machine busy with something else for a while."""
+
 
 JOIN_FIRST_ORDER = -950.0
 """Place of « Rejoindre » on the teacher's page until the first student arrives: first,
@@ -188,13 +192,15 @@ class ClassApp(App):
                 log.exception("students could not be moved to the projected simulation")
 
     def shed(self, now: float | None = None) -> int:
-        """While the process is saturated, move the students who arrived last (within
-        :data:`SHED_RECENT` s, not recording) to the projected simulation: as many as
+        """While the process is saturated with :data:`SHED_MIN` students or more, move
+        the students who arrived last (within :data:`SHED_RECENT` s, not recording) to
+        the projected simulation: as many as
         the frames each session got short of the floor say (at least one), then wait
         :data:`SHED_PAUSE` s for the governor to see the lighter load. Returns how many
         were moved."""
         governor = self.scheduler.governor
-        if self.shared is None or not governor.saturated:
+        students = len(self.arrived) + len(self.overflow)  # own, and following
+        if self.shared is None or not governor.saturated or students < SHED_MIN:
             return 0
         now = time.monotonic() if now is None else now
         if now < self._shed_after:
