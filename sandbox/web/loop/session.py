@@ -224,8 +224,9 @@ class Session:
             arrows = scene.page.arrows if scene is not None else ()
             trail = scene.page.trail if scene is not None else None
             with sim.lock:
-                forces = (bool(arrows) and held is None) or (read and values is None)
-                snap = ctl.drawn(forces=forces and still is None)
+                # held: the arrows and the numbers are the held state's, poses only here
+                forces = still is None and (bool(arrows) or (read and values is None))
+                snap = ctl.drawn(forces=forces)
                 twin = secret.twin(sim) if secret is not None else None
                 drawing = picture(snap, arrows if held is None else (), trail=trail, shown=twin)
             if held is not None:  # the poses move on; the arrows stay at the held angle

@@ -235,22 +235,35 @@ class ClassApp(App):
             del self.sessions[cid]
         self.arrived.pop(cid, None)
         client = self.server.get_clients().get(cid)
-        old.stop()
         if client is None:
+            old.stop()
             return False
+        # never no page at all: a simulation of their own again if the move fails
+        self._swap(client, old, self._follower, self._open)
+        return True
+
+    def _swap(
+        self,
+        client: viser.ClientHandle,
+        old: Session,
+        make: Callable[[viser.ClientHandle], Session],
+        fallback: Callable[[viser.ClientHandle], Session],
+    ) -> None:
+        """Replace a page's session ``old`` (already out of :attr:`sessions`) by the one
+        ``make`` builds on a cleared page, or ``fallback``'s when ``make`` fails."""
+        old.stop()
         client.gui.reset()
         client.scene.reset()
         try:
-            session = self._follower(client)
-        except Exception:  # never no page at all: a simulation of their own again
-            log.exception("a student could not be moved to the projected simulation")
+            session = make(client)
+        except Exception:
+            log.exception("a page's new session could not be made")
             client.gui.reset()
             client.scene.reset()
-            session = self._open(client)
+            session = fallback(client)
         with self._lock:
-            self.sessions[cid] = session
+            self.sessions[client.client_id] = session
         session.start()
-        return True
 
     @staticmethod
     def _hide_broadcast(client: viser.ClientHandle) -> None:
@@ -307,18 +320,8 @@ class ClassApp(App):
             old = self.sessions.pop(cid, None)
         if old is None:
             return
-        old.stop()
         self.overflow.discard(cid)
-        client.gui.reset()
-        client.scene.reset()
-        try:
-            session = self._open(client)
-        except Exception:
-            log.exception("a student's own simulation could not be made")
-            session = self._follower(client)
-        with self._lock:
-            self.sessions[cid] = session
-        session.start()
+        self._swap(client, old, self._open, self._follower)
 
     def _disconnect(self, client: viser.ClientHandle) -> None:
         super()._disconnect(client)
