@@ -72,10 +72,11 @@ def test_ball_joint_does_not_drift_over_a_minute():
     """60 s on the ball joint (about 4 turns of precession): unit quaternion, θ, Ω, T + V.
 
     RK4 is not symplectic: it gains a little T + V, so θ creeps up linearly, as dt⁵.
-    Measured at the default (0.2 ms at 3000 rpm): 3.5e-7 rad in a minute, Ω within 2.2e-7
-    of the exact root, T + V within 9e-10 (0.15 ms: 8e-8, 7e-8, 2e-10; 0.25 ms: θ 1.1e-6;
-    0.5 ms: 3.4e-5 rad, 9e-6 and 8e-8)."""
-    assert Simulation(get_scene("heavy_gyroscope")).timestep == 2e-4
+    Measured at the default (0.5 ms at 3000 rpm): 3.4e-5 rad in a minute, Ω within 8.7e-6
+    of the exact root, T + V within 8.5e-8 of itself (0.2 ms: 3.5e-7, 2.2e-7, 1e-9; 1 ms:
+    1.1e-3 rad, 1.4e-4, 2.7e-6). The bounds below sit between 0.5 ms and 1 ms, under the
+    four significant figures the page writes (30,00° and 0,002° of creep)."""
+    assert Simulation(get_scene("heavy_gyroscope")).timestep == 5e-4
     sim = Simulation(get_scene("heavy_gyroscope"))
     exact, _ = precession(sim.values)
     theta = math.radians(sim.values["tilt_deg"])
@@ -84,9 +85,9 @@ def test_ball_joint_does_not_drift_over_a_minute():
         sim.advance(1.0)
         assert abs(np.linalg.norm(sim.data.qpos[:4]) - 1.0) < 1e-12
         r = sim.readouts(["precession_rate", "nutation", "T", "V"])
-        assert r["nutation"] == pytest.approx(theta, abs=1e-6)
-        assert r["precession_rate"] == pytest.approx(exact, rel=1e-6)
-    assert r["T"] + r["V"] == pytest.approx(r0["T"] + r0["V"], rel=1e-8)
+        assert r["nutation"] == pytest.approx(theta, abs=1e-4)
+        assert r["precession_rate"] == pytest.approx(exact, rel=3e-5)
+    assert r["T"] + r["V"] == pytest.approx(r0["T"] + r0["V"], rel=3e-7)
 
 
 def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
@@ -104,14 +105,15 @@ def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
     assert r["spin"] == pytest.approx(6000.0 * RPM, rel=1e-6)
 
 
-def test_the_timestep_follows_the_spin_above_22500_rpm():
+def test_the_timestep_follows_the_spin_above_9000_rpm():
     """At most 0.47 rad of spin per step (RK4's 6e-4 on Ω at 30,000 rpm and 0.15 ms),
-    at most 0.2 ms; smaller at once, larger after 50 steps; a user's timestep stays."""
-    assert [SCENE.default_timestep({"spin_rpm": r}) for r in (0, 3000, 22500, 25000, 30000)] == [
+    at most 0.5 ms; smaller at once, larger after 50 steps; a user's timestep stays."""
+    assert [SCENE.default_timestep({"spin_rpm": r}) for r in (0, 3000, 9000, 12000, 22500, 30000)] == [
+        5e-4,
+        5e-4,
+        5e-4,
+        3e-4,
         2e-4,
-        2e-4,
-        2e-4,
-        1.5e-4,
         1.5e-4,
     ]
     sim = Simulation(get_scene("heavy_gyroscope"))
@@ -121,7 +123,7 @@ def test_the_timestep_follows_the_spin_above_22500_rpm():
     assert sim.timestep == 1.5e-4  # a step grows back only after 50 steps of the new motion
     for _ in range(52):  # (checked after each call of step)
         sim.step(1)
-    assert sim.timestep == 2e-4
+    assert sim.timestep == 5e-4
     assert Simulation(get_scene("heavy_gyroscope"), values={"spin_rpm": 30000.0}).timestep == 1.5e-4
     user = Simulation(get_scene("heavy_gyroscope"), timestep=5e-5)
     user.set_value("spin_rpm", 30000.0)

@@ -139,7 +139,7 @@ def test_far_too_costly_sessions_saturate_at_the_floor():
 
 def test_simulated_time_keeps_real_time_at_the_floor_frame_rate(monkeypatch):
     """At 15 frames a second each frame steps a fifteenth of a second: the heavy top's RK4
-    at 0.2 ms is 333 steps a frame. On a machine where a step takes 40 µs (a fake CPU
+    at 0.5 ms is 133 steps a frame. On a machine where a step takes 100 µs (a fake CPU
     clock), that is 13 ms a frame, more than the 5 ms a 60 frames/s frame may spend: the
     budget grows with the frame (30 % of its wall time), so the motion keeps real time."""
     import sandbox.web.loop.pacing as pacing
@@ -151,7 +151,7 @@ def test_simulated_time_keeps_real_time_at_the_floor_frame_rate(monkeypatch):
     real_step = sim.step
 
     def step(n: int = 1) -> None:
-        cpu[0] += 40e-6 * n
+        cpu[0] += 100e-6 * n
         real_step(n)
 
     monkeypatch.setattr(sim, "step", step)
