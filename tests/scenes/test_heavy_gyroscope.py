@@ -108,7 +108,8 @@ def test_a_new_spin_or_tilt_relaunches_on_the_new_steady_precession():
 def test_the_timestep_follows_the_spin_above_9000_rpm():
     """At most 0.47 rad of spin per step (RK4's 6e-4 on Ω at 30,000 rpm and 0.15 ms),
     at most 0.5 ms; smaller at once, larger after 50 steps; a user's timestep stays."""
-    assert [SCENE.default_timestep({"spin_rpm": r}) for r in (0, 3000, 9000, 12000, 22500, 30000)] == [
+    spins = (0, 3000, 9000, 12000, 22500, 30000)
+    assert [SCENE.default_timestep({"spin_rpm": r}) for r in spins] == [
         5e-4,
         5e-4,
         5e-4,
