@@ -386,3 +386,18 @@ def test_bench_error_skips_blank_references():
         error({"a": np.array([1.0, 2.0, 5.0]), "a_ref": np.array([1.1, np.nan, 4.0])}, {}) == 0.25
     )
     assert math.isnan(error({"a": np.array([1.0]), "a_ref": np.array([np.nan])}, {}))
+
+
+def test_a_class_of_sessions_keeps_its_scratch_data():
+    """dσA/dt needs a scratch MjData per model: 30 sessions on one worker each keep
+    theirs (keeping 16 then clearing them all allocated one a frame in a class)."""
+    import mujoco
+
+    from sandbox.scenes.rolling_cylinder import readouts
+
+    readouts._SCRATCH.clear()
+    models = [Simulation(get_scene("rolling_cylinder")).model for _ in range(30)]
+    first = [readouts._scratch(m) for m in models]
+    assert all(isinstance(d, mujoco.MjData) for d in first)
+    assert all(readouts._scratch(m) is d for m, d in zip(models, first))
+    assert len(readouts._SCRATCH) == 30

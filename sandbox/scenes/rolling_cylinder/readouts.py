@@ -144,14 +144,18 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
 
 
 _SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
+SCRATCH_KEPT = 64
+"""Models whose scratch data is kept: more than a worker's sessions (a class of 30 on two
+workers is 15 each; keeping 16 and clearing them all made one MjData a frame each)."""
 
 
 def _scratch(model: mujoco.MjModel) -> mujoco.MjData:
-    """A reusable MjData for ``model`` (allocating one per readout costs more than using it)."""
+    """A reusable MjData for ``model`` (allocating one per readout costs more than using it);
+    the oldest model's is dropped past :data:`SCRATCH_KEPT`."""
     entry = _SCRATCH.get(id(model))
     if entry is None or entry[0] is not model:
-        if len(_SCRATCH) > 16:
-            _SCRATCH.clear()
+        while len(_SCRATCH) >= SCRATCH_KEPT:
+            del _SCRATCH[next(iter(_SCRATCH))]
         entry = _SCRATCH[id(model)] = (model, mujoco.MjData(model))
     return entry[1]
 
