@@ -99,9 +99,9 @@ def friction_torque(
 
 
 def printed_friction_torque(load: float, radius: float, length: float, friction: float) -> float:
-    """The course's printed line for hypothesis 3, C_f = 2π R² p₀ f [the unit it gives
-    is N/m: L is missing]: shown beside :func:`friction_torque`, never used for a number
-    the page states as the friction torque."""
+    """The course's printed line for hypothesis 3, C_f = 2π R² p₀ f: its unit is the
+    newton, not N·m, since L is missing. Kept to test what the page says about it; never
+    a number the page states as the friction torque."""
     return 2.0 * math.pi * radius**2 * mean_pressure(load, radius, length) * friction
 
 

@@ -3,7 +3,9 @@
 the French names of its solids and markers (:class:`Names`), the arrows plotted by
 component (:class:`Components`), the diagrams it draws (:class:`UnbalanceDiagram`: a
 rotor's static and couple unbalance for given parameter values, course 7.2, as two polar
-diagrams in the folder « Diagramme des balourds »), its camera, plots and presets.
+diagrams in the folder « Diagramme des balourds »; :class:`Bearing`: the pivots it models
+as plain bearings, whose contact pressure the folder « Pression dans les paliers » draws,
+course appendix B.2), its camera, plots and presets.
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ from sandbox.mechanics.unbalance import Unbalance
 from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.units import display_unit
+
+Vec3 = tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,31 @@ class UnbalanceDiagram:
 
     unbalance: Callable[[Mapping[str, float]], Unbalance]
     depends_on: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """A pivot the scene models as a plain bearing: a shaft turning in a bore whose radius
+    and length are the scene's parameters ``bearing_R`` and ``bearing_L``.
+
+    Attributes:
+        name: Its letter, as the course and the 3D view name it ("A"); its readouts are
+            ``bearing_<name>_pmax`` and ``bearing_<name>_Cf``.
+        label: Its French name (« Palier A »).
+        load: The force of the frame on the shaft at the bearing [N], world axes, at a
+            state whose forces are prepared.
+        axis: The bore's axis, world axes (a unit vector, fixed with the frame).
+        across: The direction of the bore's plane drawn to the right (a unit vector
+            across ``axis``); the one drawn up is ``axis ∧ across``.
+        words: How the page names the two drawn directions (« y₀ », « z₀ »).
+    """
+
+    name: str
+    label: str
+    load: Callable[[Snapshot], np.ndarray]
+    axis: Vec3
+    across: Vec3
+    words: tuple[str, str]
 
 
 @dataclass(frozen=True)
@@ -107,9 +136,6 @@ class Components:
     words: str
 
 
-Vec3 = tuple[float, float, float]
-
-
 @dataclass(frozen=True)
 class Page:
     """What the web page (and a lesson, a replay) shows of a scene; the simulation reads
@@ -137,6 +163,8 @@ class Page:
             (folder « Tracé X–Y »; the first is shown at the start).
         study_presets: Parameter studies that show them (folder « Étude paramétrique »).
         unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
+        bearings: The pivots modelled as plain bearings (folder « Pression dans les
+            paliers »; empty: none).
         components: Arrows plotted by component against time (None: scalar plots only).
         balancing: The two bearing readouts whose larger one the class board shows, what
             balancing brings down (None: the overlay's key readouts).
@@ -156,5 +184,6 @@ class Page:
     xy_presets: tuple[XYPreset, ...] = ()
     study_presets: tuple[StudyPreset, ...] = ()
     unbalance_diagram: UnbalanceDiagram | None = None
+    bearings: tuple[Bearing, ...] = ()
     components: Components | None = None
     balancing: tuple[str, str] | None = None

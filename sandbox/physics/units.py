@@ -18,7 +18,7 @@ DISPLAY_UNITS: frozenset[str] = frozenset(
         "",  # dimensionless: a ratio (μ), a flag, a choice
         "g", "kg", "m", "s", "°", "rad", "tr/min", "rad/s", "m/s", "m/s²",
         "N", "N·m", "W", "J", "kg·m", "kg·m²", "kg·m/s", "kg·m²/s", "N·m·s/rad",
-        "N/m", "N·s/m", "Hz",
+        "N/m", "N·s/m", "Hz", "Pa", "bar",
     }
 )  # fmt: skip
 """Every unit the web page may show (a test keeps the scenes and readouts inside it)."""
@@ -36,17 +36,21 @@ quantity across the tables, the overlay, the lesson and the charts."""
 
 RAD_S_TO_RPM = 30.0 / math.pi
 RAD_TO_DEG = 180.0 / math.pi
+PA_TO_BAR = 1e-5
 
 
 def shown_scale(name: str, unit: str) -> tuple[str, float]:
     """The unit the web page shows readout ``name`` in, and the factor from its contract
     ``unit`` to it: a turning speed in tr/min (:data:`TURN_SPEEDS`), an angle in degrees
-    (the sliders' unit), any other unit as :func:`display_unit` with factor 1. Files
-    (CSV, JSON, recordings) keep the contract unit."""
+    (the sliders' unit), a contact pressure in bar (the course's limit is 200 bar), any
+    other unit as :func:`display_unit` with factor 1. Files (CSV, JSON, recordings) keep
+    the contract unit."""
     if unit == "rad/s" and name in TURN_SPEEDS:
         return "tr/min", RAD_S_TO_RPM
     if unit == "rad":
         return "°", RAD_TO_DEG
+    if unit == "Pa":
+        return "bar", PA_TO_BAR
     return display_unit(unit), 1.0
 
 

@@ -47,7 +47,7 @@ from sandbox.scenes.rotor.params import (
     SHAFT_RADIUS,
     STEEL,
 )
-from sandbox.scenes.rotor.readouts import ARROWS, READOUTS
+from sandbox.scenes.rotor.readouts import ARROWS, BEARINGS, READOUTS
 from sandbox.scenes.roundoff import ROUND_OFF
 
 SCENE = Scene(
@@ -75,7 +75,8 @@ SCENE = Scene(
     solutions={"balancing_solution": balancing_solution},
     # Round-off: at 1500 rpm {D} and the frame's action keep 6e-12 N and 2e-12 N·m on
     # axes where the course has 0 (1e-13 of the 54 N peak), 1e-10 N at 6000 rpm.
-    zero={**ROUND_OFF, "kg·m": 1e-13, "kg·m²": 1e-14},
+    # The bearings' pressure: the N floor over the bores' default 2RL (2e-4 m²), 1e-8 bar.
+    zero={**ROUND_OFF, "kg·m": 1e-13, "kg·m²": 1e-14, "Pa": 1e-3},
     # Key quantity: the bearing force at A against 7.2's closed form; invariant: T, constant
     # at constant speed (the servo holds ω, so a drift of T means the motion is wrong).
     accuracy=Accuracy(
@@ -125,6 +126,7 @@ SCENE = Scene(
             markers={"defect": "Défaut", "correction1": "m₁", "correction2": "m₂"},
         ),
         unbalance_diagram=DIAGRAM,
+        bearings=BEARINGS,
         # Course 7.2: the bearing forces of an unbalanced rotor are fixed in the rotor (B1),
         # so they turn at ω in the frame. In B1 they are constant while ω and the masses are;
         # in B0 they would be sinusoids at up to 100 Hz, which 10 samples a second alias.

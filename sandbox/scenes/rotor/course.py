@@ -12,6 +12,7 @@ import numpy as np
 from sandbox.mechanics import MassProperties, coefficients, combine, cylinder, sphere
 from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.spec import Values
+from sandbox.scenes import bearings
 from sandbox.scenes.rotor.params import (
     AXIS,
     BEARING_X,
@@ -111,13 +112,21 @@ def bearing_split(r: np.ndarray, m_o: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 
 def reference(values: Values) -> dict[str, float]:
-    """Course 7.2: F_rot = m ω² Y, M_rot = ω² √(E²+F²), and the bearing forces."""
+    """Course 7.2: F_rot = m ω² Y, M_rot = ω² √(E²+F²), and the bearing forces; with the
+    bearings' parameters, appendix B.2's largest pressure and friction torque in each."""
     w = omega(values)
     mass, g, e, f = unbalance(values)
     r = -mass * w * w * np.array([0.0, g[1], g[2]])
     m_o = w * w * np.array([0.0, e, -f])
     f_a, f_b = bearing_split(r, m_o)
+    local: dict[str, float] = {}
+    if all(k in values for k in ("bearing_R", "bearing_L", "bearing_model", "bearing_f")):
+        for name, force in (("A", f_a), ("B", f_b)):
+            load = float(np.linalg.norm(force))  # across the axis: the bearings' radial load
+            local[f"bearing_{name}_pmax"] = bearings.max_pressure(load, values)
+            local[f"bearing_{name}_Cf"] = bearings.friction_torque(load, values)
     return {
+        **local,
         "omega": w,
         "static_unbalance": mass * math.hypot(g[1], g[2]),
         "products_EF": math.hypot(e, f),

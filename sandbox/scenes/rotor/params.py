@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from sandbox.physics.spec import Param
+from sandbox.scenes import bearings
 
 # Geometry (metres, kg/m³), shared by the model edits and the closed-form reference.
 STEEL = 7800.0
@@ -125,4 +126,7 @@ PARAMS = (
         group="Entraînement",
         advanced=True,
     ),
+    # Bronze bushes around the shaft (radius SHAFT_RADIUS), 10 mm long: 20 g of defect
+    # gives 3,5 bar at 1500 rpm in A (hypothesis 2), 200 g passes 200 bar near 5500 rpm.
+    *bearings.params(SHAFT_RADIUS, 0.01),
 )

@@ -10,9 +10,10 @@ import math
 import numpy as np
 
 from sandbox.mechanics import coefficients, huygens
-from sandbox.physics.page import Arrow
+from sandbox.physics.page import Arrow, Bearing
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import SceneReadout
+from sandbox.scenes import bearings
 from sandbox.scenes.rotor.course import bearing_split, reference
 from sandbox.scenes.rotor.params import AXIS, BEARING_X
 
@@ -62,6 +63,13 @@ def _static(s: Snapshot) -> float:
 def _perp(v: np.ndarray) -> float:
     return float(np.linalg.norm(v - np.dot(v, AXIS) * AXIS))
 
+
+_X0, _Y0, _PLANE = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), ("y₀", "z₀")
+BEARINGS = (
+    Bearing("A", "Palier A", lambda s: _bearings(s)[0], _X0, _Y0, _PLANE),
+    Bearing("B", "Palier B", lambda s: _bearings(s)[1], _X0, _Y0, _PLANE),
+)
+"""Bearings A (x = −150 mm) and B (x = +150 mm): bronze bushes around the 10 mm shaft."""
 
 READOUTS = (
     SceneReadout(
@@ -141,6 +149,7 @@ READOUTS = (
         hint="Moment en O de l'action du bâti sur le rotor, qui tourne avec lui : "
         "ω²·√(E²+F²) d'après le cours.",
     ),
+    *bearings.readouts(BEARINGS),
 )
 
 ARROWS = (

@@ -18,6 +18,7 @@ from sandbox.web.loop.requests import Integrator, Timestep
 from sandbox.web.loop.secret import Secret
 from sandbox.web.loop.state import SessionState
 from sandbox.web.panels.accuracy import AccuracyPanel
+from sandbox.web.panels.bearing import BearingPanel
 from sandbox.web.panels.challenge import ChallengePanel
 from sandbox.web.panels.controls import ControlPanel, HypothesesPanel
 from sandbox.web.panels.cycle import CyclePanel
@@ -189,6 +190,7 @@ class WebView:
         )
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.polar = PolarPanel.create(client.gui, sim)
+        self.bearing = BearingPanel.create(client.gui, sim)
         self.cycle = CyclePanel(client.gui, sim)
         self.xy = XYPanel(client.gui, live) if live is not None else None
         self.study = StudyPanel(client.gui, live) if live is not None else None
@@ -206,6 +208,7 @@ class WebView:
         self.pickable: list[Folder] = [
             *self.readouts.pickable(),
             *(self.polar.pickable() if self.polar is not None else ()),
+            *(self.bearing.pickable() if self.bearing is not None else ()),
             *self.cycle.pickable(),
             *(self.xy.pickable() if self.xy is not None else ()),
             *(self.study.pickable() if self.study is not None else ()),

@@ -1,0 +1,152 @@
+"""The plain bearings of a scene (course, appendix B.2, « du global au local »): the
+parameters every scene with bearings shares (the bore's radius R and length L, the
+pressure hypothesis, the friction coefficient f) and, for each bearing the scene declares
+(:class:`~sandbox.physics.page.Bearing`), two readouts: the largest contact pressure
+``bearing_<name>_pmax`` and the friction torque ``bearing_<name>_Cf`` of the chosen
+hypothesis, both from the live radial load.
+
+The radial load is the frame's force on the shaft without its component along the bore's
+axis: a plain bearing carries the radial part, a shoulder or a thrust washer the axial
+part (none of these scenes has one).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from sandbox.mechanics import bearing as mech
+from sandbox.physics.page import Bearing
+from sandbox.physics.snapshot import Snapshot
+from sandbox.physics.spec import Param, SceneReadout
+
+GROUP = "Paliers"
+
+HYPOTHESIS_WORDS = (
+    "Pression uniforme (hypothèse 1)",
+    "Pression en cosinus (hypothèse 2)",
+    "Uniforme avec frottement f (hypothèse 3)",
+)
+"""The page's words for ``bearing_model`` = 0, 1, 2."""
+UNIFORM, COSINE, FRICTION = 0, 1, 2
+
+
+def params(radius: float, length: float) -> tuple[Param, ...]:
+    """The bearing parameters of a scene whose bores are ``radius`` and ``length`` [m]
+    by default (advanced: they change no motion, only the pressure and torque read)."""
+    return (
+        Param(
+            "bearing_R", "m", radius, 0.002, 0.2,
+            "Radius R of the plain bearings' bore (the shaft's radius).",
+            live=True, step=0.001, label="Rayon du palier R",
+            hint="Rayon de l'alésage des paliers lisses, celui de l'arbre qui y tourne.",
+            group=GROUP, advanced=True,
+        ),
+        Param(
+            "bearing_L", "m", length, 0.002, 0.5,
+            "Length L of the plain bearings' bore.",
+            live=True, step=0.001, label="Longueur du palier L",
+            hint="Longueur de l'alésage des paliers, le long de l'arbre : plus il est long, "
+            "plus la charge s'étale et plus la pression baisse.",
+            group=GROUP, advanced=True,
+        ),
+        Param(
+            "bearing_model", "", 0.0, 0.0, 2.0,
+            "Pressure distribution in the bearings: 0 uniform (hypothesis 1), 1 cosine "
+            "(hypothesis 2), 2 uniform with Coulomb friction f (hypothesis 3).",
+            live=True, step=1.0, label="Hypothèse de pression dans les paliers",
+            hint="Comment la pression de contact se répartit sur la moitié chargée de "
+            "l'alésage : uniforme, en cosinus, ou uniforme avec du frottement.",
+            group=GROUP, advanced=True, choices=HYPOTHESIS_WORDS,
+        ),
+        Param(
+            "bearing_f", "", 0.1, 0.0, 1.0,
+            "Coulomb friction coefficient f between shaft and bore (hypothesis 3).",
+            live=True, step=0.01, label="Coefficient de frottement du palier f",
+            hint="Coefficient de frottement entre l'arbre et l'alésage, utilisé par "
+            "l'hypothèse 3 (bronze graissé sur acier : environ 0,1).",
+            group=GROUP, advanced=True,
+        ),
+    )  # fmt: skip
+
+
+def radial(load: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """The part of ``load`` across ``axis`` (a unit vector)."""
+    load = np.asarray(load, dtype=float)
+    return load - float(load @ axis) * np.asarray(axis, dtype=float)
+
+
+def radial_load(b: Bearing, s: Snapshot) -> np.ndarray:
+    """The frame's force on the shaft across the bore [N], world axes; cached a snapshot."""
+    key = f"bearing_{b.name}_radial"
+    if key not in s.cache:
+        s.cache[key] = radial(b.load(s), np.asarray(b.axis, dtype=float))
+    return np.asarray(s.cache[key])
+
+
+def hypothesis(values: Mapping[str, float]) -> int:
+    """``bearing_model`` as 0, 1 or 2 (a value out of range reads as the nearest)."""
+    return int(min(max(round(float(values.get("bearing_model", 0.0))), 0), 2))
+
+
+def pressure_model(values: Mapping[str, float]) -> str:
+    """The pressure distribution of the chosen hypothesis (3 is 1's with friction)."""
+    return mech.COSINE if hypothesis(values) == COSINE else mech.UNIFORM
+
+
+def max_pressure(load: float, values: Mapping[str, float]) -> float:
+    """The largest contact pressure [Pa] under ``load`` [N] for these values."""
+    return mech.max_pressure(load, values["bearing_R"], values["bearing_L"], pressure_model(values))
+
+
+def friction_torque(load: float, values: Mapping[str, float]) -> float:
+    """The friction torque [N·m] of hypothesis 3 under ``load`` [N]; 0 under hypotheses 1
+    and 2 (no friction: the course's perfect joints)."""
+    if hypothesis(values) != FRICTION:
+        return 0.0
+    return mech.friction_torque(
+        load, values["bearing_R"], values["bearing_L"], values["bearing_f"], mech.UNIFORM
+    )
+
+
+def _pmax(b: Bearing) -> Callable[[Snapshot], float]:
+    def fn(s: Snapshot) -> float:
+        return max_pressure(float(np.linalg.norm(radial_load(b, s))), s.values)
+
+    return fn
+
+
+def _cf(b: Bearing) -> Callable[[Snapshot], float]:
+    def fn(s: Snapshot) -> float:
+        return friction_torque(float(np.linalg.norm(radial_load(b, s))), s.values)
+
+    return fn
+
+
+def readouts(bearings: tuple[Bearing, ...]) -> tuple[SceneReadout, ...]:
+    """``bearing_<name>_pmax`` [Pa] and ``bearing_<name>_Cf`` [N·m] of each bearing."""
+    out: list[SceneReadout] = []
+    for b in bearings:
+        out += [
+            SceneReadout(
+                f"bearing_{b.name}_pmax", "Pa",
+                f"Largest contact pressure in bearing {b.name} under its radial load, for "
+                "the chosen hypothesis (bearing_model): F/(2RL) uniform, 2F/(πRL) cosine.",
+                _pmax(b),
+                label=f"Pression maximale au palier {b.name}",
+                hint=f"Plus grande pression de contact entre l'arbre et l'alésage du "
+                f"{b.label.lower()}, selon l'hypothèse choisie : elle doit rester sous "
+                "200 bar.",
+            ),
+            SceneReadout(
+                f"bearing_{b.name}_Cf", "N·m",
+                f"Friction torque in bearing {b.name} (hypothesis 3: (π/2) f R F; 0 under "
+                "hypotheses 1 and 2, without friction).",
+                _cf(b),
+                label=f"Couple de frottement au palier {b.name}",
+                hint=f"Couple résistant du frottement dans le {b.label.lower()} avec "
+                "l'hypothèse 3, Cf = (π/2)·f·R·F ; nul sans frottement (hypothèses 1 et 2).",
+            ),
+        ]  # fmt: skip
+    return tuple(out)
