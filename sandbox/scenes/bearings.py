@@ -135,9 +135,8 @@ def readouts(bearings: tuple[Bearing, ...]) -> tuple[SceneReadout, ...]:
                 "the chosen hypothesis (bearing_model): F/(2RL) uniform, 2F/(πRL) cosine.",
                 _pmax(b),
                 label=f"Pression maximale au palier {b.name}",
-                hint=f"Plus grande pression de contact entre l'arbre et l'alésage du "
-                f"{b.label.lower()}, selon l'hypothèse choisie : elle doit rester sous "
-                "200 bar.",
+                hint=f"Plus grande pression de contact entre l'arbre et l'alésage du palier "
+                f"{b.name}, selon l'hypothèse choisie : elle doit rester sous 200 bar.",
             ),
             SceneReadout(
                 f"bearing_{b.name}_Cf", "N·m",
@@ -145,7 +144,7 @@ def readouts(bearings: tuple[Bearing, ...]) -> tuple[SceneReadout, ...]:
                 "hypotheses 1 and 2, without friction).",
                 _cf(b),
                 label=f"Couple de frottement au palier {b.name}",
-                hint=f"Couple résistant du frottement dans le {b.label.lower()} avec "
+                hint=f"Couple résistant du frottement dans le palier {b.name} avec "
                 "l'hypothèse 3, Cf = (π/2)·f·R·F ; nul sans frottement (hypothèses 1 et 2).",
             ),
         ]  # fmt: skip

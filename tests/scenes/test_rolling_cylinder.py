@@ -399,5 +399,5 @@ def test_a_class_of_sessions_keeps_its_scratch_data():
     models = [Simulation(get_scene("rolling_cylinder")).model for _ in range(30)]
     first = [readouts._scratch(m) for m in models]
     assert all(isinstance(d, mujoco.MjData) for d in first)
-    assert all(readouts._scratch(m) is d for m, d in zip(models, first))
+    assert all(readouts._scratch(m) is d for m, d in zip(models, first, strict=True))
     assert len(readouts._SCRATCH) == 30

@@ -144,7 +144,7 @@ def _diagram(left: float, loaded: Loaded, hypothesis: str, scale: float, zero: f
     colour = GREEN if loaded.p_max < mech.LIMIT_PA else RED
     out.append(
         f'<text x="{cx:.1f}" y="{cy + BORE + LIMIT_ROOM + 22:.1f}" text-anchor="middle" '
-        f'fill="{colour}" font-weight="600">pmax = {html_text(str(p))}</text>'
+        f'fill="{colour}" font-weight="600">pₘₐₓ = {html_text(str(p))}</text>'
     )
     return "".join(out)
 
@@ -187,9 +187,9 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
         f"= {html_text(str(p0_text))}",
     ]
     if choice == scene_bearings.COSINE:
-        lines.append(f"pmax = (4/π)·p₀ = 2·F / (π·R·L) = {html_text(str(p_max))}")
+        lines.append(f"pₘₐₓ = (4/π)·p₀ = 2·F / (π·R·L) = {html_text(str(p_max))}")
     else:
-        lines.append(f"pmax = p₀ = {html_text(str(p_max))}")
+        lines.append(f"pₘₐₓ = p₀ = {html_text(str(p_max))}")
     if loaded.p_max < mech.LIMIT_PA:
         verdict = f'<span style="color:{GREEN};font-weight:600">sous les 200 bar : tenue</span>'
     else:
@@ -242,7 +242,8 @@ def panel_html(
     parts = [head, bearings_svg(loaded, model, zeros.get("Pa", 0.0)), legend]
     parts += [formulas_html(x, values, zeros) for x in loaded]
     if choice == scene_bearings.FRICTION:
-        parts.append(f'<p style="margin:0.5em 0 0;color:#555">{html_text(PRINTED_NOTE)}</p>')
+        note = html_text(PRINTED_NOTE, limit=len(PRINTED_NOTE))
+        parts.append(f'<p style="margin:0.5em 0 0;color:#555">{note}</p>')
     if held:
         parts.append(f'<p style="margin:0.4em 0 0;color:#555">{html_text(held)}</p>')
     return f'<div class="sandbox-bearing">{"".join(parts)}</div>'

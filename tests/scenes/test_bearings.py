@@ -1,0 +1,77 @@
+"""The scenes' plain bearings (issue 39, course appendix B.2): the pressure and friction
+readouts from the live radial load against the closed forms, the speed at which the
+unbalanced rotor passes 200 bar in bearing A, and the bearing parameters' guards."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sandbox.errors import SandboxError
+from sandbox.mechanics.bearing import LIMIT_PA
+from sandbox.physics.simulation import Simulation
+from sandbox.scenes import get_scene
+from sandbox.scenes.bearings import radial
+
+
+def _rotor(**values: float) -> Simulation:
+    sim = Simulation(get_scene("rotor"), values=values)
+    sim.advance(0.05)
+    return sim
+
+
+@pytest.mark.parametrize("model", [0.0, 1.0, 2.0])
+def test_the_rotors_pressures_follow_the_bearing_forces(model):
+    """p₀ = F/(2RL); the cosine's peak (4/π) p₀; C_f = (π/2) f R F under hypothesis 3
+    only; to round-off, from the simulated bearing forces and from the course's."""
+    sim = _rotor(bearing_model=model, bearing_R=0.012, bearing_L=0.02, bearing_f=0.15)
+    r = sim.readouts()
+    ref = sim.reference()
+    for name in ("A", "B"):
+        force = r[f"bearing_{name}"]
+        p0 = force / (2 * 0.012 * 0.02)
+        expected = p0 * (4 / math.pi if model == 1.0 else 1.0)
+        assert r[f"bearing_{name}_pmax"] == pytest.approx(expected, rel=1e-12)
+        torque = math.pi / 2 * 0.15 * 0.012 * force if model == 2.0 else 0.0
+        assert r[f"bearing_{name}_Cf"] == pytest.approx(torque, rel=1e-12, abs=1e-15)
+        assert r[f"bearing_{name}_pmax"] == pytest.approx(ref[f"bearing_{name}_pmax"], rel=1e-9)
+        assert r[f"bearing_{name}_Cf"] == pytest.approx(ref[f"bearing_{name}_Cf"], rel=1e-9)
+
+
+def test_the_unbalanced_rotor_passes_200_bar_in_bearing_a_near_5519_rpm():
+    """The lesson's question: 200 g of defect, pressure in cosine, R = L = 10 mm. The load
+    grows as ω², so p_max = 200 bar at ω* = ω √(200 bar / p_max(ω)): 5519 rpm."""
+    base = {"defect_mass_g": 200.0, "bearing_model": 1.0}
+    at_6000 = _rotor(speed_rpm=6000.0, **base).readouts()["bearing_A_pmax"]
+    crossing = 6000.0 * math.sqrt(LIMIT_PA / at_6000)
+    assert crossing == pytest.approx(5519.0, abs=1.0)
+    assert _rotor(speed_rpm=5500.0, **base).readouts()["bearing_A_pmax"] < LIMIT_PA
+    assert _rotor(speed_rpm=5550.0, **base).readouts()["bearing_A_pmax"] > LIMIT_PA
+    assert _rotor(speed_rpm=6000.0, defect_mass_g=200.0).readouts()["bearing_A_pmax"] < LIMIT_PA
+
+
+def test_a_balanced_rotor_loads_no_bearing():
+    """The course's balancing solution: no rotating force, so no pressure and no torque."""
+    scene = get_scene("rotor")
+    sim = Simulation(scene)
+    assert scene.solutions is not None
+    solution = scene.solutions["balancing_solution"](sim.values)
+    sim = _rotor(**solution, bearing_model=2.0)
+    r = sim.readouts()
+    assert r["bearing_A_pmax"] <= sim.scene.zero["Pa"]  # type: ignore[union-attr]
+    assert abs(r["bearing_A_Cf"]) < 1e-9
+
+
+def test_only_the_radial_part_loads_a_plain_bearing():
+    axis = np.array([1.0, 0.0, 0.0])
+    assert radial(np.array([5.0, 3.0, -4.0]), axis) == pytest.approx([0.0, 3.0, -4.0])
+
+
+@pytest.mark.parametrize(
+    "name, value", [("bearing_R", 0.0), ("bearing_L", -1.0), ("bearing_f", 3.0)]
+)
+def test_bearing_parameters_out_of_range_are_refused(name, value):
+    with pytest.raises(SandboxError, match=name):
+        Simulation(get_scene("rotor"), values={name: value})
