@@ -17,6 +17,8 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from sandbox.mechanics import bearing as mech
+from sandbox.mechanics.two_planes import split_across_axis
+from sandbox.physics import isolate
 from sandbox.physics.page import Bearing
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import Param, SceneReadout
@@ -32,16 +34,17 @@ HYPOTHESIS_WORDS = (
 UNIFORM, COSINE, FRICTION = 0, 1, 2
 
 
-def params(radius: float, length: float) -> tuple[Param, ...]:
+def params(radius: float, length: float, group: str = GROUP) -> tuple[Param, ...]:
     """The bearing parameters of a scene whose bores are ``radius`` and ``length`` [m]
-    by default (advanced: they change no motion, only the pressure and torque read)."""
+    by default (advanced: they change no motion, only the pressure and torque read), in
+    ``group`` (a scene with many groups already puts them in one of its own)."""
     return (
         Param(
             "bearing_R", "m", radius, 0.002, 0.2,
             "Radius R of the plain bearings' bore (the shaft's radius).",
             live=True, step=0.001, label="Rayon du palier R",
             hint="Rayon de l'alésage des paliers lisses, celui de l'arbre qui y tourne.",
-            group=GROUP, advanced=True,
+            group=group, advanced=True,
         ),
         Param(
             "bearing_L", "m", length, 0.002, 0.5,
@@ -49,7 +52,7 @@ def params(radius: float, length: float) -> tuple[Param, ...]:
             live=True, step=0.001, label="Longueur du palier L",
             hint="Longueur de l'alésage des paliers, le long de l'arbre : plus il est long, "
             "plus la charge s'étale et plus la pression baisse.",
-            group=GROUP, advanced=True,
+            group=group, advanced=True,
         ),
         Param(
             "bearing_model", "", 0.0, 0.0, 2.0,
@@ -58,7 +61,7 @@ def params(radius: float, length: float) -> tuple[Param, ...]:
             live=True, step=1.0, label="Hypothèse de pression dans les paliers",
             hint="Comment la pression de contact se répartit sur la moitié chargée de "
             "l'alésage : uniforme, en cosinus, ou uniforme avec du frottement.",
-            group=GROUP, advanced=True, choices=HYPOTHESIS_WORDS,
+            group=group, advanced=True, choices=HYPOTHESIS_WORDS,
         ),
         Param(
             "bearing_f", "", 0.1, 0.0, 1.0,
@@ -66,7 +69,7 @@ def params(radius: float, length: float) -> tuple[Param, ...]:
             live=True, step=0.01, label="Coefficient de frottement du palier f",
             hint="Coefficient de frottement entre l'arbre et l'alésage, utilisé par "
             "l'hypothèse 3 (bronze graissé sur acier : environ 0,1).",
-            group=GROUP, advanced=True,
+            group=group, advanced=True,
         ),
     )  # fmt: skip
 
@@ -149,3 +152,27 @@ def readouts(bearings: tuple[Bearing, ...]) -> tuple[SceneReadout, ...]:
             ),
         ]  # fmt: skip
     return tuple(out)
+
+
+def pivot_action(s: Snapshot, body: str) -> tuple[np.ndarray, np.ndarray]:
+    """The frame's action on ``body`` through its pivot: resultant [N] and moment at the
+    origin O [N·m], world axes (the motor's torque apart, as « Isoler un solide » shows
+    it); cached a snapshot."""
+    key = f"pivot_{body}"
+    if key not in s.cache:
+        first = isolate.actions(s.model, s.data, s.body_id(body))[0]
+        s.cache[key] = (first.resultant, first.moment)
+    r, m = s.cache[key]
+    return np.asarray(r), np.asarray(m)
+
+
+def two_bearings(
+    s: Snapshot, body: str, a: np.ndarray, b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The frame's forces on ``body`` at two bearings at ``a`` and ``b`` [m] on its axis,
+    from its pivot's action (isostatic: a ball joint at A, an annular joint at B)."""
+    key = f"pivot_{body}_split"
+    if key not in s.cache:
+        s.cache[key] = split_across_axis(*pivot_action(s, body), a, b)
+    f_a, f_b = s.cache[key]
+    return np.asarray(f_a), np.asarray(f_b)

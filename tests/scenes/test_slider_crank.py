@@ -35,9 +35,9 @@ def test_the_compressor_and_the_engine_share_one_accuracy_entry():
 @pytest.mark.parametrize(
     ("name", "own"),
     [
-        ("rotor", {"kg·m": 1e-13, "kg·m²": 1e-14}),
-        ("compressor", {"m": 1e-13}),
-        ("engine", {"m": 1e-15}),
+        ("rotor", {"kg·m": 1e-13, "kg·m²": 1e-14, "Pa": 1e-3}),
+        ("compressor", {"m": 1e-13, "Pa": 1e-3}),
+        ("engine", {"m": 1e-15, "Pa": 1e-3}),
     ],
 )
 def test_the_machines_at_constant_speed_share_the_round_off_table(name, own):

@@ -150,6 +150,7 @@ def test_mystery_wheels_hide_their_unbalance():
     assert names == {"omega", *FORCES, *CLIPS, "accel_inner", "accel_inner_deg"} | {
         "accel_outer",
         "accel_outer_deg",
+        *(f"bearing_{b}_{q}" for b in "AB" for q in ("pmax", "Cf")),
     }
 
 

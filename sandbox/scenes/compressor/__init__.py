@@ -53,7 +53,7 @@ from sandbox.scenes.compressor.model import (
     set_loop_state,
 )
 from sandbox.scenes.compressor.params import DEFAULTS, PARAMS, RPM
-from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, READOUTS
+from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, BEARINGS, READOUTS
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY, FITTED_ORDERS, fit_orders
 
@@ -85,10 +85,11 @@ SCENE = Scene(
     sections="1, 4, 5.7, 6.1.2, 6.2, 7.3",
     cycle=revolution,
     # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
-    zero={**ROUND_OFF, "m": 1e-13},
+    zero={**ROUND_OFF, "m": 1e-13, "Pa": 1e-3},
     accuracy=ACCURACY,
     imposed=IMPOSED,
     page=Page(
+        bearings=BEARINGS,
         overlay={
             "theta": "θ",
             "pilon": "Effet de pilon",

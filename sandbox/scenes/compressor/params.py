@@ -8,6 +8,7 @@ import math
 from typing import Any
 
 from sandbox.physics.spec import Param
+from sandbox.scenes import bearings
 
 RPM = 2 * math.pi / 60
 
@@ -44,6 +45,8 @@ PARAMS = (
     _p("counterweight_radius", "m", 0.015, 0.0, 0.06, "Distance of the balancing mass from O.", step=0.0005, label="Rayon du contrepoids", hint="Distance du contrepoids à l'axe de rotation (O, z₀).", group=BALANCE),
     _p("motor_inertia", "kg·m²", 0.02, 0.0, 0.2, "Inertia of the motor's rotor, turning with the crank (a joint armature).", step=0.001, label="Inertie du rotor du moteur J", hint="Moment d'inertie du rotor du moteur, qui tourne avec le vilebrequin.", group=INERTIAS, advanced=True, hypothesis="Rotor du moteur d'inertie J = {}, tournant avec le vilebrequin : compté dans T et dans Pₑₓₜ ; le couple de l'actionneur vaut Cₘₒₜ + J·θ''"),
     _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05, label="Temps de montée en vitesse τ", hint="0 : le vilebrequin part à sa vitesse ; sinon il part du repos et la consigne du moteur monte avec cette constante de temps.", group=DRIVE),
+    # The crank's bush at O around its 6 mm shaft, 24 mm long (2RL = 2,9 cm²).
+    *bearings.params(0.006, 0.024, group=GEOMETRY),
 )  # fmt: skip
 
 

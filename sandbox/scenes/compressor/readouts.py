@@ -9,10 +9,11 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
-from sandbox.physics.page import Arrow
+from sandbox.physics.page import Arrow, Bearing
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import joint_drive
+from sandbox.scenes import bearings
 from sandbox.scenes.compressor.course import frame_force, motor_torque
 from sandbox.scenes.compressor.cycle import pilon_harmonics
 
@@ -53,6 +54,15 @@ def _motor_torque_ref(s: Snapshot) -> float:
     return motor_torque(_theta(s), s.joint_qvel("crank"), s.values, alpha=_alpha(s))
 
 
+BEARINGS = (
+    Bearing(
+        "O", "Palier O", lambda s: bearings.pivot_action(s, "crank")[0],
+        (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), ("x₀", "y₀"),
+    ),
+)  # fmt: skip
+"""The crank's pivot on the frame at O, seen as a plain bearing (the course's planar
+mechanism: its load is the pivot's resultant)."""
+
 READOUTS = (
     SceneReadout("theta", "rad", "Crank angle θ from x0 to x1 (unwrapped).", _theta, label="Angle du vilebrequin θ", hint="Angle de x₀ à x₁ autour de z₀, qui continue de croître tour après tour."),
     SceneReadout("omega", "rad/s", "Crank speed θ'.", lambda s: s.joint_qvel("crank"), label="Vitesse mesurée du vilebrequin ω", hint="Vitesse de rotation θ' du vilebrequin par rapport au bâti."),
@@ -68,6 +78,7 @@ READOUTS = (
     SceneReadout("pilon_ref", "N", "Course value of the pilon at the current θ, θ' and θ'' (exact slider-crank; θ'' terms during a speed change).", lambda s: float(_reference(s)[1]), label="Pilon selon le cours", hint="Pilon calculé par le cours pour le système bielle-manivelle exact, à l'angle, à la vitesse et à l'accélération actuels."),
     SceneReadout("tamis_ref", "N", "Course value of the tamis at the current θ, θ' and θ'' (as pilon_ref).", lambda s: float(_reference(s)[0]), label="Tamis selon le cours", hint="Tamis calculé par le cours pour le système bielle-manivelle exact, à l'angle, à la vitesse et à l'accélération actuels."),
     SceneReadout("motor_torque_ref", "N·m", "Course value of C_mot at the current θ, θ' and θ'' (virtual power; (dT/dt)/ω at constant speed).", _motor_torque_ref, label="Couple moteur selon le cours", hint="Couple Cₘₒₜ calculé par les puissances, égal à (dT/dt)/ω à vitesse constante."),
+    *bearings.readouts(BEARINGS),
 )  # fmt: skip
 
 ARROW_SCALE = 2e-4

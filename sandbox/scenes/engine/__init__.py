@@ -77,7 +77,7 @@ from sandbox.scenes.engine.model import (
     set_state,
 )
 from sandbox.scenes.engine.params import DEFAULTS, MAX_CYLINDERS, PARAMS
-from sandbox.scenes.engine.readouts import ARROWS, FORCE_SCALE, MOMENT_SCALE, READOUTS
+from sandbox.scenes.engine.readouts import ARROWS, BEARINGS, FORCE_SCALE, MOMENT_SCALE, READOUTS
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY
 
@@ -117,10 +117,11 @@ SCENE = Scene(
     timestep_for=default_timestep,
     sections="1, 7.3, figure 1",
     cycle=revolution,
-    zero={**ROUND_OFF, "m": 1e-15},
+    zero={**ROUND_OFF, "m": 1e-15, "Pa": 1e-3},
     accuracy=ACCURACY,
     imposed=IMPOSED,
     page=Page(
+        bearings=BEARINGS,
         overlay={
             "omega": "ω",
             "shaking_force_h1": "Pilon, ordre 1",

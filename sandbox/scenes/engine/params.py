@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from sandbox.physics.spec import Param
+from sandbox.scenes import bearings
 
 MAX_CYLINDERS = 4
 
@@ -33,6 +34,8 @@ PARAMS = (
     _p("counterweight_rec", "", 0.0, 0.0, 1.0, "Counterweight per throw, fraction of the reciprocating mass balanced.", step=0.05, label="Part équilibrée des masses alternatives kₐ", hint="Fraction de la masse alternative de chaque cylindre que son contrepoids compense, au prix d'un tamis.", group=BALANCE),
     _p("lanchester", "", 0.0, 0.0, 1.0, "0: none; 1: two balance shafts at twice the crank speed (Lanchester).", step=1.0, label="Arbres d'équilibrage de Lanchester", hint="Deux arbres à balourd tournant en sens contraires à deux fois la vitesse du vilebrequin.", group=BALANCE, choices=("Sans", "Avec")),
     _p("motor_inertia", "kg·m²", 0.02, 0.0, 0.2, "Inertia of the motor's rotor, turning with the crankshaft (a joint armature).", step=0.001, label="Inertie du rotor du moteur J", hint="Moment d'inertie du rotor du moteur, qui tourne avec le vilebrequin.", group=DRIVE, advanced=True, hypothesis="Rotor du moteur d'inertie J = {}, tournant avec le vilebrequin : compté dans T et dans Pₑₓₜ ; le couple de l'actionneur vaut Cₘₒₜ + J·θ''"),
+    # Two main bearings at the crankshaft's ends around its 6 mm shaft, 12 mm long.
+    *bearings.params(0.006, 0.012),
 )  # fmt: skip
 
 DEFAULTS = {p.name: p.default for p in PARAMS}

@@ -9,10 +9,11 @@ import math
 import numpy as np
 
 from sandbox.mechanics.engine import Engine, shaking_force, shaking_moment
-from sandbox.physics.page import Arrow
+from sandbox.physics.page import Arrow, Bearing
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import joint_drive
+from sandbox.scenes import bearings
 from sandbox.scenes.engine.course import cylinder_count, engine_of
 from sandbox.scenes.engine.cycle import orders
 from sandbox.scenes.engine.params import MAX_CYLINDERS
@@ -90,6 +91,22 @@ def _pilon_i(i: int) -> SceneReadout:
     )  # fmt: skip
 
 
+MAIN_BEARINGS_Z = 0.13
+"""The crankshaft's main bearings A and B at z = ∓130 mm, beyond the outer throws."""
+_ENDS = (np.array([0.0, 0.0, -MAIN_BEARINGS_Z]), np.array([0.0, 0.0, MAIN_BEARINGS_Z]))
+
+
+def _main(s: Snapshot, k: int) -> np.ndarray:
+    return bearings.two_bearings(s, "crank", *_ENDS)[k]
+
+
+BEARINGS = (
+    Bearing("A", "Palier A", lambda s: _main(s, 0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), ("x₀", "y₀")),
+    Bearing("B", "Palier B", lambda s: _main(s, 1), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), ("x₀", "y₀")),
+)  # fmt: skip
+"""The crankshaft's two main bearings on the block: its pivot's action split between
+them (isostatic: a ball joint at A, an annular joint at B)."""
+
 READOUTS = (
     SceneReadout("theta", "rad", "Engine angle θ: cylinder 1's crank from its top dead centre (unwrapped).", _theta, label="Angle du vilebrequin θ", hint="Angle de la manivelle du premier cylindre depuis son point mort haut, qui croît tour après tour."),
     SceneReadout("omega", "rad/s", "Crankshaft speed θ'.", lambda s: s.joint_qvel("crank"), label="Vitesse mesurée du vilebrequin ω", hint="Vitesse de rotation θ' du vilebrequin par rapport au bloc moteur."),
@@ -106,6 +123,7 @@ READOUTS = (
     SceneReadout("motor_torque", "N·m", "Torque of the motor on the crankshaft (its rotor's own inertia excluded).", lambda s: float(joint_drive(s.model, s.data)[0]), label="Couple moteur Cₘₒₜ", hint="Couple que le moteur transmet au vilebrequin, sans J·θ'' qui accélère son propre rotor : le couple de l'actionneur vaut Cₘₒₜ + J·θ''.", imposed_label="Couple nécessaire Cₘₒₜ", imposed_hint="Couple que le moteur doit transmettre au vilebrequin pour lui imposer sa vitesse, donné par la dynamique inverse (sans celui qui accélère son propre rotor)."),
     SceneReadout("actuator_torque", "N·m", "Torque of the actuator: C_mot plus what accelerates the motor's own rotor, C_act = C_mot + J θ'' (P_ext = C_act ω).", lambda s: float(s.data.qfrc_actuator[0]), label="Couple de l'actionneur Cₘₒₜ + J·θ''", hint="Couple total produit par le moteur, celui qu'il transmet au vilebrequin (Cₘₒₜ) plus J·θ'' qui accélère son propre rotor : la puissance extérieure Pₑₓₜ vaut ce couple multiplié par ω.", imposed_label="Couple nécessaire de l'actionneur Cₘₒₜ + J·θ''", imposed_hint="Couple total que le moteur doit produire, Cₘₒₜ plus J·θ'' pour son propre rotor, donné par la dynamique inverse : la puissance extérieure Pₑₓₜ vaut ce couple multiplié par ω."),
     SceneReadout("closure_error", "m", "Largest distance between a rod's end and its crank pin.", _closure, label="Écart de fermeture des boucles", hint="Plus grande distance entre l'extrémité d'une bielle et son maneton, quasi nulle quand les chaînes restent fermées."),
+    *bearings.readouts(BEARINGS),
 )  # fmt: skip
 
 FORCE_SCALE = 3e-4

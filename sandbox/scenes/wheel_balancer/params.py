@@ -11,6 +11,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from sandbox.physics.spec import Effects, Param, Values
+from sandbox.scenes import bearings
 
 RPM = 2.0 * math.pi / 60.0
 AXIS = np.array([1.0, 0.0, 0.0])
@@ -146,6 +147,8 @@ PARAMS = (
         "référence.",
         group=TRIAL, choices=("Aucune", "Plan intérieur", "Plan extérieur"),
     ),
+    # Bushes around the 20 mm shaft, 20 mm long (2RL = 8 cm²).
+    *bearings.params(SHAFT_RADIUS, 0.02),
 )  # fmt: skip
 
 

@@ -13,10 +13,11 @@ import numpy as np
 
 from sandbox.mechanics.two_planes import clips_from_bearings, split_across_axis, to_complex
 from sandbox.mechanics.vectors import cross
-from sandbox.physics.page import Arrow
+from sandbox.physics.page import Arrow, Bearing
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import SceneReadout
 from sandbox.physics.torsors import dynamic_torsor
+from sandbox.scenes import bearings
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, X_A, X_B, X_INNER, X_OUTER, soft
 
 WHEEL_BODIES = ("wheel", "rim", "tyre")
@@ -119,6 +120,13 @@ def _readout(
     return SceneReadout(name, unit, doc, fn, label=label, hint=hint)
 
 
+_X0, _Y0, _PLANE = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), ("y₀", "z₀")
+BEARINGS = (
+    Bearing("A", "Palier A", lambda s: _bearings(s)[0], _X0, _Y0, _PLANE),
+    Bearing("B", "Palier B", lambda s: _bearings(s)[1], _X0, _Y0, _PLANE),
+)
+"""The machine's bearings: A inside (bearing_inner), B next to the wheel (bearing_outer)."""
+
 READOUTS = (
     _readout(
         "omega", "rad/s", "Rotation speed of the wheel.",
@@ -192,6 +200,7 @@ READOUTS = (
         "Direction de l'accélération du palier B comptée depuis la valve, comme la lit un "
         "tachymètre synchronisé.",
     ),
+    *bearings.readouts(BEARINGS),
 )  # fmt: skip
 
 ARROWS = (

@@ -18,7 +18,13 @@ from sandbox.scenes.measures import relative_drift, worst_relative_error
 from sandbox.scenes.wheel_balancer.course import machine_solution, reference, supports_model
 from sandbox.scenes.wheel_balancer.model import drive, edit, initial_state
 from sandbox.scenes.wheel_balancer.params import CLIP_RADIUS, PARAMS, effects, omega, soft
-from sandbox.scenes.wheel_balancer.readouts import ARROWS, READOUTS, accelerometer, phase
+from sandbox.scenes.wheel_balancer.readouts import (
+    ARROWS,
+    BEARINGS,
+    READOUTS,
+    accelerometer,
+    phase,
+)
 
 
 def _soft_bench(values: Values) -> tuple[str, str] | None:
@@ -127,7 +133,7 @@ SCENE = Scene(
     max_timestep=RIGID_TIMESTEP,
     sections="7.1, 7.2",
     solutions={"machine_solution": machine_solution, "influence_solution": influence_solution},
-    zero={"N": 1e-9, "N·m": 1e-10, "W": 1e-12, "g": 1e-7, "m/s²": 1e-9},
+    zero={"N": 1e-9, "N·m": 1e-10, "W": 1e-12, "g": 1e-7, "m/s²": 1e-9, "Pa": 1e-5},
     # Key quantity: the lab bench's vibration at B against the linear synchronous response
     # (rigid bearings are exact at every step); invariant: T at constant speed.
     accuracy=Accuracy(
@@ -178,5 +184,6 @@ SCENE = Scene(
             },
         ),
         balancing=("bearing_inner", "bearing_outer"),
+        bearings=BEARINGS,
     ),
 )

@@ -230,8 +230,8 @@ def panel_html(
     model = scene_bearings.pressure_model(values)
     head = (
         f'<p style="margin:0 0 0.3em">{html_text(scene_bearings.HYPOTHESIS_WORDS[choice])}'
-        f" ; R = {_mm(values['bearing_R'])}, L = {_mm(values['bearing_L'])} "
-        "(réglages avancés, groupe « Paliers »).</p>"
+        f" ; alésage de rayon R = {_mm(values['bearing_R'])} et de longueur "
+        f"L = {_mm(values['bearing_L'])} (réglages avancés).</p>"
     )
     legend = (
         '<p style="margin:0.3em 0 0;color:#555">La zone colorée est la moitié chargée de '
