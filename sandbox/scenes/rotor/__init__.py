@@ -118,6 +118,15 @@ SCENE = Scene(
                 hint="Chaque point est une simulation à vitesse constante : l'effort croît "
                 "comme ω² (cours 7.2).",
             ),
+            StudyPreset(
+                "Pression au palier A selon la vitesse (200 g de défaut)",
+                ("speed_rpm", 4000.0, 6000.0, 9),
+                "bearing_A_pmax",
+                duration=0.1,
+                fixed={"defect_mass_g": 200.0, "bearing_model": 1.0},
+                hint="Pression en cosinus dans un alésage de 10 mm × 10 mm : elle croît comme "
+                "ω² et franchit les 200 bar vers 5520 tr/min (annexe B.2).",
+            ),
         ),
         arrows=ARROWS,
         body_frame="rotor",
