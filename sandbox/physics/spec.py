@@ -229,13 +229,12 @@ class Effects:
         lines.append("Contacts simulés (lois de Coulomb)" if self.contacts else NO_CONTACT)
         if self.equality:
             lines.append("Fermeture de chaîne par contrainte d'égalité raide")
-        lines.append(
-            "Frottement visqueux dans certaines liaisons (voir les paramètres)"
-            if self.joint_damping
-            else "Liaisons parfaites"
-        )
+        if self.joint_damping:
+            lines.append("Frottement visqueux dans certaines liaisons (voir les paramètres)")
+        elif not self.joint_friction:
+            lines.append("Liaisons parfaites")
         if self.joint_friction:
-            lines.append("Frottement sec dans les liaisons")
+            lines.append("Frottement sec dans les paliers : couple Cf selon leur charge")
         if self.springs:
             lines.append("Ressorts dans les liaisons")
         lines.append(GALILEAN)

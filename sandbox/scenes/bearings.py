@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
+import mujoco
 import numpy as np
 
 from sandbox.mechanics import bearing as mech
@@ -21,7 +22,7 @@ from sandbox.mechanics.two_planes import split_across_axis
 from sandbox.physics import isolate
 from sandbox.physics.page import Bearing
 from sandbox.physics.snapshot import Snapshot
-from sandbox.physics.spec import Param, SceneReadout
+from sandbox.physics.spec import Param, SceneReadout, Values
 
 GROUP = "Paliers"
 
@@ -32,6 +33,30 @@ HYPOTHESIS_WORDS = (
 )
 """The page's words for ``bearing_model`` = 0, 1, 2."""
 UNIFORM, COSINE, FRICTION = 0, 1, 2
+
+FRICTION_WORDS = ("Non : liaisons parfaites", "Oui : couple Cf selon la charge")
+"""The page's words for ``bearing_friction`` = 0, 1."""
+
+
+def friction_param() -> Param:
+    """« Paliers avec frottement »: the friction torque applied in the simulation itself
+    (a rebuild switches MuJoCo's dry friction on; off by default, the course's perfect
+    joints)."""
+    return Param(
+        "bearing_friction", "", 0.0, 0.0, 1.0,
+        "1: the bearings' friction torque (hypothesis 3, or 2's with the cosine) opposes "
+        "the rotation in the simulation, from the live load; 0: perfect joints.",
+        step=1.0, label="Paliers avec frottement",
+        hint="Applique dans la simulation le couple de frottement des paliers, calculé à "
+        "chaque pas depuis leur charge : Pᵢₙₜ devient négative et le moteur fournit Cf de "
+        "plus.",
+        group=GROUP, choices=FRICTION_WORDS,
+    )  # fmt: skip
+
+
+def friction_on(values: Mapping[str, float]) -> bool:
+    """The bearings' friction torque is applied in the simulation."""
+    return float(values.get("bearing_friction", 0.0)) > 0.5
 
 
 def params(radius: float, length: float, group: str = GROUP) -> tuple[Param, ...]:
@@ -103,14 +128,21 @@ def max_pressure(load: float, values: Mapping[str, float]) -> float:
     return mech.max_pressure(load, values["bearing_R"], values["bearing_L"], pressure_model(values))
 
 
+def has_friction(values: Mapping[str, float]) -> bool:
+    """Friction counts: hypothesis 3, or the friction applied in the simulation."""
+    return hypothesis(values) == FRICTION or friction_on(values)
+
+
 def friction_torque(load: float, values: Mapping[str, float]) -> float:
-    """The friction torque [N·m] of hypothesis 3 under ``load`` [N]; 0 under hypotheses 1
-    and 2 (no friction: the course's perfect joints)."""
-    if hypothesis(values) != FRICTION:
+    """The friction torque [N·m] under ``load`` [N]: (π/2) f R F (uniform pressure,
+    hypothesis 3) or (4/π) f R F (the cosine's, when the friction is applied with
+    hypothesis 2); 0 without friction (the course's perfect joints)."""
+    if not has_friction(values):
         return 0.0
     return mech.friction_torque(
-        load, values["bearing_R"], values["bearing_L"], values["bearing_f"], mech.UNIFORM
-    )
+        load, values["bearing_R"], values["bearing_L"], values["bearing_f"],
+        pressure_model(values),
+    )  # fmt: skip
 
 
 def _pmax(b: Bearing) -> Callable[[Snapshot], float]:
@@ -176,3 +208,68 @@ def two_bearings(
         s.cache[key] = split_across_axis(*pivot_action(s, body), a, b)
     f_a, f_b = s.cache[key]
     return np.asarray(f_a), np.asarray(f_b)
+
+
+def friction_refusal(values: Mapping[str, float]) -> tuple[str, str] | None:
+    """Why the rotation cannot be imposed while the bearings' friction is applied."""
+    if not friction_on(values):
+        return None
+    return (
+        "the bearings' friction torque follows their live load: the rotation is simulated "
+        "(bearing_friction=0 to impose it)",
+        "Paliers avec frottement : leur couple suit la charge, la rotation est simulée "
+        "(paliers parfaits pour l'imposer).",
+    )
+
+
+_SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
+SCRATCH_KEPT = 64
+
+
+def _scratch(model: mujoco.MjModel) -> mujoco.MjData:
+    entry = _SCRATCH.get(id(model))
+    if entry is None or entry[0] is not model:
+        while len(_SCRATCH) >= SCRATCH_KEPT:
+            del _SCRATCH[next(iter(_SCRATCH))]
+        entry = _SCRATCH[id(model)] = (model, mujoco.MjData(model))
+    return entry[1]
+
+
+def friction_control(
+    declared: tuple[Bearing, ...],
+    joint: str,
+    motor: str,
+    set_point: Callable[[Values], float],
+) -> Callable[[mujoco.MjModel, mujoco.MjData, Values], None]:
+    """A per-step control that sets the dry friction of ``joint`` (MuJoCo's
+    ``frictionloss``, a constraint whose force is −C_f sign(ω) while it turns: P_int
+    = −C_f |ω|) to the bearings' friction torque under their load at the current state
+    (a pure function of it: positions, speeds, command); 0 while the friction is off.
+
+    The velocity servo ``motor`` (force kv (u − ω)) then gets the command
+    ``set_point(values) + C_f / kv``: it gives the friction torque on top of what it gave,
+    as the course's motor does, instead of losing C_f / kv of speed to it."""
+
+    def control(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
+        dof = int(model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)])
+        if not friction_on(values):
+            model.dof_frictionloss[dof] = 0.0
+            return
+        here = _scratch(model)
+        here.time = data.time
+        here.qpos[:] = data.qpos
+        here.qvel[:] = data.qvel
+        here.act[:] = data.act
+        here.ctrl[:] = data.ctrl
+        mujoco.mj_forward(model, here)
+        mujoco.mj_rnePostConstraint(model, here)
+        snap = Snapshot(model, here, values)
+        torque = sum(
+            friction_torque(float(np.linalg.norm(radial_load(b, snap))), values) for b in declared
+        )
+        model.dof_frictionloss[dof] = torque
+        act = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, motor)
+        kv = float(model.actuator_gainprm[act, 0])
+        data.ctrl[act] = set_point(values) + (torque / kv if kv > 0 else 0.0)
+
+    return control

@@ -75,3 +75,83 @@ def test_only_the_radial_part_loads_a_plain_bearing():
 def test_bearing_parameters_out_of_range_are_refused(name, value):
     with pytest.raises(SandboxError, match=name):
         Simulation(get_scene("rotor"), values={name: value})
+
+
+# -- « Paliers avec frottement »: the friction torque in the simulation itself ----------------
+FRICTION = {"bearing_friction": 1.0, "bearing_model": 2.0, "bearing_f": 0.1}
+
+
+@pytest.mark.parametrize(
+    "scene, values",
+    [
+        ("rotor", {}),
+        ("rotor", {"defect_mass_g": 200.0, "speed_rpm": 6000.0}),
+        ("rotor", {"bearing_model": 1.0}),  # the cosine's (4/π) f R F
+        ("wheel_balancer", {"speed_rpm": 1000.0}),
+    ],
+)
+def test_bearing_friction_costs_cf_omega_and_the_energy_theorem_still_closes(scene, values):
+    """P_int = −(C_fA + C_fB) ω; the motor gives ΣC_f on top (it holds ω: T stays
+    constant); P_acc = P_ext + P_int to round-off."""
+    sim = Simulation(get_scene(scene), values={**FRICTION, **values})
+    assert sim.motion == "free"
+    sim.advance(1.0)
+    r = sim.readouts()
+    torque = r["bearing_A_Cf"] + r["bearing_B_Cf"]
+    assert torque > 0
+    w = r["omega"]
+    assert w == pytest.approx(sim.values["speed_rpm"] * math.pi / 30, rel=1e-9)
+    assert r["P_int"] == pytest.approx(-torque * w, rel=1e-9)
+    assert r["P_ext"] == pytest.approx(torque * w, rel=1e-6)
+    assert abs(r["P_acc"] - r["P_ext"] - r["P_int"]) < 1e-9 * r["P_ext"]
+    factor = 4 / math.pi if sim.values["bearing_model"] == 1.0 else math.pi / 2
+    radius = sim.values["bearing_R"]
+    forces = (
+        (r["bearing_A"], r["bearing_B"])
+        if scene == "rotor"
+        else (r["bearing_inner"], r["bearing_outer"])
+    )
+    assert torque == pytest.approx(factor * 0.1 * radius * sum(forces), rel=1e-9)
+
+
+def test_perfect_bearings_switch_mujocos_friction_off():
+    """Off by default: the course's perfect joints, MuJoCo's dry friction not computed."""
+    import mujoco
+
+    sim = Simulation(get_scene("rotor"))
+    assert sim.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS
+    sim.advance(0.5)
+    assert sim.readouts(["P_int"])["P_int"] == 0.0
+    assert not sim.model.dof_frictionloss.any()
+    on = Simulation(get_scene("rotor"), values=FRICTION)
+    assert not on.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS
+    scene = get_scene("rotor")
+    lines = scene.effects_at(on.values).hypotheses()
+    assert "Frottement sec dans les paliers : couple Cf selon leur charge" in lines
+    assert "Liaisons parfaites" not in lines
+    assert "Liaisons parfaites" in scene.effects_at(sim.values).hypotheses()
+
+
+def test_bearing_friction_is_simulated_not_imposed():
+    """The friction follows the live load: the imposed rotation is refused with the
+    reason, and turning the friction on while imposed simulates from there, θ and ω
+    continuous."""
+    with pytest.raises(SandboxError, match="friction"):
+        Simulation(get_scene("rotor"), values=FRICTION, motion="imposed")
+    sim = Simulation(get_scene("rotor"), motion="imposed")
+    sim.advance(0.3)
+    theta, w = float(sim.data.qpos[0]), float(sim.data.qvel[0])
+    sim.set_value("bearing_friction", 1.0)
+    assert sim.motion == "free"
+    assert float(sim.data.qpos[0]) == pytest.approx(theta, abs=1e-12)
+    assert float(sim.data.qvel[0]) == pytest.approx(w, rel=1e-12)
+
+
+def test_a_minute_at_6000_rpm_with_friction_stays_on_the_energy_theorem():
+    """A hard case: 200 g of defect at 6000 rpm, the friction torque ~10 N·m each step."""
+    sim = Simulation(get_scene("rotor"), values={**FRICTION, "defect_mass_g": 200.0, "speed_rpm": 6000.0})  # fmt: skip
+    for _ in range(6):
+        sim.advance(10.0)
+        r = sim.readouts()
+        assert abs(r["P_acc"] - r["P_ext"] - r["P_int"]) < 1e-9 * r["P_ext"]
+        assert r["omega"] == pytest.approx(200 * math.pi, rel=1e-9)

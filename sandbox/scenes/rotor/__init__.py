@@ -16,6 +16,7 @@ from __future__ import annotations
 from sandbox.physics.page import Components, Names, Page
 from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.spec import Accuracy, Effects, Scene
+from sandbox.scenes import bearings
 from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
 from sandbox.scenes.rotor.course import (
@@ -59,11 +60,16 @@ SCENE = Scene(
     ),
     mjcf="rotor.xml",
     params=PARAMS,
-    effects=Effects(gravity=False, contacts=False, actuation=True),
+    effects=Effects(gravity=False, contacts=False, actuation=True, joint_friction=True),
+    effects_for=lambda v: Effects(
+        gravity=False, contacts=False, actuation=True, joint_friction=bearings.friction_on(v)
+    ),
     readouts=READOUTS,
     edit=edit,
     drive=drive,
-    imposed=spinning("spin", "motor"),
+    # « Paliers avec frottement »: the bearings' torque from their live load, each step
+    control=bearings.friction_control(BEARINGS, "spin", "motor", omega),
+    imposed=spinning("spin", "motor", unavailable=bearings.friction_refusal),
     initial_state=initial_state,
     reference=reference,
     # A uniform rotation is integrated exactly by every integrator (sandbox bench: errors

@@ -129,4 +129,5 @@ PARAMS = (
     # Bronze bushes around the shaft (radius SHAFT_RADIUS), 10 mm long: 20 g of defect
     # gives 3,5 bar at 1500 rpm in A (hypothesis 2), 200 g passes 200 bar near 5500 rpm.
     *bearings.params(SHAFT_RADIUS, 0.01),
+    bearings.friction_param(),
 )

@@ -149,6 +149,7 @@ PARAMS = (
     ),
     # Bushes around the 20 mm shaft, 20 mm long (2RL = 8 cm²).
     *bearings.params(SHAFT_RADIUS, 0.02),
+    bearings.friction_param(),
 )  # fmt: skip
 
 
@@ -166,6 +167,7 @@ def effects(values: Values) -> Effects:
         actuation=True,
         springs=soft(values),
         joint_damping=soft(values),
+        joint_friction=bearings.friction_on(values),
     )
 
 

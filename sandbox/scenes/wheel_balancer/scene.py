@@ -13,6 +13,7 @@ from sandbox.physics.page import Names, Page
 from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.simulation import Simulation
 from sandbox.physics.spec import Accuracy, Effects, Scene, Values, per_revolution_timestep
+from sandbox.scenes import bearings
 from sandbox.scenes.imposed import spinning
 from sandbox.scenes.measures import relative_drift, worst_relative_error
 from sandbox.scenes.wheel_balancer.course import machine_solution, reference, supports_model
@@ -114,13 +115,22 @@ SCENE = Scene(
     mjcf="wheel_balancer.xml",
     params=PARAMS,
     effects=Effects(
-        gravity=False, contacts=False, actuation=True, springs=True, joint_damping=True
+        gravity=False,
+        contacts=False,
+        actuation=True,
+        springs=True,
+        joint_damping=True,
+        joint_friction=True,
     ),
     effects_for=effects,
     readouts=READOUTS,
     edit=edit,
     drive=drive,
-    imposed=spinning("spin", "motor", unavailable=_soft_bench),
+    # « Paliers avec frottement »: the bearings' torque from their live load, each step
+    control=bearings.friction_control(BEARINGS, "spin", "motor", omega),
+    imposed=spinning(
+        "spin", "motor", unavailable=lambda v: _soft_bench(v) or bearings.friction_refusal(v)
+    ),
     initial_state=initial_state,
     reference=reference,
     # RK4: exact for the uniform rotation on rigid bearings at any step, and fourth order

@@ -198,11 +198,15 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
             "s'abîment</span>"
         )
     lines.append(verdict)
-    if choice == scene_bearings.FRICTION:
-        torque = mech.friction_torque(loaded.force, r, length, f, mech.UNIFORM)
+    if scene_bearings.has_friction(values):
+        torque = scene_bearings.friction_torque(loaded.force, values)
         cf = written(f"bearing_{b.name}_Cf", torque, "N·m", zero=zeros.get("N·m", 0.0))
+        if choice == scene_bearings.COSINE:
+            formula, factor = "Cf = 2·f·R²·L·pₘₐₓ = (4/π)·f·R·F", "(4/π)"
+        else:
+            formula, factor = "Cf = π·R²·L·f·p₀ = (π/2)·f·R·F", "(π/2)"
         lines.append(
-            f"Cf = π·R²·L·f·p₀ = (π/2)·f·R·F = (π/2) × {number(f, 3)} × {_mm(r)} × "
+            f"{formula} = {factor} × {number(f, 3)} × {_mm(r)} × "
             f"{html_text(str(force))} = {html_text(str(cf))}"
         )
     return '<p style="margin:0.5em 0 0">' + "<br>".join(lines) + "</p>"
@@ -241,7 +245,13 @@ def panel_html(
     )
     parts = [head, bearings_svg(loaded, model, zeros.get("Pa", 0.0)), legend]
     parts += [formulas_html(x, values, zeros) for x in loaded]
-    if choice == scene_bearings.FRICTION:
+    if scene_bearings.friction_on(values):
+        parts.append(
+            '<p style="margin:0.5em 0 0">Frottement appliqué dans la simulation : le couple '
+            "Cf de chaque palier s'oppose à la rotation, Pᵢₙₜ = −ΣCf·ω (dossier « Énergie "
+            "et puissances ») et le moteur fournit ΣCf de plus.</p>"
+        )
+    if scene_bearings.has_friction(values) and choice != scene_bearings.COSINE:
         note = html_text(PRINTED_NOTE, limit=len(PRINTED_NOTE))
         parts.append(f'<p style="margin:0.5em 0 0;color:#555">{note}</p>')
     if held:
