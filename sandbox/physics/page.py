@@ -76,6 +76,46 @@ class Bearing:
 
 
 @dataclass(frozen=True)
+class FlowStage:
+    """One organ of a power chain in the folder « Flux de puissance ».
+
+    Attributes:
+        name: Its French name (« Multiplicateur »).
+        power_out: The readout of the power it passes on to the next organ [W].
+        loss: The readout of the power it loses (heat; the wind the blades let through)
+            [W]; "" when it loses none.
+        stored: The readout of the power its inertia stores as kinetic energy (dT/dt
+            of that inertia: positive while it speeds up) [W]; "" when it has none.
+        loss_words: What its loss is, in French (« chaleur », « vent non capté »).
+    """
+
+    name: str
+    power_out: str
+    loss: str = ""
+    stored: str = ""
+    loss_words: str = "chaleur"
+
+
+@dataclass(frozen=True)
+class PowerFlow:
+    """A power chain in series (course 6.4), drawn live as a Sankey diagram.
+
+    Attributes:
+        source: The readout of the power entering the chain [W].
+        source_words: What enters, in French (« Vent, limite de Betz »).
+        stages: The organs in order; the last one's ``power_out`` is what leaves.
+        sink_words: Where the power leaving goes (« Réseau »).
+        efficiency: The readout of the chain's overall efficiency (power out / in).
+    """
+
+    source: str
+    source_words: str
+    stages: tuple[FlowStage, ...]
+    sink_words: str
+    efficiency: str = ""
+
+
+@dataclass(frozen=True)
 class Arrow:
     """An arrow drawn in the 3D view: origin and vector (world frame) from a snapshot.
 
@@ -165,6 +205,8 @@ class Page:
         unbalance_diagram: The rotor's polar diagram of unbalance (None: no such diagram).
         bearings: The pivots modelled as plain bearings (folder « Pression dans les
             paliers »; empty: none).
+        power_flow: A power chain drawn as a Sankey diagram (folder « Flux de
+            puissance »; None: none).
         components: Arrows plotted by component against time (None: scalar plots only).
         balancing: The two bearing readouts whose larger one the class board shows, what
             balancing brings down (None: the overlay's key readouts).
@@ -185,5 +227,6 @@ class Page:
     study_presets: tuple[StudyPreset, ...] = ()
     unbalance_diagram: UnbalanceDiagram | None = None
     bearings: tuple[Bearing, ...] = ()
+    power_flow: PowerFlow | None = None
     components: Components | None = None
     balancing: tuple[str, str] | None = None

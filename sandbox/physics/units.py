@@ -18,7 +18,7 @@ DISPLAY_UNITS: frozenset[str] = frozenset(
         "",  # dimensionless: a ratio (μ), a flag, a choice
         "g", "kg", "m", "s", "°", "rad", "tr/min", "rad/s", "m/s", "m/s²",
         "N", "N·m", "W", "J", "kg·m", "kg·m²", "kg·m/s", "kg·m²/s", "N·m·s/rad",
-        "N/m", "N·s/m", "Hz", "Pa", "bar",
+        "N/m", "N·s/m", "Hz", "Pa", "bar", "kg/m³", "MW",
     }
 )  # fmt: skip
 """Every unit the web page may show (a test keeps the scenes and readouts inside it)."""
@@ -29,10 +29,20 @@ def display_unit(unit: str) -> str:
     return FRENCH_UNITS.get(unit, unit)
 
 
-TURN_SPEEDS: frozenset[str] = frozenset({"omega", "omega_m", "spin"})
+TURN_SPEEDS: frozenset[str] = frozenset({"omega", "omega_m", "omega_g", "spin"})
 """Readouts of a solid's rotation speed [rad/s] whose scene sets that speed in tr/min
 (the slider "Vitesse … [tr/min]"): the page shows them in tr/min too, one unit for one
 quantity across the tables, the overlay, the lesson and the charts."""
+
+MEGAWATTS: frozenset[str] = frozenset(
+    {
+        "P_wind", "P_rotor", "P_rotor_loss", "P_rotor_store", "P_gearbox_in",
+        "P_gearbox_loss", "P_generator_store", "P_generator_in", "P_generator_loss",
+        "P_electric", "P_transformer_loss", "P_transformer_out", "P_line_loss", "P_grid",
+    }
+)  # fmt: skip
+"""A power chain's readouts [W] that the page shows in MW (a wind turbine's: the course
+writes 5 MW, 3,75 MW), one unit for one quantity across every view."""
 
 RAD_S_TO_RPM = 30.0 / math.pi
 RAD_TO_DEG = 180.0 / math.pi
@@ -42,7 +52,8 @@ PA_TO_BAR = 1e-5
 def shown_scale(name: str, unit: str) -> tuple[str, float]:
     """The unit the web page shows readout ``name`` in, and the factor from its contract
     ``unit`` to it: a turning speed in tr/min (:data:`TURN_SPEEDS`), an angle in degrees
-    (the sliders' unit), a contact pressure in bar (the course's limit is 200 bar), any
+    (the sliders' unit), a contact pressure in bar (the course's limit is 200 bar), a
+    power chain's powers in MW (:data:`MEGAWATTS`), any
     other unit as :func:`display_unit` with factor 1. Files (CSV, JSON, recordings) keep
     the contract unit."""
     if unit == "rad/s" and name in TURN_SPEEDS:
@@ -51,6 +62,8 @@ def shown_scale(name: str, unit: str) -> tuple[str, float]:
         return "°", RAD_TO_DEG
     if unit == "Pa":
         return "bar", PA_TO_BAR
+    if unit == "W" and name in MEGAWATTS:
+        return "MW", 1e-6
     return display_unit(unit), 1.0
 
 

@@ -24,6 +24,7 @@ from sandbox.scenes.robot_axis import SCENE as ROBOT_AXIS
 from sandbox.scenes.rolling_cylinder import SCENE as ROLLING_CYLINDER
 from sandbox.scenes.rotor import SCENE as ROTOR
 from sandbox.scenes.wheel_balancer import SCENE as WHEEL_BALANCER
+from sandbox.scenes.wind_turbine import SCENE as WIND_TURBINE
 
 SCENES: dict[str, Scene] = {
     s.name: s
@@ -37,6 +38,7 @@ SCENES: dict[str, Scene] = {
         ROBOT_AXIS,
         INERTIA,
         WHEEL_BALANCER,
+        WIND_TURBINE,
     )
 }
 """Every registered scene by name."""
