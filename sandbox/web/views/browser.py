@@ -28,6 +28,7 @@ from sandbox.web.panels.isolate import IsolatePanel
 from sandbox.web.panels.join import JoinPanel
 from sandbox.web.panels.lesson import LessonPanel
 from sandbox.web.panels.polar import PolarPanel
+from sandbox.web.panels.power_flow import PowerFlowPanel
 from sandbox.web.panels.projector import Projector
 from sandbox.web.panels.readouts import (
     PLOTS_FOLDER,
@@ -191,6 +192,7 @@ class WebView:
         self.readouts = ReadoutPanel(client.gui, sim, arrows=self.arrows)
         self.polar = PolarPanel.create(client.gui, sim)
         self.bearing = BearingPanel.create(client.gui, sim)
+        self.power_flow = PowerFlowPanel.create(client.gui, sim)
         self.cycle = CyclePanel(client.gui, sim)
         self.xy = XYPanel(client.gui, live) if live is not None else None
         self.study = StudyPanel(client.gui, live) if live is not None else None
@@ -209,6 +211,7 @@ class WebView:
             *self.readouts.pickable(),
             *(self.polar.pickable() if self.polar is not None else ()),
             *(self.bearing.pickable() if self.bearing is not None else ()),
+            *(self.power_flow.pickable() if self.power_flow is not None else ()),
             *self.cycle.pickable(),
             *(self.xy.pickable() if self.xy is not None else ()),
             *(self.study.pickable() if self.study is not None else ()),
