@@ -88,7 +88,7 @@ def bench_overhead(scene: Scene, *, duration: float = 5.0, rate: float = 60.0) -
         per = max(1, int(round(1.0 / (rate * m.opt.timestep))))
         frames = int(round(duration * rate))
         start = time.perf_counter()
-        control = sim.scene.control if sim.scene is not None else None
+        control = sim.scene.control_at(sim.values) if sim.scene is not None else None
         for _ in range(frames):
             step_model(m, d, per, control, sim.values)  # mj_step(m, d, per) without control
         return time.perf_counter() - start

@@ -78,6 +78,10 @@ class Imposed:
             turns faster than a reader can follow (:mod:`sandbox.physics.strobe`): one
             where every headline quantity is away from zero; None: never held (an
             input that does not turn, a carriage on its slide).
+        friction: Dry friction on the input joint [N·m or N, ≥ 0] at a state whose forces
+            inverse dynamics just gave (a plain bearing's torque from its load): it
+            opposes the input's motion, the motor gives it on top, and the joint's
+            constraint force carries it (P_int = −friction × speed). None: perfect.
     """
 
     joint: str
@@ -88,6 +92,7 @@ class Imposed:
     unavailable: Callable[[Values], tuple[str, str] | None] | None = None
     slot: int = 0
     held_at: float | None = math.pi / 3
+    friction: Callable[[mujoco.MjModel, mujoco.MjData, Values], float] | None = None
 
     def refusal(self, values: Values) -> tuple[str, str] | None:
         """(English, French) reason the motion cannot be imposed at ``values``, or None."""
@@ -343,10 +348,30 @@ class ImposedMotion:
         self.spec.place(model, data, values, motion)
         if self._act >= 0:
             data.act[self._act] = motion[1]
-        self.forces(model, data)
+        self.forces(model, data, values)
 
-    def forces(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    def forces(
+        self, model: mujoco.MjModel, data: mujoco.MjData, values: Values | None = None
+    ) -> None:
         """Derived quantities and forces of the state in ``data`` (its acceleration in
-        ``qacc_warmstart``)."""
+        ``qacc_warmstart``); with ``values``, the input joint's dry friction
+        (:attr:`Imposed.friction`) on top."""
         plan = self._plan if self._plan.model is model else None
         self.residual = inverse_dynamics(model, data, self.actuators, plan)
+        if self.spec.friction is not None and values is not None:
+            self._friction(model, data, self.spec.friction(model, data, values))
+
+    def _friction(self, model: mujoco.MjModel, data: mujoco.MjData, friction: float) -> None:
+        """Add a dry friction ``friction`` opposing the input's speed: a pure torque (or
+        force) on the input joint, which the motor, acting on that joint alone, gives on
+        top of what inverse dynamics found; the loops' forces and every other reaction
+        stay as they were (the solve is linear and the motor's column is that joint's)."""
+        speed = float(data.qvel[self._dof])
+        if friction <= 0.0 or speed == 0.0:
+            return
+        torque = math.copysign(friction, speed)
+        motor = int(self.actuators[0])
+        gear = float(model.actuator_gear[motor, 0]) or 1.0
+        data.actuator_force[motor] += torque / gear
+        data.qfrc_actuator[self._dof] += torque
+        data.qfrc_constraint[self._dof] -= torque

@@ -176,7 +176,7 @@ class MotionChoice:
             return
         key = self._key(data)
         if key != self._fresh:
-            self._imposed.forces(self.model, data)
+            self._imposed.forces(self.model, data, self.values)
             self._fresh = key
 
     def put_at(self, data: mujoco.MjData, t: float, *, forces: bool = True) -> bool:

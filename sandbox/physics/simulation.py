@@ -180,8 +180,9 @@ class Simulation(MotionChoice):
     def _apply_control(self) -> None:
         """The scene's per-step command at the current state (readouts between two steps
         then show the command the next step applies)."""
-        if self.scene is not None and self.scene.control is not None:
-            self.scene.control(self.model, self.data, self.values)
+        control = self.scene.control_at(self.values) if self.scene is not None else None
+        if control is not None:
+            control(self.model, self.data, self.values)
 
     def set_value(self, name: str, value: object) -> float:
         """Change a parameter; non-live ones rebuild the model and keep the motion going.
@@ -350,7 +351,7 @@ class Simulation(MotionChoice):
             if self._imposed is not None:
                 self._step_imposed(nstep)
                 return
-            control = self.scene.control if self.scene is not None else None
+            control = self.scene.control_at(self.values) if self.scene is not None else None
             step_model(self.model, self.data, nstep, control, self.values)
             self._guard()
             self._follow_state()

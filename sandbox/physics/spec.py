@@ -372,6 +372,9 @@ class Scene:
             of its own, so that a reset, a replay or a recording re-simulates the same
             motion. A scene with a control is stepped in a Python loop, one ``mj_step`` per
             timestep; every other scene in one batched ``mj_step(model, data, nstep)``.
+        control_when: The parameter values at which the control acts (None: always);
+            elsewhere the scene is stepped in one batched call, as without a control
+            (the bearings' friction, off by default, costs nothing while it is off).
         initial_state: Sets a consistent initial qpos/qvel after reset.
         reference: Closed-form values of some readouts from the course.
         mechanism: Turns the generic energy readouts the simulation computed (``T``,
@@ -426,6 +429,7 @@ class Scene:
     edit: Callable[[mujoco.MjSpec, Values], None] | None = None
     drive: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     control: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
+    control_when: Callable[[Values], bool] | None = None
     initial_state: Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None = None
     reference: Callable[[Values], dict[str, float]] | None = None
     mechanism: Callable[[Snapshot, dict[str, float]], None] | None = None
@@ -442,6 +446,16 @@ class Scene:
     effects_for: Callable[[Values], Effects] | None = None
     page: Page = field(default_factory=Page)
     imposed: Imposed | None = None
+
+    def control_at(
+        self, values: Values
+    ) -> Callable[[mujoco.MjModel, mujoco.MjData, Values], None] | None:
+        """The per-step control at ``values`` (None: batched stepping)."""
+        if self.control is None or (
+            self.control_when is not None and not self.control_when(values)
+        ):
+            return None
+        return self.control
 
     def effects_at(self, values: Values | None = None) -> Effects:
         """The effects simulated at ``values`` (missing ones at their defaults)."""

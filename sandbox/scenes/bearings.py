@@ -38,7 +38,7 @@ FRICTION_WORDS = ("Non : liaisons parfaites", "Oui : couple Cf selon la charge")
 """The page's words for ``bearing_friction`` = 0, 1."""
 
 
-def friction_param() -> Param:
+def friction_param(group: str = GROUP) -> Param:
     """« Paliers avec frottement »: the friction torque applied in the simulation itself
     (a rebuild switches MuJoCo's dry friction on; off by default, the course's perfect
     joints)."""
@@ -50,7 +50,7 @@ def friction_param() -> Param:
         hint="Applique dans la simulation le couple de frottement des paliers, calculé à "
         "chaque pas depuis leur charge : Pᵢₙₜ devient négative et le moteur fournit Cf de "
         "plus.",
-        group=GROUP, choices=FRICTION_WORDS,
+        group=group, choices=FRICTION_WORDS,
     )  # fmt: skip
 
 
@@ -210,18 +210,6 @@ def two_bearings(
     return np.asarray(f_a), np.asarray(f_b)
 
 
-def friction_refusal(values: Mapping[str, float]) -> tuple[str, str] | None:
-    """Why the rotation cannot be imposed while the bearings' friction is applied."""
-    if not friction_on(values):
-        return None
-    return (
-        "the bearings' friction torque follows their live load: the rotation is simulated "
-        "(bearing_friction=0 to impose it)",
-        "Paliers avec frottement : leur couple suit la charge, la rotation est simulée "
-        "(paliers parfaits pour l'imposer).",
-    )
-
-
 _SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
 SCRATCH_KEPT = 64
 
@@ -263,13 +251,32 @@ def friction_control(
         here.ctrl[:] = data.ctrl
         mujoco.mj_forward(model, here)
         mujoco.mj_rnePostConstraint(model, here)
-        snap = Snapshot(model, here, values)
-        torque = sum(
-            friction_torque(float(np.linalg.norm(radial_load(b, snap))), values) for b in declared
-        )
+        torque = _friction_at(declared, Snapshot(model, here, values), values)
         model.dof_frictionloss[dof] = torque
         act = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, motor)
         kv = float(model.actuator_gainprm[act, 0])
         data.ctrl[act] = set_point(values) + (torque / kv if kv > 0 else 0.0)
 
     return control
+
+
+def _friction_at(declared: tuple[Bearing, ...], snap: Snapshot, values: Values) -> float:
+    """The bearings' total friction torque [N·m] under their loads at ``snap``."""
+    return float(
+        sum(friction_torque(float(np.linalg.norm(radial_load(b, snap))), values) for b in declared)
+    )
+
+
+def imposed_friction(
+    declared: tuple[Bearing, ...],
+) -> Callable[[mujoco.MjModel, mujoco.MjData, Values], float]:
+    """The bearings' friction torque for an imposed motion (:attr:`Imposed.friction`): at
+    the state inverse dynamics just solved, from the bearings' loads (which the friction,
+    a torque about the shaft, does not change); 0 while the friction is off."""
+
+    def friction(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> float:
+        if not friction_on(values):
+            return 0.0
+        return _friction_at(declared, Snapshot(model, data, values), values)
+
+    return friction

@@ -93,8 +93,7 @@ FRICTION = {"bearing_friction": 1.0, "bearing_model": 2.0, "bearing_f": 0.1}
 def test_bearing_friction_costs_cf_omega_and_the_energy_theorem_still_closes(scene, values):
     """P_int = −(C_fA + C_fB) ω; the motor gives ΣC_f on top (it holds ω: T stays
     constant); P_acc = P_ext + P_int to round-off."""
-    sim = Simulation(get_scene(scene), values={**FRICTION, **values})
-    assert sim.motion == "free"
+    sim = Simulation(get_scene(scene), values={**FRICTION, **values}, motion="free")
     sim.advance(1.0)
     r = sim.readouts()
     torque = r["bearing_A_Cf"] + r["bearing_B_Cf"]
@@ -132,19 +131,46 @@ def test_perfect_bearings_switch_mujocos_friction_off():
     assert "Liaisons parfaites" in scene.effects_at(sim.values).hypotheses()
 
 
-def test_bearing_friction_is_simulated_not_imposed():
-    """The friction follows the live load: the imposed rotation is refused with the
-    reason, and turning the friction on while imposed simulates from there, θ and ω
-    continuous."""
-    with pytest.raises(SandboxError, match="friction"):
-        Simulation(get_scene("rotor"), values=FRICTION, motion="imposed")
-    sim = Simulation(get_scene("rotor"), motion="imposed")
-    sim.advance(0.3)
-    theta, w = float(sim.data.qpos[0]), float(sim.data.qvel[0])
-    sim.set_value("bearing_friction", 1.0)
-    assert sim.motion == "free"
-    assert float(sim.data.qpos[0]) == pytest.approx(theta, abs=1e-12)
-    assert float(sim.data.qvel[0]) == pytest.approx(w, rel=1e-12)
+@pytest.mark.parametrize(
+    "scene, torques",
+    [
+        ("rotor", ("bearing_A_Cf", "bearing_B_Cf")),
+        ("wheel_balancer", ("bearing_A_Cf", "bearing_B_Cf")),
+        ("compressor", ("bearing_O_Cf",)),
+        ("engine", ("bearing_A_Cf", "bearing_B_Cf")),
+    ],
+)
+def test_imposed_and_free_motions_carry_the_same_friction(scene, torques):
+    """Imposed (inverse dynamics, the friction on top) or simulated (MuJoCo's dry friction
+    set before each step): the same torque ΣC_f from the loads, the motor giving it on top
+    of the perfect joints' torque, P_int = −ΣC_f ω, and the energy theorem to round-off
+    (free: within the loops' own closure power, 1e-3 of the motor's)."""
+    out = {}
+    for motion in ("imposed", "free"):
+        perfect = Simulation(get_scene(scene), values={"bearing_model": 2.0}, motion=motion)
+        sim = Simulation(get_scene(scene), values=FRICTION, motion=motion)
+        for s in (perfect, sim):
+            s.advance(0.2)
+        r, r0 = sim.readouts(), perfect.readouts()
+        torque = sum(r[n] for n in torques)
+        w = float(sim.data.qvel[0])
+        extra = float(sim.data.actuator_force[0] - perfect.data.actuator_force[0])
+        assert torque > 0 and extra == pytest.approx(torque, rel=1e-6), motion
+        closure = 1e-9 if motion == "imposed" else 1e-3
+        assert r["P_int"] == pytest.approx(-torque * w, rel=closure), motion
+        assert abs(r["P_acc"] - r["P_ext"] - r["P_int"]) < 1e-9 * abs(r["P_ext"]) + 1e-9
+        assert r0["P_int"] == pytest.approx(0.0, abs=1e-3 * abs(r0["P_ext"]) + 1e-9)
+        out[motion] = torque
+    assert out["imposed"] == pytest.approx(out["free"], rel=1e-3)
+
+
+def test_the_friction_costs_no_per_step_python_while_it_is_off():
+    """Perfect bearings step in one batched call; the friction's control acts only while
+    it is on."""
+    for scene in ("rotor", "wheel_balancer", "compressor", "engine"):
+        spec = get_scene(scene)
+        assert spec.control_at(Simulation(spec).values) is None, scene
+        assert spec.control_at({**Simulation(spec).values, **FRICTION}) is not None, scene
 
 
 def test_a_minute_at_6000_rpm_with_friction_stays_on_the_energy_theorem():

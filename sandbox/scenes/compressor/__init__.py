@@ -20,9 +20,12 @@ orders), :mod:`.readouts` (readouts and arrows).
 
 from __future__ import annotations
 
+import dataclasses
+
 from sandbox.physics.page import Names, Page
 from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.spec import Effects, Scene
+from sandbox.scenes import bearings
 from sandbox.scenes.compressor.course import (
     HARMONIC_SAMPLES,
     Kinematics,
@@ -67,10 +70,22 @@ SCENE = Scene(
     ),
     mjcf="compressor.xml",
     params=PARAMS,
-    effects=Effects(gravity=False, contacts=False, equality=True, actuation=True),
+    effects=Effects(
+        gravity=False, contacts=False, equality=True, actuation=True, joint_friction=True
+    ),
+    effects_for=lambda v: Effects(
+        gravity=False,
+        contacts=False,
+        equality=True,
+        actuation=True,
+        joint_friction=bearings.friction_on(v),
+    ),
     readouts=READOUTS,
     edit=edit,
     drive=drive,
+    # « Paliers avec frottement »: the bearings' torque from their live load, each step
+    control=bearings.friction_control(BEARINGS, "crank", "motor", lambda v: v["speed_rpm"] * RPM),
+    control_when=bearings.friction_on,
     initial_state=initial_state,
     reference=reference,
     # RK4 keeps the closure from draining energy: first-order integrators (euler,
@@ -87,7 +102,7 @@ SCENE = Scene(
     # Round-off: the closure error (1e-8 m and more) stays visible; forces reach 1e4 N.
     zero={**ROUND_OFF, "m": 1e-13, "Pa": 1e-3},
     accuracy=ACCURACY,
-    imposed=IMPOSED,
+    imposed=dataclasses.replace(IMPOSED, friction=bearings.imposed_friction(BEARINGS)),
     page=Page(
         bearings=BEARINGS,
         overlay={

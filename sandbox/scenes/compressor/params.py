@@ -47,6 +47,7 @@ PARAMS = (
     _p("ramp_s", "s", 0.0, 0.0, 5.0, "0: start at speed; > 0: start at rest, motor set point rising with this time constant.", step=0.05, label="Temps de montée en vitesse τ", hint="0 : le vilebrequin part à sa vitesse ; sinon il part du repos et la consigne du moteur monte avec cette constante de temps.", group=DRIVE),
     # The crank's bush at O around its 6 mm shaft, 24 mm long (2RL = 2,9 cm²).
     *bearings.params(0.006, 0.024, group=GEOMETRY),
+    bearings.friction_param(group=DRIVE),
 )  # fmt: skip
 
 

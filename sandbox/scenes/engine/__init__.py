@@ -52,9 +52,13 @@ orders), :mod:`.readouts` (readouts and arrows).
 
 from __future__ import annotations
 
+import dataclasses
+
 from sandbox.physics.page import Names, Page
 from sandbox.physics.presets import StudyPreset, XYPreset
 from sandbox.physics.spec import Effects, Scene
+from sandbox.scenes import bearings
+from sandbox.scenes.compressor.params import RPM
 from sandbox.scenes.engine.course import (
     counterweight_mass,
     cylinder_count,
@@ -104,10 +108,22 @@ SCENE = Scene(
     ),
     mjcf="engine.xml",
     params=PARAMS,
-    effects=Effects(gravity=False, contacts=False, equality=True, actuation=True),
+    effects=Effects(
+        gravity=False, contacts=False, equality=True, actuation=True, joint_friction=True
+    ),
+    effects_for=lambda v: Effects(
+        gravity=False,
+        contacts=False,
+        equality=True,
+        actuation=True,
+        joint_friction=bearings.friction_on(v),
+    ),
     readouts=READOUTS,
     edit=edit,
     drive=drive,
+    # « Paliers avec frottement »: the bearings' torque from their live load, each step
+    control=bearings.friction_control(BEARINGS, "crank", "motor", lambda v: v["speed_rpm"] * RPM),
+    control_when=bearings.friction_on,
     initial_state=initial_state,
     reference=reference,
     # The compressor's choices: RK4 keeps the closures from draining energy; the same
@@ -119,7 +135,7 @@ SCENE = Scene(
     cycle=revolution,
     zero={**ROUND_OFF, "m": 1e-15, "Pa": 1e-3},
     accuracy=ACCURACY,
-    imposed=IMPOSED,
+    imposed=dataclasses.replace(IMPOSED, friction=bearings.imposed_friction(BEARINGS)),
     page=Page(
         bearings=BEARINGS,
         overlay={

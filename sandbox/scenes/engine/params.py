@@ -36,6 +36,7 @@ PARAMS = (
     _p("motor_inertia", "kg·m²", 0.02, 0.0, 0.2, "Inertia of the motor's rotor, turning with the crankshaft (a joint armature).", step=0.001, label="Inertie du rotor du moteur J", hint="Moment d'inertie du rotor du moteur, qui tourne avec le vilebrequin.", group=DRIVE, advanced=True, hypothesis="Rotor du moteur d'inertie J = {}, tournant avec le vilebrequin : compté dans T et dans Pₑₓₜ ; le couple de l'actionneur vaut Cₘₒₜ + J·θ''"),
     # Two main bearings at the crankshaft's ends around its 6 mm shaft, 12 mm long.
     *bearings.params(0.006, 0.012),
+    bearings.friction_param(),
 )  # fmt: skip
 
 DEFAULTS = {p.name: p.default for p in PARAMS}

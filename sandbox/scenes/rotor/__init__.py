@@ -69,7 +69,8 @@ SCENE = Scene(
     drive=drive,
     # « Paliers avec frottement »: the bearings' torque from their live load, each step
     control=bearings.friction_control(BEARINGS, "spin", "motor", omega),
-    imposed=spinning("spin", "motor", unavailable=bearings.friction_refusal),
+    control_when=bearings.friction_on,
+    imposed=spinning("spin", "motor", friction=bearings.imposed_friction(BEARINGS)),
     initial_state=initial_state,
     reference=reference,
     # A uniform rotation is integrated exactly by every integrator (sandbox bench: errors

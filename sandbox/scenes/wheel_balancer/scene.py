@@ -128,8 +128,9 @@ SCENE = Scene(
     drive=drive,
     # « Paliers avec frottement »: the bearings' torque from their live load, each step
     control=bearings.friction_control(BEARINGS, "spin", "motor", omega),
+    control_when=bearings.friction_on,
     imposed=spinning(
-        "spin", "motor", unavailable=lambda v: _soft_bench(v) or bearings.friction_refusal(v)
+        "spin", "motor", unavailable=_soft_bench, friction=bearings.imposed_friction(BEARINGS)
     ),
     initial_state=initial_state,
     reference=reference,
