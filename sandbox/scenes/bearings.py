@@ -12,6 +12,7 @@ part (none of these scenes has one).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping
 
 import mujoco
@@ -21,8 +22,9 @@ from sandbox.mechanics import bearing as mech
 from sandbox.mechanics.two_planes import split_across_axis
 from sandbox.physics import isolate
 from sandbox.physics.page import Bearing
+from sandbox.physics.scratch import scratch_data
 from sandbox.physics.snapshot import Snapshot
-from sandbox.physics.spec import Param, SceneReadout, Values
+from sandbox.physics.spec import Effects, Param, SceneReadout, Values
 
 GROUP = "Paliers"
 
@@ -57,6 +59,13 @@ def friction_param(group: str = GROUP) -> Param:
 def friction_on(values: Mapping[str, float]) -> bool:
     """The bearings' friction torque is applied in the simulation."""
     return float(values.get("bearing_friction", 0.0)) > 0.5
+
+
+def with_friction(base: Effects) -> tuple[Effects, Callable[[Values], Effects]]:
+    """A scene's effects with the bearings' dry friction: (every effect it may call for,
+    the effects at given values: MuJoCo's joint friction only while it is on)."""
+    union = dataclasses.replace(base, joint_friction=True)
+    return union, lambda v: dataclasses.replace(base, joint_friction=friction_on(v))
 
 
 def params(radius: float, length: float, group: str = GROUP) -> tuple[Param, ...]:
@@ -210,19 +219,6 @@ def two_bearings(
     return np.asarray(f_a), np.asarray(f_b)
 
 
-_SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
-SCRATCH_KEPT = 64
-
-
-def _scratch(model: mujoco.MjModel) -> mujoco.MjData:
-    entry = _SCRATCH.get(id(model))
-    if entry is None or entry[0] is not model:
-        while len(_SCRATCH) >= SCRATCH_KEPT:
-            del _SCRATCH[next(iter(_SCRATCH))]
-        entry = _SCRATCH[id(model)] = (model, mujoco.MjData(model))
-    return entry[1]
-
-
 def friction_control(
     declared: tuple[Bearing, ...],
     joint: str,
@@ -243,7 +239,7 @@ def friction_control(
         if not friction_on(values):
             model.dof_frictionloss[dof] = 0.0
             return
-        here = _scratch(model)
+        here = scratch_data(model)
         here.time = data.time
         here.qpos[:] = data.qpos
         here.qvel[:] = data.qvel

@@ -175,7 +175,8 @@ def test_the_friction_costs_no_per_step_python_while_it_is_off():
 
 def test_a_minute_at_6000_rpm_with_friction_stays_on_the_energy_theorem():
     """A hard case: 200 g of defect at 6000 rpm, the friction torque ~10 N·m each step."""
-    sim = Simulation(get_scene("rotor"), values={**FRICTION, "defect_mass_g": 200.0, "speed_rpm": 6000.0})  # fmt: skip
+    hard = {**FRICTION, "defect_mass_g": 200.0, "speed_rpm": 6000.0}
+    sim = Simulation(get_scene("rotor"), values=hard)
     for _ in range(6):
         sim.advance(10.0)
         r = sim.readouts()

@@ -393,11 +393,9 @@ def test_a_class_of_sessions_keeps_its_scratch_data():
     theirs (keeping 16 then clearing them all allocated one a frame in a class)."""
     import mujoco
 
-    from sandbox.scenes.rolling_cylinder import readouts
+    from sandbox.physics.scratch import scratch_data
 
-    readouts._SCRATCH.clear()
     models = [Simulation(get_scene("rolling_cylinder")).model for _ in range(30)]
-    first = [readouts._scratch(m) for m in models]
+    first = [scratch_data(m) for m in models]
     assert all(isinstance(d, mujoco.MjData) for d in first)
-    assert all(readouts._scratch(m) is d for m, d in zip(models, first, strict=True))
-    assert len(readouts._SCRATCH) == 30
+    assert all(scratch_data(m) is d for m, d in zip(models, first, strict=True))

@@ -60,6 +60,11 @@ from sandbox.scenes.compressor.readouts import ARROW_SCALE, ARROWS, BEARINGS, RE
 from sandbox.scenes.roundoff import ROUND_OFF
 from sandbox.scenes.slider_crank import ACCURACY, FITTED_ORDERS, fit_orders
 
+EFFECTS, EFFECTS_AT = bearings.with_friction(
+    Effects(gravity=False, contacts=False, equality=True, actuation=True)
+)
+"""A closed loop, the motor, and the bearings' friction while it is on."""
+
 SCENE = Scene(
     name="compressor",
     title="Micro-compresseur : effets de pilon et de tamis",
@@ -70,16 +75,8 @@ SCENE = Scene(
     ),
     mjcf="compressor.xml",
     params=PARAMS,
-    effects=Effects(
-        gravity=False, contacts=False, equality=True, actuation=True, joint_friction=True
-    ),
-    effects_for=lambda v: Effects(
-        gravity=False,
-        contacts=False,
-        equality=True,
-        actuation=True,
-        joint_friction=bearings.friction_on(v),
-    ),
+    effects=EFFECTS,
+    effects_for=EFFECTS_AT,
     readouts=READOUTS,
     edit=edit,
     drive=drive,

@@ -97,6 +97,11 @@ SOLID_NAMES = {
 """French names of the bodies (the web page's solid picker)."""
 
 
+EFFECTS, EFFECTS_AT = bearings.with_friction(
+    Effects(gravity=False, contacts=False, equality=True, actuation=True)
+)
+"""A closed loop, the motor, and the bearings' friction while it is on."""
+
 SCENE = Scene(
     name="engine",
     title="Moteur en ligne : équilibrage des machines alternatives",
@@ -108,16 +113,8 @@ SCENE = Scene(
     ),
     mjcf="engine.xml",
     params=PARAMS,
-    effects=Effects(
-        gravity=False, contacts=False, equality=True, actuation=True, joint_friction=True
-    ),
-    effects_for=lambda v: Effects(
-        gravity=False,
-        contacts=False,
-        equality=True,
-        actuation=True,
-        joint_friction=bearings.friction_on(v),
-    ),
+    effects=EFFECTS,
+    effects_for=EFFECTS_AT,
     readouts=READOUTS,
     edit=edit,
     drive=drive,

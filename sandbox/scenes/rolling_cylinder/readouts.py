@@ -13,6 +13,7 @@ import numpy as np
 from sandbox.mechanics.vectors import cross as _cross
 from sandbox.physics.kinematics import Kinematics
 from sandbox.physics.page import Arrow
+from sandbox.physics.scratch import scratch_data
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import SceneReadout, Values
 from sandbox.scenes.rolling_cylinder.course import (
@@ -123,7 +124,7 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
 
     h = 1e-4
     values = []
-    scratch = _scratch(m)
+    scratch = scratch_data(m)
     for sign in (1.0, -1.0):
         scratch.qpos[:] = d.qpos + sign * h * d.qvel + 0.5 * h * h * d.qacc
         scratch.qvel[:] = d.qvel + sign * h * d.qacc
@@ -141,23 +142,6 @@ def _delta_terms(s: Snapshot) -> tuple[float, float, float]:
         transport += _cross(v_a, mv)
         direct += k.delta_g[b] + _cross(d.xipos[b] - a, m.body_mass[b] * k.a_g[b])
     return float(dsigma @ y), float(transport @ y), float(direct @ y)
-
-
-_SCRATCH: dict[int, tuple[mujoco.MjModel, mujoco.MjData]] = {}
-SCRATCH_KEPT = 64
-"""Models whose scratch data is kept: more than a worker's sessions (a class of 30 on two
-workers is 15 each; keeping 16 and clearing them all made one MjData a frame each)."""
-
-
-def _scratch(model: mujoco.MjModel) -> mujoco.MjData:
-    """A reusable MjData for ``model`` (allocating one per readout costs more than using it);
-    the oldest model's is dropped past :data:`SCRATCH_KEPT`."""
-    entry = _SCRATCH.get(id(model))
-    if entry is None or entry[0] is not model:
-        while len(_SCRATCH) >= SCRATCH_KEPT:
-            del _SCRATCH[next(iter(_SCRATCH))]
-        entry = _SCRATCH[id(model)] = (model, mujoco.MjData(model))
-    return entry[1]
 
 
 def _axis_velocity(s: Snapshot) -> np.ndarray:

@@ -51,6 +51,9 @@ from sandbox.scenes.rotor.params import (
 from sandbox.scenes.rotor.readouts import ARROWS, BEARINGS, READOUTS
 from sandbox.scenes.roundoff import ROUND_OFF
 
+EFFECTS, EFFECTS_AT = bearings.with_friction(Effects(gravity=False, contacts=False, actuation=True))
+"""The motor, and the bearings' friction while it is on."""
+
 SCENE = Scene(
     name="rotor",
     title="Rotor déséquilibré à équilibrer",  # one line in a projected panel
@@ -60,10 +63,8 @@ SCENE = Scene(
     ),
     mjcf="rotor.xml",
     params=PARAMS,
-    effects=Effects(gravity=False, contacts=False, actuation=True, joint_friction=True),
-    effects_for=lambda v: Effects(
-        gravity=False, contacts=False, actuation=True, joint_friction=bearings.friction_on(v)
-    ),
+    effects=EFFECTS,
+    effects_for=EFFECTS_AT,
     readouts=READOUTS,
     edit=edit,
     drive=drive,
