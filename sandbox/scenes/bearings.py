@@ -13,31 +13,27 @@ part (none of these scenes has one).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
 
-from sandbox.mechanics import bearing as mech
 from sandbox.mechanics.two_planes import split_across_axis
 from sandbox.physics import isolate
+from sandbox.physics.bearings import (
+    FRICTION_WORDS,
+    HYPOTHESIS_WORDS,
+    friction_on,
+    friction_torque,
+    max_pressure,
+    radial_load,
+)
 from sandbox.physics.page import Bearing
 from sandbox.physics.scratch import scratch_data
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.spec import Effects, Param, SceneReadout, Values
 
 GROUP = "Paliers"
-
-HYPOTHESIS_WORDS = (
-    "Pression uniforme (hypothèse 1)",
-    "Pression en cosinus (hypothèse 2)",
-    "Uniforme avec frottement f (hypothèse 3)",
-)
-"""The page's words for ``bearing_model`` = 0, 1, 2."""
-UNIFORM, COSINE, FRICTION = 0, 1, 2
-
-FRICTION_WORDS = ("Non : liaisons parfaites", "Oui : couple Cf selon la charge")
-"""The page's words for ``bearing_friction`` = 0, 1."""
 
 
 def friction_param(group: str = GROUP) -> Param:
@@ -52,13 +48,8 @@ def friction_param(group: str = GROUP) -> Param:
         hint="Applique dans la simulation le couple de frottement des paliers, calculé à "
         "chaque pas depuis leur charge : Pᵢₙₜ devient négative et le moteur fournit Cf de "
         "plus.",
-        group=group, choices=FRICTION_WORDS,
+        group=group, choices=FRICTION_WORDS, advanced=True,
     )  # fmt: skip
-
-
-def friction_on(values: Mapping[str, float]) -> bool:
-    """The bearings' friction torque is applied in the simulation."""
-    return float(values.get("bearing_friction", 0.0)) > 0.5
 
 
 def with_friction(base: Effects) -> tuple[Effects, Callable[[Values], Effects]]:
@@ -105,52 +96,6 @@ def params(radius: float, length: float, group: str = GROUP) -> tuple[Param, ...
             "l'hypothèse 3 (bronze graissé sur acier : environ 0,1).",
             group=group, advanced=True,
         ),
-    )  # fmt: skip
-
-
-def radial(load: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    """The part of ``load`` across ``axis`` (a unit vector)."""
-    load = np.asarray(load, dtype=float)
-    return load - float(load @ axis) * np.asarray(axis, dtype=float)
-
-
-def radial_load(b: Bearing, s: Snapshot) -> np.ndarray:
-    """The frame's force on the shaft across the bore [N], world axes; cached a snapshot."""
-    key = f"bearing_{b.name}_radial"
-    if key not in s.cache:
-        s.cache[key] = radial(b.load(s), np.asarray(b.axis, dtype=float))
-    return np.asarray(s.cache[key])
-
-
-def hypothesis(values: Mapping[str, float]) -> int:
-    """``bearing_model`` as 0, 1 or 2 (a value out of range reads as the nearest)."""
-    return int(min(max(round(float(values.get("bearing_model", 0.0))), 0), 2))
-
-
-def pressure_model(values: Mapping[str, float]) -> str:
-    """The pressure distribution of the chosen hypothesis (3 is 1's with friction)."""
-    return mech.COSINE if hypothesis(values) == COSINE else mech.UNIFORM
-
-
-def max_pressure(load: float, values: Mapping[str, float]) -> float:
-    """The largest contact pressure [Pa] under ``load`` [N] for these values."""
-    return mech.max_pressure(load, values["bearing_R"], values["bearing_L"], pressure_model(values))
-
-
-def has_friction(values: Mapping[str, float]) -> bool:
-    """Friction counts: hypothesis 3, or the friction applied in the simulation."""
-    return hypothesis(values) == FRICTION or friction_on(values)
-
-
-def friction_torque(load: float, values: Mapping[str, float]) -> float:
-    """The friction torque [N·m] under ``load`` [N]: (π/2) f R F (uniform pressure,
-    hypothesis 3) or (4/π) f R F (the cosine's, when the friction is applied with
-    hypothesis 2); 0 without friction (the course's perfect joints)."""
-    if not has_friction(values):
-        return 0.0
-    return mech.friction_torque(
-        load, values["bearing_R"], values["bearing_L"], values["bearing_f"],
-        pressure_model(values),
     )  # fmt: skip
 
 

@@ -11,9 +11,9 @@ import pytest
 
 from sandbox.errors import SandboxError
 from sandbox.mechanics.bearing import LIMIT_PA
+from sandbox.physics.bearings import radial
 from sandbox.physics.simulation import Simulation
 from sandbox.scenes import get_scene
-from sandbox.scenes.bearings import radial
 
 
 def _rotor(**values: float) -> Simulation:

@@ -211,7 +211,15 @@ def test_build_then_read_gives_the_same_setup_exactly(rotor_page):
     params = list(rotor_page.params.values())
     for _ in range(200):
         chosen = rng.sample(params, rng.randrange(1, len(params)))
-        settings = tuple((p.name, rng.uniform(p.min, p.max)) for p in chosen)
+        settings = tuple(
+            (
+                p.name,
+                float(rng.randint(int(p.min), int(p.max)))
+                if p.integer
+                else rng.uniform(p.min, p.max),
+            )
+            for p in chosen
+        )
         setup = Setup(settings=settings, open=("torseurs",), lock=(chosen[0].name,))
         back, ignored = read("#" + build(setup), rotor_page)
         assert ignored == [] and back == setup  # floats equal to the last bit

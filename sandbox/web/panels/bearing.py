@@ -23,10 +23,10 @@ import numpy as np
 import viser
 
 from sandbox.mechanics import bearing as mech
+from sandbox.physics import bearings as bearing_rules
 from sandbox.physics.page import Bearing
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.snapshot import Snapshot
-from sandbox.scenes import bearings as scene_bearings
 from sandbox.web.client.text import html_text, number
 from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.plots import nice_ceil
@@ -175,7 +175,7 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
     """One bearing's load, pressure (and friction torque under hypothesis 3) with the
     course's formulas and today's numbers, the verdict against 200 bar."""
     b = loaded.bearing
-    choice = scene_bearings.hypothesis(values)
+    choice = bearing_rules.hypothesis(values)
     r, length, f = values["bearing_R"], values["bearing_L"], values["bearing_f"]
     force = written(f"bearing_{b.name}_load", loaded.force, "N", zero=zeros.get("N", 0.0))
     p0 = mech.mean_pressure(loaded.force, r, length)
@@ -186,7 +186,7 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
         f"p₀ = F / (2·R·L) = {html_text(str(force))} / (2 × {_mm(r)} × {_mm(length)}) "
         f"= {html_text(str(p0_text))}",
     ]
-    if choice == scene_bearings.COSINE:
+    if choice == bearing_rules.COSINE:
         lines.append(f"pₘₐₓ = (4/π)·p₀ = 2·F / (π·R·L) = {html_text(str(p_max))}")
     else:
         lines.append(f"pₘₐₓ = p₀ = {html_text(str(p_max))}")
@@ -198,10 +198,10 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
             "s'abîment</span>"
         )
     lines.append(verdict)
-    if scene_bearings.has_friction(values):
-        torque = scene_bearings.friction_torque(loaded.force, values)
+    if bearing_rules.has_friction(values):
+        torque = bearing_rules.friction_torque(loaded.force, values)
         cf = written(f"bearing_{b.name}_Cf", torque, "N·m", zero=zeros.get("N·m", 0.0))
-        if choice == scene_bearings.COSINE:
+        if choice == bearing_rules.COSINE:
             formula, factor = "Cf = 2·f·R²·L·pₘₐₓ = (4/π)·f·R·F", "(4/π)"
         else:
             formula, factor = "Cf = π·R²·L·f·p₀ = (π/2)·f·R·F", "(π/2)"
@@ -230,10 +230,10 @@ def panel_html(
     """The whole folder: the hypothesis, the diagrams, each bearing's formulas, and the
     note on the course's printed line under hypothesis 3 (``held``: the line saying at
     which angle a fast rotation's numbers are read)."""
-    choice = scene_bearings.hypothesis(values)
-    model = scene_bearings.pressure_model(values)
+    choice = bearing_rules.hypothesis(values)
+    model = bearing_rules.pressure_model(values)
     head = (
-        f'<p style="margin:0 0 0.3em">{html_text(scene_bearings.HYPOTHESIS_WORDS[choice])}'
+        f'<p style="margin:0 0 0.3em">{html_text(bearing_rules.HYPOTHESIS_WORDS[choice])}'
         f" ; alésage de rayon R = {_mm(values['bearing_R'])} et de longueur "
         f"L = {_mm(values['bearing_L'])} (réglages avancés).</p>"
     )
@@ -245,13 +245,13 @@ def panel_html(
     )
     parts = [head, bearings_svg(loaded, model, zeros.get("Pa", 0.0)), legend]
     parts += [formulas_html(x, values, zeros) for x in loaded]
-    if scene_bearings.friction_on(values):
+    if bearing_rules.friction_on(values):
         parts.append(
             '<p style="margin:0.5em 0 0">Frottement appliqué dans la simulation : le couple '
             "Cf de chaque palier s'oppose à la rotation, Pᵢₙₜ = −ΣCf·ω (dossier « Énergie "
             "et puissances ») et le moteur fournit ΣCf de plus.</p>"
         )
-    if scene_bearings.has_friction(values) and choice != scene_bearings.COSINE:
+    if bearing_rules.has_friction(values) and choice != bearing_rules.COSINE:
         note = html_text(PRINTED_NOTE, limit=len(PRINTED_NOTE))
         parts.append(f'<p style="margin:0.5em 0 0;color:#555">{note}</p>')
     if held:
@@ -300,12 +300,12 @@ class BearingPanel:
                 state = sim.snapshot((), forces=True)
             out = []
             for b in self.bearings:
-                frame_on_shaft = scene_bearings.radial_load(b, state)
+                frame_on_shaft = bearing_rules.radial_load(b, state)
                 force = float(np.linalg.norm(frame_on_shaft))
                 name = f"bearing_{b.name}_pmax"
                 p_max = (readouts or {}).get(name)
                 if p_max is None or not math.isfinite(p_max):
-                    p_max = scene_bearings.max_pressure(force, state.values)
+                    p_max = bearing_rules.max_pressure(force, state.values)
                 out.append(Loaded(b, in_plane(b, frame_on_shaft), float(p_max)))
         return out
 
