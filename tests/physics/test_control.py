@@ -76,6 +76,9 @@ class _Spec:
     def effects_at(self, values: Any = None) -> _Effects:
         return _Effects()
 
+    def control_at(self, values: Any) -> Callable[..., None] | None:
+        return self.control
+
     def defaults(self) -> dict[str, float]:
         return {}
 
