@@ -143,3 +143,21 @@ def test_a_runaway_rotor_and_no_wind_stay_finite():
     for ratio in ("efficiency", "Cp"):  # 0/0: written « — »
         assert math.isnan(r[ratio]) and written(ratio, r[ratio], "").number == "—"
     assert all(math.isfinite(v) for k, v in r.items() if k not in ("efficiency", "Cp"))
+
+
+def test_choosing_the_start_relaunches_the_rotor_at_once():
+    """« Départ : À l'arrêt » (a lesson's preset, or the dropdown) stops the rotor at once,
+    the time going on; back to « En régime établi » it turns at ω∞ again; another
+    parameter leaves the motion alone."""
+    sim = _sim()
+    sim.advance(3.0)
+    t = float(sim.data.time)
+    sim.set_value("start", 1.0)
+    assert float(sim.data.qvel[0]) == 0.0 and float(sim.data.time) == t
+    sim.advance(5.0)
+    moving = float(sim.data.qvel[0])
+    assert 0.0 < moving < steady_speed(sim.values)
+    sim.set_value("wind_speed", 11.0)
+    assert float(sim.data.qvel[0]) == moving
+    sim.set_value("start", 0.0)
+    assert float(sim.data.qvel[0]) == pytest.approx(steady_speed(sim.values), rel=1e-12)

@@ -50,7 +50,7 @@ FLOW = PowerFlow(
     source_words="Vent (limite de Betz)",
     stages=(
         FlowStage("Hélice", "P_rotor", loss="P_rotor_loss", loss_words="vent non capté"),
-        FlowStage("Inertie du rotor", "P_gearbox_in", stored="P_rotor_store"),
+        FlowStage("Arbre lent", "P_gearbox_in", stored="P_rotor_store"),
         FlowStage(
             "Multiplicateur", "P_generator_in", loss="P_gearbox_loss", stored="P_generator_store"
         ),  # fmt: skip

@@ -46,16 +46,30 @@ def edit(spec: mujoco.MjSpec, values: Values) -> None:
         blade.size = [chord / 2.0, 0.0, 0.0]
 
 
+_APPLIED_START = 0
+"""``userdata`` slot holding the ``start`` last applied."""
+
+
+def _launch(data: mujoco.MjData, values: Values) -> None:
+    """The rotor at rest (``start`` = 1) or at its steady speed, the start remembered."""
+    data.qvel[0] = 0.0 if values["start"] >= 0.5 else steady_speed(values)
+    data.userdata[_APPLIED_START] = values["start"]
+
+
 def drive(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
-    """The wind's torque a − b ω and the generator's k² K ω / ρ_m on the slow shaft."""
+    """The wind's torque a − b ω and the generator's k² K ω / ρ_m on the slow shaft; a
+    new ``start`` relaunches the rotor at once (from rest, or at its steady speed), the
+    time going on."""
     a, b = torque_coefficients(values)
     wind = model.actuator("wind").id
     generator = model.actuator("generator").id
     model.actuator_biasprm[wind, :3] = (a, 0.0, -b)
     model.actuator_biasprm[generator, :3] = (0.0, 0.0, -generator_damping(values))
+    if data.userdata[_APPLIED_START] != values["start"]:
+        _launch(data, values)
 
 
 def initial_state(model: mujoco.MjModel, data: mujoco.MjData, values: Values) -> None:
     """At the steady speed ω_∞, or at rest."""
     data.qpos[:] = 0.0
-    data.qvel[0] = 0.0 if values["start"] >= 0.5 else steady_speed(values)
+    _launch(data, values)

@@ -161,7 +161,8 @@ def bearings_svg(loaded: Sequence[Loaded], hypothesis: str, zero: float = 0.0) -
     return (
         f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {width:.0f} {height:.0f}" '
         'width="100%" role="img" aria-label="Pression de contact dans les paliers" '
-        'font-family="sans-serif" font-size="14" style="display:block;max-width:40em">'
+        f'font-family="sans-serif" font-size="14" '
+        f'style="display:block;max-width:{20 * max(len(loaded), 1)}em">'
         f"{body}</svg>"
     )
 

@@ -547,8 +547,9 @@ def flow_svg(flow: PowerFlow, values: Mapping[str, float], zero: float = 0.0) ->
 
 LEGEND = (
     "La largeur de chaque bande est proportionnelle à la puissance qu'elle transporte ; "
-    "en orange : les pertes ; en bleu : l'énergie cinétique stockée par les inerties "
-    "(rendue quand elles ralentissent)."
+    "sous le nom de chaque organe, la puissance qu'il transmet au suivant ; en orange : "
+    "les pertes ; en bleu : l'énergie cinétique stockée par les inerties (rendue quand "
+    "elles ralentissent)."
 )
 
 

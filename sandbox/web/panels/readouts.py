@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import viser
 
+from sandbox.physics.bearings import friction_on
 from sandbox.physics.picture import Picture
 from sandbox.physics.readonly import ReadOnlySimulation
 from sandbox.physics.readouts import GENERIC_NAMES
@@ -282,7 +283,11 @@ class ReadoutPanel:
                 ),
             )
         if folder in (None, ENERGY_FOLDER):
-            _set(self.energy_text, tables.energy_markdown(values, zero=self.zero))
+            friction = friction_on(self.sim.values)
+            _set(
+                self.energy_text,
+                tables.energy_markdown(values, zero=self.zero, friction=friction),
+            )
 
 
 def _set(handle: viser.GuiMarkdownHandle, content: str) -> None:

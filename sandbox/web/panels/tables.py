@@ -239,8 +239,14 @@ ENERGY_ROWS = (
 )
 
 
-def energy_markdown(values: Mapping[str, float], *, zero: Mapping[str, float] | None = None) -> str:
-    """Table of T, V and the powers, and the kinetic-energy theorem's balance.
+def energy_markdown(
+    values: Mapping[str, float],
+    *,
+    zero: Mapping[str, float] | None = None,
+    friction: bool = False,
+) -> str:
+    """Table of T, V and the powers, and the kinetic-energy theorem's balance
+    (``friction``: the bearings' friction with the frame is applied and counted in P_int).
 
     Powers below :data:`RELATIVE_ZERO` of the largest power (or of T per second), or
     below the scene's round-off ``zero`` of their unit, are round-off: shown 0. The
@@ -263,13 +269,18 @@ def energy_markdown(values: Mapping[str, float], *, zero: Mapping[str, float] | 
         table_row(
             "dT/dt − P<sub>ext</sub> − P<sub>int</sub> [W]",
             _span("P_frame", fmt(frame, floor=max(balance, zero.get("W", 0.0))), frame),
-            "puissance des liaisons avec le bâti (0 si parfaites)",
+            "puissance des liaisons avec le bâti hors frottement des paliers (0 si parfaites)"
+            if friction
+            else "puissance des liaisons avec le bâti (0 si parfaites)",
         )
     )
-    return (
-        "\n".join(lines) + "\n\nThéorème de l'énergie cinétique : dT/dt = P<sub>ext</sub> "
-        "+ P<sub>int</sub> (liaisons parfaites)."
-    )
+    theorem = "Théorème de l'énergie cinétique : dT/dt = P<sub>ext</sub> + P<sub>int</sub>"
+    if friction:
+        return (
+            "\n".join(lines) + f"\n\n{theorem}, le frottement des paliers sur le bâti compté "
+            "dans P<sub>int</sub> (les autres liaisons parfaites)."
+        )
+    return "\n".join(lines) + f"\n\n{theorem} (liaisons parfaites)."
 
 
 def gap(sim: float, ref: float) -> str:
