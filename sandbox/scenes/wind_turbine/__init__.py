@@ -138,8 +138,8 @@ SCENE = Scene(
                 ("generator_load", 50.0, 600.0, 12),
                 "P_grid",
                 duration=60.0,
-                hint="Trop peu chargé, le rotor s'emballe au-delà de λ* ; trop chargé, il "
-                "ralentit en dessous : la puissance est la plus grande quand λ = λ*.",
+                hint="Trop peu chargé, le rotor s'emballe au-delà de λₒₚₜ ; trop chargé, il "
+                "ralentit en dessous : la puissance est la plus grande quand λ = λₒₚₜ.",
             ),
             StudyPreset(
                 "Puissance du vent selon sa vitesse",
