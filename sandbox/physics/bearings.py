@@ -46,6 +46,16 @@ def radial_load(b: Bearing, s: Snapshot) -> np.ndarray:
     return np.asarray(s.cache[key])
 
 
+MM = 1e-3
+"""The bore's parameters are typed in millimetres, as bearings are drawn and sold."""
+
+
+def bore(values: Mapping[str, float]) -> tuple[float, float]:
+    """The bore's radius R and length L [m] (the parameters ``bearing_R`` and
+    ``bearing_L`` are in mm)."""
+    return values["bearing_R"] * MM, values["bearing_L"] * MM
+
+
 def hypothesis(values: Mapping[str, float]) -> int:
     """``bearing_model`` as 0, 1 or 2 (a value out of range reads as the nearest)."""
     return int(min(max(round(float(values.get("bearing_model", 0.0))), 0), 2))
@@ -58,7 +68,8 @@ def pressure_model(values: Mapping[str, float]) -> str:
 
 def max_pressure(load: float, values: Mapping[str, float]) -> float:
     """The largest contact pressure [Pa] under ``load`` [N] for these values."""
-    return mech.max_pressure(load, values["bearing_R"], values["bearing_L"], pressure_model(values))
+    radius, length = bore(values)
+    return mech.max_pressure(load, radius, length, pressure_model(values))
 
 
 def has_friction(values: Mapping[str, float]) -> bool:
@@ -73,6 +84,6 @@ def friction_torque(load: float, values: Mapping[str, float]) -> float:
     if not has_friction(values):
         return 0.0
     return mech.friction_torque(
-        load, values["bearing_R"], values["bearing_L"], values["bearing_f"],
+        load, *bore(values), values["bearing_f"],
         pressure_model(values),
     )  # fmt: skip

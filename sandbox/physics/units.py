@@ -18,7 +18,7 @@ DISPLAY_UNITS: frozenset[str] = frozenset(
         "",  # dimensionless: a ratio (μ), a flag, a choice
         "g", "kg", "m", "s", "°", "rad", "tr/min", "rad/s", "m/s", "m/s²",
         "N", "N·m", "W", "J", "kg·m", "kg·m²", "kg·m/s", "kg·m²/s", "N·m·s/rad",
-        "N/m", "N·s/m", "Hz", "Pa", "bar", "kg/m³", "MW",
+        "N/m", "N·s/m", "Hz", "Pa", "bar", "kg/m³", "MW", "mm",
     }
 )  # fmt: skip
 """Every unit the web page may show (a test keeps the scenes and readouts inside it)."""

@@ -23,6 +23,7 @@ from sandbox.physics import isolate
 from sandbox.physics.bearings import (
     FRICTION_WORDS,
     HYPOTHESIS_WORDS,
+    MM,
     friction_on,
     friction_torque,
     max_pressure,
@@ -61,20 +62,21 @@ def with_friction(base: Effects) -> tuple[Effects, Callable[[Values], Effects]]:
 
 def params(radius: float, length: float, group: str = GROUP) -> tuple[Param, ...]:
     """The bearing parameters of a scene whose bores are ``radius`` and ``length`` [m]
-    by default (advanced: they change no motion, only the pressure and torque read), in
-    ``group`` (a scene with many groups already puts them in one of its own)."""
+    by default, typed in mm (advanced: they change no motion, only the pressure and
+    torque read), in ``group`` (a scene with many groups already puts them in one of its
+    own)."""
     return (
         Param(
-            "bearing_R", "m", radius, 0.002, 0.2,
-            "Radius R of the plain bearings' bore (the shaft's radius).",
-            live=True, step=0.001, label="Rayon du palier R",
+            "bearing_R", "mm", radius / MM, 2.0, 200.0,
+            "Radius R of the plain bearings' bore (the shaft's radius), in millimetres.",
+            live=True, step=0.5, label="Rayon du palier R",
             hint="Rayon de l'alésage des paliers lisses, celui de l'arbre qui y tourne.",
             group=group, advanced=True,
         ),
         Param(
-            "bearing_L", "m", length, 0.002, 0.5,
-            "Length L of the plain bearings' bore.",
-            live=True, step=0.001, label="Longueur du palier L",
+            "bearing_L", "mm", length / MM, 2.0, 500.0,
+            "Length L of the plain bearings' bore, in millimetres.",
+            live=True, step=0.5, label="Longueur du palier L",
             hint="Longueur de l'alésage des paliers, le long de l'arbre : plus il est long, "
             "plus la charge s'étale et plus la pression baisse.",
             group=group, advanced=True,

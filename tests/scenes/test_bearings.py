@@ -26,7 +26,7 @@ def _rotor(**values: float) -> Simulation:
 def test_the_rotors_pressures_follow_the_bearing_forces(model):
     """p₀ = F/(2RL); the cosine's peak (4/π) p₀; C_f = (π/2) f R F under hypothesis 3
     only; to round-off, from the simulated bearing forces and from the course's."""
-    sim = _rotor(bearing_model=model, bearing_R=0.012, bearing_L=0.02, bearing_f=0.15)
+    sim = _rotor(bearing_model=model, bearing_R=12.0, bearing_L=20.0, bearing_f=0.15)
     r = sim.readouts()
     ref = sim.reference()
     for name in ("A", "B"):
@@ -104,7 +104,7 @@ def test_bearing_friction_costs_cf_omega_and_the_energy_theorem_still_closes(sce
     assert r["P_ext"] == pytest.approx(torque * w, rel=1e-6)
     assert abs(r["P_acc"] - r["P_ext"] - r["P_int"]) < 1e-9 * r["P_ext"]
     factor = 4 / math.pi if sim.values["bearing_model"] == 1.0 else math.pi / 2
-    radius = sim.values["bearing_R"]
+    radius = sim.values["bearing_R"] * 1e-3
     forces = (
         (r["bearing_A"], r["bearing_B"])
         if scene == "rotor"

@@ -35,7 +35,7 @@ UNITS = {
     "",  # dimensionless: a ratio (μ), a flag or a preset number
     "g", "kg", "m", "s", "deg", "rad", "rpm", "rad/s", "m/s", "m/s²",
     "N", "N·m", "W", "kg·m", "kg·m²", "kg·m²/s", "N·m·s/rad",
-    "J", "N/m", "N·s/m", "Hz", "Pa", "kg/m³",
+    "J", "N/m", "N·s/m", "Hz", "Pa", "kg/m³", "mm",
 }  # fmt: skip
 """Units the scenes speak (course notation: middle dot, superscripts): a typo such as
 "Nm", "kg.m2" or "rpm " fails here."""

@@ -29,7 +29,7 @@ from tests.web.test_every_panel import problems, visible
 X_AXIS = Bearing(
     "A", "Palier A", lambda s: np.zeros(3), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), ("y₀", "z₀")
 )
-VALUES = {"bearing_R": 0.01, "bearing_L": 0.01, "bearing_model": 0.0, "bearing_f": 0.1}
+VALUES = {"bearing_R": 10.0, "bearing_L": 10.0, "bearing_model": 0.0, "bearing_f": 0.1}
 NNBSP = "\u202f"
 
 

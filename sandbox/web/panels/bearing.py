@@ -177,7 +177,7 @@ def formulas_html(loaded: Loaded, values: Mapping[str, float], zeros: Mapping[st
     course's formulas and today's numbers, the verdict against 200 bar."""
     b = loaded.bearing
     choice = bearing_rules.hypothesis(values)
-    r, length, f = values["bearing_R"], values["bearing_L"], values["bearing_f"]
+    (r, length), f = bearing_rules.bore(values), values["bearing_f"]
     force = written(f"bearing_{b.name}_load", loaded.force, "N", zero=zeros.get("N", 0.0))
     p0 = mech.mean_pressure(loaded.force, r, length)
     p0_text = written(f"bearing_{b.name}_p0", p0, "Pa", zero=zeros.get("Pa", 0.0))
@@ -235,8 +235,8 @@ def panel_html(
     model = bearing_rules.pressure_model(values)
     head = (
         f'<p style="margin:0 0 0.3em">{html_text(bearing_rules.HYPOTHESIS_WORDS[choice])}'
-        f" ; alésage de rayon R = {_mm(values['bearing_R'])} et de longueur "
-        f"L = {_mm(values['bearing_L'])} (réglages avancés).</p>"
+        f" ; alésage de rayon R = {_mm(bearing_rules.bore(values)[0])} et de longueur "
+        f"L = {_mm(bearing_rules.bore(values)[1])} (réglages avancés).</p>"
     )
     legend = (
         '<p style="margin:0.3em 0 0;color:#555">La zone colorée est la moitié chargée de '
