@@ -66,21 +66,35 @@ def dynamic_torsor(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> Ac
     return Action("{D}", ma.sum(0), moment)
 
 
-def actions(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> list[Action]:
-    """Every action on the solid at O (see the module doc)."""
-    out = []
-    group = set(members(model, solid).tolist())
+def _parent_actions(
+    model: mujoco.MjModel, data: mujoco.MjData, solid: int
+) -> tuple[Action, Action]:
+    """The joint to the solid's parent at O, and the motor's share passed on through it
+    (its torque less what its own rotor takes, armature·q̈, C_act = C_mot + J·θ''): the
+    joint then keeps its reactions only, and a frictionless joint's moment about its own
+    axis is 0."""
     parent = int(model.body_parentid[solid])
     joints = range(model.body_jntadr[solid], model.body_jntadr[solid] + model.body_jntnum[solid])
     kinds = ", ".join(JOINT_NAMES.get(int(model.jnt_type[j]), "liaison") for j in joints)
     r, m = _spatial_at_origin(model, data, solid, data.cfrc_int[solid])
-    # what the motor passes on to the solid: its torque less what its own rotor takes
-    # (armature·q̈, C_act = C_mot + J·θ''); the joint then keeps its reactions only, and
-    # a frictionless joint's moment about its own axis is 0
     mr, mm = _dof_wrenches(model, data, _joint_drive(model, data), np.array([solid]))
-    out.append(Action(f"{_name(model, parent)} → solide ({kinds})", r - mr, m - mm))
-    if np.any(mr) or np.any(mm):
-        out.append(Action("moteur", mr, mm))
+    joint = Action(f"{_name(model, parent)} → solide ({kinds})", r - mr, m - mm)
+    return joint, Action("moteur", mr, mm)
+
+
+def joint_action(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> Action:
+    """The action of the solid's parent on it through their joint, at O, the motor's
+    torque apart (the first of :func:`actions`, without computing the others)."""
+    return _parent_actions(model, data, solid)[0]
+
+
+def actions(model: mujoco.MjModel, data: mujoco.MjData, solid: int) -> list[Action]:
+    """Every action on the solid at O (see the module doc)."""
+    group = set(members(model, solid).tolist())
+    joint, motor = _parent_actions(model, data, solid)
+    out = [joint]
+    if np.any(motor.resultant) or np.any(motor.moment):
+        out.append(motor)
     for child in range(1, model.nbody):
         if model.body_weldid[child] == child and int(model.body_parentid[child]) in group:
             r, m = _spatial_at_origin(model, data, child, data.cfrc_int[child])

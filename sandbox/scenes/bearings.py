@@ -148,8 +148,8 @@ def pivot_action(s: Snapshot, body: str) -> tuple[np.ndarray, np.ndarray]:
     it); cached a snapshot."""
     key = f"pivot_{body}"
     if key not in s.cache:
-        first = isolate.actions(s.model, s.data, s.body_id(body))[0]
-        s.cache[key] = (first.resultant, first.moment)
+        joint = isolate.joint_action(s.model, s.data, s.body_id(body))
+        s.cache[key] = (joint.resultant, joint.moment)
     r, m = s.cache[key]
     return np.asarray(r), np.asarray(m)
 
