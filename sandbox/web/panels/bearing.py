@@ -30,6 +30,7 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.web.client.text import html_text, number
 from sandbox.web.panels.folder import Folder
 from sandbox.web.panels.plots import nice_ceil
+from sandbox.web.panels.polar import svg_arrow
 from sandbox.web.panels.projector import held_line
 from sandbox.written import written
 
@@ -98,15 +99,8 @@ def _arrow(cx: float, cy: float, loaded: Loaded) -> str:
     if loaded.force <= 0.0:
         return ""
     ux, uy = loaded.load[0] / loaded.force, -loaded.load[1] / loaded.force
-    length, head = BORE - 8.0, 8.0
-    x1, y1 = cx + length * ux, cy + length * uy
-    bx, by = x1 - head * ux, y1 - head * uy
-    px, py = -uy * head * 0.45, ux * head * 0.45
-    return (
-        f'<line x1="{cx:.1f}" y1="{cy:.1f}" x2="{bx:.1f}" y2="{by:.1f}" stroke="#111" '
-        'stroke-width="2.5"/>'
-        f'<polygon points="{x1:.1f},{y1:.1f} {bx + px:.1f},{by + py:.1f} '
-        f'{bx - px:.1f},{by - py:.1f}" fill="#111"/>'
+    length = BORE - 8.0
+    return svg_arrow(cx, cy, cx + length * ux, cy + length * uy, "#111", 2.5) + (
         f'<text x="{cx + 0.55 * length * ux + 6 * uy:.1f}" '
         f'y="{cy + 0.55 * length * uy - 6 * ux:.1f}" font-style="italic">F</text>'
     )

@@ -51,7 +51,7 @@ def _fmt(norm: float, unit: str, zero: float) -> str:
     return f"{number(norm, 3, zero=zero)} {unit}"
 
 
-def _arrow(x0: float, y0: float, x1: float, y1: float, colour: str, width: float) -> str:
+def svg_arrow(x0: float, y0: float, x1: float, y1: float, colour: str, width: float) -> str:
     """An SVG arrow from (x0, y0) to (x1, y1) with a filled head (no marker ids)."""
     length = math.hypot(x1 - x0, y1 - y0)
     if length < 0.5:
@@ -106,9 +106,9 @@ def _diagram(
     ]
     for name, start, end in zip(parts, chain[:-1], chain[1:], strict=True):
         (x0, y0), (x1, y1) = at(start), at(end)
-        out.append(_arrow(x0, y0, x1, y1, COLOURS[name], 3.0))
+        out.append(svg_arrow(x0, y0, x1, y1, COLOURS[name], 3.0))
     x1, y1 = at(total)
-    out.append(_arrow(cx, cy, x1, y1, COLOURS["total"], 4.5))
+    out.append(svg_arrow(cx, cy, x1, y1, COLOURS["total"], 4.5))
     out.append(f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="3" fill="#111"/>')
     return "".join(out)
 
