@@ -8,8 +8,11 @@ other's; the speed counts as unchanged within :data:`SPEED_TOLERANCE` (relative)
 with the one it was simulated at rather than rounded (a speed at a rounding boundary would
 simulate again at every reading).
 
-An imposed motion's revolution is not simulated but placed, exactly, at angles a turn
-apart (:func:`imposed_turn`): it is kept the same way, and is never provisional.
+An imposed motion's revolution is not simulated but placed, exactly, at fixed angles a
+turn apart (:func:`imposed_turn`): it depends on nothing but the parameters and the speed,
+so it is also shared by every session of the process (:data:`SHARED`): thirty students at
+the lesson's values place it once, and a slider moved back and forth finds it again.
+It is never provisional.
 
 Right after a change (a new model, new parameters) the motion settles: a revolution
 simulated then is provisional and simulated once more :data:`SETTLE` simulated seconds
@@ -20,7 +23,9 @@ its spin-up, for as long as it was kept; settled, 0.001 N).
 from __future__ import annotations
 
 import math
+import threading
 import weakref
+from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
@@ -33,6 +38,9 @@ T = TypeVar("T")
 
 SPEED_TOLERANCE = 1e-3
 """Relative change of the crank speed below which a kept revolution still serves."""
+
+SHARED = 64
+"""Imposed revolutions kept for every session of a process (the most recently used)."""
 
 SETTLE = 1.0
 """Simulated seconds after a change during which a revolution is provisional [s]."""
@@ -54,11 +62,17 @@ class PerModel(Generic[T]):
         tolerance: Relative change of the speed below which a result still serves
             (:data:`SPEED_TOLERANCE`; 0 for an exact result that must not be reused at
             another speed, an imposed motion's).
+        shared: Also keep up to this many results for every model of the process, by
+            parameters and exact speed (an exact result, which depends on nothing else:
+            an imposed motion's); 0: per model only.
     """
 
-    def __init__(self, tolerance: float = SPEED_TOLERANCE) -> None:
+    def __init__(self, tolerance: float = SPEED_TOLERANCE, *, shared: int = 0) -> None:
         self.tolerance = tolerance
         self._kept: weakref.WeakKeyDictionary[Any, _Kept[T]] = weakref.WeakKeyDictionary()
+        self._shared: OrderedDict[tuple[Any, ...], T] = OrderedDict()
+        self._shared_size = shared
+        self._lock = threading.Lock()
         self.misses = 0  # results computed (the counted guard of the tests)
 
     @staticmethod
@@ -76,7 +90,7 @@ class PerModel(Generic[T]):
         [rad/s] and simulated ``time`` [s], or None (simulate one, then :meth:`put`)."""
         kept = self._kept.get(model)
         if kept is None or kept.result is None or kept.inputs != self._inputs(model, values):
-            return None
+            return self._from_shared(model, values, omega)
         if not math.isclose(
             omega, kept.omega, rel_tol=self.tolerance, abs_tol=1e-9 * (self.tolerance > 0)
         ):
@@ -98,11 +112,33 @@ class PerModel(Generic[T]):
         (replacing the one it had) and return it."""
         self.misses += 1
         inputs = self._inputs(model, values)
+        if self._shared_size > 0:
+            with self._lock:
+                self._shared[(inputs, float(omega))] = result
+                self._shared.move_to_end((inputs, float(omega)))
+                while len(self._shared) > self._shared_size:
+                    self._shared.popitem(last=False)
         old = self._kept.get(model)
         since = old.since if old is not None and old.inputs == inputs else time
         if not math.isfinite(since):
             since = -math.inf  # no clock: as settled
         self._kept[model] = _Kept(inputs, float(omega), result, since, time)
+        return result
+
+    def _from_shared(
+        self, model: mujoco.MjModel, values: Mapping[str, float], omega: float
+    ) -> T | None:
+        """Another model's result at the same parameters and exact speed, now kept for
+        ``model`` too; None when there is none (or nothing is shared)."""
+        if self._shared_size == 0:
+            return None
+        inputs = self._inputs(model, values)
+        with self._lock:
+            result = self._shared.get((inputs, float(omega)))
+            if result is None:
+                return None
+            self._shared.move_to_end((inputs, float(omega)))
+        self._kept[model] = _Kept(inputs, float(omega), result, -math.inf, math.inf)
         return result
 
     def seen(self, model: mujoco.MjModel, values: Mapping[str, float], time: float) -> None:
@@ -116,15 +152,18 @@ class PerModel(Generic[T]):
     def clear(self) -> None:
         """Forget every kept result."""
         self._kept.clear()
+        with self._lock:
+            self._shared.clear()
 
 
 def imposed_turn(
     s: Snapshot, samples: int, row: Callable[[mujoco.MjData], Sequence[float]]
 ) -> list[Sequence[float]]:
     """One revolution of an imposed motion at the current speed, exactly: the mechanism
-    placed at ``samples`` input angles a turn apart from the current one (constant speed,
-    no acceleration) on a scratch copy, each with its forces (inverse dynamics), read by
-    ``row``. Nothing is simulated: the revolution the crank turns at that speed.
+    placed at ``samples`` input angles 2πk/``samples`` (constant speed, no acceleration)
+    on a scratch copy, each with its forces (inverse dynamics), read by ``row``. Nothing
+    is simulated: the revolution the crank turns at that speed, the same whatever the
+    current angle (so that every session at these parameters may share it).
 
     Args:
         s: A snapshot of an imposed motion (``s.imposed`` set).
@@ -136,10 +175,10 @@ def imposed_turn(
     model = s.model
     data = mujoco.MjData(model)
     mujoco.mj_copyData(data, model, s.data)
-    theta, omega = imposed.input(s.data)
+    _, omega = imposed.input(s.data)
     turn = math.copysign(2.0 * math.pi, omega if omega != 0.0 else 1.0)
     rows = []
     for k in range(samples):
-        imposed.place(model, data, s.values, (theta + turn * k / samples, omega, 0.0))
+        imposed.place(model, data, s.values, (turn * k / samples, omega, 0.0))
         rows.append(row(data))
     return rows

@@ -72,4 +72,6 @@ def revolution_table(
     a = a[np.argsort(np.mod(a[:, 0], 2 * np.pi))]
     out = {"angle_deg": np.degrees(np.mod(a[:, 0], 2 * np.pi)), "theta": a[:, 0]}
     out.update({name: a[:, 1 + i] for i, name in enumerate(columns)})
+    for column in out.values():  # read only: sessions may share one (an imposed revolution)
+        column.flags.writeable = False
     return out

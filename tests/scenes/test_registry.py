@@ -6,6 +6,7 @@ import math
 import re
 
 import mujoco
+import numpy as np
 import pytest
 
 from sandbox.errors import BadParameter
@@ -219,3 +220,27 @@ def test_a_revolution_simulated_while_the_motion_settles_is_simulated_again():
     assert engine._REVOLUTIONS.misses == misses + 2  # and kept
     assert again["shaking_force_h1"] == out["shaking_force_h1"]
     assert out["shaking_force_h1"] < 1e-3 * out["shaking_force_h2"]
+
+
+def test_an_imposed_revolution_is_placed_once_for_every_session_at_the_same_values():
+    """Thirty students at the lesson's values: the engine's exact revolution is placed at
+    fixed angles, so the second session (another model, another crank angle) reads the
+    first one's and computes none; other values, or another speed, place their own."""
+    from sandbox.scenes.engine import cycle as engine
+
+    engine._IMPOSED.clear()
+    first, second = Simulation(get_scene("engine")), Simulation(get_scene("engine"))
+    assert first.motion == "imposed" and second.motion == "imposed"
+    second.advance(0.0123)  # another crank angle
+    misses = engine._IMPOSED.misses
+    a = first.readouts(["shaking_force_h1", "shaking_force_h2", "shaking_moment_max"])
+    assert engine._IMPOSED.misses == misses + 1
+    b = second.readouts(["shaking_force_h1", "shaking_force_h2", "shaking_moment_max"])
+    assert engine._IMPOSED.misses == misses + 1  # shared, not placed again
+    assert a == b
+    rev = engine.revolution(first.snapshot())
+    assert np.allclose(rev["angle_deg"], np.arange(64) * 360 / 64)  # fixed angles
+    assert not rev["pilon"].flags.writeable  # shared: nobody may change it
+    second.set_value("L", second.values["L"] * 1.1)
+    second.readouts(["shaking_force_h1"])
+    assert engine._IMPOSED.misses == misses + 2  # other values: their own

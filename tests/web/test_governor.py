@@ -185,3 +185,53 @@ def test_frames_held_for_the_browsers_senders_lower_the_rate_evenly():
     clock.now += WINDOW
     gov.update(served=30)
     assert gov.fps > 40.0
+
+
+def test_the_panels_slow_with_the_frame_rates_down_to_their_floor():
+    """Thirty rolling cylinders that the laptop cannot draw at 60 frames/s: the governor
+    lowers every frame rate, and the tables and plots (10 Hz, a refresh costing a few
+    frames) slow alike, never under 4 a second; a light load gives them their 10 Hz."""
+    from sandbox.web.loop import Session
+    from sandbox.web.loop.governor import PANEL_FLOOR, panel_pace
+
+    class Panels:
+        draws = False
+
+        def __init__(self) -> None:
+            self.paces: list[float] = []
+            self.last = -1.0
+
+        def wants(self, now: float, pace: float = 1.0):
+            self.paces.append(pace)
+            if now - self.last < 0.1 / pace:
+                return None
+            self.last = now
+            return {"time"}
+
+        def render(self, frame) -> None:
+            pass
+
+        def notify(self, notice) -> None:
+            pass
+
+    clock = Clock()
+    scheduler = Scheduler(clock=clock, threaded=False)
+    gov = scheduler.governor
+    assert panel_pace(gov) == 1.0
+    for _ in range(3):
+        _window(gov, clock, 0.99)
+    lowered = gov.scale
+    assert 0.0 < lowered < 1.0 and panel_pace(gov) == pytest.approx(max(lowered, PANEL_FLOOR))
+    view = Panels()
+    ctl = Controller(Simulation(get_scene("rolling_cylinder")), clock=clock)
+    session = Session(ctl, view, scheduler=scheduler)
+    for _ in range(120):  # two seconds at 60 ticks a second
+        clock.now += 1 / 60
+        session.run_once(clock.now)
+    assert len(view.paces) == 120 and set(view.paces) == {panel_pace(gov)}  # told each tick
+    for _ in range(16):
+        _window(gov, clock, 0.99)
+    assert gov.fps == FLOOR_FPS and panel_pace(gov) == PANEL_FLOOR
+    for _ in range(30):
+        _window(gov, clock, 0.1)
+    assert panel_pace(gov) == 1.0

@@ -14,14 +14,14 @@ from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.compressor.course import HARMONIC_SAMPLES, frame_force, motor_torque
 from sandbox.scenes.compressor.model import set_loop_state
-from sandbox.scenes.revolutions import PerModel, imposed_turn
+from sandbox.scenes.revolutions import SHARED, PerModel, imposed_turn
 from sandbox.scenes.slider_crank import fit_orders, revolution_table
 
 LOOP_SAMPLES = 32
 """Crank angles of :func:`loop_forces` (orders 0..4 need 9; 32 keeps aliasing out)."""
 
 _REVOLUTIONS: PerModel[dict[str, np.ndarray]] = PerModel()
-_IMPOSED: PerModel[dict[str, np.ndarray]] = PerModel(tolerance=0.0)
+_IMPOSED: PerModel[dict[str, np.ndarray]] = PerModel(tolerance=0.0, shared=SHARED)
 _COLUMNS = ("pilon", "tamis", "motor_torque", "pilon_ref", "tamis_ref", "motor_torque_ref")
 
 

@@ -14,14 +14,14 @@ from sandbox.physics import torsors as generic
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.torsors import joint_drive
 from sandbox.scenes.engine.course import engine_of, motor_torque_ref
-from sandbox.scenes.revolutions import PerModel, imposed_turn
+from sandbox.scenes.revolutions import SHARED, PerModel, imposed_turn
 from sandbox.scenes.slider_crank import fit_orders, revolution_table
 
 DENSE = 720
 """Angles at which a revolution's fitted moment is evaluated for its largest value."""
 
 _REVOLUTIONS: PerModel[dict[str, np.ndarray]] = PerModel()
-_IMPOSED: PerModel[dict[str, np.ndarray]] = PerModel(tolerance=0.0)
+_IMPOSED: PerModel[dict[str, np.ndarray]] = PerModel(tolerance=0.0, shared=SHARED)
 _FITS: dict[int, tuple[dict[str, np.ndarray], np.ndarray]] = {}
 _COLUMNS = ("pilon", "tamis", "moment_x", "moment_y", "motor_torque", "pilon_ref", "tamis_ref",
             "moment_x_ref", "moment_y_ref", "motor_torque_ref")  # fmt: skip
