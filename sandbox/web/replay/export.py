@@ -22,7 +22,7 @@ from sandbox.recording import Recording, write_csv
 from sandbox.replay import open_simulation
 from sandbox.web.page import locale as client_text
 from sandbox.web.panels.projector import overlay_labels, overlay_lines
-from sandbox.web.serving.server import light_without_shadows
+from sandbox.web.serving.server import light_the_scene
 from sandbox.web.view3d.arrows import ArrowLayer
 from sandbox.web.view3d.camera import camera_pose, scene_view
 from sandbox.web.view3d.renderer import SceneRenderer
@@ -95,7 +95,7 @@ def export_static(
     with contextlib.redirect_stdout(io.StringIO()):  # no server banner for an export
         server = viser.ViserServer(host="127.0.0.1", port=_free_port(), verbose=False)
     try:
-        light_without_shadows(server)  # as the page
+        light_the_scene(server)  # as the page
         scene = server.scene
         direction, up = scene_view(sim)
         extent = float(sim.model.stat.extent)
