@@ -61,7 +61,7 @@ class FakeServer:
 class NullView:
     draws = False
 
-    def wants(self, now, pace=1.0) -> None:
+    def wants(self, now) -> None:
         return None
 
     def render(self, frame) -> None:

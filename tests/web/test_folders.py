@@ -91,33 +91,6 @@ def test_a_frame_asks_for_the_shown_folders_readouts_and_refreshes_only_it(
     assert set(calls) == {f.title for f in view.pickable if f.refresh is not None}
 
 
-def test_the_panels_refresh_at_their_rate_times_the_governor_s_pace(
-    rotor_page: Page, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """10 Hz; 5 Hz once the process's frame rates are lowered to half (the governor at
-    30 frames/s of 60): the tables slow with the motion."""
-    page = rotor_page
-    governor = page.scheduler.governor
-    monkeypatch.setattr(governor, "update", lambda *a, **k: False)  # held where set
-    refreshed: list[float] = []
-    render = page.view.render
-    monkeypatch.setattr(
-        page.view,
-        "render",
-        lambda frame: (frame.readouts is not None and refreshed.append(frame.now), render(frame)),
-    )
-    counts = []
-    for fps in (governor.top, governor.top / 2):
-        governor.fps = fps
-        page.tick(0.3)
-        refreshed.clear()
-        page.tick(3.0)
-        counts.append(len(refreshed))
-    full, half = counts
-    assert 24 <= full <= 30  # 10 Hz, on a 60 Hz tick (a refresh every 6 or 7 ticks)
-    assert 0.4 * full <= half <= 0.6 * full
-
-
 def test_the_view_and_the_session_never_ask_what_their_source_is() -> None:
     """No ``isinstance`` on the source: a live page is given its session (``live``), a
     replay its own controls."""

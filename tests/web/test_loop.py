@@ -64,7 +64,7 @@ def test_the_timestep_refusal_gives_the_range_in_french_and_english():
 class Blank:
     draws = False
 
-    def wants(self, now: float, pace: float = 1.0) -> None:
+    def wants(self, now: float) -> None:
         return None
 
     def render(self, frame: object) -> None:

@@ -45,7 +45,7 @@ class Recorder:
         self.frames = 0
         self.notices: list[Notice] = []
 
-    def wants(self, now, pace=1.0):
+    def wants(self, now):
         return None
 
     def render(self, frame):
@@ -399,7 +399,7 @@ class Wanting(Recorder):
         self.names = names
         self.seen = []
 
-    def wants(self, now, pace=1.0):
+    def wants(self, now):
         return self.names
 
     def render(self, frame):

@@ -43,8 +43,8 @@ class _Page:
     def __init__(self) -> None:
         self._last = -1.0
 
-    def wants(self, now: float, pace: float = 1.0) -> Collection[str] | None:
-        if now - self._last < 1.0 / (PANEL_RATE * pace):
+    def wants(self, now: float) -> Collection[str] | None:
+        if now - self._last < 1.0 / PANEL_RATE:
             return None
         self._last = now
         return EVERY

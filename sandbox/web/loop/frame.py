@@ -87,10 +87,9 @@ class View(Protocol):
         """True when :meth:`render` draws the 3D scene: each new drawn state then comes
         with a :class:`~sandbox.physics.picture.Picture`."""
 
-    def wants(self, now: float, pace: float = 1.0) -> Collection[str] | None:
+    def wants(self, now: float) -> Collection[str] | None:
         """Readouts needed at this tick: names, :data:`EVERY`, or None (no panel
-        refresh now). ``pace`` (0 to 1) slows the panels' own rate alike when the
-        process lowers every frame rate (:func:`~sandbox.web.loop.governor.panel_pace`)."""
+        refresh now)."""
 
     def render(self, frame: Frame) -> None:
         """Draw the tick (called at up to :data:`FPS`)."""

@@ -66,22 +66,9 @@ RAISE = 1.25
 """Largest factor one window raises the frame rate by (a quick fall, a slow climb: a
 class that just connected costs more for a few seconds than it will)."""
 
-PANEL_FLOOR = 0.4
-"""The lowest share of their own rate the panels (tables, plots: 10 Hz) are slowed to
-when the frame rates are lowered: 4 refreshes a second still read as live numbers."""
-
 SATURATED_AFTER = 3
 """Windows in a row at the floor and still over :data:`HIGH` before the process says it
 is saturated (a one-second burst, a model rebuild, is not)."""
-
-
-def panel_pace(governor: Governor) -> float:
-    """Share of their own rate the panels refresh at: the frame rates' (:attr:`Governor.
-    scale`), down to :data:`PANEL_FLOOR`. A refresh of the tables costs a few frames (the
-    rolling cylinder's, 1.3 ms, 0.4 core for thirty students at 10 Hz), so when the
-    machine cannot give every frame, the numbers slow with the motion rather than taking
-    its frames."""
-    return max(PANEL_FLOOR, min(1.0, governor.scale))
 
 
 class Governor:

@@ -18,7 +18,6 @@ from sandbox.physics.picture import Picture, picture
 from sandbox.physics.snapshot import Snapshot
 from sandbox.physics.strobe import HELD_ANGLE
 from sandbox.web.loop.frame import FPS, Frame, Notice, Source, View
-from sandbox.web.loop.governor import panel_pace
 from sandbox.web.loop.refusals import french_message
 from sandbox.web.loop.scheduler import Scheduler
 from sandbox.web.loop.secret import Secret
@@ -199,7 +198,7 @@ class Session:
             self.held += 1  # the governor counts these: the sending, not the loop, is short
         # a browser still holding frames keeps its last picture: its panels keep that
         # picture's instant too (and its link is spared their messages)
-        wanted = None if holding else self.view.wants(now, panel_pace(self.scheduler.governor))
+        wanted = None if holding else self.view.wants(now)
         every = wanted is not None and "*" in wanted
         names = set() if wanted is None or every else set(wanted)
         recording = self.drive and ctl.readouts_due()

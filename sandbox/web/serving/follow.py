@@ -113,7 +113,7 @@ class BroadcastView:
         """True while a browser watches: nobody watching, nothing is drawn nor sent."""
         return bool(self.server.get_clients())
 
-    def wants(self, now: float, pace: float = 1.0) -> list[str] | None:
+    def wants(self, now: float) -> list[str] | None:
         """The followers' table readouts, :data:`SUMMARY_RATE` times a second."""
         if now - self._summary_at < 1.0 / SUMMARY_RATE or not self.server.get_clients():
             return None
@@ -230,7 +230,7 @@ class FollowerView:
 
     draws = False  # the broadcast draws the scene once for every follower
 
-    def wants(self, now: float, pace: float = 1.0) -> None:
+    def wants(self, now: float) -> None:
         return None  # the broadcast computes the table once for every follower
 
     def render(self, frame: Frame) -> None:

@@ -332,16 +332,15 @@ class WebView:
         if marks is not None:
             self._marks.append(marks[0])
 
-    def wants(self, now: float, pace: float = 1.0) -> Collection[str] | None:
+    def wants(self, now: float) -> Collection[str] | None:
         """Readouts this tick needs: those of the shown folder, the plots and an open
-        lesson, at :data:`PANEL_RATE` × ``pace`` (the process's frame rates lowered: the
-        panels slow alike); None between refreshes."""
+        lesson, at :data:`PANEL_RATE`; None between refreshes."""
         if self._pending_folder is not None:
             self._apply_folder()
         for folder in self._watching:  # every tick: only the folders that sample
             if folder.watch is not None:
                 folder.watch(self._showing(folder.title))
-        if now - self._last_panel < 1.0 / (PANEL_RATE * pace):
+        if now - self._last_panel < 1.0 / PANEL_RATE:
             return None
         if self.lesson is not None and self.lesson.progress is not None:
             return EVERY  # the lesson's checks may use any readout
