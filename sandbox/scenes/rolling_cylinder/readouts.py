@@ -237,7 +237,7 @@ READOUTS = (
     SceneReadout("delta_A_transport", "N·m", "Second term: V(A) ∧ m V(G) (0 if G is on the axis).", lambda s: _cached_delta(s)[1], label="Terme V(A) ∧ m·V(G)", hint="Second terme de la formule, nul quand G est sur l'axe du cylindre."),
     SceneReadout("x_hollow", "m", "Race: distance travelled by the thin tube (0 without race).", lambda s: _racer_x(s, "hollow"), label="Distance du tube mince", hint="Course : distance parcourue par le tube mince (0 sans course)."),
     SceneReadout("x_sphere", "m", "Race: distance travelled by the sphere (0 without race).", lambda s: _racer_x(s, "sphere"), label="Distance de la sphère", hint="Course : distance parcourue par la sphère pleine (0 sans course)."),
-    SceneReadout("penetration", "m", "Depth of the cylinder in the plane: a few µm at 1 ms; centimetres mean the timestep is far too large.", _penetration, label="Enfoncement dans le plan", hint="Enfoncement du cylindre dans le plan : quelques µm à 1 ms, des centimètres signalent un pas de temps bien trop grand."),
+    SceneReadout("penetration", "m", "Depth of the cylinder in the plane: a few µm at 1 ms, about 25 µm at 2 ms (the step without an eccentric mass); centimetres mean the timestep is far too large.", _penetration, label="Enfoncement dans le plan", hint="Enfoncement du cylindre dans le plan : quelques µm au pas de 1 ms, environ 25 µm à 2 ms (le pas sans masse excentrée) ; des centimètres signalent un pas de temps bien trop grand."),
     SceneReadout("on_plane", "", "1 while the centre is over the drawn plane, 0 beyond its end.", lambda s: float(-0.5 <= s.joint_qpos("x") <= s.values["plane_length"] - 0.5), label="Sur le plan", hint="1 tant que le centre est au-dessus du plan dessiné, 0 au-delà de son extrémité."),
 )  # fmt: skip
 

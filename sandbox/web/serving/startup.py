@@ -133,6 +133,10 @@ def start(
     return app
 
 
+STOP_WAIT = 15.0
+"""Seconds a stopping server waits at most for its first capacity estimate to end."""
+
+
 def measure_capacity(classroom: Classroom, controller: Callable[[], Controller]) -> None:
     """The first capacity estimate, before any student: one session of the served scene
     measured for two seconds in a thread of its own (:mod:`sandbox.web.loop.first_estimate`),
@@ -152,7 +156,11 @@ def measure_capacity(classroom: Classroom, controller: Callable[[], Controller])
 
     def cleanup() -> None:  # a server stopped within its first seconds: wait for it
         stop.set()
-        thread.join(2.0)
+        # The stop is seen between two frames; building the session (compiling the
+        # model) is not interrupted, and a busy machine may take seconds over it. A
+        # process that exits while this thread is still in MuJoCo's C code can crash
+        # (seen once: a Ctrl-C right after the address, the machine loaded, exit -11).
+        thread.join(STOP_WAIT)
 
     classroom.cleanups.append(cleanup)
     thread.start()
