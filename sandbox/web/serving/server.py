@@ -254,7 +254,7 @@ def light_the_scene(server: viser.ViserServer) -> None:
     server.scene.configure_default_lights(enabled=True, cast_shadow=False)
     server.scene.configure_environment_map(hdri=None)
     server.scene.add_light_hemisphere(
-        SKY, sky_color=(255, 255, 255), ground_color=(140, 140, 140), intensity=2.5
+        SKY, sky_color=(255, 255, 255), ground_color=(100, 100, 100), intensity=2.0
     )
 
 
