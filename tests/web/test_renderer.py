@@ -386,3 +386,27 @@ def test_a_rod_hangs_under_its_piston_and_sends_its_orientation_only():
         assert not [w for w in caught if "removed" in str(w.message)]
     finally:
         server.stop()
+
+
+@pytest.mark.parametrize("cylinders", [1.0, 2.0])
+def test_a_rebuilt_model_poses_its_fixed_parts_where_they_are_now(cylinders):
+    """The engine cut from four cylinders: a fixed part kept from the old model (the same
+    shape, same geom id) is posed again where the new model holds it; it used to stay
+    where the old one had it (a sleeve floating beside the block, its piston bare)."""
+    from sandbox.physics.simulation import Simulation
+    from sandbox.web.view3d.geoms import geom_pose
+
+    sim = Simulation(get_scene("engine"))
+    renderer = SceneRenderer(FakeScene())
+    renderer.sync(sim.model, sim.data)
+    sim.set_value("cylinders", cylinders)
+    renderer.sync(sim.model, sim.data)
+    data = mujoco.MjData(sim.model)
+    mujoco.mj_kinematics(sim.model, data)
+    fixed = [(gid, node) for gid, (shape, node) in renderer.nodes.items() if not shape.moving]
+    assert fixed
+    for gid, node in fixed:
+        assert not node.removed
+        pos, wxyz = geom_pose(data, gid)
+        assert np.allclose(node.position, pos), sim.model.geom(gid).name
+        assert np.allclose(np.abs(node.wxyz @ wxyz), 1.0), sim.model.geom(gid).name

@@ -412,12 +412,18 @@ class SceneRenderer:
                 node = add_node(self.scene, model, shape)
                 self.nodes[gid] = (shape, node)
                 fresh.append(gid)
-                if not shape.moving:  # posed once, where the world holds it
-                    if data is None:
-                        data = mujoco.MjData(model)
-                        mujoco.mj_kinematics(model, data)
-                    pos, wxyz = geom_pose(data, gid)
-                    if np.isfinite(pos).all() and np.isfinite(wxyz).all():
+            elif shape.moving:
+                continue
+            node = self.nodes[gid][1]
+            if not shape.moving:  # posed where the world holds it, again at each rebuild:
+                # a kept node's shape is the same, yet its fixed body may sit elsewhere now
+                # (the engine cut to two cylinders: its sleeves' bodies move in)
+                if data is None:
+                    data = mujoco.MjData(model)
+                    mujoco.mj_kinematics(model, data)
+                pos, wxyz = geom_pose(data, gid)
+                if np.isfinite(pos).all() and np.isfinite(wxyz).all():
+                    if not np.allclose(node.position, pos) or not np.allclose(node.wxyz, wxyz):
                         node.position = pos
                         node.wxyz = wxyz
         return fresh
