@@ -424,6 +424,8 @@ def test_the_teacher_downloads_the_board_and_reads_names_escaped(open_page, serv
         students.append(FakeStudent(url))  # arrives second: "Élève 2"
         assert wait_for(lambda: "Élève 2" in _board_text(teacher), 30), _board_text(teacher)
         assert _shows(teacher, "2 élèves connectés.")
+        # the second student's first numbers reach the board within its next second
+        assert wait_for(lambda: _board_text(teacher).count("\xa0N") >= 2, 30), _board_text(teacher)
         with teacher.expect_download(timeout=30_000) as info:
             teacher.get_by_role("button", name=CSV_BUTTON).click()
         assert info.value.suggested_filename.endswith(".csv")

@@ -131,7 +131,7 @@ SCENE = Scene(
     # balanced on top of a thin cylinder already drifts 4.6e-3. Without an eccentric mass
     # the step is 2 ms (default_timestep): see HOMOGENEOUS_TIMESTEP.
     integrator="rk4",
-    timestep=1e-3,
+    timestep=HOMOGENEOUS_TIMESTEP,  # at the defaults (no eccentric mass)
     timestep_for=default_timestep,
     # Beyond 20 ms the contact softens (penetration 2.5 mm, acceleration -0.8 %; -22 % at
     # 0.1 s): nothing explodes, so such timesteps are refused rather than detected.
