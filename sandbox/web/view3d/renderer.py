@@ -161,6 +161,7 @@ class SceneRenderer:
         self.prefix = prefix
         self.model: mujoco.MjModel | None = None
         self.nodes: dict[int, tuple[GeomShape, viser.SceneNodeHandle]] = {}
+        self._fixed: dict[int, np.ndarray] = {}  # a fixed node's pose as last set (x, wxyz)
         self.bodies: dict[int, viser.FrameHandle] = {}
         self._paths: dict[int, str] = {}  # scene-tree name of each group's frame
         self.labels: dict[int, tuple[str, viser.LabelHandle, int]] = {}  # geom: text, node, group
@@ -390,6 +391,7 @@ class SceneRenderer:
             if wanted.get(gid) != shape:
                 node.remove()
                 del self.nodes[gid]
+                self._fixed.pop(gid, None)
         moving = {s.body for s in shapes if s.moving}  # batched groups too: labels hang there
         gone = [b for b in self.bodies if b not in moving or b >= model.nbody]
         for body in sorted(gone, key=lambda b: -self._paths.get(b, "").count("/")):
@@ -422,10 +424,12 @@ class SceneRenderer:
                     data = mujoco.MjData(model)
                     mujoco.mj_kinematics(model, data)
                 pos, wxyz = geom_pose(data, gid)
-                if np.isfinite(pos).all() and np.isfinite(wxyz).all():
-                    if not np.allclose(node.position, pos) or not np.allclose(node.wxyz, wxyz):
-                        node.position = pos
-                        node.wxyz = wxyz
+                pose = np.concatenate([pos, wxyz])
+                posed = self._fixed.get(gid)
+                if np.isfinite(pose).all() and (posed is None or not np.allclose(posed, pose)):
+                    node.position = pos
+                    node.wxyz = wxyz
+                    self._fixed[gid] = pose
         return fresh
 
     def _set_batches(self, model: mujoco.MjModel, wanted: list[Batch]) -> None:
@@ -455,6 +459,7 @@ class SceneRenderer:
         for frame in self.bodies.values():
             frame.remove()
         self.nodes.clear()
+        self._fixed.clear()
         self.labels.clear()
         self.bodies.clear()
         self._paths.clear()
