@@ -113,9 +113,10 @@ class PerModel(Generic[T]):
         self.misses += 1
         inputs = self._inputs(model, values)
         if self._shared_size > 0:
+            key = (inputs, float(omega))
             with self._lock:
-                self._shared[(inputs, float(omega))] = result
-                self._shared.move_to_end((inputs, float(omega)))
+                self._shared[key] = result
+                self._shared.move_to_end(key)
                 while len(self._shared) > self._shared_size:
                     self._shared.popitem(last=False)
         old = self._kept.get(model)
@@ -133,11 +134,12 @@ class PerModel(Generic[T]):
         if self._shared_size == 0:
             return None
         inputs = self._inputs(model, values)
+        key = (inputs, float(omega))
         with self._lock:
-            result = self._shared.get((inputs, float(omega)))
+            result = self._shared.get(key)
             if result is None:
                 return None
-            self._shared.move_to_end((inputs, float(omega)))
+            self._shared.move_to_end(key)
         self._kept[model] = _Kept(inputs, float(omega), result, -math.inf, math.inf)
         return result
 

@@ -227,10 +227,11 @@ def panel_html(
     which angle a fast rotation's numbers are read)."""
     choice = bearing_rules.hypothesis(values)
     model = bearing_rules.pressure_model(values)
+    radius, length = bearing_rules.bore(values)
     head = (
         f'<p style="margin:0 0 0.3em">{html_text(bearing_rules.HYPOTHESIS_WORDS[choice])}'
-        f" ; alésage de rayon R = {_mm(bearing_rules.bore(values)[0])} et de longueur "
-        f"L = {_mm(bearing_rules.bore(values)[1])} (réglages avancés).</p>"
+        f" ; alésage de rayon R = {_mm(radius)} et de longueur "
+        f"L = {_mm(length)} (réglages avancés).</p>"
     )
     legend = (
         '<p style="margin:0.3em 0 0;color:#555">La zone colorée est la moitié chargée de '

@@ -411,25 +411,24 @@ class SceneRenderer:
         data = None
         for gid, shape in wanted.items():
             if gid not in self.nodes:
-                node = add_node(self.scene, model, shape)
-                self.nodes[gid] = (shape, node)
+                self.nodes[gid] = (shape, add_node(self.scene, model, shape))
                 fresh.append(gid)
-            elif shape.moving:
+            if shape.moving:
                 continue
-            node = self.nodes[gid][1]
-            if not shape.moving:  # posed where the world holds it, again at each rebuild:
-                # a kept node's shape is the same, yet its fixed body may sit elsewhere now
-                # (the engine cut to two cylinders: its sleeves' bodies move in)
-                if data is None:
-                    data = mujoco.MjData(model)
-                    mujoco.mj_kinematics(model, data)
-                pos, wxyz = geom_pose(data, gid)
-                pose = np.concatenate([pos, wxyz])
-                posed = self._fixed.get(gid)
-                if np.isfinite(pose).all() and (posed is None or not np.allclose(posed, pose)):
-                    node.position = pos
-                    node.wxyz = wxyz
-                    self._fixed[gid] = pose
+            # posed where the world holds it, again at each rebuild: a kept node's shape is
+            # the same, yet its fixed body may sit elsewhere now (the engine cut to two
+            # cylinders: its sleeves' bodies move in)
+            if data is None:
+                data = mujoco.MjData(model)
+                mujoco.mj_kinematics(model, data)
+            pos, wxyz = geom_pose(data, gid)
+            pose = np.concatenate([pos, wxyz])
+            posed = self._fixed.get(gid)
+            if np.isfinite(pose).all() and (posed is None or not np.allclose(posed, pose)):
+                node = self.nodes[gid][1]
+                node.position = pos
+                node.wxyz = wxyz
+                self._fixed[gid] = pose
         return fresh
 
     def _set_batches(self, model: mujoco.MjModel, wanted: list[Batch]) -> None:
